@@ -1,0 +1,10 @@
+#pragma once
+// Each subcommand lives in its own cmd_<name>.cpp and registers itself on the CLI11 app here.
+// Library code throws; only these files print and choose exit codes.
+#include <CLI/CLI.hpp>
+
+namespace graftnav::app {
+
+// Every register function adds one subcommand and its callback to `app`.
+
+}  // namespace graftnav::app

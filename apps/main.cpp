@@ -1,0 +1,22 @@
+// graftnav: evaluate how well an IMU will navigate, by signal grafting (Niu et al. 2016).
+#include <fmt/core.h>
+
+#include <CLI/CLI.hpp>
+#include <exception>
+
+#include "commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"graftnav: IMU evaluation by signal grafting (Niu et al., Sensors 2016)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "graftnav 0.1.0");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "graftnav: error: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}
