@@ -1,0 +1,243 @@
+#include "graftnav/core/evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "graftnav/core/earth.h"
+#include "graftnav/core/nav_interp.h"
+#include "graftnav/core/rotation.h"
+
+namespace graftnav {
+namespace {
+
+struct RmsAccumulator {
+  double h2 = 0, v2 = 0, r2 = 0, p2 = 0, y2 = 0;
+  long n = 0;
+  void add(double h, double v, double r, double p, double y) {
+    h2 += h * h;
+    v2 += v * v;
+    r2 += r * r;
+    p2 += p * p;
+    y2 += y * y;
+    ++n;
+  }
+  DriftStats rms() const {
+    DriftStats s;
+    if (n == 0) return s;
+    s.horizontal_m = std::sqrt(h2 / n);
+    s.vertical_m = std::sqrt(v2 / n);
+    s.roll_rad = std::sqrt(r2 / n);
+    s.pitch_rad = std::sqrt(p2 / n);
+    s.heading_rad = std::sqrt(y2 / n);
+    return s;
+  }
+};
+
+}  // namespace
+
+void EvaluationOptions::validate() const {
+  if (!(nees_interval_s >= 0.0)) {
+    throw std::invalid_argument("EvaluationOptions: nees_interval_s must be >= 0, got " +
+                                std::to_string(nees_interval_s));
+  }
+  if (!(nees_band_probability > 0.0 && nees_band_probability < 1.0)) {
+    throw std::invalid_argument("EvaluationOptions: nees_band_probability must be in (0,1), got " +
+                                std::to_string(nees_band_probability));
+  }
+}
+
+Eigen::Vector3d positionErrorNed(const Geodetic& sol, const Geodetic& ref) {
+  const earth::Radii r = earth::radiiOfCurvature(ref.lat_rad);
+  double dlon = sol.lon_rad - ref.lon_rad;
+  if (dlon > M_PI) dlon -= 2.0 * M_PI;
+  if (dlon < -M_PI) dlon += 2.0 * M_PI;
+  return {(sol.lat_rad - ref.lat_rad) * (r.meridian_m + ref.h_m),
+          dlon * (r.prime_vertical_m + ref.h_m) * std::cos(ref.lat_rad), -(sol.h_m - ref.h_m)};
+}
+
+double normalQuantile(double p) {
+  if (!(p > 0.0 && p < 1.0)) {
+    throw std::invalid_argument("normalQuantile: probability must be in (0,1), got " +
+                                std::to_string(p));
+  }
+  // Rational approximation (Acklam), |relative error| < 1.2e-9 after one Newton step below.
+  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
+                             1.383577518672690e+02, -3.066479806614716e+01, 2.506628277459239e+00};
+  static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
+                             6.680131188771972e+01, -1.328068155288572e+01};
+  static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
+                             -2.549732539343734e+00, 4.374664141464968e+00, 2.938163982698783e+00};
+  static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
+                             3.754408661907416e+00};
+  const double plow = 0.02425;
+  double x;
+  if (p < plow) {
+    const double q = std::sqrt(-2 * std::log(p));
+    x = (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+        ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
+  } else if (p <= 1 - plow) {
+    const double q = p - 0.5, r = q * q;
+    x = (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
+        (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1);
+  } else {
+    const double q = std::sqrt(-2 * std::log(1 - p));
+    x = -(((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+        ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
+  }
+  // One Newton refinement on the CDF.
+  const double e = 0.5 * std::erfc(-x / std::sqrt(2.0)) - p;
+  const double u = e * std::sqrt(2.0 * M_PI) * std::exp(x * x / 2.0);
+  return x - u / (1.0 + x * u / 2.0);
+}
+
+namespace {
+
+// Regularized lower incomplete gamma P(a, x): series for x < a + 1, continued fraction otherwise.
+double regularizedGammaP(double a, double x) {
+  if (x <= 0.0) return 0.0;
+  const double log_prefix = -x + a * std::log(x) - std::lgamma(a);
+  if (x < a + 1.0) {
+    double term = 1.0 / a, sum = term;
+    for (int n = 1; n < 1000; ++n) {
+      term *= x / (a + n);
+      sum += term;
+      if (std::abs(term) < std::abs(sum) * 1e-15) break;
+    }
+    return sum * std::exp(log_prefix);
+  }
+  // Lentz's continued fraction for Q(a, x).
+  const double tiny = 1e-300;
+  double b = x + 1.0 - a, c = 1.0 / tiny, d = 1.0 / b, h = d;
+  for (int i = 1; i < 1000; ++i) {
+    const double an = -i * (i - a);
+    b += 2.0;
+    d = an * d + b;
+    if (std::abs(d) < tiny) d = tiny;
+    c = b + an / c;
+    if (std::abs(c) < tiny) c = tiny;
+    d = 1.0 / d;
+    const double del = d * c;
+    h *= del;
+    if (std::abs(del - 1.0) < 1e-15) break;
+  }
+  return 1.0 - std::exp(log_prefix) * h;
+}
+
+}  // namespace
+
+double chiSquareQuantile(double p, double dof) {
+  if (!(dof > 0.0)) {
+    throw std::invalid_argument("chiSquareQuantile: dof must be > 0, got " + std::to_string(dof));
+  }
+  // Wilson-Hilferty start, then bisection on the exact CDF P(dof/2, x/2).
+  const double z = normalQuantile(p);
+  const double h = 2.0 / (9.0 * dof);
+  const double t = 1.0 - h + z * std::sqrt(h);
+  const double x0 = dof * std::max(1e-3, t * t * t);
+  double lo = 0.0, hi = std::max(2.0 * x0, dof + 20.0 * std::sqrt(2.0 * dof) + 50.0);
+  for (int i = 0; i < 200 && hi - lo > 1e-10 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    if (regularizedGammaP(0.5 * dof, 0.5 * mid) < p) lo = mid; else hi = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+Evaluation evaluateSolution(const NavSolution& solution, const NavSeries& reference,
+                            const std::vector<TimeWindow>& outages,
+                            const EvaluationOptions& options) {
+  options.validate();
+  if (solution.states.empty() || reference.empty() ||
+      solution.states.back().t_s < reference.front().t_s ||
+      solution.states.front().t_s > reference.back().t_s) {
+    throw std::invalid_argument(
+        "evaluateSolution: solution '" + solution.estimator + "' and the reference do not overlap in time");
+  }
+  std::vector<TimeWindow> windows = outages;
+  std::sort(windows.begin(), windows.end(),
+            [](const TimeWindow& a, const TimeWindow& b) { return a.start_s < b.start_s; });
+
+  Evaluation ev;
+  ev.epochs.reserve(solution.states.size());
+  const bool has_sigma = solution.sigma.size() == solution.states.size();
+  NavInterpolator ref_at(reference);
+  RmsAccumulator all, in_outage;
+  std::vector<OutageDrift> drift(windows.size());
+  for (size_t k = 0; k < windows.size(); ++k) {
+    drift[k].window = windows[k];
+    drift[k].max = DriftStats{0, 0, 0, 0, 0};
+  }
+  size_t w = 0;
+  double nees_sum = 0.0, last_nees_t = -std::numeric_limits<double>::infinity();
+
+  for (size_t i = 0; i < solution.states.size(); ++i) {
+    const NavState& s = solution.states[i];
+    const auto ref = ref_at.at(s.t_s);
+    if (!ref) continue;
+    EpochError e;
+    e.t_s = s.t_s;
+    e.pos_ned_m = positionErrorNed(s.pos, ref->pos);
+    e.vel_ned_m_s = s.v_n - ref->v_n;
+    const Eigen::Vector3d eu_s = eulerFromQuat(s.q_nb), eu_r = eulerFromQuat(ref->q_nb);
+    for (int j = 0; j < 3; ++j) e.euler_rad[j] = wrapAngle(eu_s[j] - eu_r[j]);
+    e.att_n_rad = rotationVectorFromQuat(s.q_nb * ref->q_nb.conjugate());
+
+    while (w < windows.size() && windows[w].end_s < s.t_s) ++w;
+    if (w < windows.size() && windows[w].contains(s.t_s)) e.outage = static_cast<int>(w);
+
+    const double hz = e.pos_ned_m.head<2>().norm(), vt = std::abs(e.pos_ned_m.z());
+    const double r = std::abs(e.euler_rad.x()), p = std::abs(e.euler_rad.y()),
+                 y = std::abs(e.euler_rad.z());
+    all.add(hz, vt, r, p, y);
+    if (e.outage >= 0) {
+      in_outage.add(hz, vt, r, p, y);
+      OutageDrift& d = drift[static_cast<size_t>(e.outage)];
+      ++d.epochs;
+      d.max.horizontal_m = std::max(d.max.horizontal_m, hz);
+      d.max.vertical_m = std::max(d.max.vertical_m, vt);
+      d.max.roll_rad = std::max(d.max.roll_rad, r);
+      d.max.pitch_rad = std::max(d.max.pitch_rad, p);
+      d.max.heading_rad = std::max(d.max.heading_rad, y);
+    }
+    if (has_sigma) {
+      const PvaSigma& sg = solution.sigma[i];
+      Eigen::Matrix<double, 9, 1> err;
+      err << e.pos_ned_m, e.vel_ned_m_s, e.att_n_rad;
+      if ((sg.array() > 0.0).all() && sg.allFinite()) {
+        e.nees = (err.array() / sg.array()).square().sum();
+        if (s.t_s - last_nees_t >= options.nees_interval_s - 1e-9) {
+          nees_sum += e.nees;
+          ++ev.nees_samples;
+          last_nees_t = s.t_s;
+        }
+      }
+    }
+    ev.epochs.push_back(e);
+  }
+  if (ev.epochs.empty()) {
+    throw std::invalid_argument("evaluateSolution: no solution epoch of '" + solution.estimator +
+                                "' lies inside the reference span");
+  }
+  ev.overall_rms = all.rms();
+  ev.outage_rms = in_outage.rms();
+  ev.outage_epochs = static_cast<int>(in_outage.n);
+  RmsAccumulator maxima;
+  for (const OutageDrift& d : drift) {
+    if (d.epochs == 0) continue;
+    ev.outages.push_back(d);
+    maxima.add(d.max.horizontal_m, d.max.vertical_m, d.max.roll_rad, d.max.pitch_rad,
+               d.max.heading_rad);
+  }
+  ev.outage_max_rms = maxima.rms();
+  if (ev.nees_samples > 0) {
+    const double n = ev.nees_samples;
+    ev.nees_mean = nees_sum / n;
+    const double tail = 0.5 * (1.0 - options.nees_band_probability);
+    ev.nees_band_low = chiSquareQuantile(tail, ev.nees_dof * n) / n;
+    ev.nees_band_high = chiSquareQuantile(1.0 - tail, ev.nees_dof * n) / n;
+  }
+  return ev;
+}
+
+}  // namespace graftnav
