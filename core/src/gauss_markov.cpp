@@ -70,7 +70,8 @@ const Eigen::Vector3d& GaussMarkov::propagate(double dt_s, StandardNormalSampler
                                 " must be > 0");
   }
   const double phi = transition(dt_s, params_.tau_s);
-  const Eigen::Vector3d w = params_.sigma * (GaussMarkov::drivingNoiseStd(1.0, dt_s, params_.tau_s));
+  const Eigen::Vector3d w =
+      params_.sigma * (GaussMarkov::drivingNoiseStd(1.0, dt_s, params_.tau_s));
   x_ = phi * x_ + w.cwiseProduct(rng.next3());
   return x_;
 }

@@ -42,8 +42,8 @@ void requireNonNegative(const Eigen::Vector3d& v, const std::string& key) {
   requireFinite(v, key);
   for (int i = 0; i < 3; ++i) {
     if (v[i] < 0.0) {
-      throw std::invalid_argument(fmt::format("ImuErrorModel: {}[{}] = {} must be >= 0", key, i,
-                                              v[i]));
+      throw std::invalid_argument(
+          fmt::format("ImuErrorModel: {}[{}] = {} must be >= 0", key, i, v[i]));
     }
   }
 }
@@ -65,13 +65,14 @@ void validateSensor(const SensorErrorTerms& s, const std::string& p) {
   requireFinite(s.scale_nonlinearity.k2, p + ".scale_nonlinearity.k2");
   requireFinite(s.temperature_bias.per_degC, p + ".temperature_bias.per_degC");
   if (!std::isfinite(s.temperature_bias.t_ref_degC)) {
-    throw std::invalid_argument("ImuErrorModel: " + p + ".temperature_bias.t_ref_degC must be finite");
+    throw std::invalid_argument("ImuErrorModel: " + p +
+                                ".temperature_bias.t_ref_degC must be finite");
   }
   requireFinite(s.temperature_scale.per_degC, p + ".temperature_scale.per_degC");
   requireNonNegative(s.bias_instability.sigma, p + ".bias_instability.sigma");
   if (!(s.bias_instability.tau_s > 0.0)) {
-    throw std::invalid_argument(fmt::format("ImuErrorModel: {}.bias_instability.tau_s = {} must be > 0",
-                                            p, s.bias_instability.tau_s));
+    throw std::invalid_argument(fmt::format(
+        "ImuErrorModel: {}.bias_instability.tau_s = {} must be > 0", p, s.bias_instability.tau_s));
   }
   requireNonNegative(s.white_noise.density, p + ".white_noise.density");
   requireNonNegative(s.bias_random_walk.density, p + ".bias_random_walk.density");
@@ -83,10 +84,10 @@ void validateSensor(const SensorErrorTerms& s, const std::string& p) {
         v.window_s));
   }
   if (v.isActive() && !VibrationRegressor::isKnownName(v.regressor)) {
-    throw std::invalid_argument(fmt::format(
-        "ImuErrorModel: {}.vibration_rectification.regressor = '{}' is unknown (use "
-        "specific_force_hp_sq or angular_rate_hp_sq)",
-        p, v.regressor));
+    throw std::invalid_argument(
+        fmt::format("ImuErrorModel: {}.vibration_rectification.regressor = '{}' is unknown (use "
+                    "specific_force_hp_sq or angular_rate_hp_sq)",
+                    p, v.regressor));
   }
   requireNonNegative(s.quantization.step, p + ".quantization.step");
 }
@@ -124,10 +125,10 @@ void describeSensor(const SensorErrorTerms& s, const std::string& sensor, bool g
                    "(seed Eq. 1-2, N)"});
   }
   if (s.scale_asymmetry.isActive()) {
-    out.push_back({"scale_asymmetry", sensor,
-                   "k_pos=" + fmtVec(s.scale_asymmetry.k_pos) +
-                       " k_neg=" + fmtVec(s.scale_asymmetry.k_neg),
-                   "different gain for positive and negative inputs"});
+    out.push_back(
+        {"scale_asymmetry", sensor,
+         "k_pos=" + fmtVec(s.scale_asymmetry.k_pos) + " k_neg=" + fmtVec(s.scale_asymmetry.k_neg),
+         "different gain for positive and negative inputs"});
   }
   if (s.scale_nonlinearity.isActive()) {
     out.push_back({"scale_nonlinearity", sensor,
@@ -135,17 +136,16 @@ void describeSensor(const SensorErrorTerms& s, const std::string& sensor, bool g
                    "quadratic departure from a straight input-output line, y = x + k2 x^2"});
   }
   if (s.temperature_bias.isActive()) {
-    out.push_back({"temperature_bias", sensor,
-                   fmt::format("per_degC={} {}/degC t_ref_degC={:.6g}",
-                               fmtVec(s.temperature_bias.per_degC), unit,
-                               s.temperature_bias.t_ref_degC),
-                   "bias drifting linearly with sensor temperature"});
+    out.push_back(
+        {"temperature_bias", sensor,
+         fmt::format("per_degC={} {}/degC t_ref_degC={:.6g}", fmtVec(s.temperature_bias.per_degC),
+                     unit, s.temperature_bias.t_ref_degC),
+         "bias drifting linearly with sensor temperature"});
   }
   if (s.temperature_scale.isActive()) {
     out.push_back({"temperature_scale", sensor,
                    fmt::format("per_degC={} 1/degC t_ref_degC={:.6g}",
-                               fmtVec(s.temperature_scale.per_degC),
-                               s.temperature_bias.t_ref_degC),
+                               fmtVec(s.temperature_scale.per_degC), s.temperature_bias.t_ref_degC),
                    "gain drifting linearly with sensor temperature"});
   }
   if (g != nullptr && g->isActive()) {
@@ -188,13 +188,15 @@ void describeSensor(const SensorErrorTerms& s, const std::string& sensor, bool g
 }
 
 // ---- geometry helpers on a contiguous series ------------------------------------------------
-// Nodes: T_0 = t_0 - dt_0, T_n = t_{n-1} (n = 1..N); sample k covers [T_k, T_{k+1}].
+// Nodes n = 0..N are the sample boundaries; sample k covers [T_k, T_{k+1}] with T_{k+1} - T_k =
+// dt_s of sample k. Only time differences built from dt_s are used (never differences of large
+// absolute time tags, whose rounding would be amplified by the differentiation of the rates).
 class IncrementSeriesView {
  public:
   explicit IncrementSeriesView(const ImuSeries& s) : s_(s), n_(static_cast<int>(s.size())) {}
 
   int size() const { return n_; }
-  double node(int n) const { return n == 0 ? s_[0].t_s - s_[0].dt_s : s_[n - 1].t_s; }
+  double length(int k) const { return s_[k].dt_s; }
   Vector6d increment(int k) const {
     Vector6d d;
     d << s_[k].dtheta_rad, s_[k].dvel_m_s;
@@ -207,25 +209,35 @@ class IncrementSeriesView {
     const int num_nodes = n_ + 1;
     const int m = std::min(5, num_nodes);
     const int lo = std::clamp(n - 2, 0, num_nodes - m);
-    const double tn = node(n);
+    // Offsets of the nodes from node n and the cumulative increment from node n.
+    double off[5];
+    Vector6d theta[5];
+    off[n - lo] = 0.0;
+    theta[n - lo].setZero();
+    for (int j = n + 1; j < lo + m; ++j) {
+      off[j - lo] = off[j - 1 - lo] + length(j - 1);
+      theta[j - lo] = theta[j - 1 - lo] + increment(j - 1);
+    }
+    for (int j = n - 1; j >= lo; --j) {
+      off[j - lo] = off[j + 1 - lo] - length(j);
+      theta[j - lo] = theta[j + 1 - lo] - increment(j);
+    }
     Vector6d rate = Vector6d::Zero();
-    for (int j = lo; j < lo + m; ++j) {
-      if (j == n) continue;  // Theta_n = 0 (cumulative referenced to node n)
-      const double tj = node(j);
-      double w = 1.0 / (tj - tn);
-      for (int q = lo; q < lo + m; ++q) {
-        if (q == j || q == n) continue;
-        const double tq = node(q);
-        w *= (tn - tq) / (tj - tq);
+    for (int j = 0; j < m; ++j) {
+      if (j == n - lo) continue;  // theta at node n is 0
+      double w = 1.0 / off[j];
+      for (int q = 0; q < m; ++q) {
+        if (q == j || q == n - lo) continue;
+        w *= (0.0 - off[q]) / (off[j] - off[q]);
       }
-      rate += w * thetaBetweenNodes(n, j);
+      rate += w * theta[j];
     }
     return rate;
   }
 
   // Integral of the Hermite-interpolated rate from T_k to T_k + s (0 <= s <= h_k).
   Vector6d partial(int k, double s) const {
-    const double h = node(k + 1) - node(k);
+    const double h = length(k);
     const double u = s / h;
     const double u2 = u * u;
     const double u3 = u2 * u;
@@ -233,38 +245,31 @@ class IncrementSeriesView {
            h * (u3 - u2) * nodeRate(k + 1);
   }
 
-  // Integral from node n to time t (either direction), holding the end rates beyond the ends.
-  Vector6d thetaFromNode(int n, double t) const {
+  // Integral from node n to T_n + offset (either sign), holding the end rates beyond the ends.
+  Vector6d thetaFromNode(int n, double offset) const {
     Vector6d acc = Vector6d::Zero();
     int j = n;
-    if (t >= node(n)) {
-      while (j < n_ && t > node(j + 1)) {
+    double rest = offset;  // remaining offset from node j
+    if (rest >= 0.0) {
+      while (j < n_ && rest > length(j)) {
         acc += increment(j);
+        rest -= length(j);
         ++j;
       }
-      if (j == n_) return acc + (t - node(n_)) * nodeRate(n_);
-      return acc + partial(j, t - node(j));
+      if (j == n_) return acc + rest * nodeRate(n_);
+      return acc + partial(j, rest);
     }
-    while (j > 0 && t < node(j - 1)) {
+    while (j > 0 && rest < -length(j - 1)) {
       acc -= increment(j - 1);
+      rest += length(j - 1);
       --j;
     }
-    if (j == 0) return acc + (t - node(0)) * nodeRate(0);
-    // t in [T_{j-1}, T_j]: integral T_j -> t = -(D_{j-1} - partial(j-1, t - T_{j-1})).
-    return acc - increment(j - 1) + partial(j - 1, t - node(j - 1));
+    if (j == 0) return acc + rest * nodeRate(0);
+    // Target in [T_{j-1}, T_j]: integral T_j -> T_j + rest = -(D_{j-1} - partial(j-1, h + rest)).
+    return acc - increment(j - 1) + partial(j - 1, length(j - 1) + rest);
   }
 
  private:
-  Vector6d thetaBetweenNodes(int from, int to) const {
-    Vector6d acc = Vector6d::Zero();
-    if (to > from) {
-      for (int k = from; k < to; ++k) acc += increment(k);
-    } else {
-      for (int k = to; k < from; ++k) acc -= increment(k);
-    }
-    return acc;
-  }
-
   const ImuSeries& s_;
   int n_;
 };
@@ -272,8 +277,8 @@ class IncrementSeriesView {
 void requireContiguous(const ImuSeries& s, const char* why) {
   for (size_t k = 0; k < s.size(); ++k) {
     if (!(s[k].dt_s > 0.0)) {
-      throw std::invalid_argument(fmt::format("applyGeometry ({}): sample {} (t={:.6f}) has dt_s = {}",
-                                              why, k, s[k].t_s, s[k].dt_s));
+      throw std::invalid_argument(fmt::format(
+          "applyGeometry ({}): sample {} (t={:.6f}) has dt_s = {}", why, k, s[k].t_s, s[k].dt_s));
     }
     if (k > 0 && std::abs(s[k - 1].t_s - (s[k].t_s - s[k].dt_s)) > 1e-3 * s[k].dt_s) {
       throw std::invalid_argument(fmt::format(
@@ -349,16 +354,15 @@ void ImuErrorModel::validate() const {
 }
 
 bool ImuErrorModel::isIdeal() const {
-  return !sensorActive(gyro) && !sensorActive(accel) && !g_sensitivity.isActive() &&
-         !hasGeometry();
+  return !sensorActive(gyro) && !sensorActive(accel) && !g_sensitivity.isActive() && !hasGeometry();
 }
 
 Eigen::Vector3d ImuErrorModel::gyroDeterministicError(const Eigen::Vector3d& omega_true_rad_s,
                                                       const Eigen::Vector3d& f_true_m_s2,
                                                       double temperature_degC,
                                                       double vibration_regressor) const {
-  Eigen::Vector3d e = gyro.deterministicError(omega_true_rad_s, temperature_degC,
-                                              vibration_regressor);
+  Eigen::Vector3d e =
+      gyro.deterministicError(omega_true_rad_s, temperature_degC, vibration_regressor);
   if (g_sensitivity.isActive()) e += g_sensitivity.G * f_true_m_s2;
   return e;
 }
@@ -373,8 +377,8 @@ Eigen::Vector3d ImuErrorModel::gyroDeterministic(const Eigen::Vector3d& omega_tr
                                                  const Eigen::Vector3d& f_true_m_s2,
                                                  double temperature_degC,
                                                  double vibration_regressor) const {
-  return omega_true_rad_s + gyroDeterministicError(omega_true_rad_s, f_true_m_s2,
-                                                   temperature_degC, vibration_regressor);
+  return omega_true_rad_s + gyroDeterministicError(omega_true_rad_s, f_true_m_s2, temperature_degC,
+                                                   vibration_regressor);
 }
 
 Eigen::Vector3d ImuErrorModel::accelDeterministic(const Eigen::Vector3d& f_true_m_s2,
@@ -423,9 +427,9 @@ ImuErrorModel sampleErrorModel(const ImuProfile& p, uint64_t seed) {
   ImuErrorModel m = stochasticErrorModel(p);
   StandardNormalSampler rng(deriveStreamSeed(seed, kStreamTurnOn));
   const double gb = p.gyro_bias_initial_std_rad_s > 0.0 ? p.gyro_bias_initial_std_rad_s
-                                                         : p.gyro_bias_instability_rad_s;
+                                                        : p.gyro_bias_instability_rad_s;
   const double ab = p.accel_bias_initial_std_m_s2 > 0.0 ? p.accel_bias_initial_std_m_s2
-                                                         : p.accel_bias_instability_m_s2;
+                                                        : p.accel_bias_instability_m_s2;
   m.gyro.constant_bias.b = gb * rng.next3();
   m.accel.constant_bias.b = ab * rng.next3();
   m.gyro.scale_factor.k = p.gyro_scale_std * rng.next3();
@@ -455,12 +459,13 @@ ImuSeries applyGeometry(const ImuSeries& reference, const ImuErrorModel& model) 
     for (int k = 0; k < view.size(); ++k) {
       ImuSample& s = out[k];
       if (model.lever_arm.isActive()) {
-        const double h = view.node(k + 1) - view.node(k);
+        const double h = view.length(k);
         const Eigen::Vector3d omega_end = view.nodeRate(k + 1).head<3>();
         const Eigen::Vector3d omega_mean = reference[k].dtheta_rad / h;
         // Quadratic rate a + b s + c s^2 on s in [0, 1] matching both node rates and the mean.
         const Eigen::Vector3d a = omega_start;
-        const Eigen::Vector3d b = 6.0 * (omega_mean - omega_start) - 2.0 * (omega_end - omega_start);
+        const Eigen::Vector3d b =
+            6.0 * (omega_mean - omega_start) - 2.0 * (omega_end - omega_start);
         const Eigen::Vector3d c = (omega_end - omega_start) - b;
         Eigen::Vector3d centripetal = Eigen::Vector3d::Zero();
         for (int i = 0; i < 3; ++i) {
@@ -485,11 +490,14 @@ ImuSeries applyGeometry(const ImuSeries& reference, const ImuErrorModel& model) 
     const IncrementSeriesView view(geo);
     const double tau = model.time_offset.tau_s;
     for (int k = 0; k < view.size(); ++k) {
+      // Integral over [T_k - tau, T_{k+1} - tau] = D_k + (T_{k+1} -> T_{k+1} - tau)
+      //                                              - (T_k -> T_k - tau).
       const Vector6d d =
-          view.thetaFromNode(k, view.node(k + 1) - tau) - view.thetaFromNode(k, view.node(k) - tau);
+          view.increment(k) + view.thetaFromNode(k + 1, -tau) - view.thetaFromNode(k, -tau);
       out[k].dtheta_rad = d.head<3>();
       out[k].dvel_m_s = d.tail<3>();
-      if (geo[k].hasTemperature()) out[k].temperature_degC = interpolateTemperature(geo, geo[k].t_s - tau);
+      if (geo[k].hasTemperature())
+        out[k].temperature_degC = interpolateTemperature(geo, geo[k].t_s - tau);
     }
   }
   return out;
@@ -521,10 +529,9 @@ namespace {
 
 // Steps B5-B8 for one triad; x is the mean input, inc the increment (updated in place).
 void applySensor(const SensorErrorTerms& s, const Eigen::Vector3d& det_error, double dt,
-                 bool started, GaussMarkov& gm, StandardNormalSampler& gm_rng,
-                 Eigen::Vector3d& rw, StandardNormalSampler& rw_rng,
-                 StandardNormalSampler& white_rng, Eigen::Vector3d& quant_residual,
-                 Eigen::Vector3d& inc) {
+                 bool started, GaussMarkov& gm, StandardNormalSampler& gm_rng, Eigen::Vector3d& rw,
+                 StandardNormalSampler& rw_rng, StandardNormalSampler& white_rng,
+                 Eigen::Vector3d& quant_residual, Eigen::Vector3d& inc) {
   Eigen::Vector3d rate_error = det_error;
   if (s.bias_instability.isActive()) {
     if (!started) {
@@ -576,8 +583,10 @@ ImuSample ImuErrorGenerator::apply(const ImuSample& in) {
   double r_g = 0.0, r_a = 0.0;
   const auto& vg = model_.gyro.vibration_rectification;
   const auto& va = model_.accel.vibration_rectification;
-  if (vg.isActive()) r_g = gyro_vib_.update(VibrationRegressor::usesAngularRate(vg.regressor) ? omega : f, dt);
-  if (va.isActive()) r_a = accel_vib_.update(VibrationRegressor::usesAngularRate(va.regressor) ? omega : f, dt);
+  if (vg.isActive())
+    r_g = gyro_vib_.update(VibrationRegressor::usesAngularRate(vg.regressor) ? omega : f, dt);
+  if (va.isActive())
+    r_a = accel_vib_.update(VibrationRegressor::usesAngularRate(va.regressor) ? omega : f, dt);
 
   // B5 deterministic errors.
   Eigen::Vector3d e_g = Eigen::Vector3d::Zero();

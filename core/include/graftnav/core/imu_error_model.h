@@ -86,10 +86,10 @@ struct ErrorTermDescription {
 struct ImuErrorModel {
   SensorErrorTerms gyro;
   SensorErrorTerms accel;
-  GSensitivity g_sensitivity;                   // gyro only
-  TimeOffset time_offset;                       // both
-  LeverArm lever_arm;                           // accel (needs the angular rate)
-  MountingMisalignment mounting_misalignment;   // both
+  GSensitivity g_sensitivity;                  // gyro only
+  TimeOffset time_offset;                      // both
+  LeverArm lever_arm;                          // accel (needs the angular rate)
+  MountingMisalignment mounting_misalignment;  // both
 
   // Throws std::invalid_argument naming the offending key and value (e.g.
   // "ImuErrorModel: gyro.bias_instability.tau_s = -1 must be > 0").
