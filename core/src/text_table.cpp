@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 
 namespace graftnav {
@@ -11,12 +12,16 @@ std::string readWholeFile(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw std::runtime_error(path + ": cannot open file (missing or unreadable)");
   std::string data;
+  long size = -1;
   if (std::fseek(f, 0, SEEK_END) == 0) {
-    const long size = std::ftell(f);
-    if (size > 0) data.reserve(static_cast<std::size_t>(size));
+    size = std::ftell(f);
     std::fseek(f, 0, SEEK_SET);
   }
-  char chunk[1 << 16];
+  if (size > 0) {  // one read into the final buffer
+    data.resize(static_cast<std::size_t>(size));
+    data.resize(std::fread(data.data(), 1, data.size(), f));
+  }
+  char chunk[1 << 16];  // whatever is left (or everything, when the size is unknown)
   std::size_t n;
   while ((n = std::fread(chunk, 1, sizeof(chunk), f)) > 0) data.append(chunk, n);
   const bool failed = std::ferror(f) != 0;
@@ -47,40 +52,42 @@ inline bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 
 bool TextTableReader::next() {
   const std::size_t size = buffer_.size();
-  const char* data = buffer_.data();
+  const char* const data = buffer_.data();
   while (pos_ < size) {
-    const std::size_t start = pos_;
-    std::size_t end = start;
-    while (end < size && data[end] != '\n') ++end;
-    pos_ = end < size ? end + 1 : end;
+    const char* start = data + pos_;
+    const char* nl = static_cast<const char*>(std::memchr(start, '\n', size - pos_));
+    const char* end = nl ? nl : data + size;
+    pos_ = nl ? static_cast<std::size_t>(nl - data) + 1 : size;
     ++line_number_;
-    line_ = std::string_view(data + start, end - start);
-    if (!line_.empty() && line_.back() == '\r') line_.remove_suffix(1);
+    if (end > start && end[-1] == '\r') --end;
+    line_ = std::string_view(start, static_cast<std::size_t>(end - start));
 
-    // Tokenize and parse.
-    const char* p = line_.data();
-    const char* const e = p + line_.size();
-    while (p < e && isBlank(*p)) ++p;
-    if (p == e || *p == '#') continue;  // blank or comment line
+    // Parse numbers directly; a token must end at a blank or at the end of the line.
+    const char* p = start;
+    while (p < end && isBlank(*p)) ++p;
+    if (p == end || *p == '#') continue;  // blank or comment line
     column_count_ = 0;
-    while (p < e) {
-      const char* tok = p;
-      while (p < e && !isBlank(*p)) ++p;
-      const std::string_view text(tok, static_cast<std::size_t>(p - tok));
+    while (p < end) {
       if (column_count_ >= kMaxColumns)
         fail("too many columns (more than " + std::to_string(kMaxColumns) + ") in line " + quoteForMessage(line_));
-      const char* num = tok;
-      if (num < p && *num == '+') ++num;
+      const char* tok = p;
+      const char* num = (*p == '+') ? p + 1 : p;
       double v = 0.0;
-      const auto res = std::from_chars(num, p, v);
+      const auto res = std::from_chars(num, end, v);
+      const char* stop = res.ptr;
       if (res.ec == std::errc::result_out_of_range) {
-        v = std::strtod(std::string(text).c_str(), nullptr);  // overflow/underflow: inf or denormal
-      } else if (res.ec != std::errc() || res.ptr != p) {
-        fail("column " + std::to_string(column_count_ + 1) + ": " + quoteForMessage(text) + " is not a number");
+        while (stop < end && !isBlank(*stop)) ++stop;
+        v = std::strtod(std::string(tok, stop).c_str(), nullptr);  // overflow/underflow: inf or denormal
+      } else if (res.ec != std::errc() || (stop < end && !isBlank(*stop))) {
+        stop = tok;
+        while (stop < end && !isBlank(*stop)) ++stop;
+        fail("column " + std::to_string(column_count_ + 1) + ": " +
+             quoteForMessage(std::string_view(tok, static_cast<std::size_t>(stop - tok))) + " is not a number");
       }
-      tokens_[column_count_] = text;
+      tokens_[column_count_] = std::string_view(tok, static_cast<std::size_t>(stop - tok));
       values_[column_count_++] = v;
-      while (p < e && isBlank(*p)) ++p;
+      p = stop;
+      while (p < end && isBlank(*p)) ++p;
     }
     return true;
   }
@@ -119,9 +126,14 @@ int TextTableReader::integerValue(int column, const char* column_name) const {
 }
 
 std::size_t TextTableReader::physicalLineCount() const {
-  std::size_t n = 0;
-  for (char c : buffer_) n += (c == '\n');
-  return n + 1;
+  std::size_t n = 1;
+  const char* p = buffer_.data();
+  const char* const e = p + buffer_.size();
+  while ((p = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(e - p)))) != nullptr) {
+    ++n;
+    ++p;
+  }
+  return n;
 }
 
 TimeOrderGuard::TimeOrderGuard(ReadRule duplicate_rule, ReadRule backwards_rule, int max_consecutive_drops)
