@@ -1,0 +1,72 @@
+#pragma once
+// Typed result of the lab calibration (what `graftnav calibrate` writes to calibration.yaml and the
+// grafting step reads back). SI units throughout.
+//
+// Sensor model (seed Eq. 1-3): measured = M * true + bias + noise, with M = I + S + N
+// (S diagonal scale-factor errors, N off-diagonal non-orthogonalities). M and bias come with
+// 1-sigma uncertainties. Accelerometer quantities in m/s^2, gyro in rad/s.
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+namespace graftnav {
+
+// Per-axis real-time fitting function (seed Eq. 21): measured = sum_k coeffs[k] * true^k
+// (coefficients lowest order first), degree chosen by k-fold cross-validation.
+struct PolynomialFit {
+  int degree = 1;
+  std::vector<double> coeffs;        // size degree + 1, lowest order first
+  std::vector<double> coeffs_sigma;  // 1-sigma of each coefficient
+  double cv_rms = 0.0;               // cross-validated RMS prediction error of the chosen degree
+  double residual_rms = 0.0;         // RMS residual of the final fit on all points
+  int n_points = 0;
+  double evaluate(double x) const {
+    double y = 0.0, p = 1.0;
+    for (double c : coeffs) {
+      y += c * p;
+      p *= x;
+    }
+    return y;
+  }
+};
+
+// Allan-variance noise terms fitted on the standard model
+//   AVAR(tau) = N^2/tau + (2 ln2/pi) B^2 + K^2 tau / 3
+// (N white noise: ARW rad/sqrt(s) or VRW m/s/sqrt(s); B bias instability rad/s or m/s^2;
+//  K rate random walk rad/s/sqrt(s) or m/s^2/sqrt(s)).
+struct AllanTerms {
+  Eigen::Vector3d white_noise = Eigen::Vector3d::Zero();
+  Eigen::Vector3d white_noise_sigma = Eigen::Vector3d::Zero();
+  Eigen::Vector3d bias_instability = Eigen::Vector3d::Zero();
+  Eigen::Vector3d bias_instability_sigma = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rate_random_walk = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rate_random_walk_sigma = Eigen::Vector3d::Zero();
+};
+
+struct SensorCalibration {
+  Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d bias = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d M_sigma = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d bias_sigma = Eigen::Vector3d::Zero();
+  std::string method;  // e.g. "six_position_ceres", "rate_table_ceres", "multi_position"
+  bool has_allan = false;
+  AllanTerms allan;
+  bool has_fit = false;
+  std::array<PolynomialFit, 3> fit;
+  // Inverse model: true = M^-1 (measured - bias).
+  Eigen::Vector3d correct(const Eigen::Vector3d& measured) const {
+    return M.inverse() * (measured - bias);
+  }
+};
+
+struct CalibrationResult {
+  std::string case_name;
+  double lab_latitude_deg = 0.0;
+  double gravity_m_s2 = 0.0;  // gravity magnitude used for the theoretical output
+  SensorCalibration accel;
+  SensorCalibration gyro;
+};
+
+}  // namespace graftnav

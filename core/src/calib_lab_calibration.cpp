@@ -1,0 +1,126 @@
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "graftnav/core/calibration/lab_calibration.h"
+#include "graftnav/core/rotation.h"
+
+namespace graftnav {
+
+LabCalibrationReport calibrateLab(const LabData& s, const LabCalibrationOptions& opt) {
+  if (s.six_position.empty() && !s.has_static)
+    throw std::runtime_error(s.case_dir + ": insufficient lab data: no six-position poses and no static record");
+  LabCalibrationReport rep;
+  rep.notes = s.notes;
+  CalibrationResult& res = rep.result;
+  res.case_name = s.name;
+  res.lab_latitude_deg = s.latitude_known ? s.lab.lat_rad * kRadToDeg : 0.0;
+  res.gravity_m_s2 = s.gravity_m_s2;
+
+  // --- accelerometer: six-position + tilts ---
+  std::vector<StaticPose> accel_poses = s.six_position;
+  accel_poses.insert(accel_poses.end(), s.tilts.begin(), s.tilts.end());
+  if (!s.six_position.empty()) {
+    rep.accel_fit = calibrateAccelStaticPoses(accel_poses, s.gravity_m_s2, opt.lsq);
+    for (const auto& p : accel_poses)
+      rep.accel_obs.push_back({p.file, staticSpecificForce_b(p.C_nb, s.gravity_m_s2), p.stats.f_mean_m_s2,
+                               p.stats.fSigmaOfMean()});
+    Eigen::Matrix<double, 3, Eigen::Dynamic> U(3, rep.accel_obs.size());
+    Eigen::Matrix<double, 4, Eigen::Dynamic> A(4, rep.accel_obs.size());
+    for (std::size_t k = 0; k < rep.accel_obs.size(); ++k) {
+      U.col(k) = rep.accel_obs[k].measured;
+      A.col(k) << rep.accel_obs[k].true_value, 1.0;
+    }
+    rep.accel_closed_form = closedFormLinearModel(U, A);
+    storeLinearFit(rep.accel_fit, "six_position_ceres", res.accel);
+    rep.has_accel = true;
+    double s0 = 0.0, s1 = 0.0;
+    for (const auto& p : accel_poses) {
+      PoseNormCheck c;
+      c.name = p.name;
+      c.raw_norm = p.stats.f_mean_m_s2.norm();
+      c.calibrated_norm = res.accel.correct(p.stats.f_mean_m_s2).norm();
+      s0 += std::pow(c.raw_norm - s.gravity_m_s2, 2);
+      s1 += std::pow(c.calibrated_norm - s.gravity_m_s2, 2);
+      rep.norm_checks.push_back(c);
+    }
+    rep.norm_rms_before = std::sqrt(s0 / accel_poses.size());
+    rep.norm_rms_after = std::sqrt(s1 / accel_poses.size());
+    try {
+      res.accel.fit = fitAxisPolynomials(rep.accel_obs, res.accel.M, opt.poly, "accel");
+      res.accel.has_fit = true;
+    } catch (const std::invalid_argument& e) {
+      rep.notes.push_back(std::string("accel fitting functions skipped: ") + e.what());
+    }
+  } else {
+    rep.notes.push_back("no six-position data: accelerometer M not calibrated (identity written, sigma 0)");
+  }
+
+  // --- gyro ---
+  const double lat = s.lab.lat_rad;
+  std::vector<StaticPose> gyro_poses = s.six_position;
+  if (gyro_poses.empty() && s.has_static) {
+    StaticPose p;
+    p.name = "static";
+    p.file = s.static_file;
+    p.C_nb = s.static_C_nb;
+    p.stats = segmentStats(s.static_imu, s.static_file);
+    gyro_poses.push_back(p);
+  }
+  if (s.six_position.size() == 6) {
+    rep.eq9 = gyroBiasFromUpDown(s.six_position, lat);
+    rep.has_eq9 = true;
+  }
+  const Eigen::Vector3d noise = staticGyroNoiseStd(gyro_poses);
+  if (!s.rate_runs.empty()) {
+    try {
+      rep.eq10 = gyroScaleFromTurns(s.rate_runs, rep.has_eq9 ? rep.eq9.bias : gyro_poses[0].stats.omega_mean_rad_s,
+                                    lat, noise);
+      rep.has_eq10 = true;
+    } catch (const std::invalid_argument& e) {
+      rep.notes.push_back(std::string("Eq. 10-11 not applicable: ") + e.what());
+    }
+    rep.gyro_obs = gyroObservations(gyro_poses, s.rate_runs, lat, noise);
+    rep.gyro_fit = fitLinearSensorModel(rep.gyro_obs, opt.lsq);
+    storeLinearFit(rep.gyro_fit, "rate_table_ceres", res.gyro);
+    rep.has_gyro_lsq = true;
+    try {
+      res.gyro.fit = fitAxisPolynomials(rep.gyro_obs, res.gyro.M, opt.poly, "gyro");
+      res.gyro.has_fit = true;
+    } catch (const std::invalid_argument& e) {
+      rep.notes.push_back(std::string("gyro fitting functions skipped: ") + e.what());
+    }
+  } else if (rep.has_eq9) {
+    res.gyro.bias = rep.eq9.bias;
+    res.gyro.bias_sigma = rep.eq9.bias_sigma;
+    res.gyro.method = "up_down_pairs_eq9 (no rate runs: M identity, sigma 0)";
+    rep.notes.push_back("no rate-table files: gyro M not calibrated");
+  } else {
+    const StaticPose& p = gyro_poses[0];
+    res.gyro.bias = p.stats.omega_mean_rad_s - staticEarthRate_b(p.C_nb, lat);
+    res.gyro.bias_sigma = p.stats.omegaSigmaOfMean();
+    res.gyro.method = "static_mean (no six-position or rate data: M identity, sigma 0)";
+  }
+
+  // --- basic error signals and Allan ---
+  if (s.has_static) {
+    rep.basic = extractBasicErrors(s.static_imu, s.static_C_nb, s.lab, s.gravity_m_s2);
+    rep.has_basic = true;
+    if (opt.allan && rep.basic.duration_s >= opt.min_allan_duration_s) {
+      rep.gyro_allan = allanDeviation(rep.basic.error, true, opt.allan_curve);
+      rep.accel_allan = allanDeviation(rep.basic.error, false, opt.allan_curve);
+      rep.gyro_allan_fit = fitAllanNoiseTerms(rep.gyro_allan, opt.allan_fit);
+      rep.accel_allan_fit = fitAllanNoiseTerms(rep.accel_allan, opt.allan_fit);
+      res.gyro.has_allan = res.accel.has_allan = true;
+      res.gyro.allan = rep.gyro_allan_fit.terms;
+      res.accel.allan = rep.accel_allan_fit.terms;
+      rep.has_allan = true;
+    } else if (opt.allan) {
+      rep.notes.push_back("static record shorter than " + std::to_string(opt.min_allan_duration_s) +
+                          " s: no Allan analysis");
+    }
+  }
+  return rep;
+}
+
+}  // namespace graftnav
