@@ -6,5 +6,6 @@
 namespace graftnav::app {
 
 // Every register function adds one subcommand and its callback to `app`.
+void registerSimulate(CLI::App& app);  // cmd_simulate.cpp
 
 }  // namespace graftnav::app

@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
   CLI::App app{"graftnav: IMU evaluation by signal grafting (Niu et al., Sensors 2016)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "graftnav 0.1.0");
+  graftnav::app::registerSimulate(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

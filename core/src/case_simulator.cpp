@@ -1,0 +1,185 @@
+#include "graftnav/core/case_simulator.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <stdexcept>
+
+#include "graftnav/core/atomic_file.h"
+#include "graftnav/core/case_config.h"
+#include "graftnav/core/gauss_markov.h"
+#include "graftnav/core/gnss_io.h"
+#include "graftnav/core/imu_io.h"
+#include "graftnav/core/imu_simulator.h"
+#include "graftnav/core/nav_io.h"
+#include "graftnav/core/units.h"
+
+namespace graftnav {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct FieldTrajectory {
+  std::unique_ptr<Trajectory> trj;
+  double t_begin = 0.0, t_end = 0.0;
+  TrackFitReport fit;
+};
+
+FieldTrajectory buildTrajectory(const SimConfig& c) {
+  FieldTrajectory f;
+  if (c.track) {
+    const SimTrackSource& s = *c.track;
+    const GnssSeries all = readGnssPos(s.path, GnssReadPolicy::real());
+    const double first = all.front().t_s, last = all.back().t_s;
+    const double t0 = first + s.start_offset_s;
+    const double t1 = s.duration_s > 0.0 ? std::min(t0 + s.duration_s, last) : last;
+    if (!(t1 > t0)) {
+      throw std::invalid_argument(c.source_path + ": trajectory.start_offset_s = " +
+                                  std::to_string(s.start_offset_s) + " is past the end of " +
+                                  s.path);
+    }
+    GnssSeries piece;
+    for (const auto& fix : all) {
+      if (fix.t_s >= t0 - s.margin_s && fix.t_s <= t1 + s.margin_s) piece.push_back(fix);
+    }
+    auto trj = std::make_unique<TrackTrajectory>(piece, s.smoothing);
+    f.fit = trj->report();
+    f.t_begin = std::max(t0, trj->startTime_s());
+    f.t_end = std::min(t1, trj->endTime_s());
+    // Keep a whole number of IMU intervals.
+    const double n = std::floor((f.t_end - f.t_begin) * c.imu_rate_hz + 1e-6);
+    f.t_end = f.t_begin + n / c.imu_rate_hz;
+    f.trj = std::move(trj);
+  } else {
+    auto trj = std::make_unique<ScriptTrajectory>(*c.script);
+    f.t_begin = trj->startTime_s();
+    f.t_end = trj->endTime_s();
+    f.trj = std::move(trj);
+  }
+  return f;
+}
+
+void describeModel(YAML::Emitter& out, const ImuErrorModel& m) {
+  out << YAML::BeginSeq;
+  for (const auto& d : m.describe()) {
+    out << YAML::Flow << YAML::BeginMap << YAML::Key << "term" << YAML::Value << d.name
+        << YAML::Key << "sensor" << YAML::Value << d.sensor << YAML::Key << "parameters"
+        << YAML::Value << d.parameters << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+}
+
+}  // namespace
+
+CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir,
+                            const std::function<void(const std::string&)>& progress) {
+  config.validate();
+  auto say = [&](const std::string& m) {
+    if (progress) progress(m);
+  };
+  const CasePaths paths(case_dir);
+  for (const char* d : {"field", "lab/six_position", "lab/rate", "lab/tilt"}) {
+    fs::create_directories(fs::path(case_dir) / d);
+  }
+  const uint64_t seed = config.seed;
+  CaseSimSummary sum;
+
+  say("trajectory");
+  FieldTrajectory f = buildTrajectory(config);
+  sum.t_begin_s = f.t_begin;
+  sum.t_end_s = f.t_end;
+  sum.track_fit = f.fit;
+
+  IdealImuOptions io;
+  io.rate_hz = config.imu_rate_hz;
+  io.quadrature_nodes = config.quadrature_nodes;
+  int last_pct = -10;
+  const ImuSeries ideal = simulateIdealImu(*f.trj, f.t_begin, f.t_end, io, [&](double x) {
+    const int pct = static_cast<int>(x * 100.0);
+    if (pct >= last_pct + 10) {
+      last_pct = pct;
+      say("field ideal IMU " + std::to_string(pct) + "%");
+    }
+  });
+  sum.imu_samples = ideal.size();
+
+  say("truth");
+  const NavSeries truth =
+      sampleTruth(*f.trj, f.t_begin, f.t_end, config.truth_rate_hz, config.gnss_week);
+  writeNav(paths.truthNav(), truth);
+  sum.truth_epochs = truth.size();
+  for (std::size_t k = 1; k < truth.size(); ++k) {
+    sum.path_length_m += earth::nedFromGeodetic(truth[k - 1].pos, truth[k].pos).norm();
+  }
+
+  const ImuErrorModel ref_model =
+      buildSimErrorModel(config.reference_imu, deriveStreamSeed(seed, 4), config.ideal);
+  const ImuErrorModel tested_model =
+      buildSimErrorModel(config.tested_imu, deriveStreamSeed(seed, 3), config.ideal);
+
+  say("reference IMU");
+  writeImu(paths.refImu(), applyErrors(ideal, ref_model, deriveStreamSeed(seed, 1)));
+  say("tested IMU");
+  writeImu(paths.testedImu(), applyErrors(ideal, tested_model, deriveStreamSeed(seed, 2)));
+
+  say("GNSS");
+  GnssSimOptions gopt = config.gnss;
+  gopt.add_noise = !config.ideal;
+  const GnssSeries gnss =
+      simulateGnss(*f.trj, f.t_begin, f.t_end, gopt, deriveStreamSeed(seed, 5));
+  writeGnssPos(paths.gnssPos(), gnss);
+  sum.gnss_fixes = gnss.size();
+
+  say("lab sessions");
+  const std::vector<LabSession> lab = simulateLabSessions(config.lab);
+  for (std::size_t i = 0; i < lab.size(); ++i) {
+    writeImu((fs::path(case_dir) / lab[i].relative_path).string(),
+             applyErrors(lab[i].ideal, tested_model, deriveStreamSeed(seed, 100 + i)));
+  }
+  sum.lab_files = lab.size();
+
+  say("case.yaml");
+  CaseConfig cc;
+  cc.name = config.name;
+  cc.imu_rate_hz = config.imu_rate_hz;
+  cc.reference_imu = config.reference_imu.profile;
+  cc.reference_imu_noise_given = true;
+  cc.tested_imu = config.tested_imu.profile;
+  cc.tested_imu_noise_given = true;
+  cc.lever_arm_m = config.gnss.lever_arm_b_m;
+  cc.gnss_week = config.gnss_week;
+  cc.initial_state = truth.front();
+  LabConfig lc;
+  lc.latitude_rad = config.lab.latitude_rad;
+  lc.height_m = config.lab.height_m;
+  lc.static_euler_rad = config.lab.static_euler_rad;
+  lc.six_position_euler_rad = sixPositionPoses();
+  lc.rate_table_axis_up = true;
+  lc.tilt_euler_rad = config.lab.tilt_euler_rad;
+  cc.lab = lc;
+  saveCaseConfig(paths.caseYaml(), cc);
+
+  // What was simulated, for checking estimates against the truth (not part of dataset.md).
+  YAML::Emitter out;
+  out << YAML::BeginMap;
+  out << YAML::Key << "config" << YAML::Value << config.source_path;
+  out << YAML::Key << "seed" << YAML::Value << seed;
+  out << YAML::Key << "ideal" << YAML::Value << config.ideal;
+  out << YAML::Key << "field_begin_s" << YAML::Value << f.t_begin;
+  out << YAML::Key << "field_end_s" << YAML::Value << f.t_end;
+  out << YAML::Key << "truth_rate_hz" << YAML::Value << config.truth_rate_hz;
+  out << YAML::Key << "reference_imu_errors" << YAML::Value;
+  describeModel(out, ref_model);
+  out << YAML::Key << "tested_imu_errors" << YAML::Value;
+  describeModel(out, tested_model);
+  out << YAML::EndMap;
+  writeFileAtomically((fs::path(case_dir) / "simulation.yaml").string(),
+                      std::string(out.c_str()) + "\n");
+  say("done");
+  return sum;
+}
+
+}  // namespace graftnav
