@@ -1,0 +1,42 @@
+#pragma once
+// Factor-graph estimators: batch smoother over the whole data set ("fgo") and sliding window
+// with marginalization ("fgo-window"). Both return the common NavSolution at the IMU rate, made
+// by strapdown integration from the optimized nodes with their biases. docs/fgo.md.
+
+#include <string>
+
+#include "graftnav/core/nav_solution.h"
+#include "graftnav/graph/fgo_options.h"
+
+namespace graftnav {
+
+// What a solve did (for reports, benchmarks and tests). All times wall-clock seconds.
+struct FgoReport {
+  int nodes = 0;
+  int gnss_factors = 0;
+  int gnss_culled = 0;          // removed by the chi-square test after a solve
+  int reintegrations = 0;       // preintegrations redone because the bias moved far
+  int solves = 0;
+  int iterations = 0;           // total solver iterations
+  double initial_cost = 0.0;    // batch: first solve's initial cost
+  double final_cost = 0.0;      // batch: last solve's final cost
+  double window_time_s = 0.0;   // sliding window pass (the batch's initializer)
+  double batch_time_s = 0.0;    // batch solves (not counting the window pass)
+  double covariance_time_s = 0.0;
+  double output_time_s = 0.0;   // IMU-rate integration of the output
+  std::string summary;          // one-line text summary
+};
+
+// Batch: initializes the nodes with a sliding-window (fixed-lag) pass, then solves the full
+// graph with Levenberg-Marquardt on SPARSE_NORMAL_CHOLESKY (SuiteSparse), culls GNSS outliers by
+// chi-square and re-solves, re-preintegrates intervals whose bias moved far and re-solves.
+NavSolution solveBatchFgo(const EstimationProblem& problem, const FgoOptions& options,
+                          FgoReport* report = nullptr);
+
+// Sliding window of options.window_nodes nodes; the oldest node is marginalized into a
+// Schur-complement prior on the next. Output is causal (each node as estimated when it entered
+// the window) unless options.window_fixed_lag_output.
+NavSolution solveWindowFgo(const EstimationProblem& problem, const FgoOptions& options,
+                           FgoReport* report = nullptr);
+
+}  // namespace graftnav

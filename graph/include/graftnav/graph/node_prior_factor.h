@@ -1,0 +1,37 @@
+#pragma once
+// Linear(ized) prior on one node's full state x = (p_w, q_wb, v_w, bg, ba), 15 tangent dims:
+//   r = S (x [-] x0) + e,   x [-] x0 = (p - p0, Log(q0^-1 q), v - v0, bg - bg0, ba - ba0)
+// Used twice: as the prior on the first node (S = diag(1/sigma), e = 0), and as the
+// marginalization prior of the sliding window (S, e from the Schur complement; docs/fgo.md).
+// Blocks: p[3], q[4], v[3], bg[3], ba[3]. Tangent order of S's columns: the same.
+
+#include <ceres/sized_cost_function.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace graftnav {
+
+struct NodeValue {
+  Eigen::Vector3d p_w = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond q_wb = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d v_w = Eigen::Vector3d::Zero();
+  Eigen::Vector3d bg = Eigen::Vector3d::Zero();
+  Eigen::Vector3d ba = Eigen::Vector3d::Zero();
+};
+
+class NodePriorFactor final : public ceres::SizedCostFunction<15, 3, 4, 3, 3, 3> {
+ public:
+  using Matrix15d = Eigen::Matrix<double, 15, 15>;
+  using Vector15d = Eigen::Matrix<double, 15, 1>;
+  NodePriorFactor(const NodeValue& x0, const Matrix15d& S, const Vector15d& e);
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  NodeValue x0_;
+  Matrix15d S_;
+  Vector15d e_;
+};
+
+}  // namespace graftnav

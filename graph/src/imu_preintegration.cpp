@@ -1,0 +1,127 @@
+#include "graftnav/graph/imu_preintegration.h"
+
+#include <Eigen/Cholesky>
+#include <stdexcept>
+#include <string>
+
+#include "graftnav/core/rotation.h"
+
+namespace graftnav {
+
+ImuPreintegration::ImuPreintegration(const Eigen::Vector3d& bg_lin_rad_s,
+                                     const Eigen::Vector3d& ba_lin_m_s2,
+                                     const PreintegrationNoise& noise)
+    : noise_(noise) {
+  if (!(noise.arw_rad_sqrt_s >= 0.0) || !(noise.vrw_m_s_sqrt_s >= 0.0)) {
+    throw std::invalid_argument("ImuPreintegration: negative or NaN ARW/VRW");
+  }
+  resetTo(bg_lin_rad_s, ba_lin_m_s2);
+}
+
+void ImuPreintegration::resetTo(const Eigen::Vector3d& bg, const Eigen::Vector3d& ba) {
+  bg_lin_ = bg;
+  ba_lin_ = ba;
+  dt_s_ = 0.0;
+  dR_.setIdentity();
+  dv_.setZero();
+  dp_.setZero();
+  m2_.setZero();
+  dR_dbg_.setZero();
+  dv_dbg_.setZero();
+  dv_dba_.setZero();
+  dp_dbg_.setZero();
+  dp_dba_.setZero();
+  cov_.setZero();
+}
+
+void ImuPreintegration::integrate(const ImuSample& prev, const ImuSample& cur) {
+  const double dt = cur.dt_s;
+  if (!(dt > 0.0)) {
+    throw std::invalid_argument("ImuPreintegration::integrate: sample at t=" +
+                                std::to_string(cur.t_s) + " has dt=" + std::to_string(dt));
+  }
+  const Eigen::Vector3d dth = cur.dtheta_rad - bg_lin_ * dt;
+  const Eigen::Vector3d dvb = cur.dvel_m_s - ba_lin_ * dt;
+  const Eigen::Vector3d pth = prev.dtheta_rad - bg_lin_ * prev.dt_s;
+  const Eigen::Vector3d pdv = prev.dvel_m_s - ba_lin_ * prev.dt_s;
+  const Eigen::Vector3d dv_fb = dvb + 0.5 * dth.cross(dvb) + (pth.cross(dvb) + pdv.cross(dth)) / 12.0;
+  const Eigen::Vector3d phi = dth + pth.cross(dth) / 12.0;
+  const Eigen::Vector3d a = dR_ * dv_fb;
+
+  // Error-state transition (order p, v, phi) and noise input, with the rotation before the step.
+  const Eigen::Matrix3d dR_skew_dv = dR_ * skew(dvb);
+  const Eigen::Matrix3d expPhiT = dcmFromRotationVector(phi).transpose();
+  const Eigen::Matrix3d Jr = rightJacobianSO3(phi);
+  Matrix9d A = Matrix9d::Identity();
+  A.block<3, 3>(kP, kV) = dt * Eigen::Matrix3d::Identity();
+  A.block<3, 3>(kP, kR) = -0.5 * dt * dR_skew_dv;
+  A.block<3, 3>(kV, kR) = -dR_skew_dv;
+  A.block<3, 3>(kR, kR) = expPhiT;
+  const double var_th = noise_.arw_rad_sqrt_s * noise_.arw_rad_sqrt_s * dt;
+  const double var_v = noise_.vrw_m_s_sqrt_s * noise_.vrw_m_s_sqrt_s * dt;
+  Matrix9d BQBt = Matrix9d::Zero();
+  const Eigen::Matrix3d RRt = dR_ * dR_.transpose();  // = I; kept explicit for clarity of B
+  BQBt.block<3, 3>(kP, kP) = 0.25 * dt * dt * var_v * RRt;
+  BQBt.block<3, 3>(kP, kV) = 0.5 * dt * var_v * RRt;
+  BQBt.block<3, 3>(kV, kP) = 0.5 * dt * var_v * RRt;
+  BQBt.block<3, 3>(kV, kV) = var_v * RRt;
+  BQBt.block<3, 3>(kR, kR) = var_th * Jr * Jr.transpose();
+  cov_ = A * cov_ * A.transpose() + BQBt;
+
+  // Bias Jacobians (p uses the old v and R Jacobians, v the old R Jacobian). da/dbg has the
+  // rotation of dR and the 1/2 dtheta x dv term of the sculling correction:
+  //   da/dbg = -dR [dv_fb]x dR_dbg + 1/2 dt dR [dv]x,   da/dba = -dt dR (1/2 dtheta x dv: O(dt^2)).
+  const Eigen::Matrix3d da_dbg = -dR_ * skew(dv_fb) * dR_dbg_ + 0.5 * dt * dR_skew_dv;
+  const Eigen::Matrix3d da_dba = -dt * dR_ - 0.5 * dt * dR_ * skew(dth);
+  dp_dbg_ += dv_dbg_ * dt + 0.5 * dt * da_dbg;
+  dp_dba_ += dv_dba_ * dt + 0.5 * dt * da_dba;
+  dv_dbg_ += da_dbg;
+  dv_dba_ += da_dba;
+  dR_dbg_ = expPhiT * dR_dbg_ - Jr * dt;
+
+  // Increments.
+  const double tau_mid = dt_s_ + 0.5 * dt;
+  m2_ += tau_mid * tau_mid * a;
+  dp_ += dv_ * dt + 0.5 * dt * a;
+  dv_ += a;
+  dR_ = dR_ * dcmFromRotationVector(phi);
+  dt_s_ += dt;
+}
+
+void ImuPreintegration::reintegrate(const ImuSeries& imu, size_t begin, size_t end,
+                                    const Eigen::Vector3d& bg_rad_s,
+                                    const Eigen::Vector3d& ba_m_s2) {
+  if (begin >= end || end > imu.size()) {
+    throw std::invalid_argument("ImuPreintegration::reintegrate: bad sample range [" +
+                                std::to_string(begin) + ", " + std::to_string(end) + ") of " +
+                                std::to_string(imu.size()));
+  }
+  resetTo(bg_rad_s, ba_m_s2);
+  for (size_t k = begin; k < end; ++k) integrate(k > 0 ? imu[k - 1] : imu[k], imu[k]);
+}
+
+ImuPreintegration::Matrix9d ImuPreintegration::sqrtInformation() const {
+  Eigen::LLT<Matrix9d> llt(cov_);
+  if (llt.info() != Eigen::Success) {
+    throw std::runtime_error("ImuPreintegration::sqrtInformation: covariance not positive definite"
+                             " (zero ARW/VRW?) over dt=" + std::to_string(dt_s_));
+  }
+  Matrix9d Linv = llt.matrixL().solve(Matrix9d::Identity());
+  return Linv;
+}
+
+Eigen::Matrix3d ImuPreintegration::correctedDeltaR(const Eigen::Vector3d& bg) const {
+  return dR_ * dcmFromRotationVector(dR_dbg_ * (bg - bg_lin_));
+}
+
+Eigen::Vector3d ImuPreintegration::correctedDeltaV(const Eigen::Vector3d& bg,
+                                                   const Eigen::Vector3d& ba) const {
+  return dv_ + dv_dbg_ * (bg - bg_lin_) + dv_dba_ * (ba - ba_lin_);
+}
+
+Eigen::Vector3d ImuPreintegration::correctedDeltaP(const Eigen::Vector3d& bg,
+                                                   const Eigen::Vector3d& ba) const {
+  return dp_ + dp_dbg_ * (bg - bg_lin_) + dp_dba_ * (ba - ba_lin_);
+}
+
+}  // namespace graftnav

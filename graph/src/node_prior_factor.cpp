@@ -1,0 +1,42 @@
+#include "graftnav/graph/node_prior_factor.h"
+
+#include "graftnav/core/rotation.h"
+#include "graftnav/graph/right_quaternion_manifold.h"
+
+namespace graftnav {
+
+NodePriorFactor::NodePriorFactor(const NodeValue& x0, const Matrix15d& S, const Vector15d& e)
+    : x0_(x0), S_(S), e_(e) {}
+
+bool NodePriorFactor::Evaluate(double const* const* parameters, double* residuals,
+                               double** jacobians) const {
+  const Eigen::Map<const Eigen::Vector3d> p(parameters[0]);
+  const Eigen::Map<const Eigen::Quaterniond> q(parameters[1]);
+  const Eigen::Map<const Eigen::Vector3d> v(parameters[2]);
+  const Eigen::Map<const Eigen::Vector3d> bg(parameters[3]);
+  const Eigen::Map<const Eigen::Vector3d> ba(parameters[4]);
+  Vector15d dx;
+  dx.segment<3>(0) = p - x0_.p_w;
+  const Eigen::Vector3d dth = rotationVectorFromQuat(x0_.q_wb.conjugate() * q);
+  dx.segment<3>(3) = dth;
+  dx.segment<3>(6) = v - x0_.v_w;
+  dx.segment<3>(9) = bg - x0_.bg;
+  dx.segment<3>(12) = ba - x0_.ba;
+  Eigen::Map<Vector15d>{residuals} = S_ * dx + e_;
+  if (jacobians == nullptr) return true;
+  using Mat153R = Eigen::Matrix<double, 15, 3, Eigen::RowMajor>;
+  using Mat154R = Eigen::Matrix<double, 15, 4, Eigen::RowMajor>;
+  for (int b : {0, 2, 3, 4}) {
+    if (!jacobians[b]) continue;
+    const int col = (b == 0) ? 0 : 3 * (b + 1);
+    Eigen::Map<Mat153R>{jacobians[b]} = S_.middleCols<3>(col);
+  }
+  if (jacobians[1]) {
+    // Log(q0^-1 q Exp(d)) ~= dth + Jr^-1(dth) d.
+    const Eigen::Matrix<double, 15, 3> J_t = S_.middleCols<3>(3) * rightJacobianInverseSO3(dth);
+    Eigen::Map<Mat154R>{jacobians[1]} = J_t * tangentToAmbientJacobian(q);
+  }
+  return true;
+}
+
+}  // namespace graftnav
