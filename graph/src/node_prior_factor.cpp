@@ -28,7 +28,7 @@ bool NodePriorFactor::Evaluate(double const* const* parameters, double* residual
   using Mat154R = Eigen::Matrix<double, 15, 4, Eigen::RowMajor>;
   for (int b : {0, 2, 3, 4}) {
     if (!jacobians[b]) continue;
-    const int col = (b == 0) ? 0 : 3 * (b + 1);
+    const int col = 3 * b;  // tangent columns: p 0, q 3, v 6, bg 9, ba 12
     Eigen::Map<Mat153R>{jacobians[b]} = S_.middleCols<3>(col);
   }
   if (jacobians[1]) {
