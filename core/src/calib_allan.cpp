@@ -39,6 +39,8 @@ void AllanOptions::validate() const {
 }
 
 void AllanFitOptions::validate() const {
+  if (min_cluster_samples < 1 || !(relative_error_floor >= 0.0))
+    throw std::invalid_argument("AllanFitOptions: min_cluster_samples must be >= 1 and relative_error_floor >= 0");
   if (min_tau_s < 0.0 || max_tau_s < 0.0 || (max_tau_s > 0.0 && max_tau_s <= min_tau_s))
     throw std::invalid_argument("AllanFitOptions: bad tau range [" + std::to_string(min_tau_s) +
                                 ", " + std::to_string(max_tau_s) + "]");
@@ -118,6 +120,7 @@ AllanFit fitAllanNoiseTerms(const AllanCurve& curve, const AllanFitOptions& opt)
     for (std::size_t i = 0; i < curve.tau_s.size(); ++i) {
       const double t = curve.tau_s[i];
       if (t < opt.min_tau_s || (opt.max_tau_s > 0.0 && t > opt.max_tau_s)) continue;
+      if (curve.m[i] < opt.min_cluster_samples) continue;
       if (!(curve.adev[i][a] > 0.0)) continue;
       idx.push_back(i);
     }
@@ -140,7 +143,8 @@ AllanFit fitAllanNoiseTerms(const AllanCurve& curve, const AllanFitOptions& opt)
     ceres::Problem problem;
     for (auto i : idx)
       problem.AddResidualBlock(new ceres::AutoDiffCostFunction<AdevResidual, 1, 4>(new AdevResidual(
-                                   curve.tau_s[i], curve.adev[i][a], curve.rel_error[i], opt.fit_quantization)),
+                                   curve.tau_s[i], curve.adev[i][a], std::hypot(curve.rel_error[i], opt.relative_error_floor),
+                                   opt.fit_quantization)),
                                nullptr, c);
     if (!opt.fit_quantization) problem.SetManifold(c, new ceres::SubsetManifold(4, {3}));
     for (int k = 0; k < np; ++k) problem.SetParameterLowerBound(c, k, 0.0);

@@ -10,7 +10,8 @@
 //   AVAR(tau) = sum_{k=0}^{N-2m} (theta_{k+2m} - 2 theta_{k+m} + theta_k)^2 / (2 tau^2 (N - 2m + 1))
 // Confidence: relative 1-sigma error of ADEV ~ 1 / sqrt(2 (N/m - 1)) (IEEE Std 952 App. C).
 //
-// The fit is done on ADEV with residual (sqrt(model(tau)) - adev(tau)) / (rel(tau) adev(tau)) over
+// The fit is done on ADEV with residual (sqrt(model(tau)) - adev(tau)) / (w(tau) adev(tau)),
+// w = sqrt(rel^2 + floor^2) (see AllanFitOptions), over
 // the cluster times, with the variance coefficients c = [N^2, B^2, K^2 (, Q^2)] >= 0 as Ceres
 // parameters; the covariance of c (ceres::Covariance, scaled by max(1, reduced chi-square)) is
 // propagated to N, B, K by sigma_N = sigma_{N^2} / (2 N). Because the overlapping estimates at
@@ -51,6 +52,13 @@ struct AllanFitOptions {
   bool fit_quantization = false;
   double min_tau_s = 0.0;      // restrict the fit range (0 = all)
   double max_tau_s = 0.0;      // 0 = all
+  // Cluster times shorter than this many samples are left out: real sensors low-pass filter
+  // their output, which bends the shortest-tau part of the curve away from the noise model.
+  int min_cluster_samples = 8;
+  // Model-error floor added in quadrature to the relative confidence of each ADEV point (the
+  // short-tau points have tiny statistical errors, while the five-term model is only an
+  // approximation of a real spectrum).
+  double relative_error_floor = 0.01;
   void validate() const;
 };
 
