@@ -49,9 +49,6 @@ FieldTrajectory buildTrajectory(const SimConfig& c) {
     f.fit = trj->report();
     f.t_begin = std::max(t0, trj->startTime_s());
     f.t_end = std::min(t1, trj->endTime_s());
-    // Keep a whole number of IMU intervals.
-    const double n = std::floor((f.t_end - f.t_begin) * c.imu_rate_hz + 1e-6);
-    f.t_end = f.t_begin + n / c.imu_rate_hz;
     f.trj = std::move(trj);
   } else {
     auto trj = std::make_unique<ScriptTrajectory>(*c.script);
@@ -59,6 +56,10 @@ FieldTrajectory buildTrajectory(const SimConfig& c) {
     f.t_end = trj->endTime_s();
     f.trj = std::move(trj);
   }
+  // Keep a whole number of truth intervals (a multiple of the IMU interval), so that the last
+  // IMU epoch has a truth epoch.
+  const double n = std::floor((f.t_end - f.t_begin) * c.truth_rate_hz + 1e-6);
+  f.t_end = f.t_begin + n / c.truth_rate_hz;
   return f;
 }
 

@@ -1,0 +1,175 @@
+// `graftnav simulate` end to end on a tiny config, and the sim config parser's errors.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "graftnav/core/case_config.h"
+#include "graftnav/core/earth.h"
+#include "graftnav/core/gnss_io.h"
+#include "graftnav/core/imu_io.h"
+#include "graftnav/core/mechanization.h"
+#include "graftnav/core/nav_io.h"
+#include "graftnav/core/rotation.h"
+#include "graftnav/core/sim_config.h"
+#include "test_support.h"
+
+namespace graftnav {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string tinyConfig(const std::string& dir) {
+  const std::string imu = test::sourceDir() + "/configs/imu/";
+  std::ofstream f(dir + "/tiny.yaml");
+  f << "name: tiny\nseed: 3\ngnss_week: 2200\nimu_rate_hz: 100\ntruth_rate_hz: 10\n"
+    << "trajectory:\n  script:\n    start_time_s: 200000\n"
+    << "    start_position: [30.5, 114.3, 20]\n    initial_yaw_deg: 45\n    segments:\n"
+    << "      - {type: static, duration_s: 3}\n"
+    << "      - {type: accelerate, to_speed_m_s: 8, duration_s: 6}\n"
+    << "      - {type: figure_eight, radius_m: 25, laps: 1}\n"
+    << "      - {type: stop, duration_s: 6}\n"
+    << "reference_imu: {profile: " << imu << "pos830_navigation.yaml}\n"
+    << "tested_imu:\n  profile: " << imu << "pos1100_mems.yaml\n"
+    << "  gyro_bias_deg_h: [10, -5, 3]\n  gyro_nonorthogonality_urad: [100, 0, 0, 0, 0, -50]\n"
+    << "gnss: {rate_hz: 1, noise_std_neu_m: [0.02, 0.02, 0.05], lever_arm_m: [0.2, 0, -1.0]}\n"
+    << "lab:\n  static_duration_s: 20\n  six_position_duration_s: 2\n  rate_table_deg_s: [90]\n"
+    << "  tilt_duration_s: 1\n  tilts: {tilt_a: [5, 0, 0]}\n";
+  return dir + "/tiny.yaml";
+}
+
+int run(const std::string& args, const std::string& log) {
+  return std::system((test::graftnavBinary() + " " + args + " > " + log + " 2>&1").c_str());
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+TEST(SimCommand, IdealCaseRoundTripsThroughFiles) {
+  const std::string dir = test::makeTempDir("sim_cmd");
+  const std::string cfg = tinyConfig(dir);
+  const std::string out = dir + "/case";
+  ASSERT_EQ(run("simulate --config " + cfg + " --out " + out + " --ideal", dir + "/log.txt"), 0)
+      << slurp(dir + "/log.txt");
+  const CasePaths paths(out);
+  const CaseConfig cc = loadCaseConfig(paths.caseYaml());
+  EXPECT_EQ(cc.name, "tiny");
+  EXPECT_EQ(cc.imu_rate_hz, 100.0);
+  ASSERT_TRUE(cc.lever_arm_m.has_value());
+  EXPECT_NEAR(cc.lever_arm_m->x(), 0.2, 1e-12);
+  ASSERT_TRUE(cc.lab.has_value());
+  EXPECT_EQ(cc.lab->six_position_euler_rad.size(), 6u);
+
+  const ImuSeries ref = readImu(paths.refImu(), {100.0, {}});
+  const ImuSeries tested = readImu(paths.testedImu(), {100.0, {}});
+  const NavSeries truth = readNav(paths.truthNav());
+  const GnssSeries gnss = readGnssPos(paths.gnssPos());
+  ASSERT_EQ(ref.size(), tested.size());
+  // Ideal: the tested IMU equals the reference exactly.
+  for (std::size_t k = 0; k < ref.size(); k += 97) {
+    EXPECT_EQ(ref[k].dtheta_rad, tested[k].dtheta_rad);
+    EXPECT_EQ(ref[k].dvel_m_s, tested[k].dvel_m_s);
+  }
+  EXPECT_EQ(truth.front().gnss_week, 2200);
+  EXPECT_NEAR(truth.back().t_s - truth.front().t_s, ref.size() / 100.0, 1e-6);
+  EXPECT_EQ(truth.size(), ref.size() / 10 + 1);
+  EXPECT_EQ(gnss.size(), static_cast<std::size_t>(std::floor(truth.back().t_s) -
+                                                  std::ceil(truth.front().t_s)) + 1);
+  // The initial state of case.yaml is the first truth epoch.
+  ASSERT_TRUE(cc.initial_state.has_value());
+  EXPECT_NEAR(cc.initial_state->pos.lat_rad, truth.front().pos.lat_rad, 1e-12);
+  // Mechanizing the file's increments from the initial state reproduces the truth file.
+  Strapdown sd(truth.front());
+  for (const auto& s : ref) sd.step(s);
+  const Eigen::Vector3d d = earth::nedFromGeodetic(truth.back().pos, sd.state().pos);
+  EXPECT_LT(d.norm(), 2e-3);
+  EXPECT_LT(rotationVectorFromQuat(truth.back().q_nb.conjugate() * sd.state().q_nb).norm(),
+            1e-7);
+  // Lab files in the layout.
+  EXPECT_TRUE(fs::exists(paths.labStatic()));
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_TRUE(fs::exists(paths.sixPosition(a, true)));
+    EXPECT_TRUE(fs::exists(paths.sixPosition(a, false)));
+  }
+  EXPECT_EQ(paths.rateFiles().size(), 6u);
+  EXPECT_TRUE(fs::exists(paths.tilt("tilt_a")));
+  EXPECT_EQ(readImu(paths.labStatic(), {100.0, {}}).size(), 2000u);
+}
+
+TEST(SimCommand, SeedMakesRunsReproducible) {
+  const std::string dir = test::makeTempDir("sim_seed");
+  const std::string cfg = tinyConfig(dir);
+  for (const char* c : {"a", "b", "c"}) {
+    const std::string seed = std::string(c) == "c" ? "6" : "5";
+    ASSERT_EQ(run("simulate --config " + cfg + " --out " + dir + "/" + c + " --seed " + seed,
+                  dir + "/log.txt"),
+              0)
+        << slurp(dir + "/log.txt");
+  }
+  const std::string a = slurp(dir + "/a/field/tested_imu.txt");
+  EXPECT_FALSE(a.empty());
+  EXPECT_EQ(a, slurp(dir + "/b/field/tested_imu.txt"));
+  EXPECT_NE(a, slurp(dir + "/c/field/tested_imu.txt"));
+  EXPECT_EQ(slurp(dir + "/a/lab/static.txt"), slurp(dir + "/b/lab/static.txt"));
+  EXPECT_NE(slurp(dir + "/a/field/gnss.pos"), slurp(dir + "/c/field/gnss.pos"));
+  // The tested IMU carries errors: its static gyro mean is off the ideal Earth rate by about the
+  // configured bias (10, -5, 3 deg/h) plus the MEMS draws and noise (bounded generously).
+  const ImuSeries st = readImu(dir + "/a/lab/static.txt", {100.0, {}});
+  Eigen::Vector3d m = Eigen::Vector3d::Zero();
+  for (const auto& s : st) m += s.dtheta_rad / s.dt_s;
+  m /= st.size();
+  const CaseConfig cc = loadCaseConfig(dir + "/a/case.yaml");
+  const Geodetic site{cc.lab->latitude_rad, 0.0, cc.lab->height_m};
+  const Eigen::Vector3d ideal = earth::omega_ie_n(site.lat_rad);  // static attitude 0 0 0
+  const double dev_deg_h = (m - ideal).norm() * kRadToDeg * 3600.0;
+  EXPECT_GT(dev_deg_h, 1.0);
+  EXPECT_LT(dev_deg_h, 200.0);
+}
+
+TEST(SimCommand, ConfigErrorsNameFileAndKey) {
+  const std::string dir = test::makeTempDir("sim_cfg");
+  const std::string cfg = tinyConfig(dir);
+  std::string text = slurp(cfg);
+  // Break the first segment's type.
+  text.replace(text.find("type: static"), 12, "type: hover");
+  {
+    std::ofstream(dir + "/bad.yaml") << text;
+  }
+  try {
+    loadSimConfig(dir + "/bad.yaml");
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("bad.yaml:"), std::string::npos) << m;
+    EXPECT_NE(m.find("segments[0].type"), std::string::npos) << m;
+    EXPECT_NE(m.find("hover"), std::string::npos) << m;
+  }
+  std::vector<std::string> warnings;
+  {
+    std::ofstream(dir + "/extra.yaml") << slurp(cfg) << "colour: blue\n";
+  }
+  const SimConfig c = loadSimConfig(dir + "/extra.yaml", &warnings);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("colour"), std::string::npos);
+  EXPECT_NEAR(c.tested_imu.extra.gyro.constant_bias.b.x(), 10.0 * kDegToRad / 3600.0, 1e-15);
+  EXPECT_NEAR(c.tested_imu.extra.gyro.non_orthogonality.N(0, 1), 100e-6, 1e-18);
+  EXPECT_NEAR(c.tested_imu.extra.gyro.non_orthogonality.N(2, 1), -50e-6, 1e-18);
+  // The command reports a missing section and exits non-zero.
+  {
+    std::ofstream(dir + "/notrj.yaml") << "name: x\nreference_imu: {profile: a.yaml}\n";
+  }
+  EXPECT_NE(run("simulate --config " + dir + "/notrj.yaml --out " + dir + "/o", dir + "/log.txt"),
+            0);
+  EXPECT_NE(slurp(dir + "/log.txt").find("trajectory"), std::string::npos)
+      << slurp(dir + "/log.txt");
+}
+
+}  // namespace
+}  // namespace graftnav
