@@ -147,7 +147,10 @@ NavSolution solveBatchFgo(const EstimationProblem& problem, const FgoOptions& op
     int removed = 0;
     for (size_t k = 0; k < n; ++k) {
       for (auto it = gnss[k].begin(); it != gnss[k].end();) {
-        if (graph.gnssChi2(it->second, k) > options.chi2_threshold) {
+        const double chi2 = graph.gnssChi2(it->second, k);
+        if (chi2 > options.chi2_threshold) {
+          rep.culled_times_s.push_back(graph.fixes()[it->second].fix.t_s);
+          rep.culled_chi2.push_back(chi2);
           prob.RemoveResidualBlock(it->first);
           it = gnss[k].erase(it);
           ++removed;

@@ -4,6 +4,7 @@
 // by strapdown integration from the optimized nodes with their biases. docs/fgo.md.
 
 #include <string>
+#include <vector>
 
 #include "graftnav/core/nav_solution.h"
 #include "graftnav/graph/fgo_options.h"
@@ -15,6 +16,8 @@ struct FgoReport {
   int nodes = 0;
   int gnss_factors = 0;
   int gnss_culled = 0;          // removed by the chi-square test after a solve
+  std::vector<double> culled_times_s;   // their epochs
+  std::vector<double> culled_chi2;      // and their whitened squared residuals
   int reintegrations = 0;       // preintegrations redone because the bias moved far
   int solves = 0;
   int iterations = 0;           // total solver iterations
