@@ -34,6 +34,11 @@ void checkStaticPose(const StaticPose& pose, const ImuSeries& imu, double g,
     throw std::runtime_error(pose.file + ": pose '" + pose.name + "' is not static: only " +
                              fmtNum(100.0 * frac, 1) + " % of the samples pass the static detector (need " +
                              fmtNum(100.0 * opt.min_static_fraction, 0) + " %)");
+  const double w = pose.stats.omega_mean_rad_s.norm();
+  if (w > opt.max_pose_rate_rad_s)
+    throw std::runtime_error(pose.file + ": pose '" + pose.name + "' is not static: mean rate " +
+                             fmtNum(w * kRadToDeg, 2) + " deg/s (limit " +
+                             fmtNum(opt.max_pose_rate_rad_s * kRadToDeg, 2) + " deg/s)");
   const Eigen::Vector3d f_th = staticSpecificForce_b(pose.C_nb, g);
   const Eigen::Vector3d f = pose.stats.f_mean_m_s2;
   const double ang = std::atan2(f.cross(f_th).norm(), f.dot(f_th)) * kRadToDeg;

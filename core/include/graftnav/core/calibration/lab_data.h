@@ -4,7 +4,7 @@
 // rejects bad or insufficient lab data with an error naming the file:
 //  - a six-position set with a missing pose (all six or none);
 //  - a pose that is not static (fewer than min_static_fraction of its samples pass the variance
-//    detector) or whose mean specific force points more than max_pose_angle_deg away from the
+//    detector, or a mean rate above max_pose_rate_rad_s) or whose mean specific force points more than max_pose_angle_deg away from the
 //    attitude it is said to have (case.yaml lab.six_position / lab.tilt, or the default of its
 //    name, see six_position.h);
 //  - a rate file that does not hold whole turns, or rate_table.axis_up false (not supported);
@@ -29,6 +29,9 @@ struct LabDataOptions {
   StaticDetectorOptions pose_check = defaultPoseCheck();
   double min_static_fraction = 0.8;
   double max_pose_angle_deg = 20.0;
+  // A constant-rate turn has no variance: a pose whose mean rate exceeds this is not static
+  // (5.7 deg/s; MEMS gyro biases are below ~1 deg/s).
+  double max_pose_rate_rad_s = 0.1;
   double gravity_override_m_s2 = 0.0;  // > 0: use this gravity magnitude
   bool treat_zero_latitude_as_unknown = true;
   bool load_static = true;

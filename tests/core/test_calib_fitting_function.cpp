@@ -1,0 +1,163 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "graftnav/core/calibration/calibration_io.h"
+#include "graftnav/core/calibration/fitting_function.h"
+#include "test_support.h"
+
+namespace graftnav {
+namespace {
+
+std::vector<FitPoint> samplePoly(const std::vector<double>& c, const std::vector<double>& xs, double sigma,
+                                 unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, sigma);
+  std::vector<FitPoint> pts;
+  for (double x : xs) {
+    double y = 0.0, p = 1.0;
+    for (double ck : c) {
+      y += ck * p;
+      p *= x;
+    }
+    pts.push_back({x, y + g(rng), sigma});
+  }
+  return pts;
+}
+
+std::vector<double> rateGrid() {  // rad/s, like a rate table +-10..+-200 deg/s plus static points
+  std::vector<double> xs;
+  for (double d : {-200.0, -150.0, -100.0, -60.0, -30.0, -10.0, 0.0, 0.0, 10.0, 30.0, 60.0, 100.0, 150.0, 200.0})
+    xs.push_back(d * 0.017453292519943295);
+  return xs;
+}
+
+TEST(CalibFittingFunction, QuadraticChosenAndCoefficientsWithinThreeSigma) {
+  const std::vector<double> c = {2e-4, 1.0 + 3e-3, 4e-3};  // bias, 1 + scale, nonlinearity (1/(rad/s))
+  int deg2 = 0;
+  for (unsigned seed : {1u, 2u, 3u, 4u}) {
+    const auto pts = samplePoly(c, rateGrid(), 1e-4, seed);
+    const PolynomialFit f = fitPolynomialCV(pts, PolynomialFitOptions{}, "gyro.x");
+    deg2 += f.degree == 2;
+    ASSERT_GE(f.degree, 2);
+    ASSERT_EQ(f.coeffs.size(), static_cast<std::size_t>(f.degree + 1));
+    for (int k = 0; k <= 2; ++k)
+      EXPECT_LT(std::abs(f.coeffs[k] - c[k]), 3.0 * f.coeffs_sigma[k]) << "seed " << seed << " c" << k;
+    EXPECT_LT(f.residual_rms, 2e-4);
+  }
+  EXPECT_GE(deg2, 3);  // cross-validation does not over-fit
+}
+
+TEST(CalibFittingFunction, LinearDataGetsDegreeOneAndCubicGetsThree) {
+  const auto lin = samplePoly({1e-3, 0.999}, rateGrid(), 1e-4, 8);
+  EXPECT_EQ(fitPolynomialCV(lin, PolynomialFitOptions{}, "lin").degree, 1);
+  const auto cub = samplePoly({0.0, 1.0, 0.0, 5e-3}, rateGrid(), 1e-5, 9);
+  const PolynomialFit f = fitPolynomialCV(cub, PolynomialFitOptions{}, "cub");
+  EXPECT_EQ(f.degree, 3);
+  EXPECT_NEAR(f.evaluate(2.0), 2.0 + 5e-3 * 8.0, 1e-4);
+}
+
+TEST(CalibFittingFunction, CrossAxisPartRemovedBeforeTheAxisFit) {
+  // measured = M true + b with a cross-axis term; per-axis fit must see only its own axis.
+  Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
+  M(0, 1) = 2e-3;
+  M(0, 0) = 1.001;
+  const Eigen::Vector3d b(0.01, 0.0, 0.0);
+  std::vector<LinearObservation> obs;
+  for (double x : {-9.8, 0.0, 9.8})
+    for (double y : {-9.8, 0.0, 9.8}) {
+      const Eigen::Vector3d t(x, y, 0.5 * x);
+      obs.push_back({"p", t, M * t + b, Eigen::Vector3d::Constant(1e-4)});
+    }
+  const auto fits = fitAxisPolynomials(obs, M, PolynomialFitOptions{}, "accel");
+  EXPECT_EQ(fits[0].degree, 1);
+  EXPECT_NEAR(fits[0].coeffs[0], 0.01, 1e-9);
+  EXPECT_NEAR(fits[0].coeffs[1], 1.001, 1e-9);
+}
+
+TEST(CalibFittingFunction, BadInputs) {
+  EXPECT_THROW(fitPolynomialCV({{0, 0, 1}, {1, 1, 1}}, PolynomialFitOptions{}, "two"), std::invalid_argument);
+  EXPECT_THROW(fitPolynomialCV({{1, 0, 1}, {1, 1, 1}, {1, 2, 1}}, PolynomialFitOptions{}, "same x"),
+               std::invalid_argument);
+  EXPECT_THROW(fitPolynomialCV({{0, 0, 0}, {1, 1, 1}, {2, 2, 1}}, PolynomialFitOptions{}, "sigma"),
+               std::invalid_argument);
+  PolynomialFitOptions o;
+  o.max_degree = 5;
+  EXPECT_THROW(o.validate(), std::invalid_argument);
+  o.max_degree = 3;
+  o.folds = 1;
+  EXPECT_THROW(o.validate(), std::invalid_argument);
+}
+
+CalibrationResult sampleResult() {
+  CalibrationResult r;
+  r.case_name = "unit";
+  r.lab_latitude_deg = 30.5;
+  r.gravity_m_s2 = 9.7936;
+  r.accel.M << 1.001, 2e-4, -3e-4, 1e-4, 0.999, 5e-5, 0, 0, 1.0002;
+  r.accel.bias << 0.01, -0.02, 0.03;
+  r.accel.M_sigma.setConstant(1e-5);
+  r.accel.bias_sigma.setConstant(1e-4);
+  r.accel.method = "six_position_ceres";
+  r.gyro = r.accel;
+  r.gyro.bias *= 1e-3;
+  r.gyro.has_allan = true;
+  r.gyro.allan.white_noise << 1e-4, 2e-4, 3e-4;
+  r.gyro.allan.bias_instability << 1e-5, 2e-5, 3e-5;
+  r.gyro.allan.rate_random_walk << 1e-7, 0, 3e-7;
+  r.gyro.has_fit = true;
+  for (int a = 0; a < 3; ++a) {
+    r.gyro.fit[a].degree = 2;
+    r.gyro.fit[a].coeffs = {1e-4 * a, 1.001, 3e-3};
+    r.gyro.fit[a].coeffs_sigma = {1e-6, 1e-5, 1e-4};
+    r.gyro.fit[a].n_points = 14;
+  }
+  return r;
+}
+
+TEST(CalibIo, YamlRoundTrip) {
+  const std::string dir = test::makeTempDir("calib_io");
+  const CalibrationResult r = sampleResult();
+  writeCalibrationYaml(dir + "/calibration.yaml", r);
+  const CalibrationResult q = readCalibrationYaml(dir + "/calibration.yaml");
+  EXPECT_EQ(q.case_name, "unit");
+  EXPECT_NEAR(q.gravity_m_s2, r.gravity_m_s2, 1e-12);
+  EXPECT_LT((q.accel.M - r.accel.M).cwiseAbs().maxCoeff(), 1e-11);
+  EXPECT_LT((q.gyro.bias - r.gyro.bias).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((q.accel.M_sigma - r.accel.M_sigma).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_FALSE(q.accel.has_allan);
+  ASSERT_TRUE(q.gyro.has_allan);
+  EXPECT_LT((q.gyro.allan.white_noise - r.gyro.allan.white_noise).cwiseAbs().maxCoeff(), 1e-15);
+  ASSERT_TRUE(q.gyro.has_fit);
+  EXPECT_EQ(q.gyro.fit[2].degree, 2);
+  EXPECT_NEAR(q.gyro.fit[2].coeffs[0], 2e-4, 1e-15);
+  EXPECT_EQ(q.gyro.method, "six_position_ceres");
+}
+
+TEST(CalibIo, MissingOrMalformedKeysNameTheKey) {
+  const std::string dir = test::makeTempDir("calib_io_bad");
+  auto expectError = [&](const std::string& text, const std::string& key) {
+    const std::string p = dir + "/c.yaml";
+    FILE* f = std::fopen(p.c_str(), "w");
+    std::fputs(text.c_str(), f);
+    std::fclose(f);
+    try {
+      readCalibrationYaml(p);
+      FAIL() << "no error for " << key;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
+    }
+  };
+  const std::string gyro = "gyro: {M: [[1,0,0],[0,1,0],[0,0,1]], bias: [0,0,0]}\n";
+  expectError(gyro, "accel");
+  expectError("accel: {M: [[1,0,0],[0,1,0]], bias: [0,0,0]}\n" + gyro, "accel.M");
+  expectError("accel: {M: [[1,0,0],[0,1,0],[0,0,1]], bias: [0,.nan,0]}\n" + gyro, "accel.bias");
+  expectError("accel: {M: [[1,0,0],[0,1,0],[0,0,1]], bias: [0,0,0], fit: {x: {degree: 2, coeffs: [0,1]}}}\n" +
+                  gyro,
+              "accel.fit");
+  EXPECT_THROW(readCalibrationYaml(dir + "/does_not_exist.yaml"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace graftnav
