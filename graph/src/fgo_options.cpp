@@ -32,6 +32,9 @@ bool FgoOptions::validate(std::string* error) const {
   if (num_threads < 1) return fail(error, "num_threads", num_threads, "must be >= 1");
   if (window_nodes < 2) return fail(error, "window_nodes", window_nodes, "must be >= 2");
   if (window_iterations < 1) return fail(error, "window_iterations", window_iterations, "must be >= 1");
+  if (window_solve_stride < 1) return fail(error, "window_solve_stride", window_solve_stride, "must be >= 1");
+  if (window_solve_stride >= window_nodes) return fail(error, "window_solve_stride", window_solve_stride, "must be < window_nodes");
+  if (batch_init_stride < 1) return fail(error, "batch_init_stride", batch_init_stride, "must be >= 1");
   if (!positive(min_arw_rad_sqrt_s)) return fail(error, "min_arw_rad_sqrt_s", min_arw_rad_sqrt_s, "must be > 0");
   if (!positive(min_vrw_m_s_sqrt_s)) return fail(error, "min_vrw_m_s_sqrt_s", min_vrw_m_s_sqrt_s, "must be > 0");
   if (!positive(min_gyro_bias_std_rad_s)) return fail(error, "min_gyro_bias_std_rad_s", min_gyro_bias_std_rad_s, "must be > 0");

@@ -4,6 +4,7 @@
 #include <ceres/solver.h>
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -84,12 +85,17 @@ NavSolution solveBatchFgo(const EstimationProblem& problem, const FgoOptions& op
   FgoReport& rep = report ? *report : local;
   auto t0 = std::chrono::steady_clock::now();
   FgoGraph graph(problem, options);
-  // Initial values: a fixed-lag sliding-window pass (counts of its culling are not kept: the
-  // batch re-decides every fix).
+  // Initial values: a fixed-lag sliding-window pass that solves every batch_init_stride nodes
+  // (counts of its culling are not kept: the batch re-decides every fix).
   {
+    FgoOptions init = options;
+    init.window_solve_stride = options.batch_init_stride;
+    init.window_nodes = std::max(options.window_nodes, 2 * options.batch_init_stride);
+    graph.setOptions(init);
     FgoReport wrep;
     runSlidingWindow(graph, &wrep);
     rep.reintegrations += wrep.reintegrations;
+    graph.setOptions(options);
   }
   rep.window_time_s = secondsSince(t0);
   t0 = std::chrono::steady_clock::now();

@@ -66,7 +66,9 @@ void ImuPreintegration::integrate(const ImuSample& prev, const ImuSample& cur) {
   BQBt.block<3, 3>(kV, kP) = 0.5 * dt * var_v * RRt;
   BQBt.block<3, 3>(kV, kV) = var_v * RRt;
   BQBt.block<3, 3>(kR, kR) = var_th * Jr * Jr.transpose();
-  cov_ = A * cov_ * A.transpose() + BQBt;
+  // lazyProduct: coefficient-wise 9x9 products (Eigen would otherwise call its GEMM kernel).
+  const Matrix9d AP = A.lazyProduct(cov_);
+  cov_ = AP.lazyProduct(A.transpose()) + BQBt;
 
   // Bias Jacobians (p uses the old v and R Jacobians, v the old R Jacobian). da/dbg has the
   // rotation of dR and the 1/2 dtheta x dv term of the sculling correction:

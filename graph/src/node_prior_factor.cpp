@@ -22,7 +22,7 @@ bool NodePriorFactor::Evaluate(double const* const* parameters, double* residual
   dx.segment<3>(6) = v - x0_.v_w;
   dx.segment<3>(9) = bg - x0_.bg;
   dx.segment<3>(12) = ba - x0_.ba;
-  Eigen::Map<Vector15d>{residuals} = S_ * dx + e_;
+  Eigen::Map<Vector15d>{residuals} = S_.lazyProduct(dx) + e_;
   if (jacobians == nullptr) return true;
   using Mat153R = Eigen::Matrix<double, 15, 3, Eigen::RowMajor>;
   using Mat154R = Eigen::Matrix<double, 15, 4, Eigen::RowMajor>;
@@ -33,7 +33,7 @@ bool NodePriorFactor::Evaluate(double const* const* parameters, double* residual
   }
   if (jacobians[1]) {
     // Log(q0^-1 q Exp(d)) ~= dth + Jr^-1(dth) d.
-    const Eigen::Matrix<double, 15, 3> J_t = S_.middleCols<3>(3) * rightJacobianInverseSO3(dth);
+    const Eigen::Matrix<double, 15, 3> J_t = S_.middleCols<3>(3).lazyProduct(rightJacobianInverseSO3(dth));
     Eigen::Map<Mat154R>{jacobians[1]} = J_t * tangentToAmbientJacobian(q);
   }
   return true;

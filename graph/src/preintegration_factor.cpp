@@ -72,20 +72,20 @@ bool PreintegrationFactor::Evaluate(double const* const* parameters, double* res
     Mat93 J = Mat93::Zero();
     J.block<3, 3>(kP, 0) = -R_iT * (I + (T * T / 3.0) * G);
     J.block<3, 3>(kV, 0) = R_iT * (-0.5 * T * G - 2.0 * W);
-    Eigen::Map<Mat93R>{jacobians[0]} = sqrt_info_ * J;
+    Eigen::Map<Mat93R>{jacobians[0]} = sqrt_info_.lazyProduct(J);
   }
   if (jacobians[1]) {  // q_i (tangent, then ambient)
     Mat93 J = Mat93::Zero();
     J.block<3, 3>(kP, 0) = skew(R_iT * dp) - skew(c) * skew(A);
     J.block<3, 3>(kV, 0) = skew(R_iT * dv) - skew(m1) * skew(A);
     J.block<3, 3>(kR, 0) = -Jr_inv * R_j.transpose() * E.transpose() * R_i;
-    Eigen::Map<Mat94R>{jacobians[1]} = sqrt_info_ * J * tangentToAmbientJacobian(q_i);
+    Eigen::Map<Mat94R>{jacobians[1]} = sqrt_info_.lazyProduct(J * tangentToAmbientJacobian(q_i));
   }
   if (jacobians[2]) {  // v_i
     Mat93 J = Mat93::Zero();
     J.block<3, 3>(kP, 0) = R_iT * (-T * I + (2.0 * T * T / 3.0) * W);
     J.block<3, 3>(kV, 0) = -R_iT;
-    Eigen::Map<Mat93R>{jacobians[2]} = sqrt_info_ * J;
+    Eigen::Map<Mat93R>{jacobians[2]} = sqrt_info_.lazyProduct(J);
   }
   if (jacobians[3]) {  // bg_i
     Mat93 J = Mat93::Zero();
@@ -93,30 +93,30 @@ bool PreintegrationFactor::Evaluate(double const* const* parameters, double* res
     J.block<3, 3>(kV, 0) = -pre.dv_dbg();
     J.block<3, 3>(kR, 0) =
         -Jr_inv * M.transpose() * rightJacobianSO3(phi_b) * pre.dR_dbg();
-    Eigen::Map<Mat93R>{jacobians[3]} = sqrt_info_ * J;
+    Eigen::Map<Mat93R>{jacobians[3]} = sqrt_info_.lazyProduct(J);
   }
   if (jacobians[4]) {  // ba_i
     Mat93 J = Mat93::Zero();
     J.block<3, 3>(kP, 0) = -pre.dp_dba();
     J.block<3, 3>(kV, 0) = -pre.dv_dba();
-    Eigen::Map<Mat93R>{jacobians[4]} = sqrt_info_ * J;
+    Eigen::Map<Mat93R>{jacobians[4]} = sqrt_info_.lazyProduct(J);
   }
   if (jacobians[5]) {  // p_j
     Mat93 J = Mat93::Zero();
     J.block<3, 3>(kP, 0) = R_iT * (I - (T * T / 6.0) * G);
     J.block<3, 3>(kV, 0) = R_iT * (-0.5 * T * G + 2.0 * W);
-    Eigen::Map<Mat93R>{jacobians[5]} = sqrt_info_ * J;
+    Eigen::Map<Mat93R>{jacobians[5]} = sqrt_info_.lazyProduct(J);
   }
   if (jacobians[6]) {  // q_j
     Mat93 J = Mat93::Zero();
     J.block<3, 3>(kR, 0) = Jr_inv;
-    Eigen::Map<Mat94R>{jacobians[6]} = sqrt_info_ * J * tangentToAmbientJacobian(q_j);
+    Eigen::Map<Mat94R>{jacobians[6]} = sqrt_info_.lazyProduct(J * tangentToAmbientJacobian(q_j));
   }
   if (jacobians[7]) {  // v_j
     Mat93 J = Mat93::Zero();
     J.block<3, 3>(kP, 0) = R_iT * W * (T * T / 3.0);
     J.block<3, 3>(kV, 0) = R_iT;
-    Eigen::Map<Mat93R>{jacobians[7]} = sqrt_info_ * J;
+    Eigen::Map<Mat93R>{jacobians[7]} = sqrt_info_.lazyProduct(J);
   }
   return true;
 }

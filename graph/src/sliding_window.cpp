@@ -20,7 +20,8 @@ struct NodeResiduals {
 
 ceres::Solver::Options windowSolverOptions(const FgoOptions& o) {
   ceres::Solver::Options so;
-  so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+  so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  so.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
   so.max_num_iterations = o.window_iterations;
   so.logging_type = ceres::SILENT;
   so.num_threads = 1;
@@ -157,9 +158,10 @@ WindowResult runSlidingWindow(FgoGraph& graph, FgoReport* report) {
           problem.AddResidualBlock(graph.makeGnssFactor(fix), graph.gnssLoss(), graph.poseBlocks(k)),
           fix);
     }
-    solve();
+    const bool solve_now = (k % static_cast<size_t>(opt.window_solve_stride) == 0) || k + 1 == n;
+    if (solve_now) solve();
     // Chi-square culling of the newest node's fixes, then re-solve.
-    if (opt.culling_rounds > 0) {
+    if (solve_now && opt.culling_rounds > 0) {
       bool removed = false;
       for (auto it = res[k].gnss.begin(); it != res[k].gnss.end();) {
         if (graph.gnssChi2(it->second, k) > opt.chi2_threshold) {
@@ -174,7 +176,7 @@ WindowResult runSlidingWindow(FgoGraph& graph, FgoReport* report) {
       if (removed) solve();
     }
     // Re-preintegrate window intervals whose bias moved far from their linearization point.
-    for (size_t j = oldest; j < k; ++j) {
+    for (size_t j = oldest; solve_now && j < k; ++j) {
       if (graph.biasMovedFar(j)) {
         graph.preintegrate(j);
         res[j].preint_factor->refresh();

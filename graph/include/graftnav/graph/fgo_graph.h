@@ -100,6 +100,8 @@ class FgoGraph {
 
   const EstimationProblem& problem() const { return problem_; }
   const FgoOptions& options() const { return options_; }
+  // Replaces solver-side options (window sizes, strides); node layout and noise stay as built.
+  void setOptions(const FgoOptions& options) { options_ = options; }
 
  private:
   void buildNodes();

@@ -34,7 +34,11 @@ struct FgoOptions {
 
   // Sliding window.
   int window_nodes = 10;                   // nodes kept in the window
-  int window_iterations = 4;               // solver iterations per new node
+  int window_iterations = 4;               // solver iterations per solve
+  int window_solve_stride = 1;             // solve after every n-th new node (1: every node)
+  // Batch initialization: a fixed-lag window pass solving every batch_init_stride nodes over a
+  // window of 2 * batch_init_stride nodes.
+  int batch_init_stride = 10;
   bool window_fixed_lag_output = false;    // output each node when it leaves the window (a
                                            // fixed-lag smoother) instead of when it enters (causal)
 
