@@ -1,0 +1,120 @@
+#pragma once
+// Loosely coupled, closed-loop GNSS/INS error-state EKF (seed section 2.4, Eq. 22, 23, 26, 27)
+// on the 21-state psi-angle model of ins_error_model.h, and the run over an EstimationProblem.
+//
+// Per IMU sample: the raw increments are corrected with the current bias/scale estimates and
+// mechanized by core's Strapdown. The covariance is propagated every covariance_interval_s with
+// F evaluated at the current state and the mean corrected rate/specific force of the interval.
+// A GNSS fix inside an IMU interval splits that sample (uniform-rate assumption) so the update
+// happens exactly at the GNSS time. Update: chi-square gate on the innovation, Joseph form,
+// symmetrized covariance, then the estimate is fed back (PVA reset, sensor estimates augmented)
+// and the error state is zero again.
+
+#include <functional>
+#include <vector>
+
+#include "graftnav/core/mechanization.h"
+#include "graftnav/core/nav_solution.h"
+#include "graftnav/filters/ins_error_model.h"
+
+namespace graftnav {
+
+struct EkfOptions {
+  double covariance_interval_s = 0.05;  // P propagation interval (accumulated Phi)
+  double record_interval_s = 1.0;       // smoother record spacing between GNSS updates
+  double gate_probability = 0.999;      // chi-square innovation gate; <= 0 or >= 1: no gate
+  int max_consecutive_rejections = 5;   // then the next fix is accepted (avoids lock-out)
+  double gnss_std_scale = 1.0;          // R = (scale * std)^2 per axis (seed Eq. 27)
+  double gnss_std_floor_m = 0.005;      // lower bound on the GNSS 1-sigma
+  double gnss_default_std_m = 0.05;     // used when a fix carries no (or a zero) std
+  // Initial 1-sigma when EstimationProblem::initial_sigma is not given.
+  double init_pos_std_m = 0.5;
+  double init_vel_std_m_s = 0.1;
+  double init_roll_pitch_std_rad = 0.1 * 0.017453292519943295;
+  double init_heading_std_rad = 0.5 * 0.017453292519943295;
+  int output_decimation = 1;  // keep every N-th IMU epoch in the solution
+  void validate() const;      // throws std::invalid_argument naming the field
+};
+
+// What the RTS smoother needs at one record epoch of the forward pass.
+struct SmootherRecord {
+  double t_s = 0.0;
+  NavState nav;              // nominal state after the feedback at this epoch
+  ImuErrorEstimate sensors;  // sensor estimates after the feedback
+  ErrorState dx = ErrorState::Zero();  // correction fed back here (zero without an update)
+  ErrorCov P_prior = ErrorCov::Zero();  // before the update at t_s
+  ErrorCov P_post = ErrorCov::Zero();   // after it
+  ErrorCov Phi = ErrorCov::Identity();  // transition from the previous record to this one
+};
+
+class GnssInsEkf {
+ public:
+  GnssInsEkf(const NavState& initial, const ErrorCov& P0, const ImuProfile& profile,
+             const EkfOptions& options);
+
+  // Mechanizes one raw sample (any interval length) and propagates the covariance when the
+  // accumulated interval reaches covariance_interval_s.
+  void propagate(const ImuSample& raw);
+  // Propagates the covariance over the interval accumulated so far (no-op if empty).
+  void flushCovariance();
+
+  // GNSS position update at the antenna; returns false when the fix fails the gate.
+  bool updatePosition(const GnssFix& fix, const Eigen::Vector3d& lever_arm_b_m);
+  // GNSS velocity update at the antenna (NED, m/s, 1-sigma per axis).
+  bool updateVelocity(const Eigen::Vector3d& v_ned_m_s, const Eigen::Vector3d& std_m_s,
+                      const Eigen::Vector3d& lever_arm_b_m);
+
+  const NavState& state() const { return nav_; }
+  const ImuErrorEstimate& sensors() const { return sensors_; }
+  const ErrorCov& covariance() const { return P_; }
+  // 1-sigma of (dr, v error, phi) in the true n frame, from the last propagated covariance.
+  const PvaSigma& pvaSigma();
+  int rejected() const { return rejected_; }
+
+  // Records for the smoother (off by default).
+  void enableRecording(bool on);
+  std::vector<SmootherRecord>& records() { return records_; }
+  // Appends a record at the current time (after flushing the covariance).
+  void recordNow();
+
+ private:
+  bool update(const Eigen::Vector3d& z, const Eigen::Matrix<double, 3, ekf::kStateDim>& H,
+              const Eigen::Vector3d& r_diag);
+  void pushRecord(const ErrorState& dx, const ErrorCov& P_prior);
+
+  EkfOptions opt_;
+  ImuProfile profile_;
+  ErrorState qc_;
+  Strapdown mech_;
+  NavState nav_;
+  ImuErrorEstimate sensors_;
+  ErrorCov P_;
+  // Covariance-interval accumulators.
+  Eigen::Vector3d sum_dtheta_ = Eigen::Vector3d::Zero(), sum_dvel_ = Eigen::Vector3d::Zero();
+  double acc_dt_ = 0.0;
+  Eigen::Vector3d last_omega_b_ = Eigen::Vector3d::Zero();
+  // Smoother bookkeeping.
+  bool recording_ = false;
+  ErrorCov Phi_since_record_ = ErrorCov::Identity();
+  double last_record_t_ = 0.0;
+  std::vector<SmootherRecord> records_;
+  int rejected_ = 0;
+  int consecutive_rejected_ = 0;
+  double gate_threshold_ = 0.0;
+  PvaSigma sigma_;
+  bool sigma_valid_ = false;
+};
+
+// Initial covariance from the problem (initial_sigma when given) and the IMU profile.
+ErrorCov initialCovariance(const EstimationProblem& problem, const EkfOptions& options);
+
+// The portion of `s` inside (t_from, t_to] assuming a uniform rate over the sample.
+ImuSample sliceImuSample(const ImuSample& s, double t_from, double t_to);
+
+using ProgressFn = std::function<void(double fraction_done)>;
+
+// Forward EKF over the problem. With `records`, the forward pass is recorded for the smoother.
+NavSolution runEkf(const EstimationProblem& problem, const EkfOptions& options,
+                   std::vector<SmootherRecord>* records = nullptr, const ProgressFn& progress = {});
+
+}  // namespace graftnav
