@@ -63,6 +63,15 @@ FieldTrajectory buildTrajectory(const SimConfig& c) {
   return f;
 }
 
+// The tested IMU's files carry the warm-up temperature when the config has one.
+ImuSeries withTemperature(const ImuSeries& in, const std::optional<SimTemperature>& temp) {
+  if (!temp || in.empty()) return in;
+  ImuSeries out = in;
+  const double t0 = in.front().t_s - in.front().dt_s;
+  for (auto& s : out) s.temperature_degC = temp->at(s.t_s - 0.5 * s.dt_s - t0);
+  return out;
+}
+
 void describeModel(YAML::Emitter& out, const ImuErrorModel& m) {
   out << YAML::BeginSeq;
   for (const auto& d : m.describe()) {
@@ -124,7 +133,8 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
   say("reference IMU");
   writeImu(paths.refImu(), applyErrors(ideal, ref_model, deriveStreamSeed(seed, 1)));
   say("tested IMU");
-  writeImu(paths.testedImu(), applyErrors(ideal, tested_model, deriveStreamSeed(seed, 2)));
+  writeImu(paths.testedImu(), applyErrors(withTemperature(ideal, config.temperature), tested_model,
+                                              deriveStreamSeed(seed, 2)));
 
   say("GNSS");
   GnssSimOptions gopt = config.gnss;
@@ -138,7 +148,8 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
   const std::vector<LabSession> lab = simulateLabSessions(config.lab);
   for (std::size_t i = 0; i < lab.size(); ++i) {
     writeImu((fs::path(case_dir) / lab[i].relative_path).string(),
-             applyErrors(lab[i].ideal, tested_model, deriveStreamSeed(seed, 100 + i)));
+             applyErrors(withTemperature(lab[i].ideal, config.temperature), tested_model,
+                         deriveStreamSeed(seed, 100 + i)));
   }
   sum.lab_files = lab.size();
 

@@ -128,7 +128,8 @@ SimImuConfig parseImu(const Reader& r, const YAML::Node& n, const std::string& k
   if (tested) {
     known.insert({"gyro_bias_deg_h", "accel_bias_mg", "gyro_scale_ppm", "accel_scale_ppm",
                   "gyro_nonorthogonality_urad", "accel_nonorthogonality_urad",
-                  "g_sensitivity_deg_h_per_g"});
+                  "g_sensitivity_deg_h_per_g", "gyro_bias_per_degC_deg_h",
+                  "accel_bias_per_degC_mg", "temperature_ref_degC"});
   }
   r.checkKeys(n, key, known);
   SimImuConfig c;
@@ -158,6 +159,15 @@ SimImuConfig parseImu(const Reader& r, const YAML::Node& n, const std::string& k
                     1e-6);
     c.extra.accel.non_orthogonality.N = offDiagonal(
         r.list(n, "accel_nonorthogonality_urad", key + ".accel_nonorthogonality_urad", 6), 1e-6);
+    if (auto v = r.vec3(n, "gyro_bias_per_degC_deg_h", key + ".gyro_bias_per_degC_deg_h")) {
+      c.extra.gyro.temperature_bias.per_degC = *v * units::kDegPerHourToRadPerSec;
+    }
+    if (auto v = r.vec3(n, "accel_bias_per_degC_mg", key + ".accel_bias_per_degC_mg")) {
+      c.extra.accel.temperature_bias.per_degC = *v * units::kMilliGToMPerSec2;
+    }
+    const double t_ref = r.num(n, "temperature_ref_degC", key + ".temperature_ref_degC", 25.0);
+    c.extra.gyro.temperature_bias.t_ref_degC = t_ref;
+    c.extra.accel.temperature_bias.t_ref_degC = t_ref;
     const auto g = r.list(n, "g_sensitivity_deg_h_per_g", key + ".g_sensitivity_deg_h_per_g", 9);
     if (!g.empty()) {
       for (int i = 0; i < 9; ++i) {
@@ -235,6 +245,12 @@ void SimConfig::validate() const {
     }
   }
   if (script) script->validate();
+  if (tested_imu.extra.gyro.usesTemperature() || tested_imu.extra.accel.usesTemperature()) {
+    if (!temperature) {
+      throw std::invalid_argument("SimConfig: tested_imu has temperature coefficients but the "
+                                  "config has no temperature section");
+    }
+  }
   gnss.validate();
   lab.validate();
   reference_imu.extra.validate();
@@ -253,7 +269,7 @@ SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warni
   const Reader r(path, warnings);
   r.checkKeys(root, "",
               {"name", "seed", "gnss_week", "imu_rate_hz", "quadrature_nodes", "truth_rate_hz",
-               "trajectory", "reference_imu", "tested_imu", "gnss", "lab"});
+               "trajectory", "reference_imu", "tested_imu", "gnss", "lab", "temperature"});
   SimConfig c;
   c.source_path = path;
   c.name = r.str(root, "name", "name", c.name);
@@ -295,6 +311,17 @@ SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warni
     c.gnss.rate_hz = r.num(g, "rate_hz", "gnss.rate_hz", c.gnss.rate_hz);
     if (auto v = r.vec3(g, "noise_std_neu_m", "gnss.noise_std_neu_m")) c.gnss.noise_std_neu_m = *v;
     if (auto v = r.vec3(g, "lever_arm_m", "gnss.lever_arm_m")) c.gnss.lever_arm_b_m = *v;
+  }
+  if (const YAML::Node t = root["temperature"]) {
+    r.checkKeys(t, "temperature", {"start_degC", "end_degC", "time_constant_s"});
+    SimTemperature st;
+    st.start_degC = r.requiredNum(t, "start_degC", "temperature.start_degC");
+    st.end_degC = r.num(t, "end_degC", "temperature.end_degC", st.start_degC);
+    st.time_constant_s = r.num(t, "time_constant_s", "temperature.time_constant_s", 900.0);
+    if (!(st.time_constant_s > 0.0)) {
+      r.fail(t["time_constant_s"], "temperature.time_constant_s", "must be > 0");
+    }
+    c.temperature = st;
   }
   c.lab.rate_hz = c.imu_rate_hz;
   c.lab.quadrature_nodes = c.quadrature_nodes;
@@ -341,6 +368,10 @@ SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warni
   return c;
 }
 
+double SimTemperature::at(double dt_s) const {
+  return end_degC + (start_degC - end_degC) * std::exp(-dt_s / time_constant_s);
+}
+
 ImuErrorModel buildSimErrorModel(const SimImuConfig& imu, uint64_t seed, bool ideal) {
   if (ideal) return ImuErrorModel{};
   ImuErrorModel m = imu.turn_on_errors ? sampleErrorModel(imu.profile, seed)
@@ -353,6 +384,8 @@ ImuErrorModel buildSimErrorModel(const SimImuConfig& imu, uint64_t seed, bool id
   m.gyro.non_orthogonality.N += x.gyro.non_orthogonality.N;
   m.accel.non_orthogonality.N += x.accel.non_orthogonality.N;
   m.g_sensitivity.G += x.g_sensitivity.G;
+  m.gyro.temperature_bias = x.gyro.temperature_bias;
+  m.accel.temperature_bias = x.accel.temperature_bias;
   m.validate();
   return m;
 }

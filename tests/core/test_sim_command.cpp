@@ -1,6 +1,7 @@
 // `graftnav simulate` end to end on a tiny config, and the sim config parser's errors.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -131,6 +132,44 @@ TEST(SimCommand, SeedMakesRunsReproducible) {
   const double dev_deg_h = (m - ideal).norm() * kRadToDeg * 3600.0;
   EXPECT_GT(dev_deg_h, 1.0);
   EXPECT_LT(dev_deg_h, 200.0);
+}
+
+// A temperature section gives the tested IMU files a temperature column, and a bias temperature
+// coefficient shows up as the configured bias change between the cold and the warm end.
+TEST(SimCommand, TemperatureWarmUpAndBiasCoefficient) {
+  const std::string dir = test::makeTempDir("sim_temp");
+  std::string text = slurp(tinyConfig(dir));
+  text.replace(text.find("  gyro_bias_deg_h"), 0,
+               "  gyro_bias_per_degC_deg_h: [0, 0, 50]\n  temperature_ref_degC: 30\n");
+  text += "temperature: {start_degC: 20, end_degC: 40, time_constant_s: 5}\n";
+  {
+    std::ofstream(dir + "/temp.yaml") << text;
+  }
+  ASSERT_EQ(run("simulate --config " + dir + "/temp.yaml --out " + dir + "/case", dir + "/log.txt"),
+            0)
+      << slurp(dir + "/log.txt");
+  const ImuSeries st = readImu(dir + "/case/lab/static.txt", {100.0, {}});
+  ASSERT_TRUE(st.front().hasTemperature());
+  EXPECT_NEAR(st.front().temperature_degC, 20.0, 0.1);
+  EXPECT_NEAR(st.back().temperature_degC, 40.0 - 20.0 * std::exp(-4.0), 0.1);
+  EXPECT_FALSE(readImu(dir + "/case/field/ref_imu.txt", {100.0, {}}).front().hasTemperature());
+  EXPECT_TRUE(readImu(dir + "/case/field/tested_imu.txt", {100.0, {}}).front().hasTemperature());
+  auto mean = [&](std::size_t a, std::size_t b, double& temp) {
+    Eigen::Vector3d m = Eigen::Vector3d::Zero();
+    temp = 0.0;
+    for (std::size_t k = a; k < b; ++k) {
+      m += st[k].dtheta_rad / st[k].dt_s;
+      temp += st[k].temperature_degC;
+    }
+    temp /= (b - a);
+    return Eigen::Vector3d(m / (b - a));
+  };
+  double t_cold = 0.0, t_warm = 0.0;
+  const Eigen::Vector3d cold = mean(0, 200, t_cold);
+  const Eigen::Vector3d warm = mean(st.size() - 200, st.size(), t_warm);
+  const double expected = 50.0 * (t_warm - t_cold);  // deg/h
+  // MEMS noise on two 2-s means: ~9 deg/h; the expected change is ~800 deg/h.
+  EXPECT_NEAR((warm.z() - cold.z()) * kRadToDeg * 3600.0, expected, 0.05 * expected);
 }
 
 TEST(SimCommand, ConfigErrorsNameFileAndKey) {

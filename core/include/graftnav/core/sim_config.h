@@ -43,6 +43,13 @@
 //     gyro_nonorthogonality_urad: [xy, xz, yx, yz, zx, zy]   # off-diagonal N entries
 //     accel_nonorthogonality_urad: [xy, xz, yx, yz, zx, zy]
 //     g_sensitivity_deg_h_per_g: [9 values, row-major]
+//     gyro_bias_per_degC_deg_h: [0.01, 0.02, -0.01]   # temperature coefficient of the bias
+//     accel_bias_per_degC_mg: [0.005, 0, 0.01]
+//     temperature_ref_degC: 25
+//   temperature:                    # optional: tested IMU files get an 8th (temperature) column
+//     start_degC: 20                # warm-up T(t) = end + (start - end) exp(-(t - t_file0) / tau)
+//     end_degC: 35
+//     time_constant_s: 900
 //   gnss:
 //     rate_hz: 1
 //     noise_std_neu_m: [0.02, 0.02, 0.04]
@@ -92,6 +99,14 @@ struct SimImuConfig {
   ImuErrorModel extra;  // only deterministic terms are filled by the parser
 };
 
+// Sensor temperature of the tested IMU during each file (a warm-up curve from the file's start).
+struct SimTemperature {
+  double start_degC = 25.0;
+  double end_degC = 25.0;
+  double time_constant_s = 900.0;
+  double at(double seconds_since_file_start) const;
+};
+
 struct SimConfig {
   std::string name = "simulated_case";
   std::string source_path;  // the config file, for messages
@@ -106,6 +121,7 @@ struct SimConfig {
   SimImuConfig tested_imu;
   GnssSimOptions gnss;
   LabSimOptions lab;
+  std::optional<SimTemperature> temperature;
   bool ideal = false;  // every IMU error-free and GNSS noise-free (set by --ideal)
 
   void validate() const;  // throws std::invalid_argument naming the key
