@@ -1,0 +1,91 @@
+#pragma once
+// The library of candidate physics terms the mismatch finder can use to explain the residual
+// r = real - simulated (per bin, channels [gyro x, y, z (rad/s), accel x, y, z (m/s^2)]).
+//
+// Every term is linear in its parameters: r ~= sum_j theta_j u_j(t), where each regressor u_j is
+// built from the reference signals x (the true inputs: omega, f), their derivatives, temperature,
+// a vibration level or the attitude. A term's names and parameter keys are those of
+// diagnosis.json (issue 7 item 5) and of ImuErrorModel (imu_error_terms.h). First-order forms:
+//
+//  bias_instability        r_i = b_i(t), piecewise linear in time with knots every knot_s
+//                          (the first knot's value is held by the constant bias, so K-1 columns)
+//  scale_factor            r_i = k_i x_i
+//  non_orthogonality       r_i = sum_{j != i} N_ij x_j
+//  g_sensitivity (gyro)    r_i = sum_j G_ij f_j
+//  scale_asymmetry         r_i = k_pos_i max(x_i, 0) + k_neg_i min(x_i, 0)  (spans scale_factor,
+//                          so it replaces it: the gains reported are the whole gains per sign)
+//  scale_nonlinearity      r_i = k2_i x_i^2
+//  temperature_bias        r_i = p_i (T - T_ref)      (T of the tested IMU, T_ref its mean)
+//  temperature_scale       r_i = s_i (T - T_ref) x_i
+//  time_offset (both)      r = tau u(t), u = -dx/dt or the chord (x(t - tau0) - x(t)) / tau0
+//  lever_arm (accel)       r = omega_dot x r_m + omega x (omega x r_m)
+//  mounting_misalignment   r_gyro = omega x phi, r_accel = f x phi  (C_tb = I - [phi x])
+//  vibration_rectification r_i = c_i v(t), v the VibrationRegressor level of the reference
+//  earth_rotation_omitted  r_gyro = C_bn omega_ie_n, coefficient fixed at 1 (no free parameter)
+//  gravity_model (accel)   r = -C_bn [0, 0, 1] dg   (dg = true minus simulated gravity, m/s^2)
+// A constant bias per channel is always in the model (turn-on bias differs between lab and
+// field); it is a nuisance, not a claimed effect.
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "graftnav/core/mismatch/common_grid.h"
+
+namespace graftnav {
+
+constexpr int kMismatchChannels = 6;  // gyro x, y, z, accel x, y, z
+
+// One regressor: its values on the channels it acts on (empty vector = 0 on that channel).
+struct RegressorColumn {
+  std::array<Eigen::VectorXd, kMismatchChannels> channel;
+  bool actsOn(int c) const { return channel[c].size() > 0; }
+};
+
+struct CandidateTerm {
+  std::string name;         // diagnosis.json effect name ("constant_bias" for the nuisance)
+  std::string sensor;       // "gyro" | "accel" | "both"
+  std::string regressor;    // vibration_rectification: regressor name; else empty
+  std::string explanation;  // plain-language physics
+  std::vector<RegressorColumn> columns;
+  bool nuisance = false;    // always in the model, never claimed
+  bool fixed = false;       // coefficients fixed at 1 (earth_rotation_omitted)
+  std::vector<std::string> excludes;  // keys of terms this one replaces when added
+  double knot_spacing_s = 0.0;        // bias_instability only
+  double t_ref_degC = 0.0;            // temperature terms only
+  std::string key() const { return name + ":" + sensor + (regressor.empty() ? "" : ":" + regressor); }
+};
+
+// What the regressors are built from, all on one grid.
+struct RegressorInputs {
+  BinnedImu reference;                  // true inputs x (reference IMU signals, binned)
+  Eigen::MatrixXd time_offset_column;   // n x 6 (timeOffsetRegressor) or empty: no term
+  Eigen::VectorXd tested_temperature_degC;  // n, or empty / NaN: no temperature terms
+  Eigen::VectorXd vibration_f_hp_sq;    // n, specific_force_hp_sq level, or empty
+  Eigen::VectorXd vibration_w_hp_sq;    // n, angular_rate_hp_sq level, or empty
+  std::vector<Eigen::Matrix3d> C_bn;    // n attitudes (nav to body) or empty: no earth/gravity terms
+  Eigen::Vector3d omega_ie_n = Eigen::Vector3d::Zero();  // Earth rate in n (rad/s)
+};
+
+struct CandidateLibraryOptions {
+  double knot_spacing_s = 60.0;   // bias_instability knot spacing (s)
+  int max_knots = 20;             // the spacing grows for long records to keep at most this many
+  double min_temperature_span_degC = 0.5;  // temperature terms need this much range
+  void validate() const;
+};
+
+// Term 0 is the nuisance constant bias; the rest are the candidates whose inputs exist.
+std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& inputs,
+                                                 const CandidateLibraryOptions& options = {});
+
+// The per-bin level of a VibrationRegressor (imu_error_terms.h) run over the samples of `imu`,
+// averaged over the samples whose end tag falls in each bin.
+Eigen::VectorXd vibrationLevelPerBin(const ImuSeries& imu, const GridSpec& grid,
+                                     const std::string& regressor_name, double window_s = 1.0);
+
+// Contribution sum_j theta_j u_j of a term on the grid (n x 6). theta has one value per column
+// (ignored for fixed terms, whose coefficients are 1).
+Eigen::MatrixXd termContribution(const CandidateTerm& term, const Eigen::VectorXd& theta, int n);
+
+}  // namespace graftnav

@@ -1,0 +1,74 @@
+#pragma once
+// Common time base of the mismatch finder: two IMU records with different rates and sample
+// phases are compared on one grid of averaging bins. Each record's increments are summed into a
+// cumulative integral Theta(t) (piecewise linear: the rate is constant within a sample interval,
+// which is all an increment says), and the mean rate over a bin (a, b] is exactly
+// (Theta(b) - Theta(a)) / (b - a). Nothing is filtered or resampled twice, different rates
+// (100 vs 120 Hz) and sample phases are handled, and a time shift is a shift of a and b.
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "graftnav/core/types.h"
+
+namespace graftnav {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+
+// Cumulative integral of an IMU record: [angle (rad); velocity (m/s)] since the start of the
+// first sample, and the integral of temperature (degC s) when every sample has one.
+class CumulativeImu {
+ public:
+  // Throws std::invalid_argument when the series is empty or a dt_s <= 0 (naming the index).
+  explicit CumulativeImu(const ImuSeries& imu);
+
+  double beginTime_s() const { return t_.front(); }
+  double endTime_s() const { return t_.back(); }
+  bool hasTemperature() const { return has_temperature_; }
+  // Integral from beginTime_s() to t_s; outside the record the end rates are held.
+  Vector6d at(double t_s) const;
+  double temperatureIntegralAt(double t_s) const;  // NaN when no temperature
+
+ private:
+  std::size_t segment(double t_s) const;
+  std::vector<double> t_;         // sample boundaries: t_[0] = start of sample 0, t_[k+1] = end of k
+  std::vector<Vector6d> cum_;     // integral at t_[k]
+  std::vector<double> cum_temp_;  // temperature integral at t_[k]
+  bool has_temperature_ = false;
+};
+
+// Bins of equal length bin_s covering [t_begin_s, t_begin_s + count bin_s].
+struct GridSpec {
+  double t_begin_s = 0.0;
+  double bin_s = 0.05;
+  int count = 0;
+  double binStart(int i) const { return t_begin_s + i * bin_s; }
+  double binMid(int i) const { return t_begin_s + (i + 0.5) * bin_s; }
+};
+
+// The largest grid inside the overlap of the records, starting margin_s after the later start.
+// Throws std::invalid_argument when bin_s <= 0 or the overlap holds fewer than 10 bins.
+GridSpec commonGrid(const ImuSeries& a, const ImuSeries& b, double bin_s, double margin_s = 0.0);
+
+// Mean rates of one record over the bins of a grid.
+struct BinnedImu {
+  GridSpec grid;
+  Eigen::MatrixX3d omega_rad_s;        // mean angular rate per bin
+  Eigen::MatrixX3d f_m_s2;             // mean specific force per bin
+  Eigen::VectorXd temperature_degC;    // mean temperature per bin (NaN when absent)
+  // Within-bin RMS of the sample specific force about the bin mean (m/s^2): vibration level.
+  Eigen::VectorXd f_within_rms_m_s2;
+  int size() const { return grid.count; }
+  // Row i as [omega; f].
+  Vector6d row(int i) const {
+    Vector6d r;
+    r << omega_rad_s.row(i).transpose(), f_m_s2.row(i).transpose();
+    return r;
+  }
+};
+
+// Bins `imu` on `grid`. time_shift_s re-aligns a record whose tags are late by time_shift_s: bin
+// (a, b] of the grid (true time) takes the record's integral over tags (a + shift, b + shift].
+BinnedImu binImu(const ImuSeries& imu, const GridSpec& grid, double time_shift_s = 0.0);
+
+}  // namespace graftnav

@@ -1,0 +1,75 @@
+#pragma once
+// Choosing which candidate terms explain a residual, with evidence that accounts for the
+// residual's autocorrelation.
+//
+// 1. Noise model. The largest model (all candidates) is fitted per channel; its residual e_c gives
+//    the lag-1 autocorrelation rho_c and the innovation scale sigma_c of an AR(1) noise. Every
+//    channel's residual and regressors are then prewhitened, z_t - rho_c z_{t-1}, and divided by
+//    sigma_c, so the whitened errors are close to independent N(0, 1). What AR(1) leaves behind
+//    is measured on the whitened full-model residual (lag-1 autocorrelation rho_w) and turned into
+//    a variance inflation c = (1 + rho_w) / (1 - rho_w) >= 1 (effective sample size n / c).
+// 2. Information criterion. BIC(model) = RSS_w / c + p ln(N / c), N = rows (bins x channels),
+//    p = free parameters. delta_bic of a term = BIC(model without it) - BIC(model with it).
+// 3. Time-blocked cross-validation. K contiguous folds of bins; each fold is predicted by the
+//    fit on the others; CV = sum of whitened squared prediction errors;
+//    cv_gain = (CV_without - CV_with) / CV_without.
+// 4. Forward selection adds, while any exists, the term with the largest delta_bic among those
+//    with delta_bic > min_delta_bic and cv_gain > min_cv_gain; backward elimination then drops
+//    terms that no longer pass. A term is claimed only if it passes both tests in the final model.
+// Everything works on Gram matrices accumulated once per fold, so each trial fit costs a small
+// dense solve, independent of the record length.
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "graftnav/core/mismatch/candidate_terms.h"
+
+namespace graftnav {
+
+struct SelectionOptions {
+  int folds = 5;                 // contiguous CV folds, >= 2
+  double min_delta_bic = 6.0;    // margin over the BIC penalty (see docs/mismatch.md for the
+                                 //   false-alarm rate this gives)
+  double min_cv_gain = 0.0;      // relative CV improvement required
+  int max_terms = 12;            // forward steps at most
+  double max_rho = 0.98;         // AR(1) coefficient clamp
+  void validate() const;
+};
+
+struct TermFit {
+  int term = -1;                 // index into the candidate list
+  Eigen::VectorXd theta;         // one value per column (SI)
+  Eigen::VectorXd sigma;         // 1-sigma, inflated for autocorrelation
+  Eigen::MatrixXd covariance;    // of theta
+  double delta_bic = 0.0;
+  double cv_gain = 0.0;
+};
+
+struct SelectionResult {
+  std::vector<TermFit> selected;            // claimed terms (nuisance excluded)
+  TermFit nuisance;                         // the constant bias per channel
+  Eigen::Matrix<double, 6, 1> rho;          // AR(1) coefficient per channel
+  Eigen::Matrix<double, 6, 1> sigma;        // AR(1) innovation scale per channel (SI)
+  double inflation = 1.0;                   // c of the header
+  int rows = 0;                             // N
+  std::vector<std::string> log;             // one line per selection step
+};
+
+// Selects terms explaining `residual` (n x 6) over bins [row_begin, row_end) (row_end < 0: all).
+// Throws std::invalid_argument when the residual is not n x 6, the library is empty or term 0 is
+// not the nuisance.
+SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<CandidateTerm>& terms,
+                            const SelectionOptions& options = {}, int row_begin = 0,
+                            int row_end = -1);
+
+// Fits a given set of terms (plus the nuisance) without selection; evidence is filled in too.
+SelectionResult fitTerms(const Eigen::MatrixXd& residual, const std::vector<CandidateTerm>& terms,
+                         const std::vector<int>& term_indices, const SelectionOptions& options = {},
+                         int row_begin = 0, int row_end = -1);
+
+// Model prediction on all n bins (n x 6): the selected terms, plus the nuisance when asked.
+Eigen::MatrixXd predictSelection(const SelectionResult& sel, const std::vector<CandidateTerm>& terms,
+                                 int n, bool include_nuisance);
+
+}  // namespace graftnav

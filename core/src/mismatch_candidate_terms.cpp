@@ -1,0 +1,302 @@
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "graftnav/core/imu_error_terms.h"
+#include "graftnav/core/mismatch/candidate_terms.h"
+#include "graftnav/core/rotation.h"
+
+namespace graftnav {
+namespace {
+
+const char* kSensorName[2] = {"gyro", "accel"};
+
+// Column acting on channel (sensor*3 + axis) only.
+RegressorColumn singleChannel(int channel, const Eigen::VectorXd& v) {
+  RegressorColumn c;
+  c.channel[channel] = v;
+  return c;
+}
+
+Eigen::MatrixX3d inputOf(const BinnedImu& x, int sensor) {
+  return sensor == 0 ? x.omega_rad_s : x.f_m_s2;
+}
+
+}  // namespace
+
+void CandidateLibraryOptions::validate() const {
+  if (!(knot_spacing_s > 0.0))
+    throw std::invalid_argument("CandidateLibraryOptions: knot_spacing_s = " +
+                                std::to_string(knot_spacing_s) + " must be > 0");
+  if (max_knots < 2)
+    throw std::invalid_argument("CandidateLibraryOptions: max_knots = " +
+                                std::to_string(max_knots) + " must be >= 2");
+}
+
+Eigen::VectorXd vibrationLevelPerBin(const ImuSeries& imu, const GridSpec& grid,
+                                     const std::string& regressor_name, double window_s) {
+  if (!VibrationRegressor::isKnownName(regressor_name))
+    throw std::invalid_argument("vibrationLevelPerBin: unknown regressor '" + regressor_name + "'");
+  const bool use_rate = VibrationRegressor::usesAngularRate(regressor_name);
+  VibrationRegressor reg(window_s);
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(grid.count);
+  Eigen::VectorXi cnt = Eigen::VectorXi::Zero(grid.count);
+  for (const ImuSample& s : imu) {
+    if (!(s.dt_s > 0.0)) continue;
+    const Eigen::Vector3d x = (use_rate ? s.dtheta_rad : s.dvel_m_s) / s.dt_s;
+    const double r = reg.update(x, s.dt_s);
+    const int i = static_cast<int>(std::floor((s.t_s - grid.t_begin_s) / grid.bin_s));
+    if (i < 0 || i >= grid.count) continue;
+    sum(i) += r;
+    ++cnt(i);
+  }
+  // Bins without a sample (rate below the bin rate) take the previous bin's level.
+  double last = 0.0;
+  for (int i = 0; i < grid.count; ++i) {
+    if (cnt(i) > 0) last = sum(i) / cnt(i);
+    sum(i) = last;
+  }
+  return sum;
+}
+
+std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
+                                                 const CandidateLibraryOptions& opt) {
+  opt.validate();
+  const BinnedImu& x = in.reference;
+  const int n = x.size();
+  if (n < 10) throw std::invalid_argument("buildCandidateLibrary: fewer than 10 bins");
+  const double span_s = n * x.grid.bin_s;
+  std::vector<CandidateTerm> terms;
+
+  {  // Nuisance constant bias.
+    CandidateTerm t;
+    t.name = "constant_bias";
+    t.sensor = "both";
+    t.nuisance = true;
+    t.explanation = "turn-on bias of the field run differing from the lab (nuisance, not claimed)";
+    for (int c = 0; c < kMismatchChannels; ++c)
+      t.columns.push_back(singleChannel(c, Eigen::VectorXd::Ones(n)));
+    terms.push_back(std::move(t));
+  }
+
+  // bias_instability: hat functions at knots 0, d, 2d, ... (the last knot at the end).
+  const double knot_s = std::max(opt.knot_spacing_s, span_s / (opt.max_knots - 1));
+  const int knots = std::max(2, static_cast<int>(std::ceil(span_s / knot_s - 1e-9)) + 1);
+  const double spacing = span_s / (knots - 1);
+  for (int s = 0; s < 2; ++s) {
+    CandidateTerm t;
+    t.name = "bias_instability";
+    t.sensor = kSensorName[s];
+    t.knot_spacing_s = spacing;
+    t.explanation = std::string("the ") + kSensorName[s] +
+                    " bias wanders during the field run more than the lab record shows "
+                    "(piecewise-linear bias, knots every " +
+                    std::to_string(static_cast<int>(std::round(spacing))) + " s)";
+    for (int axis = 0; axis < 3; ++axis) {
+      for (int k = 1; k < knots; ++k) {
+        Eigen::VectorXd v(n);
+        for (int i = 0; i < n; ++i) {
+          const double u = (i + 0.5) * x.grid.bin_s / spacing - k;  // knot k at u = 0
+          v(i) = std::max(0.0, 1.0 - std::abs(u));
+        }
+        t.columns.push_back(singleChannel(s * 3 + axis, v));
+      }
+    }
+    terms.push_back(std::move(t));
+  }
+
+  for (int s = 0; s < 2; ++s) {
+    const Eigen::MatrixX3d u = inputOf(x, s);
+    const std::string sensor = kSensorName[s];
+    {
+      CandidateTerm t;
+      t.name = "scale_factor";
+      t.sensor = sensor;
+      t.explanation = "the " + sensor + " gain differs from the simulated one (output = (1 + k) input)";
+      for (int a = 0; a < 3; ++a) t.columns.push_back(singleChannel(s * 3 + a, u.col(a)));
+      terms.push_back(std::move(t));
+    }
+    {
+      CandidateTerm t;
+      t.name = "non_orthogonality";
+      t.sensor = sensor;
+      t.explanation = "the " + sensor +
+                      " axes are not perpendicular: each axis picks up a fraction of the others";
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          if (i != j) t.columns.push_back(singleChannel(s * 3 + i, u.col(j)));
+      terms.push_back(std::move(t));
+    }
+    {
+      CandidateTerm t;
+      t.name = "scale_asymmetry";
+      t.sensor = sensor;
+      t.excludes = {"scale_factor:" + sensor};
+      t.explanation = "the " + sensor + " gain differs for positive and negative inputs";
+      for (int a = 0; a < 3; ++a)
+        t.columns.push_back(singleChannel(s * 3 + a, u.col(a).cwiseMax(0.0)));
+      for (int a = 0; a < 3; ++a)
+        t.columns.push_back(singleChannel(s * 3 + a, u.col(a).cwiseMin(0.0)));
+      terms.push_back(std::move(t));
+    }
+    {
+      CandidateTerm t;
+      t.name = "scale_nonlinearity";
+      t.sensor = sensor;
+      t.explanation = "the " + sensor + " input-output line bends: output = input + k2 input^2";
+      for (int a = 0; a < 3; ++a)
+        t.columns.push_back(singleChannel(s * 3 + a, u.col(a).array().square().matrix()));
+      terms.push_back(std::move(t));
+    }
+    const Eigen::VectorXd& T = in.tested_temperature_degC;
+    if (T.size() == n && T.allFinite() &&
+        T.maxCoeff() - T.minCoeff() >= opt.min_temperature_span_degC) {
+      const double t_ref = T.mean();
+      const Eigen::VectorXd dT = T.array() - t_ref;
+      CandidateTerm tb;
+      tb.name = "temperature_bias";
+      tb.sensor = sensor;
+      tb.t_ref_degC = t_ref;
+      tb.explanation = "the " + sensor + " bias follows the sensor temperature";
+      for (int a = 0; a < 3; ++a) tb.columns.push_back(singleChannel(s * 3 + a, dT));
+      terms.push_back(std::move(tb));
+      CandidateTerm ts;
+      ts.name = "temperature_scale";
+      ts.sensor = sensor;
+      ts.t_ref_degC = t_ref;
+      ts.explanation = "the " + sensor + " gain follows the sensor temperature";
+      for (int a = 0; a < 3; ++a)
+        ts.columns.push_back(singleChannel(s * 3 + a, dT.cwiseProduct(u.col(a))));
+      terms.push_back(std::move(ts));
+    }
+    const std::array<std::pair<std::string, const Eigen::VectorXd*>, 2> vib = {
+        std::make_pair(std::string("specific_force_hp_sq"), &in.vibration_f_hp_sq),
+        std::make_pair(std::string("angular_rate_hp_sq"), &in.vibration_w_hp_sq)};
+    for (int v = 0; v < 2; ++v) {
+      if (vib[v].second->size() != n) continue;
+      // The angular-rate level is offered to the gyro only (a gyro rectifies its own rate
+      // vibration); both sensors rectify linear vibration.
+      if (v == 1 && s == 1) continue;
+      CandidateTerm t;
+      t.name = "vibration_rectification";
+      t.sensor = sensor;
+      t.regressor = vib[v].first;
+      if (s == 0) t.excludes = {"vibration_rectification:gyro:" + vib[1 - v].first};
+      t.explanation = "vibration is rectified into a " + sensor + " bias proportional to the " +
+                      (v == 0 ? "specific-force" : "angular-rate") + " vibration power";
+      for (int a = 0; a < 3; ++a) t.columns.push_back(singleChannel(s * 3 + a, *vib[v].second));
+      terms.push_back(std::move(t));
+    }
+  }
+
+  {  // g_sensitivity: gyro rows, specific force columns.
+    CandidateTerm t;
+    t.name = "g_sensitivity";
+    t.sensor = "gyro";
+    t.explanation = "the gyros read part of the specific force as rotation (proof-mass unbalance)";
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) t.columns.push_back(singleChannel(i, x.f_m_s2.col(j)));
+    terms.push_back(std::move(t));
+  }
+
+  if (in.time_offset_column.rows() == n && in.time_offset_column.cols() == kMismatchChannels) {
+    CandidateTerm t;
+    t.name = "time_offset";
+    t.sensor = "both";
+    t.explanation = "the tested IMU's time tags are shifted from the reference's";
+    RegressorColumn col;
+    for (int c = 0; c < kMismatchChannels; ++c) col.channel[c] = in.time_offset_column.col(c);
+    t.columns.push_back(col);
+    terms.push_back(std::move(t));
+  }
+
+  {  // lever_arm: accel rows.
+    Eigen::MatrixX3d wdot(n, 3);
+    for (int i = 0; i < n; ++i) {
+      const int a = std::max(0, i - 1), b = std::min(n - 1, i + 1);
+      wdot.row(i) = (x.omega_rad_s.row(b) - x.omega_rad_s.row(a)) / ((b - a) * x.grid.bin_s);
+    }
+    CandidateTerm t;
+    t.name = "lever_arm";
+    t.sensor = "accel";
+    t.explanation = "the tested IMU sits away from the reference IMU and feels the tangential and "
+                    "centripetal acceleration of the turning vehicle";
+    for (int j = 0; j < 3; ++j) {
+      RegressorColumn col;
+      Eigen::MatrixX3d v(n, 3);
+      const Eigen::Vector3d e = Eigen::Vector3d::Unit(j);
+      for (int i = 0; i < n; ++i) {
+        const Eigen::Vector3d w = x.omega_rad_s.row(i).transpose();
+        const Eigen::Vector3d wd = wdot.row(i).transpose();
+        v.row(i) = (wd.cross(e) + w.cross(w.cross(e))).transpose();
+      }
+      for (int a = 0; a < 3; ++a) col.channel[3 + a] = v.col(a);
+      t.columns.push_back(col);
+    }
+    terms.push_back(std::move(t));
+  }
+
+  {  // mounting_misalignment: omega x phi and f x phi.
+    CandidateTerm t;
+    t.name = "mounting_misalignment";
+    t.sensor = "both";
+    t.explanation = "the tested IMU is mounted slightly rotated relative to the reference IMU";
+    for (int j = 0; j < 3; ++j) {
+      RegressorColumn col;
+      Eigen::MatrixX3d vg(n, 3), va(n, 3);
+      const Eigen::Vector3d e = Eigen::Vector3d::Unit(j);
+      for (int i = 0; i < n; ++i) {
+        vg.row(i) = x.omega_rad_s.row(i).cross(e.transpose());
+        va.row(i) = x.f_m_s2.row(i).cross(e.transpose());
+      }
+      for (int a = 0; a < 3; ++a) {
+        col.channel[a] = vg.col(a);
+        col.channel[3 + a] = va.col(a);
+      }
+      t.columns.push_back(col);
+    }
+    terms.push_back(std::move(t));
+  }
+
+  if (static_cast<int>(in.C_bn.size()) == n) {
+    {
+      CandidateTerm t;
+      t.name = "earth_rotation_omitted";
+      t.sensor = "gyro";
+      t.fixed = true;
+      t.explanation = "the simulation leaves out the Earth's rotation, which every real gyro senses";
+      RegressorColumn col;
+      Eigen::MatrixX3d v(n, 3);
+      for (int i = 0; i < n; ++i) v.row(i) = (in.C_bn[i] * in.omega_ie_n).transpose();
+      for (int a = 0; a < 3; ++a) col.channel[a] = v.col(a);
+      t.columns.push_back(col);
+      terms.push_back(std::move(t));
+    }
+    {
+      CandidateTerm t;
+      t.name = "gravity_model";
+      t.sensor = "accel";
+      t.explanation = "the simulation's gravity magnitude differs from the true local gravity";
+      RegressorColumn col;
+      Eigen::MatrixX3d v(n, 3);
+      for (int i = 0; i < n; ++i) v.row(i) = (-in.C_bn[i].col(2)).transpose();
+      for (int a = 0; a < 3; ++a) col.channel[3 + a] = v.col(a);
+      t.columns.push_back(col);
+      terms.push_back(std::move(t));
+    }
+  }
+  return terms;
+}
+
+Eigen::MatrixXd termContribution(const CandidateTerm& term, const Eigen::VectorXd& theta, int n) {
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, kMismatchChannels);
+  for (std::size_t j = 0; j < term.columns.size(); ++j) {
+    const double th = term.fixed ? 1.0 : theta(static_cast<Eigen::Index>(j));
+    for (int c = 0; c < kMismatchChannels; ++c)
+      if (term.columns[j].actsOn(c)) out.col(c) += th * term.columns[j].channel[c];
+  }
+  return out;
+}
+
+}  // namespace graftnav

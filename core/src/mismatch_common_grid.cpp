@@ -1,0 +1,117 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "graftnav/core/mismatch/common_grid.h"
+
+namespace graftnav {
+
+CumulativeImu::CumulativeImu(const ImuSeries& imu) {
+  if (imu.empty()) throw std::invalid_argument("CumulativeImu: empty IMU series");
+  has_temperature_ = std::all_of(imu.begin(), imu.end(),
+                                 [](const ImuSample& s) { return s.hasTemperature(); });
+  t_.reserve(imu.size() + 1);
+  cum_.reserve(imu.size() + 1);
+  t_.push_back(imu.front().t_s - imu.front().dt_s);
+  cum_.push_back(Vector6d::Zero());
+  cum_temp_.push_back(0.0);
+  for (std::size_t k = 0; k < imu.size(); ++k) {
+    const ImuSample& s = imu[k];
+    if (!(s.dt_s > 0.0))
+      throw std::invalid_argument("CumulativeImu: sample " + std::to_string(k) +
+                                  " has dt_s = " + std::to_string(s.dt_s) + " (must be > 0)");
+    // Boundaries follow the time tags; a gap or overlap between samples is absorbed by using the
+    // tag as the end and the previous end as the start (the increment is spread over it).
+    const double t_end = s.t_s;
+    if (!(t_end > t_.back()))
+      throw std::invalid_argument("CumulativeImu: sample " + std::to_string(k) + " at t = " +
+                                  std::to_string(t_end) + " is not after the previous sample");
+    Vector6d inc;
+    inc << s.dtheta_rad, s.dvel_m_s;
+    t_.push_back(t_end);
+    cum_.push_back(cum_.back() + inc);
+    cum_temp_.push_back(cum_temp_.back() +
+                        (has_temperature_ ? s.temperature_degC * (t_end - t_[t_.size() - 2]) : 0.0));
+  }
+}
+
+std::size_t CumulativeImu::segment(double t_s) const {
+  // Index k with t_[k] <= t < t_[k+1], clamped to the first/last segment.
+  auto it = std::upper_bound(t_.begin(), t_.end(), t_s);
+  std::size_t k = it == t_.begin() ? 0 : static_cast<std::size_t>(it - t_.begin()) - 1;
+  return std::min(k, t_.size() - 2);
+}
+
+Vector6d CumulativeImu::at(double t_s) const {
+  if (t_.size() < 2) return Vector6d::Zero();
+  const std::size_t k = segment(t_s);
+  const double w = (t_s - t_[k]) / (t_[k + 1] - t_[k]);
+  return cum_[k] + w * (cum_[k + 1] - cum_[k]);
+}
+
+double CumulativeImu::temperatureIntegralAt(double t_s) const {
+  if (!has_temperature_) return std::numeric_limits<double>::quiet_NaN();
+  const std::size_t k = segment(t_s);
+  const double w = (t_s - t_[k]) / (t_[k + 1] - t_[k]);
+  return cum_temp_[k] + w * (cum_temp_[k + 1] - cum_temp_[k]);
+}
+
+GridSpec commonGrid(const ImuSeries& a, const ImuSeries& b, double bin_s, double margin_s) {
+  if (!(bin_s > 0.0)) throw std::invalid_argument("commonGrid: bin_s must be > 0");
+  if (a.empty() || b.empty()) throw std::invalid_argument("commonGrid: empty IMU series");
+  const double t0 = std::max(a.front().t_s - a.front().dt_s, b.front().t_s - b.front().dt_s) +
+                    std::max(0.0, margin_s);
+  const double t1 = std::min(a.back().t_s, b.back().t_s) - std::max(0.0, margin_s);
+  GridSpec g;
+  g.t_begin_s = t0;
+  g.bin_s = bin_s;
+  g.count = static_cast<int>(std::floor((t1 - t0) / bin_s + 1e-9));
+  if (g.count < 10)
+    throw std::invalid_argument("commonGrid: the two records overlap by " +
+                                std::to_string(t1 - t0) + " s, fewer than 10 bins of " +
+                                std::to_string(bin_s) + " s");
+  return g;
+}
+
+BinnedImu binImu(const ImuSeries& imu, const GridSpec& grid, double time_shift_s) {
+  const CumulativeImu cum(imu);
+  BinnedImu out;
+  out.grid = grid;
+  const int n = grid.count;
+  out.omega_rad_s.resize(n, 3);
+  out.f_m_s2.resize(n, 3);
+  out.temperature_degC.setConstant(n, std::numeric_limits<double>::quiet_NaN());
+  out.f_within_rms_m_s2.setZero(n);
+  Vector6d prev = cum.at(grid.binStart(0) + time_shift_s);
+  double prev_temp = cum.temperatureIntegralAt(grid.binStart(0) + time_shift_s);
+  for (int i = 0; i < n; ++i) {
+    const double t_end = grid.binStart(i + 1) + time_shift_s;
+    const Vector6d next = cum.at(t_end);
+    const Vector6d mean = (next - prev) / grid.bin_s;
+    out.omega_rad_s.row(i) = mean.head<3>().transpose();
+    out.f_m_s2.row(i) = mean.tail<3>().transpose();
+    if (cum.hasTemperature()) {
+      const double next_temp = cum.temperatureIntegralAt(t_end);
+      out.temperature_degC(i) = (next_temp - prev_temp) / grid.bin_s;
+      prev_temp = next_temp;
+    }
+    prev = next;
+  }
+  // Within-bin vibration: samples whose end tag falls inside a (shifted) bin.
+  Eigen::VectorXd sum_sq = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXi count = Eigen::VectorXi::Zero(n);
+  for (const ImuSample& s : imu) {
+    const int i = static_cast<int>(std::floor((s.t_s - time_shift_s - grid.t_begin_s) / grid.bin_s));
+    if (i < 0 || i >= n || !(s.dt_s > 0.0)) continue;
+    const Eigen::Vector3d f = s.dvel_m_s / s.dt_s;
+    sum_sq(i) += (f - out.f_m_s2.row(i).transpose()).squaredNorm();
+    ++count(i);
+  }
+  for (int i = 0; i < n; ++i)
+    out.f_within_rms_m_s2(i) = count(i) > 0 ? std::sqrt(sum_sq(i) / count(i)) : 0.0;
+  return out;
+}
+
+}  // namespace graftnav

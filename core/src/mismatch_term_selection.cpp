@@ -1,0 +1,466 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Cholesky>
+#include <fmt/core.h>
+
+#include "graftnav/core/mismatch/term_selection.h"
+
+namespace graftnav {
+
+void SelectionOptions::validate() const {
+  if (folds < 2)
+    throw std::invalid_argument("SelectionOptions: folds = " + std::to_string(folds) +
+                                " must be >= 2");
+  if (max_terms < 0)
+    throw std::invalid_argument("SelectionOptions: max_terms must be >= 0");
+  if (!(max_rho > 0.0 && max_rho < 1.0))
+    throw std::invalid_argument("SelectionOptions: max_rho must be in (0, 1)");
+}
+
+namespace {
+
+// Gram matrices of the whitened problem, per fold.
+struct GramSet {
+  std::vector<Eigen::MatrixXd> G;  // per fold
+  std::vector<Eigen::VectorXd> b;
+  std::vector<double> yy;
+  Eigen::MatrixXd G_all;
+  Eigen::VectorXd b_all;
+  double yy_all = 0.0;
+  int rows = 0;
+};
+
+struct ColumnMap {
+  std::vector<int> start, count;
+  int total = 0;
+};
+
+ColumnMap mapColumns(const std::vector<CandidateTerm>& terms) {
+  ColumnMap m;
+  for (const CandidateTerm& t : terms) {
+    m.start.push_back(m.total);
+    m.count.push_back(static_cast<int>(t.columns.size()));
+    m.total += static_cast<int>(t.columns.size());
+  }
+  return m;
+}
+
+GramSet accumulate(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
+                   const ColumnMap& map, const Eigen::Matrix<double, 6, 1>& rho,
+                   const Eigen::Matrix<double, 6, 1>& weight, int rb, int re, int folds) {
+  GramSet g;
+  const int P = map.total;
+  g.G.assign(folds, Eigen::MatrixXd::Zero(P, P));
+  g.b.assign(folds, Eigen::VectorXd::Zero(P));
+  g.yy.assign(folds, 0.0);
+  const int len = re - rb;
+  for (int c = 0; c < kMismatchChannels; ++c) {
+    std::vector<int> idx;
+    std::vector<const Eigen::VectorXd*> src;
+    for (std::size_t t = 0; t < terms.size(); ++t)
+      for (int j = 0; j < map.count[t]; ++j)
+        if (terms[t].columns[j].actsOn(c)) {
+          idx.push_back(map.start[t] + j);
+          src.push_back(&terms[t].columns[j].channel[c]);
+        }
+    const int m = static_cast<int>(idx.size());
+    Eigen::MatrixXd X(len, m);
+    Eigen::VectorXd y(len);
+    const double p = rho(c), w = weight(c), first = std::sqrt(std::max(0.0, 1.0 - p * p));
+    for (int i = 0; i < len; ++i) {
+      const int t = rb + i;
+      if (i == 0) {
+        y(i) = w * first * r(t, c);
+        for (int j = 0; j < m; ++j) X(i, j) = w * first * (*src[j])(t);
+      } else {
+        y(i) = w * (r(t, c) - p * r(t - 1, c));
+        for (int j = 0; j < m; ++j) X(i, j) = w * ((*src[j])(t) - p * (*src[j])(t - 1));
+      }
+    }
+    for (int f = 0; f < folds; ++f) {
+      const int a = static_cast<int>(static_cast<long>(len) * f / folds);
+      const int b = static_cast<int>(static_cast<long>(len) * (f + 1) / folds);
+      const auto Xf = X.middleRows(a, b - a);
+      const auto yf = y.segment(a, b - a);
+      const Eigen::MatrixXd Gf = Xf.transpose() * Xf;
+      const Eigen::VectorXd bf = Xf.transpose() * yf;
+      for (int j = 0; j < m; ++j) {
+        g.b[f](idx[j]) += bf(j);
+        for (int k = 0; k < m; ++k) g.G[f](idx[j], idx[k]) += Gf(j, k);
+      }
+      g.yy[f] += yf.squaredNorm();
+    }
+    g.rows += len;
+  }
+  g.G_all = Eigen::MatrixXd::Zero(P, P);
+  g.b_all = Eigen::VectorXd::Zero(P);
+  for (int f = 0; f < folds; ++f) {
+    g.G_all += g.G[f];
+    g.b_all += g.b[f];
+    g.yy_all += g.yy[f];
+  }
+  return g;
+}
+
+struct ModelFit {
+  std::vector<int> free_cols, fixed_cols;
+  Eigen::VectorXd theta;
+  Eigen::MatrixXd A_inv;
+  std::vector<bool> unobservable;  // free columns with no signal (e.g. max(x, 0) of a negative x)
+  double rss = 0.0;
+};
+
+// Columns of a set of terms.
+void modelColumns(const std::vector<int>& model, const std::vector<CandidateTerm>& terms,
+                  const ColumnMap& map, std::vector<int>* free_cols, std::vector<int>* fixed_cols) {
+  free_cols->clear();
+  fixed_cols->clear();
+  for (int t : model)
+    for (int j = 0; j < map.count[t]; ++j)
+      (terms[t].fixed ? fixed_cols : free_cols)->push_back(map.start[t] + j);
+}
+
+// Least squares on G, b, yy with the fixed columns' coefficients at 1.
+ModelFit solve(const Eigen::MatrixXd& G, const Eigen::VectorXd& b, double yy,
+               const std::vector<int>& S, const std::vector<int>& F, bool want_inverse) {
+  ModelFit fit;
+  fit.free_cols = S;
+  fit.fixed_cols = F;
+  const int p = static_cast<int>(S.size());
+  double zz = yy;
+  for (int i : F) {
+    zz -= 2.0 * b(i);
+    for (int j : F) zz += G(i, j);
+  }
+  Eigen::VectorXd Xz(p);
+  Eigen::MatrixXd A(p, p);
+  for (int i = 0; i < p; ++i) {
+    Xz(i) = b(S[i]);
+    for (int j : F) Xz(i) -= G(S[i], j);
+    for (int j = 0; j < p; ++j) A(i, j) = G(S[i], S[j]);
+  }
+  if (p == 0) {
+    fit.rss = zz;
+    return fit;
+  }
+  const double diag_max = std::max(A.diagonal().maxCoeff(), 1e-300);
+  Eigen::MatrixXd Ar = A;
+  Ar.diagonal().array() += 1e-11 * diag_max;
+  fit.unobservable.assign(p, false);
+  for (int i = 0; i < p; ++i)
+    if (A(i, i) <= 1e-14 * diag_max) {  // a column that is all zero: theta 0, sigma infinite
+      Ar(i, i) += diag_max;
+      fit.unobservable[i] = true;
+    }
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(Ar);
+  fit.theta = ldlt.solve(Xz);
+  fit.rss = zz - 2.0 * fit.theta.dot(Xz) + fit.theta.dot(A * fit.theta);
+  if (want_inverse) fit.A_inv = ldlt.solve(Eigen::MatrixXd::Identity(p, p));
+  return fit;
+}
+
+// Whitened squared prediction error of theta (over S, fixed F at 1) on one fold's Gram.
+double foldError(const ModelFit& fit, const Eigen::MatrixXd& G, const Eigen::VectorXd& b, double yy) {
+  // e = z - X theta with z = y - X_F 1:  |e|^2 = zz - 2 theta' X'z + theta' X'X theta.
+  const auto& S = fit.free_cols;
+  const auto& F = fit.fixed_cols;
+  double zz = yy;
+  for (int i : F) {
+    zz -= 2.0 * b(i);
+    for (int j : F) zz += G(i, j);
+  }
+  double cross = 0.0, quad = 0.0;
+  for (std::size_t i = 0; i < S.size(); ++i) {
+    double xz = b(S[i]);
+    for (int j : F) xz -= G(S[i], j);
+    cross += fit.theta(i) * xz;
+    for (std::size_t j = 0; j < S.size(); ++j) quad += fit.theta(i) * G(S[i], S[j]) * fit.theta(j);
+  }
+  return zz - 2.0 * cross + quad;
+}
+
+class Selector {
+ public:
+  Selector(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
+           const SelectionOptions& opt, int rb, int re)
+      : terms_(terms), opt_(opt), map_(mapColumns(terms)) {
+    // Noise model from the largest model: all candidates, one of each exclusive group.
+    std::vector<int> full = {0};
+    for (std::size_t t = 1; t < terms.size(); ++t) {
+      if (terms[t].fixed) continue;
+      full = withTerm(full, static_cast<int>(t));
+    }
+    Eigen::Matrix<double, 6, 1> w0, zero = Eigen::Matrix<double, 6, 1>::Zero();
+    for (int c = 0; c < kMismatchChannels; ++c) {
+      const Eigen::VectorXd col = r.col(c).segment(rb, re - rb);
+      const double mean = col.mean();
+      const double sd = std::sqrt((col.array() - mean).square().mean());
+      w0(c) = sd > 0.0 ? 1.0 / sd : 1.0;
+    }
+    {
+      const GramSet g0 = accumulate(r, terms, map_, zero, w0, rb, re, opt.folds);
+      std::vector<int> S, F;
+      modelColumns(full, terms, map_, &S, &F);
+      const ModelFit f0 = solve(g0.G_all, g0.b_all, g0.yy_all, S, F, false);
+      const Eigen::MatrixXd e = residualOf(r, full, f0, rb, re);
+      for (int c = 0; c < kMismatchChannels; ++c) {
+        const Eigen::VectorXd ec = e.col(c);
+        const double den = ec.squaredNorm();
+        double p = den > 0.0 ? ec.head(ec.size() - 1).dot(ec.tail(ec.size() - 1)) / den : 0.0;
+        p = std::clamp(p, 0.0, opt.max_rho);
+        rho_(c) = p;
+        const Eigen::VectorXd innov = ec.tail(ec.size() - 1) - p * ec.head(ec.size() - 1);
+        const double s = std::sqrt(innov.squaredNorm() / std::max<Eigen::Index>(1, innov.size()));
+        sigma_(c) = s > 0.0 ? s : 1.0;
+      }
+    }
+    Eigen::Matrix<double, 6, 1> w = sigma_.cwiseInverse();
+    gram_ = accumulate(r, terms, map_, rho_, w, rb, re, opt.folds);
+    // Residual correlation the AR(1) model leaves: variance inflation.
+    {
+      std::vector<int> S, F;
+      modelColumns(full, terms, map_, &S, &F);
+      const ModelFit f1 = solve(gram_.G_all, gram_.b_all, gram_.yy_all, S, F, false);
+      const Eigen::MatrixXd e = residualOf(r, full, f1, rb, re);
+      double num = 0.0, den = 0.0;
+      for (int c = 0; c < kMismatchChannels; ++c) {
+        Eigen::VectorXd ew(e.rows() - 1);
+        for (Eigen::Index i = 1; i < e.rows(); ++i) ew(i - 1) = (e(i, c) - rho_(c) * e(i - 1, c)) / sigma_(c);
+        num += ew.head(ew.size() - 1).dot(ew.tail(ew.size() - 1));
+        den += ew.squaredNorm();
+      }
+      const double pw = den > 0.0 ? std::clamp(num / den, 0.0, 0.95) : 0.0;
+      inflation_ = (1.0 + pw) / (1.0 - pw);
+      // The full model's whitened residual variance also scales the evidence when above 1.
+      const double var = f1.rss / std::max(1.0, gram_.rows - static_cast<double>(S.size()));
+      inflation_ *= std::max(1.0, var);
+    }
+  }
+
+  std::vector<int> withTerm(std::vector<int> model, int t) const {
+    for (const std::string& ex : terms_[t].excludes)
+      model.erase(std::remove_if(model.begin(), model.end(),
+                                 [&](int m) { return terms_[m].key() == ex; }),
+                  model.end());
+    for (int m : model)  // a term that excludes t keeps t out
+      for (const std::string& ex : terms_[m].excludes)
+        if (ex == terms_[t].key()) return model;
+    if (std::find(model.begin(), model.end(), t) == model.end()) model.push_back(t);
+    std::sort(model.begin(), model.end());
+    return model;
+  }
+
+  std::vector<int> withoutTerm(std::vector<int> model, int t) const {
+    model.erase(std::remove(model.begin(), model.end(), t), model.end());
+    for (const std::string& ex : terms_[t].excludes)
+      for (std::size_t k = 0; k < terms_.size(); ++k)
+        if (terms_[k].key() == ex) {
+          bool conflict = false;
+          for (int m : model)
+            for (const std::string& e2 : terms_[m].excludes) conflict |= e2 == ex;
+          if (!conflict && std::find(model.begin(), model.end(), static_cast<int>(k)) == model.end())
+            model.push_back(static_cast<int>(k));
+        }
+    std::sort(model.begin(), model.end());
+    return model;
+  }
+
+  struct Score {
+    double bic = 0.0;
+    double cv = 0.0;
+  };
+  Score score(const std::vector<int>& model) const {
+    std::vector<int> S, F;
+    modelColumns(model, terms_, map_, &S, &F);
+    const ModelFit fit = solve(gram_.G_all, gram_.b_all, gram_.yy_all, S, F, false);
+    const double n_eff = gram_.rows / inflation_;
+    Score s;
+    s.bic = fit.rss / inflation_ + static_cast<double>(S.size()) * std::log(n_eff);
+    for (int f = 0; f < opt_.folds; ++f) {
+      const ModelFit tr = solve(gram_.G_all - gram_.G[f], gram_.b_all - gram_.b[f],
+                                gram_.yy_all - gram_.yy[f], S, F, false);
+      s.cv += foldError(tr, gram_.G[f], gram_.b[f], gram_.yy[f]);
+    }
+    return s;
+  }
+
+  void evidence(const std::vector<int>& model, int t, double* delta_bic, double* cv_gain) const {
+    const Score with = score(model);
+    const Score without = score(withoutTerm(model, t));
+    *delta_bic = without.bic - with.bic;
+    *cv_gain = without.cv > 0.0 ? (without.cv - with.cv) / without.cv : 0.0;
+  }
+
+  bool passes(double delta_bic, double cv_gain) const {
+    return delta_bic > opt_.min_delta_bic && cv_gain > opt_.min_cv_gain;
+  }
+
+  SelectionResult result(const std::vector<int>& model) const {
+    SelectionResult res;
+    res.rho = rho_;
+    res.sigma = sigma_;
+    res.inflation = inflation_;
+    res.rows = gram_.rows;
+    std::vector<int> S, F;
+    modelColumns(model, terms_, map_, &S, &F);
+    const ModelFit fit = solve(gram_.G_all, gram_.b_all, gram_.yy_all, S, F, true);
+    // Whitened noise has unit variance; the inflation carries the leftover correlation and any
+    // excess variance of the full model's residual.
+    Eigen::MatrixXd cov = fit.A_inv * inflation_;
+    for (std::size_t i = 0; i < fit.unobservable.size(); ++i)
+      if (fit.unobservable[i]) cov(i, i) = std::numeric_limits<double>::infinity();
+    int pos = 0;
+    for (int t : model) {
+      TermFit tf;
+      tf.term = t;
+      const int k = map_.count[t];
+      if (terms_[t].fixed) {
+        tf.theta = Eigen::VectorXd::Ones(k);
+        tf.sigma = Eigen::VectorXd::Zero(k);
+        tf.covariance = Eigen::MatrixXd::Zero(k, k);
+      } else {
+        tf.theta = fit.theta.segment(pos, k);
+        tf.covariance = cov.block(pos, pos, k, k);
+        tf.sigma = tf.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+        pos += k;
+      }
+      if (terms_[t].nuisance) {
+        res.nuisance = tf;
+      } else {
+        evidence(model, t, &tf.delta_bic, &tf.cv_gain);
+        res.selected.push_back(tf);
+      }
+    }
+    // Parameters are whitened-scale free: the columns and residual were divided by the same
+    // sigma_c, so theta is in SI units already.
+    return res;
+  }
+
+  Eigen::MatrixXd residualOf(const Eigen::MatrixXd& r, const std::vector<int>& model,
+                             const ModelFit& fit, int rb, int re) const {
+    const int n = static_cast<int>(r.rows());
+    Eigen::MatrixXd pred = Eigen::MatrixXd::Zero(n, kMismatchChannels);
+    int pos = 0;
+    for (int t : model) {
+      const int k = map_.count[t];
+      Eigen::VectorXd th = Eigen::VectorXd::Ones(k);
+      if (!terms_[t].fixed) {
+        th = fit.theta.segment(pos, k);
+        pos += k;
+      }
+      pred += termContribution(terms_[t], th, n);
+    }
+    return (r - pred).middleRows(rb, re - rb);
+  }
+
+  const std::vector<CandidateTerm>& terms_;
+  SelectionOptions opt_;
+  ColumnMap map_;
+  GramSet gram_;
+  Eigen::Matrix<double, 6, 1> rho_ = Eigen::Matrix<double, 6, 1>::Zero();
+  Eigen::Matrix<double, 6, 1> sigma_ = Eigen::Matrix<double, 6, 1>::Ones();
+  double inflation_ = 1.0;
+};
+
+void checkInputs(const Eigen::MatrixXd& residual, const std::vector<CandidateTerm>& terms,
+                 int row_begin, int* row_end) {
+  if (residual.cols() != kMismatchChannels)
+    throw std::invalid_argument("selectTerms: residual has " + std::to_string(residual.cols()) +
+                                " columns, expected 6");
+  if (terms.empty() || !terms[0].nuisance)
+    throw std::invalid_argument("selectTerms: term 0 must be the nuisance constant bias");
+  if (*row_end < 0) *row_end = static_cast<int>(residual.rows());
+  if (row_begin < 0 || *row_end > residual.rows() || *row_end - row_begin < 20)
+    throw std::invalid_argument("selectTerms: row range [" + std::to_string(row_begin) + ", " +
+                                std::to_string(*row_end) + ") is invalid or shorter than 20 bins");
+  for (const CandidateTerm& t : terms)
+    for (const RegressorColumn& c : t.columns)
+      for (int ch = 0; ch < kMismatchChannels; ++ch)
+        if (c.actsOn(ch) && c.channel[ch].size() != residual.rows())
+          throw std::invalid_argument("selectTerms: term " + t.key() +
+                                      " has a regressor of the wrong length");
+}
+
+}  // namespace
+
+SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<CandidateTerm>& terms,
+                            const SelectionOptions& options, int row_begin, int row_end) {
+  options.validate();
+  checkInputs(residual, terms, row_begin, &row_end);
+  Selector sel(residual, terms, options, row_begin, row_end);
+  std::vector<int> model = {0};
+  std::vector<std::string> log;
+  for (int step = 0; step < options.max_terms; ++step) {
+    const Selector::Score base = sel.score(model);
+    int best = -1;
+    double best_bic = 0.0, best_cv = 0.0;
+    for (std::size_t t = 1; t < terms.size(); ++t) {
+      if (std::find(model.begin(), model.end(), static_cast<int>(t)) != model.end()) continue;
+      const std::vector<int> trial = sel.withTerm(model, static_cast<int>(t));
+      if (trial == model) continue;
+      const Selector::Score s = sel.score(trial);
+      const double dbic = base.bic - s.bic;
+      const double cvg = base.cv > 0.0 ? (base.cv - s.cv) / base.cv : 0.0;
+      if (sel.passes(dbic, cvg) && (best < 0 || dbic > best_bic)) {
+        best = static_cast<int>(t);
+        best_bic = dbic;
+        best_cv = cvg;
+      }
+    }
+    if (best < 0) break;
+    model = sel.withTerm(model, best);
+    log.push_back(fmt::format("add {} (delta_bic {:.1f}, cv_gain {:.4f})", terms[best].key(),
+                              best_bic, best_cv));
+  }
+  // Backward elimination.
+  for (;;) {
+    int worst = -1;
+    double worst_bic = 0.0;
+    for (int t : model) {
+      if (terms[t].nuisance) continue;
+      double dbic = 0.0, cvg = 0.0;
+      sel.evidence(model, t, &dbic, &cvg);
+      if (!sel.passes(dbic, cvg) && (worst < 0 || dbic < worst_bic)) {
+        worst = t;
+        worst_bic = dbic;
+      }
+    }
+    if (worst < 0) break;
+    model = sel.withoutTerm(model, worst);
+    log.push_back(fmt::format("drop {} (delta_bic {:.1f})", terms[worst].key(), worst_bic));
+  }
+  SelectionResult res = sel.result(model);
+  res.log = std::move(log);
+  return res;
+}
+
+SelectionResult fitTerms(const Eigen::MatrixXd& residual, const std::vector<CandidateTerm>& terms,
+                         const std::vector<int>& term_indices, const SelectionOptions& options,
+                         int row_begin, int row_end) {
+  options.validate();
+  checkInputs(residual, terms, row_begin, &row_end);
+  Selector sel(residual, terms, options, row_begin, row_end);
+  std::vector<int> model = {0};
+  for (int t : term_indices) {
+    if (t <= 0 || t >= static_cast<int>(terms.size()))
+      throw std::invalid_argument("fitTerms: term index " + std::to_string(t) + " out of range");
+    model = sel.withTerm(model, t);
+  }
+  return sel.result(model);
+}
+
+Eigen::MatrixXd predictSelection(const SelectionResult& sel, const std::vector<CandidateTerm>& terms,
+                                 int n, bool include_nuisance) {
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, kMismatchChannels);
+  for (const TermFit& tf : sel.selected) out += termContribution(terms[tf.term], tf.theta, n);
+  if (include_nuisance && sel.nuisance.term >= 0)
+    out += termContribution(terms[sel.nuisance.term], sel.nuisance.theta, n);
+  return out;
+}
+
+}  // namespace graftnav
