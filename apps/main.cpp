@@ -11,6 +11,10 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "graftnav 0.1.0");
   graftnav::app::registerSimulate(app);
+  graftnav::app::registerGraft(app);
+  graftnav::app::registerCalibrate(app);
+  graftnav::app::registerCompare(app);
+  graftnav::app::registerNavigate(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

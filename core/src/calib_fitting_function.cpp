@@ -11,12 +11,21 @@ namespace {
 
 // Number of distinct x values, values closer than 1e-3 of the x range counting as one (static
 // poses differ only by the Earth rate and must not pass for separate support points).
-int distinctX(const std::vector<FitPoint>& pts) {
+double xRange(const std::vector<FitPoint>& pts) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (const auto& p : pts) {
+    lo = std::min(lo, p.x);
+    hi = std::max(hi, p.x);
+  }
+  return pts.empty() ? 0.0 : hi - lo;
+}
+
+int distinctX(const std::vector<FitPoint>& pts, double range = -1.0) {
   if (pts.empty()) return 0;
   std::vector<double> xs;
   for (const auto& p : pts) xs.push_back(p.x);
   std::sort(xs.begin(), xs.end());
-  const double tol = 1e-3 * (xs.back() - xs.front());
+  const double tol = 1e-3 * (range >= 0.0 ? range : xs.back() - xs.front());
   int n = 1;
   for (std::size_t i = 1; i < xs.size(); ++i)
     if (xs[i] - xs[i - 1] > tol) ++n;
@@ -105,23 +114,33 @@ PolynomialFit fitPolynomialCV(const std::vector<FitPoint>& pts_in, const Polynom
   std::vector<FitPoint> pts = pts_in;
   std::stable_sort(pts.begin(), pts.end(), [](const FitPoint& a, const FitPoint& b) { return a.x < b.x; });
   const int n = static_cast<int>(pts.size());
-  const int folds = std::min(opt.folds, n);
+  // Few points: leave-one-out (k-fold with 2-point folds can leave a training set without spread).
+  const int folds = n <= 2 * opt.folds ? n : opt.folds;
   std::vector<std::vector<FitPoint>> train(folds), test(folds);
   for (int i = 0; i < n; ++i)
     for (int f = 0; f < folds; ++f) (i % folds == f ? test[f] : train[f]).push_back(pts[i]);
-  int max_deg = opt.max_degree;
-  for (int f = 0; f < folds; ++f)
-    max_deg = std::min({max_deg, static_cast<int>(train[f].size()) - 2, distinctX(train[f]) - 1});
-  max_deg = std::max(max_deg, 1);
-  std::vector<double> score(max_deg + 1, 0.0), mse(max_deg + 1, 0.0);
+  // Candidate degrees: at most min(max_degree, points - 2, distinct x - 2), i.e. at least one
+  // spare support value, so the polynomial never just interpolates the cluster means. All
+  // candidates are scored on the same folds: those whose training set can fit the largest
+  // candidate; when these cover less than half of the points the largest candidate is dropped.
+  const double range = xRange(pts);
+  int max_deg = std::max(1, std::min(opt.max_degree, std::min(n - 2, distinctX(pts) - 2)));
+  std::vector<int> use;
+  for (; max_deg >= 1; --max_deg) {
+    use.clear();
+    int covered = 0;
+    for (int f = 0; f < folds; ++f)
+      if (distinctX(train[f], range) >= max_deg + 1 && static_cast<int>(train[f].size()) >= max_deg + 2) {
+        use.push_back(f);
+        covered += static_cast<int>(test[f].size());
+      }
+    if (covered * 2 >= n || max_deg == 1) break;
+  }
+  std::vector<double> score(max_deg + 1, INFINITY), mse(max_deg + 1, NAN);
   for (int d = 1; d <= max_deg; ++d) {
     double s = 0.0, m = 0.0;
     int cnt = 0;
-    for (int f = 0; f < folds; ++f) {
-      if (distinctX(train[f]) < d + 1) {
-        s = INFINITY;
-        break;
-      }
+    for (int f : use) {
       const WeightedLsq w = solve(train[f], d);
       for (const auto& q : test[f]) {
         double y = 0.0, v = 1.0;
@@ -131,19 +150,21 @@ PolynomialFit fitPolynomialCV(const std::vector<FitPoint>& pts_in, const Polynom
         ++cnt;
       }
     }
-    score[d] = cnt ? s / cnt : INFINITY;
-    mse[d] = cnt ? m / cnt : INFINITY;
+    if (cnt > 0) {
+      score[d] = s / cnt;
+      mse[d] = m / cnt;
+    }
   }
   double best = INFINITY;
   for (int d = 1; d <= max_deg; ++d) best = std::min(best, score[d]);
   int chosen = 1;
   for (int d = 1; d <= max_deg; ++d)
-    if (score[d] <= best * (1.0 + opt.cv_tolerance)) {
+    if (std::isfinite(score[d]) && score[d] <= best * (1.0 + opt.cv_tolerance)) {
       chosen = d;
       break;
     }
   PolynomialFit fit = fitPolynomial(pts, chosen);
-  fit.cv_rms = std::sqrt(mse[chosen]);
+  fit.cv_rms = std::sqrt(mse[chosen]);  // NaN when no fold could validate (e.g. 2 distinct x)
   return fit;
 }
 

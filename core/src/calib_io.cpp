@@ -53,7 +53,7 @@ YAML::Node sensorNode(const SensorCalibration& s) {
       f["degree"] = s.fit[a].degree;
       f["coeffs"] = vecNode(s.fit[a].coeffs);
       f["coeffs_sigma"] = vecNode(s.fit[a].coeffs_sigma);
-      f["cv_rms"] = s.fit[a].cv_rms;
+      if (std::isfinite(s.fit[a].cv_rms)) f["cv_rms"] = s.fit[a].cv_rms;  // absent: not validated
       f["residual_rms"] = s.fit[a].residual_rms;
       f["n_points"] = s.fit[a].n_points;
       fit[kAxes[a]] = f;
@@ -133,7 +133,7 @@ SensorCalibration readSensor(const YAML::Node& n, const std::string& path, const
       if (p.degree != static_cast<int>(p.coeffs.size()) - 1)
         fail(path, key + ".degree", "does not match the number of coefficients");
       if (f["coeffs_sigma"]) p.coeffs_sigma = readVec(f["coeffs_sigma"], path, key + ".coeffs_sigma");
-      if (f["cv_rms"]) p.cv_rms = finite(f["cv_rms"], path, key + ".cv_rms");
+      p.cv_rms = f["cv_rms"] ? finite(f["cv_rms"], path, key + ".cv_rms") : std::nan("");
       if (f["residual_rms"]) p.residual_rms = finite(f["residual_rms"], path, key + ".residual_rms");
       if (f["n_points"]) p.n_points = f["n_points"].as<int>();
     }

@@ -19,7 +19,7 @@ struct PolynomialFit {
   int degree = 1;
   std::vector<double> coeffs;        // size degree + 1, lowest order first
   std::vector<double> coeffs_sigma;  // 1-sigma of each coefficient
-  double cv_rms = 0.0;               // cross-validated RMS prediction error of the chosen degree
+  double cv_rms = 0.0;               // cross-validated RMS prediction error (NaN: not validated)
   double residual_rms = 0.0;         // RMS residual of the final fit on all points
   int n_points = 0;
   double evaluate(double x) const {

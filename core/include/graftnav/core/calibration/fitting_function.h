@@ -8,9 +8,14 @@
 // matrix M is removed first (the grafting step adds it back from M), so p_i sees only its own
 // axis. Fit: weighted least squares (weights 1/sigma^2); coefficient covariance
 // (X^T W X)^-1 times max(1, reduced chi-square).
-// Cross-validation: points sorted by x and dealt to `folds` folds in turn (deterministic);
-// score = mean squared whitened prediction error; the chosen degree is the lowest whose score is
-// within (1 + cv_tolerance) of the best.
+// Cross-validation: points sorted by x and dealt to `folds` folds in turn (deterministic;
+// leave-one-out when there are at most 2 * folds points); score = mean squared whitened
+// prediction error, every candidate degree on the same folds (those whose training set can fit
+// the largest candidate); the chosen degree is the lowest whose score is within
+// (1 + cv_tolerance) of the best. Candidate degrees go up to min(max_degree, points - 2,
+// distinct x - 2): one spare support value, so six-position data (x = -g, 0, +g) gets a line, a
+// rate table with several rates can get up to a cubic (x values closer than 1e-3 of the range
+// count as one). cv_rms is NaN when no fold can be validated.
 
 #include <array>
 #include <string>
@@ -36,8 +41,7 @@ struct PolynomialFitOptions {
 PolynomialFit fitPolynomial(const std::vector<FitPoint>& points, int degree);
 
 // Cross-validated degree. Throws std::invalid_argument (naming `name`) with fewer than 3 points or
-// fewer than 2 distinct x values. The degree is also capped so that every training fold keeps at
-// least degree + 2 points and distinct x values.
+// fewer than 2 distinct x values.
 PolynomialFit fitPolynomialCV(const std::vector<FitPoint>& points, const PolynomialFitOptions& options,
                               const std::string& name);
 
