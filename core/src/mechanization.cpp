@@ -42,7 +42,9 @@ NavState strapdownStep(const NavState& s, const ImuSample& prev, const ImuSample
   const Eigen::Matrix3d C_nb = s.q_nb.toRotationMatrix();
 
   // Body-frame velocity increment with rotation and two-sample sculling compensation.
-  const Eigen::Vector3d dv_fb = dv + 0.5 * dth.cross(dv) +
+  // The rotation term to second order (1/6 dtheta x (dtheta x dv)) matters at the 0.1 m level over
+  // an hour of road vibration at 200 Hz (found by the simulator round trip, docs/simulator.md).
+  const Eigen::Vector3d dv_fb = dv + 0.5 * dth.cross(dv) + dth.cross(dth.cross(dv)) / 6.0 +
                                 (prev.dtheta_rad.cross(dv) + prev.dvel_m_s.cross(dth)) / 12.0;
   const Eigen::Vector3d dv_fb_n = C_nb * dv_fb;
 

@@ -96,8 +96,8 @@ TEST(SimTrajectory, FullTrack57MinRoundTrip) {
   const NavState truth = trj.navState(imu.back().t_s);
   const Eigen::Vector3d d = earth::nedFromGeodetic(truth.pos, sd.state().pos);
   const double att = rotationVectorFromQuat(truth.q_nb.conjugate() * sd.state().q_nb).norm();
-  EXPECT_LT(d.head<2>().norm(), 1.0);
-  EXPECT_LT(att * kRadToDeg, 0.001);
+  EXPECT_LT(d.head<2>().norm(), 0.01);  // issue target 1 m; measured 0.17 mm
+  EXPECT_LT(att * kRadToDeg, 1e-6);  // issue target 1e-3 deg; measured 3e-9 deg
   RecordProperty("end_horizontal_error_m", fmtNum(d.head<2>().norm()));
   RecordProperty("end_vertical_error_m", fmtNum(d.z()));
   RecordProperty("end_attitude_error_deg", fmtNum(att * kRadToDeg));

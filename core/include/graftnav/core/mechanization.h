@@ -3,7 +3,8 @@
 // The one mechanization every estimator of graftnav uses (EKF, RTS, factor-graph output).
 //
 // Per step k (interval t_{k-1} -> t_k), with previous and current increments:
-//  velocity: dv_fb = dv_k + 1/2 dtheta_k x dv_k + 1/12 (dtheta_{k-1} x dv_k + dv_{k-1} x dtheta_k)
+//  velocity: dv_fb = dv_k + 1/2 dtheta_k x dv_k + 1/6 dtheta_k x (dtheta_k x dv_k)
+//            + 1/12 (dtheta_{k-1} x dv_k + dv_{k-1} x dtheta_k)
 //            (rotation and two-sample sculling), rotated to n with the mid-interval n-frame
 //            rotation (I - 1/2 zeta x), zeta = (omega_ie_n + omega_en_n) dt, plus gravity and
 //            Coriolis evaluated at the extrapolated mid-interval state.
