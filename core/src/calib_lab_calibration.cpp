@@ -53,6 +53,7 @@ LabCalibrationReport calibrateLab(const LabData& s, const LabCalibrationOptions&
       rep.notes.push_back(std::string("accel fitting functions skipped: ") + e.what());
     }
   } else {
+    res.accel.method = "none (no six-position data: M identity, bias 0, sigma 0)";
     rep.notes.push_back("no six-position data: accelerometer M not calibrated (identity written, sigma 0)");
   }
 
