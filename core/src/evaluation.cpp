@@ -161,7 +161,6 @@ Evaluation evaluateSolution(const NavSolution& solution, const NavSeries& refere
   Evaluation ev;
   ev.epochs.reserve(solution.states.size());
   const bool has_sigma = solution.sigma.size() == solution.states.size();
-  NavInterpolator ref_at(reference);
   RmsAccumulator all, in_outage;
   std::vector<OutageDrift> drift(windows.size());
   for (size_t k = 0; k < windows.size(); ++k) {
@@ -171,17 +170,14 @@ Evaluation evaluateSolution(const NavSolution& solution, const NavSeries& refere
   size_t w = 0;
   double nees_sum = 0.0, last_nees_t = -std::numeric_limits<double>::infinity();
 
-  for (size_t i = 0; i < solution.states.size(); ++i) {
-    const NavState& s = solution.states[i];
-    const auto ref = ref_at.at(s.t_s);
-    if (!ref) continue;
+  auto process = [&](const NavState& s, const PvaSigma* sg, const NavState& ref) {
     EpochError e;
     e.t_s = s.t_s;
-    e.pos_ned_m = positionErrorNed(s.pos, ref->pos);
-    e.vel_ned_m_s = s.v_n - ref->v_n;
-    const Eigen::Vector3d eu_s = eulerFromQuat(s.q_nb), eu_r = eulerFromQuat(ref->q_nb);
+    e.pos_ned_m = positionErrorNed(s.pos, ref.pos);
+    e.vel_ned_m_s = s.v_n - ref.v_n;
+    const Eigen::Vector3d eu_s = eulerFromQuat(s.q_nb), eu_r = eulerFromQuat(ref.q_nb);
     for (int j = 0; j < 3; ++j) e.euler_rad[j] = wrapAngle(eu_s[j] - eu_r[j]);
-    e.att_n_rad = rotationVectorFromQuat(s.q_nb * ref->q_nb.conjugate());
+    e.att_n_rad = rotationVectorFromQuat(s.q_nb * ref.q_nb.conjugate());
 
     while (w < windows.size() && windows[w].end_s < s.t_s) ++w;
     if (w < windows.size() && windows[w].contains(s.t_s)) e.outage = static_cast<int>(w);
@@ -200,12 +196,11 @@ Evaluation evaluateSolution(const NavSolution& solution, const NavSeries& refere
       d.max.pitch_rad = std::max(d.max.pitch_rad, p);
       d.max.heading_rad = std::max(d.max.heading_rad, y);
     }
-    if (has_sigma) {
-      const PvaSigma& sg = solution.sigma[i];
+    if (sg) {
       Eigen::Matrix<double, 9, 1> err;
       err << e.pos_ned_m, e.vel_ned_m_s, e.att_n_rad;
-      if ((sg.array() > 0.0).all() && sg.allFinite()) {
-        e.nees = (err.array() / sg.array()).square().sum();
+      if ((sg->array() > 0.0).all() && sg->allFinite()) {
+        e.nees = (err.array() / sg->array()).square().sum();
         if (s.t_s - last_nees_t >= options.nees_interval_s - 1e-9) {
           nees_sum += e.nees;
           ++ev.nees_samples;
@@ -214,6 +209,38 @@ Evaluation evaluateSolution(const NavSolution& solution, const NavSeries& refere
       }
     }
     ev.epochs.push_back(e);
+  };
+
+  const NavSeries& sol = solution.states;
+  const double sol_rate = sol.size() > 1 ? (sol.size() - 1) / std::max(1e-9, sol.back().t_s - sol.front().t_s) : 0.0;
+  const double ref_rate = reference.size() > 1
+                              ? (reference.size() - 1) / std::max(1e-9, reference.back().t_s - reference.front().t_s)
+                              : 0.0;
+  const bool at_reference = options.epochs == EvaluationEpochs::kReference ||
+                            (options.epochs == EvaluationEpochs::kAuto && ref_rate < sol_rate);
+  if (!at_reference) {
+    NavInterpolator ref_at(reference);
+    for (size_t i = 0; i < sol.size(); ++i) {
+      const auto ref = ref_at.at(sol[i].t_s);
+      if (!ref) continue;
+      process(sol[i], has_sigma ? &solution.sigma[i] : nullptr, *ref);
+    }
+  } else {
+    NavInterpolator sol_at(sol);
+    size_t k = 0;  // sigma bracket
+    for (const NavState& ref : reference) {
+      const auto s = sol_at.at(ref.t_s);
+      if (!s) continue;
+      PvaSigma sg;
+      if (has_sigma) {
+        while (k + 1 < sol.size() && sol[k + 1].t_s <= ref.t_s) ++k;
+        const size_t k1 = std::min(k + 1, sol.size() - 1);
+        const double span = sol[k1].t_s - sol[k].t_s;
+        const double u = span > 0 ? std::clamp((ref.t_s - sol[k].t_s) / span, 0.0, 1.0) : 0.0;
+        sg = (1.0 - u) * solution.sigma[k] + u * solution.sigma[k1];
+      }
+      process(*s, has_sigma ? &sg : nullptr, ref);
+    }
   }
   if (ev.epochs.empty()) {
     throw std::invalid_argument("evaluateSolution: no solution epoch of '" + solution.estimator +

@@ -47,7 +47,9 @@ struct Example {
 
 TEST(Evaluation, HandComputedOutageStatistics) {
   Example ex;
-  const Evaluation ev = evaluateSolution(ex.sol, ex.ref, ex.outages);
+  EvaluationOptions opt;
+  opt.epochs = EvaluationEpochs::kSolution;
+  const Evaluation ev = evaluateSolution(ex.sol, ex.ref, ex.outages, opt);
   ASSERT_EQ(ev.epochs.size(), 11u);
   EXPECT_NEAR(ev.epochs[5].pos_ned_m.x(), 5.0, 1e-6);
   EXPECT_NEAR(ev.epochs[5].pos_ned_m.z(), 1.0, 1e-9);
@@ -72,6 +74,31 @@ TEST(Evaluation, HandComputedOutageStatistics) {
   EXPECT_NEAR(ev.nees_mean, (385.0 * 1.0001 + 22.0) / 44.0, 1e-4);
   EXPECT_LT(ev.nees_band_low, 9.0);
   EXPECT_GT(ev.nees_band_high, 9.0);
+}
+
+TEST(Evaluation, AutoEpochsAvoidInterpolatingASparseReferenceThroughVibration) {
+  // Dense solution (50 Hz) equal to the truth, with a 5 Hz roll vibration; the reference keeps
+  // every 5th epoch (10 Hz). At the reference epochs the error is zero; interpolating the
+  // reference to the solution epochs invents roll errors.
+  NavSolution sol;
+  NavSeries ref;
+  for (int k = 0; k <= 500; ++k) {
+    NavState s;
+    s.t_s = k * 0.02;
+    s.pos = {0.5, 2.0, 10.0};
+    s.q_nb = quatFromEuler({0.001 * std::sin(2 * M_PI * 5.0 * s.t_s + 0.3), 0.0, 1.0});
+    sol.states.push_back(s);
+    sol.sigma.push_back(PvaSigma::Constant(1.0));
+    if (k % 5 == 0) ref.push_back(s);
+  }
+  const Evaluation a = evaluateSolution(sol, ref, {});
+  EXPECT_EQ(a.epochs.size(), ref.size());
+  EXPECT_LT(a.overall_rms.roll_rad, 1e-12);
+  EvaluationOptions o;
+  o.epochs = EvaluationEpochs::kSolution;
+  const Evaluation b = evaluateSolution(sol, ref, {}, o);
+  EXPECT_EQ(b.epochs.size(), sol.states.size());
+  EXPECT_GT(b.overall_rms.roll_rad, 1e-4);
 }
 
 TEST(Evaluation, ChiSquareQuantilesMatchTables) {

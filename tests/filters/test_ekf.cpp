@@ -185,7 +185,9 @@ void neesCheck(const ImuProfile& p, int runs) {
     pr.initial = perturbNavState(sc.initial, x0);
     pr.initial.t_s = sc.initial.t_s;
     const NavSolution sol = runEkf(pr, opt);
-    const Evaluation ev = evaluateSolution(sol, sc.truth, pr.outages, {0.0, 0.95});
+    EvaluationOptions eo;
+    eo.nees_interval_s = 0.0;
+    const Evaluation ev = evaluateSolution(sol, sc.truth, pr.outages, eo);
     // Samples: the last epoch of each outage and the last epoch of the run.
     std::vector<double> times;
     for (const TimeWindow& w : pr.outages) times.push_back(w.end_s - 0.5);

@@ -43,8 +43,8 @@ NavState mechanize(NavState s, const ErrorState& x, int steps, double h) {
 
 TEST(InsErrorModel, AnalyticTransitionMatchesNumericLinearizationOfMechanization) {
   const NavState truth0 = movingState();
-  const int steps = 100;
-  const double h = 0.01;
+  const int steps = 200;  // 1 s at 200 Hz
+  const double h = 0.005;
   const NavState truth1 = mechanize(truth0, ErrorState::Zero(), steps, h);
   // Central differences in scaled coordinates: steps large enough that the round-off of
   // latitude/longitude (~1e-9 m) does not swamp entries of ~1e-6, small enough to stay linear
@@ -83,7 +83,9 @@ TEST(InsErrorModel, AnalyticTransitionMatchesNumericLinearizationOfMechanization
   }
   for (int i = 0; i < 9; ++i) {
     for (int j = 0; j < kStateDim; ++j) {
-      EXPECT_NEAR(Phi_num(i, j), Phi(i, j), 2e-7 + 2e-3 * std::abs(Phi(i, j)))
+      // 0.5 % relative: the mechanization's within-step terms (1/6 dtheta x (dtheta x dv)) give
+      // the discrete map an O(h^2) direct gyro-to-velocity sensitivity the continuous F lacks.
+      EXPECT_NEAR(Phi_num(i, j), Phi(i, j), 2e-7 + 5e-3 * std::abs(Phi(i, j)))
           << "Phi(" << i << "," << j << ")";
     }
   }

@@ -40,7 +40,16 @@ struct OutageDrift {
   DriftStats max;   // maximum of each absolute error inside the window
 };
 
+enum class EvaluationEpochs {
+  kAuto,       // the epochs of the sparser series (the denser one is interpolated)
+  kSolution,   // every solution epoch, the reference interpolated
+  kReference,  // every reference epoch, the solution interpolated
+};
+
 struct EvaluationOptions {
+  // Interpolating a 10 Hz truth to 200 Hz solution epochs turns road vibration (attitude changes
+  // of 0.05 deg in 20 ms) into fake errors; kAuto evaluates at the sparser series' epochs.
+  EvaluationEpochs epochs = EvaluationEpochs::kAuto;
   // NEES is sampled at most once per this interval: consecutive IMU-rate epochs are strongly
   // correlated, and the chi-square band assumes independent samples (it is still optimistic).
   double nees_interval_s = 1.0;
@@ -64,8 +73,9 @@ struct Evaluation {
   double nees_band_high = std::numeric_limits<double>::quiet_NaN();
 };
 
-// Errors of `solution.states` against `reference` (sorted by time; interpolated to each solution
-// epoch; epochs outside the reference span are skipped). Throws std::invalid_argument when the
+// Errors of `solution.states` against `reference` (both sorted by time) at the epochs chosen by
+// options.epochs, the other series interpolated (nav_interp.h; sigma linearly); epochs outside
+// the other series' span are skipped. Throws std::invalid_argument when the
 // two series do not overlap.
 Evaluation evaluateSolution(const NavSolution& solution, const NavSeries& reference,
                             const std::vector<TimeWindow>& outages,

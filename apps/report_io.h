@@ -1,0 +1,37 @@
+#pragma once
+// Writing the evaluation of a navigation run: errors.json (issue 3 contract), run_info.json
+// (everything else worth keeping: NEES band, GNSS counts), errors.csv (per-epoch errors),
+// outage_drift.csv (per-outage maxima), and the plots through scripts/plot_errors.py.
+
+#include <string>
+#include <vector>
+
+#include "graftnav/core/evaluation.h"
+#include "graftnav/core/nav_solution.h"
+
+namespace graftnav::app {
+
+struct ReportMeta {
+  std::string estimator;
+  std::string imu;           // name of the IMU navigated (profile name, or "ref"/"tested")
+  int outage_count = 0;
+  double outage_length_s = 0.0;  // nominal length (0 when none)
+};
+
+// errors.json, exactly: {"estimator", "imu", "outages": {"count", "length_s"}, "overall": {...},
+// "outage": S, "outage_max": S, "nees"}; degrees for angles, NaN written as null.
+void writeErrorsJson(const std::string& path, const ReportMeta& meta, const Evaluation& ev);
+// run_info.json: NEES band and sample count, GNSS used/rejected/withheld, outage windows, notes.
+void writeRunInfoJson(const std::string& path, const ReportMeta& meta, const Evaluation& ev,
+                      const NavSolution& sol, const std::vector<TimeWindow>& outages,
+                      const std::vector<std::string>& notes, double run_time_s);
+// Per-epoch errors every `min_interval_s` (0: every epoch); columns carry their units.
+void writeErrorsCsv(const std::string& path, const Evaluation& ev, double min_interval_s);
+// One row per outage: window and maxima.
+void writeOutageCsv(const std::string& path, const Evaluation& ev);
+
+// Runs `python3 SCRIPT OUT_DIR` when python3 and the script exist. Returns an empty string on
+// success, else a warning text (never throws for a missing python/matplotlib).
+std::string runPlotScript(const std::string& script_path, const std::string& out_dir);
+
+}  // namespace graftnav::app

@@ -1,0 +1,64 @@
+#pragma once
+// The --config YAML of `graftnav navigate`, parsed in ONE place into typed option structs.
+// Each top-level section maps to one struct; helpers add their own section here.
+//
+//   outages:              # GNSS outage schedule (OutageScheduleConfig)
+//     length_s: 60
+//     period_s: 180
+//     start_s: 300        # first outage start after the first IMU epoch (warm-up)
+//     end_margin_s: 10
+//     windows: [[456700, 456760], ...]   # optional explicit list (s of week), overrides the above
+//     enabled: true
+//   ekf:                  # EkfOptions + alignment
+//     covariance_interval_s: 0.05
+//     record_interval_s: 1.0
+//     gate_probability: 0.999
+//     max_consecutive_rejections: 5
+//     gnss_std_scale: 1.0
+//     gnss_std_floor_m: 0.005
+//     gnss_default_std_m: 0.05
+//     init_pos_std_m: 0.5
+//     init_vel_std_m_s: 0.1
+//     init_roll_pitch_std_deg: 0.1
+//     init_heading_std_deg: 0.5
+//     alignment: given    # given | static | motion
+//     static_alignment_s: 60
+//     motion_min_speed_m_s: 3.0
+//   evaluation:
+//     nees_interval_s: 1.0
+//     csv_rate_hz: 10     # per-epoch error CSV rate (statistics always use every epoch)
+
+#include <string>
+#include <vector>
+
+#include "graftnav/core/evaluation.h"
+#include "graftnav/core/outage_schedule.h"
+#include "graftnav/filters/alignment.h"
+#include "graftnav/filters/ekf.h"
+
+namespace graftnav::app {
+
+struct AlignmentConfig {
+  std::string mode = "given";  // given | static | motion
+  double static_duration_s = 60.0;
+  MotionAlignmentOptions motion;
+};
+
+struct EvaluationConfig {
+  EvaluationOptions options;
+  double csv_rate_hz = 10.0;
+};
+
+struct RunConfig {
+  OutageScheduleConfig outages;
+  bool outages_given = false;  // an outages: section was present
+  EkfOptions ekf;
+  AlignmentConfig alignment;
+  EvaluationConfig evaluation;
+};
+
+// Loads the file. Unknown keys are appended to *warnings; a wrong type or invalid value throws
+// std::runtime_error naming file, line and key.
+RunConfig loadRunConfig(const std::string& path, std::vector<std::string>* warnings = nullptr);
+
+}  // namespace graftnav::app
