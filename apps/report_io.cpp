@@ -116,10 +116,17 @@ void writeOutageCsv(const std::string& path, const Evaluation& ev) {
 
 std::string runPlotScript(const std::string& script_path, const std::string& out_dir) {
   if (!std::filesystem::exists(script_path)) return "plot script not found: " + script_path;
-  if (std::system("python3 -c 'import matplotlib' >/dev/null 2>&1") != 0) {
-    return "python3 with matplotlib not available: no plots written";
+  // The first python3 that has matplotlib (a pyenv shim may shadow the system one).
+  std::string python;
+  for (const char* cand : {"python3", "/usr/bin/python3"}) {
+    const std::string probe = std::string(cand) + " -c 'import matplotlib' >/dev/null 2>&1";
+    if (std::system(probe.c_str()) == 0) {
+      python = cand;
+      break;
+    }
   }
-  const std::string cmd = "python3 '" + script_path + "' '" + out_dir + "' >/dev/null 2>&1";
+  if (python.empty()) return "python3 with matplotlib not available: no plots written";
+  const std::string cmd = python + " '" + script_path + "' '" + out_dir + "' >/dev/null 2>&1";
   if (std::system(cmd.c_str()) != 0) return "plot script failed: " + cmd;
   return {};
 }
