@@ -273,8 +273,11 @@ void runMultiPosition(const CalibArgs& a) {
                     r.intervals.size(), r.gyro_threshold_rad_s, r.accel_threshold_m_s2);
   md << fmt::format("- |f| - g RMS over the intervals: {:.5f} (nominal) -> {:.5f} m/s^2 (calibrated)\n",
                     r.accel_norm_rms_before, r.accel_norm_rms_after);
-  md << fmt::format("- gravity-direction prediction RMS over the motions: {:.3f} -> {:.3f} deg\n\n",
+  md << fmt::format("- gravity-direction prediction RMS over the motions: {:.3f} -> {:.3f} deg\n",
                     r.gyro_angle_rms_before * units::kRadToDeg, r.gyro_angle_rms_after * units::kRadToDeg);
+  md << fmt::format("- distinct attitudes: {}\n", r.distinct_attitudes);
+  for (const auto& n : r.notes) md << "- note: " << n << "\n";
+  md << "\n";
   writeSensorSection(md, "Accelerometer", res.accel, false);
   writeSensorSection(md, "Gyro", res.gyro, true);
   {
@@ -288,6 +291,7 @@ void runMultiPosition(const CalibArgs& a) {
   fmt::print("  {} static intervals; |f|-g RMS {:.5f} -> {:.5f} m/s^2; gravity direction RMS {:.3f} -> {:.3f} deg\n",
              r.intervals.size(), r.accel_norm_rms_before, r.accel_norm_rms_after,
              r.gyro_angle_rms_before * units::kRadToDeg, r.gyro_angle_rms_after * units::kRadToDeg);
+  for (const auto& n : r.notes) fmt::print("  note: {}\n", n);
 }
 
 }  // namespace

@@ -127,6 +127,27 @@ MultiPositionResult calibrateMultiPosition(const ImuSeries& imu, const MultiPosi
     st.push_back(segmentStats(imu, det.intervals[k].begin, det.intervals[k].end,
                               source + " static interval " + std::to_string(k + 1)));
 
+  // Distinct attitudes (gravity directions more than distinct_attitude_deg apart).
+  {
+    std::vector<Eigen::Vector3d> dirs;
+    for (const auto& s : st) {
+      const Eigen::Vector3d d = s.f_mean_m_s2.normalized();
+      bool seen = false;
+      for (const auto& e : dirs) seen = seen || angleBetween(d, e) < opt.distinct_attitude_deg * M_PI / 180.0;
+      if (!seen) dirs.push_back(d);
+    }
+    res.distinct_attitudes = static_cast<int>(dirs.size());
+  }
+  if (res.distinct_attitudes < 6)
+    throw std::runtime_error("calibrateMultiPosition: " + source + ": the " + std::to_string(n) +
+                             " static intervals hold only " + std::to_string(res.distinct_attitudes) +
+                             " distinct attitudes (need >= 6, better >= 9)");
+  res.accel_diagonal_only = res.distinct_attitudes < opt.min_distinct_for_full_accel;
+  if (res.accel_diagonal_only)
+    res.notes.push_back("only " + std::to_string(res.distinct_attitudes) +
+                        " distinct attitudes: accelerometer non-orthogonality not observable from |f| = g, "
+                        "M fitted diagonal (scale + bias)");
+
   // --- accelerometer ---
   double kp[6] = {1, 0, 1, 0, 0, 1}, bp[3] = {0, 0, 0};
   ceres::Problem pa;
@@ -143,6 +164,7 @@ MultiPositionResult calibrateMultiPosition(const ImuSeries& imu, const MultiPosi
     ss0 += std::pow(u.norm() - opt.gravity_m_s2, 2);
   }
   res.accel_norm_rms_before = std::sqrt(ss0 / n);
+  if (res.accel_diagonal_only) pa.SetManifold(kp, new ceres::SubsetManifold(6, {1, 3, 4}));
   ceres::Solver::Options so;
   so.linear_solver_type = ceres::DENSE_QR;
   so.max_num_iterations = opt.max_iterations;
@@ -153,8 +175,8 @@ MultiPositionResult calibrateMultiPosition(const ImuSeries& imu, const MultiPosi
   res.accel_converged = sa.termination_type == ceres::CONVERGENCE;
   res.accel_iterations = static_cast<int>(sa.iterations.size());
   if (!sa.IsSolutionUsable() || !res.accel_converged)
-    throw std::runtime_error("calibrateMultiPosition: " + source + ": accelerometer fit did not converge: " +
-                             sa.message);
+    throw std::runtime_error("calibrateMultiPosition: " + source + ": accelerometer fit did not converge on " +
+                             std::to_string(n) + " static intervals: " + sa.message);
   Eigen::Matrix3d Ka = Eigen::Matrix3d::Zero();
   Ka << kp[0], 0, 0, kp[1], kp[2], 0, kp[3], kp[4], kp[5];
   const Eigen::Vector3d ba(bp[0], bp[1], bp[2]);
@@ -183,7 +205,7 @@ MultiPositionResult calibrateMultiPosition(const ImuSeries& imu, const MultiPosi
     C.topRightCorner<6, 3>() = Eigen::Map<Eigen::Matrix<double, 6, 3, Eigen::RowMajor>>(ckb);
     C.bottomLeftCorner<3, 6>() = C.topRightCorner<6, 3>().transpose();
     C.bottomRightCorner<3, 3>() = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(cbb);
-    const int dof = n - 9;
+    const int dof = n - (res.accel_diagonal_only ? 6 : 9);
     const double s2 = dof > 0 ? 2.0 * sa.final_cost / dof : 1.0;
     C *= std::max(1.0, s2);
     const Eigen::Matrix3d Ma = Ka.inverse();
@@ -197,7 +219,8 @@ MultiPositionResult calibrateMultiPosition(const ImuSeries& imu, const MultiPosi
       for (int j = 0; j < 3; ++j) res.accel.M_sigma(i, j) = std::sqrt(std::max(0.0, CM(3 * i + j, 3 * i + j)));
       res.accel.bias_sigma[i] = std::sqrt(C(6 + i, 6 + i));
     }
-    res.accel.method = "multi_position_norm (M lower-triangular)";
+    res.accel.method = res.accel_diagonal_only ? "multi_position_norm (M diagonal: too few attitudes)"
+                                               : "multi_position_norm (M lower-triangular)";
   }
   if (!opt.calibrate_gyro) return res;
 

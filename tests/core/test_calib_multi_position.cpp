@@ -1,8 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <random>
+#include <sstream>
 
+#include "graftnav/core/calibration/lab_calibration.h"
 #include "graftnav/core/calibration/multi_position.h"
 #include "graftnav/core/calibration/static_detector.h"
 #include "graftnav/core/rotation.h"
@@ -13,10 +17,13 @@ namespace graftnav {
 namespace {
 
 // n_poses random attitudes held static_s each, joined by constant-rate rotations of move_s.
+// cycle > 0: the attitudes repeat with that period (cycle distinct attitudes).
 ImuSeries synthMultiPosition(test::SynthSensor& sensor, int n_poses, double static_s, double move_s,
-                             double hz, unsigned seed) {
+                             double hz, unsigned seed, int cycle = 0) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-M_PI, M_PI);
+  std::vector<Eigen::Matrix3d> fixed;
+  for (int k = 0; k < cycle; ++k) fixed.push_back(dcmFromEuler(Eigen::Vector3d(u(rng), 0.5 * u(rng), u(rng))));
   const Geodetic lab = test::labSite();
   const Eigen::Vector3d g_n = earth::gravity_n(lab);
   ImuSeries out;
@@ -28,7 +35,8 @@ ImuSeries synthMultiPosition(test::SynthSensor& sensor, int n_poses, double stat
     out.insert(out.end(), s.begin(), s.end());
     t = out.back().t_s;
     if (p + 1 == n_poses) break;
-    const Eigen::Matrix3d Cn = dcmFromEuler(Eigen::Vector3d(u(rng), 0.5 * u(rng), u(rng)));
+    const Eigen::Matrix3d Cn =
+        cycle > 0 ? fixed[(p + 1) % cycle] : dcmFromEuler(Eigen::Vector3d(u(rng), 0.5 * u(rng), u(rng)));
     const Eigen::Vector3d w = rotationVectorFromQuat(Eigen::Quaterniond(C.transpose() * Cn)) / move_s;
     const int n = static_cast<int>(std::lround(move_s * hz));
     for (int k = 1; k <= n; ++k) {
@@ -130,6 +138,56 @@ TEST(CalibMultiPosition, TooFewIntervalsIsAnError) {
   MultiPositionOptions bad;
   bad.min_intervals = 5;
   EXPECT_THROW(bad.validate(), std::invalid_argument);
+  // Twelve intervals but only four distinct attitudes (the start pose + a cycle of three).
+  test::SynthSensor s2(e, 3);
+  const ImuSeries rep = synthMultiPosition(s2, 12, 4.0, 2.0, 100.0, 3, 3);
+  try {
+    calibrateMultiPosition(rep, MultiPositionOptions{}, "three_attitudes.txt");
+    FAIL();
+  } catch (const std::runtime_error& ex) {
+    EXPECT_NE(std::string(ex.what()).find("only 4 distinct attitudes"), std::string::npos) << ex.what();
+  }
+}
+
+// Real Ferraris session (imucal raw CSV) through the multi-position method: only six distinct
+// attitudes, so the accelerometer M is diagonal; it must agree with the six-position result.
+TEST(CalibMultiPosition, RealFerrarisSessionAgreesWithSixPosition) {
+  const std::string csv = test::sharedDir() + "/data/real/imucal_ferraris/raw/example_ferraris_session.csv";
+  const std::string case_dir = test::sharedDir() + "/data/real/imucal_ferraris";
+  if (!std::filesystem::exists(csv)) GTEST_SKIP() << "real data not found: " << csv;
+  std::ifstream f(csv);
+  std::string line;
+  std::getline(f, line);  // header n_samples,gyr_x,gyr_y,gyr_z,acc_x,acc_y,acc_z (deg/s, m/s^2)
+  ImuSeries imu;
+  const double dt = 1.0 / 102.4;
+  while (std::getline(f, line)) {
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream is(line);
+    double n, g[3], a[3];
+    ASSERT_TRUE(is >> n >> g[0] >> g[1] >> g[2] >> a[0] >> a[1] >> a[2]) << line;
+    ImuSample s;
+    s.t_s = (n + 1.0) * dt;
+    s.dt_s = dt;
+    for (int i = 0; i < 3; ++i) {
+      s.dtheta_rad[i] = g[i] * kDegToRad * dt;
+      s.dvel_m_s[i] = a[i] * dt;
+    }
+    imu.push_back(s);
+  }
+  ASSERT_EQ(imu.size(), 10376u);
+  const MultiPositionResult r = calibrateMultiPosition(imu, MultiPositionOptions{}, csv);
+  EXPECT_EQ(r.distinct_attitudes, 6);
+  EXPECT_TRUE(r.accel_diagonal_only);
+  EXPECT_GE(r.intervals.size(), 9u);
+  EXPECT_LT(r.accel_norm_rms_after, 0.1 * r.accel_norm_rms_before);
+  EXPECT_LT(r.gyro_angle_rms_after, r.gyro_angle_rms_before);
+  const LabCalibrationReport six = calibrateLab(loadLabData(case_dir));
+  for (int i = 0; i < 3; ++i) {
+    const double s = std::hypot(r.accel.M_sigma(i, i), six.result.accel.M_sigma(i, i));
+    EXPECT_LT(std::abs(r.accel.M(i, i) - six.result.accel.M(i, i)), 3.0 * s) << "axis " << i;
+  }
+  std::printf("Ferraris multi-position: %zu intervals, %d attitudes; |f|-g RMS %.4f -> %.4f m/s^2\n",
+              r.intervals.size(), r.distinct_attitudes, r.accel_norm_rms_before, r.accel_norm_rms_after);
 }
 
 // Real recording: Xsens raw counts of imu_tk (shared/data/real/imu_tk_xsens_calib).

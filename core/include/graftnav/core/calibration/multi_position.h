@@ -35,8 +35,14 @@ struct MultiPositionOptions {
   double latitude_rad = 0.0;
   bool latitude_known = false;
   int min_intervals = 9;           // >= 9 (accel has 9 unknowns); fewer is an error
+  // Static intervals whose gravity directions differ by less than this count as one attitude.
+  double distinct_attitude_deg = 10.0;
+  // With fewer distinct attitudes than 9 (e.g. a six-position session) the accelerometer
+  // non-orthogonality is not observable from norms (it enters to second order for axis-aligned
+  // poses): M is then fitted diagonal (scale + bias) and a note says so; fewer than 6 is an error.
+  int min_distinct_for_full_accel = 9;
   bool calibrate_gyro = true;
-  int max_iterations = 100;
+  int max_iterations = 500;
   void validate() const;
 };
 
@@ -52,6 +58,9 @@ struct MultiPositionResult {
   double gyro_angle_rms_before = 0.0, gyro_angle_rms_after = 0.0;
   bool accel_converged = false, gyro_converged = false;
   int accel_iterations = 0, gyro_iterations = 0;
+  int distinct_attitudes = 0;
+  bool accel_diagonal_only = false;
+  std::vector<std::string> notes;
 };
 
 // `imu` holds nominally scaled increments (SI). Throws std::runtime_error naming `source` when
