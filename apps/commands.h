@@ -11,5 +11,6 @@ void registerGraft(CLI::App& app);  // cmd_graft.cpp
 void registerCalibrate(CLI::App& app);  // cmd_calibrate.cpp
 void registerCompare(CLI::App& app);  // cmd_compare.cpp
 void registerNavigate(CLI::App& app);  // cmd_navigate.cpp
+void registerDiagnose(CLI::App& app);  // cmd_diagnose.cpp
 
 }  // namespace graftnav::app

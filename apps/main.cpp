@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   graftnav::app::registerCalibrate(app);
   graftnav::app::registerCompare(app);
   graftnav::app::registerNavigate(app);
+  graftnav::app::registerDiagnose(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,134 @@
+#pragma once
+// The mismatch finder's pipeline (issue 7): given the reference signals x, a simulation of the
+// tested IMU and the tested IMU's real recording,
+//   1. bin all three on one grid (common_grid.h);
+//   2. estimate the time offset of the real record by cross-correlation (time_offset.h); it is the
+//      pivot of the time_offset regressor, so the offset is then fitted jointly with the rest;
+//   3. residual r = real - simulated per channel; locate where it departs from noise (locate.h);
+//   4. explain it with the candidate terms (candidate_terms.h, term_selection.h) plus the
+//      quantization lattice of the raw tested samples;
+//   5. model: SG#3 = simulation + the selected terms; residual RMS before/after on the whole record
+//      and on the second half with a model fitted on the first half only;
+//   6. whatever the model leaves above noise is listed as unexplained, with where it lives.
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "graftnav/core/mismatch/candidate_terms.h"
+#include "graftnav/core/mismatch/common_grid.h"
+#include "graftnav/core/mismatch/locate.h"
+#include "graftnav/core/mismatch/term_selection.h"
+#include "graftnav/core/mismatch/time_offset.h"
+#include "graftnav/core/types.h"
+
+namespace graftnav {
+
+struct DiagnosisInputs {
+  std::string case_name;
+  ImuSeries reference;   // reference IMU: the true inputs x, reference body frame
+  ImuSeries simulated;   // the simulation of the tested IMU (SG#2, or reference + static bias)
+  ImuSeries real;        // the tested IMU's field recording
+  std::string simulation_kind;  // e.g. "SG#2" or "reference + static bias", for the report
+  // Initial attitude and position of the reference body (enables the earth_rotation_omitted and
+  // gravity_model terms).
+  std::optional<NavState> initial_state;
+  // Omitted navigation physics (earth_rotation_omitted, gravity_model) can only be missing from a
+  // simulated reference; a recorded reference IMU senses both. Set for simulated cases.
+  bool reference_is_simulated = false;
+  // Lab bias-instability figure of the tested IMU (SI, per sensor). When given, a
+  // bias_instability term is claimed only if its fitted wander exceeds sqrt(2) times the figure
+  // (two independent realizations, lab graft and field, differ by that much).
+  std::optional<double> lab_gyro_bias_instability_rad_s;
+  std::optional<double> lab_accel_bias_instability_m_s2;
+};
+
+struct DiagnoseOptions {
+  double bin_s = 0.05;       // averaging bin (s)
+  double margin_s = 1.0;     // dropped at both ends of the overlap (room for the time shift)
+  TimeOffsetOptions time_offset;
+  CandidateLibraryOptions library;
+  SelectionOptions selection;
+  RegimeOptions regimes;
+  LocateOptions locate;
+  bool holdout = true;       // first half fit, second half check
+  bool detect_quantization = true;
+  void validate() const;
+};
+
+// One named parameter of an effect (values row-major for matrices; sigma NaN/inf = unknown).
+struct EffectParameter {
+  std::string key;
+  std::vector<double> values;
+  std::vector<double> sigma;
+  bool scalar = false;       // written as a number, not a list
+  std::string text;          // for string-valued parameters (vibration regressor)
+};
+
+struct Effect {
+  std::string name;          // issue 7 effect name
+  std::string sensor;        // gyro | accel | both
+  std::vector<EffectParameter> parameters;
+  double delta_bic = 0.0;
+  double cv_gain = 0.0;
+  std::string explanation;
+  std::string evidence_method = "bic+blocked_cv";  // or "value_lattice"
+};
+
+struct ChannelRms {
+  Eigen::Vector3d gyro = Eigen::Vector3d::Zero();   // rad/s
+  Eigen::Vector3d accel = Eigen::Vector3d::Zero();  // m/s^2
+};
+
+struct DiagnosisResult {
+  std::string case_name;
+  std::string simulation_kind;
+  GridSpec grid;
+  TimeOffsetEstimate time_offset_xcorr;
+  std::vector<LocatedSpan> located;       // residual before modelling
+  std::vector<Effect> effects;            // claimed
+  std::vector<LocatedSpan> unexplained;   // still above noise after modelling
+  ChannelRms rms_raw;                     // residual as is
+  ChannelRms rms_before;                  // residual minus its per-channel constant
+  ChannelRms rms_after;                   // residual minus constant and selected terms
+  bool has_holdout = false;
+  ChannelRms holdout_before, holdout_after;  // second half, model fitted on the first half
+  std::vector<std::string> holdout_terms;    // terms selected on the first half
+  double holdout_split_s = 0.0;
+  Vector6d nuisance_bias = Vector6d::Zero(); // constant real - simulated per channel (SI)
+  SelectionResult selection;
+  std::vector<std::string> notes;            // assumptions and warnings for the report
+  Eigen::MatrixXd residual_before;           // n x 6, for plots
+  Eigen::MatrixXd model;                     // n x 6, selected terms (no constant)
+  std::vector<std::string> regimes;          // per bin
+  ImuSeries sg3;                             // simulated + selected terms
+};
+
+DiagnosisResult diagnose(const DiagnosisInputs& inputs, const DiagnoseOptions& options = {});
+
+// The simulation used when the case has no lab data: the reference increments plus the tested
+// IMU's bias measured in the first static span of the field recording (mean tested minus mean
+// reference over that span, so the reference's own bias and the local gravity cancel). Throws
+// std::runtime_error when no static span of at least min_static_s is found.
+struct StaticBiasSimulation {
+  ImuSeries simulated;
+  Eigen::Vector3d gyro_bias_rad_s = Eigen::Vector3d::Zero();
+  Eigen::Vector3d accel_bias_m_s2 = Eigen::Vector3d::Zero();
+  double t_start_s = 0.0, t_end_s = 0.0;
+};
+StaticBiasSimulation simulateFromReferenceAndStaticBias(const ImuSeries& reference,
+                                                        const ImuSeries& tested,
+                                                        double min_static_s = 2.0,
+                                                        double max_static_s = 30.0);
+
+// Step of a value lattice of the raw increments (rad or m/s per sample) per axis; 0 where the
+// values are not on a lattice (fewer than half of them repeat, or they miss the lattice).
+Eigen::Vector3d detectQuantizationStep(const ImuSeries& imu, bool gyro);
+
+// SG#3: the simulation plus a per-bin contribution (n x 6, SI rates) on `grid`, added to every
+// sample as rate x dt from the bin that holds the sample's middle (clamped at the grid's ends).
+ImuSeries addBinnedContribution(const ImuSeries& simulated, const GridSpec& grid,
+                                const Eigen::MatrixXd& contribution);
+
+}  // namespace graftnav

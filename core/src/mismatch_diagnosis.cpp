@@ -1,0 +1,441 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <stdexcept>
+#include <string>
+
+#include <fmt/core.h>
+
+#include "graftnav/core/earth.h"
+#include "graftnav/core/mismatch/diagnosis.h"
+#include "graftnav/core/rotation.h"
+
+namespace graftnav {
+
+void DiagnoseOptions::validate() const {
+  if (!(bin_s > 0.0 && bin_s <= 1.0))
+    throw std::invalid_argument("DiagnoseOptions: bin_s = " + std::to_string(bin_s) +
+                                " must be in (0, 1] s");
+  if (!(margin_s >= 0.0))
+    throw std::invalid_argument("DiagnoseOptions: margin_s must be >= 0");
+  if (!(locate.window_s >= 2.0 * bin_s))
+    throw std::invalid_argument("DiagnoseOptions: locate.window_s = " +
+                                std::to_string(locate.window_s) + " must be >= 2 bins");
+  time_offset.validate();
+  library.validate();
+  selection.validate();
+}
+
+namespace {
+
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::vector<double> toVec(const Eigen::VectorXd& v, int a, int n) {
+  std::vector<double> out(n);
+  for (int i = 0; i < n; ++i) out[i] = v(a + i);
+  return out;
+}
+
+EffectParameter vecParam(const std::string& key, const TermFit& tf, int a, int n) {
+  EffectParameter p;
+  p.key = key;
+  p.values = toVec(tf.theta, a, n);
+  p.sigma = toVec(tf.sigma, a, n);
+  return p;
+}
+
+EffectParameter scalarParam(const std::string& key, double v, double s) {
+  EffectParameter p;
+  p.key = key;
+  p.values = {v};
+  p.sigma = {s};
+  p.scalar = true;
+  return p;
+}
+
+Effect effectFromTerm(const CandidateTerm& term, const TermFit& tf, int n_bins) {
+  Effect e;
+  e.name = term.name;
+  e.sensor = term.sensor;
+  e.explanation = term.explanation;
+  e.delta_bic = tf.delta_bic;
+  e.cv_gain = tf.cv_gain;
+  const std::string& nm = term.name;
+  if (nm == "scale_factor") {
+    e.parameters.push_back(vecParam("k", tf, 0, 3));
+  } else if (nm == "non_orthogonality") {
+    EffectParameter p;
+    p.key = "N";
+    p.values.assign(9, 0.0);
+    p.sigma.assign(9, 0.0);
+    int k = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (i != j) {
+          p.values[i * 3 + j] = tf.theta(k);
+          p.sigma[i * 3 + j] = tf.sigma(k);
+          ++k;
+        }
+    e.parameters.push_back(p);
+  } else if (nm == "g_sensitivity") {
+    e.parameters.push_back(vecParam("G", tf, 0, 9));
+  } else if (nm == "scale_asymmetry") {
+    e.parameters.push_back(vecParam("k_pos", tf, 0, 3));
+    e.parameters.push_back(vecParam("k_neg", tf, 3, 3));
+  } else if (nm == "scale_nonlinearity") {
+    e.parameters.push_back(vecParam("k2", tf, 0, 3));
+  } else if (nm == "temperature_bias") {
+    e.parameters.push_back(vecParam("per_degC", tf, 0, 3));
+    e.parameters.push_back(scalarParam("t_ref_degC", term.t_ref_degC, 0.0));
+  } else if (nm == "temperature_scale") {
+    e.parameters.push_back(vecParam("per_degC", tf, 0, 3));
+  } else if (nm == "time_offset") {
+    e.parameters.push_back(scalarParam("tau_s", tf.theta(0), tf.sigma(0)));
+  } else if (nm == "lever_arm") {
+    e.parameters.push_back(vecParam("r_m", tf, 0, 3));
+  } else if (nm == "mounting_misalignment") {
+    e.parameters.push_back(vecParam("rotation_rad", tf, 0, 3));
+  } else if (nm == "vibration_rectification") {
+    e.parameters.push_back(vecParam("coeff", tf, 0, 3));
+    EffectParameter r;
+    r.key = "regressor";
+    r.text = term.regressor;
+    e.parameters.push_back(r);
+  } else if (nm == "bias_instability") {
+    // Wander of the fitted piecewise-linear bias per axis: its standard deviation over the record.
+    const int per_axis = static_cast<int>(term.columns.size()) / 3;
+    EffectParameter p;
+    p.key = "sigma";
+    const Eigen::MatrixXd path = termContribution(term, tf.theta, n_bins);
+    for (int a = 0; a < 3; ++a) {
+      const int ch = term.sensor == "gyro" ? a : 3 + a;
+      const Eigen::VectorXd v = path.col(ch);
+      p.values.push_back(std::sqrt((v.array() - v.mean()).square().mean()));
+      double var = 0.0;
+      for (int k = 0; k < per_axis; ++k) var += tf.covariance(a * per_axis + k, a * per_axis + k);
+      p.sigma.push_back(std::sqrt(var / std::max(1, per_axis)));
+    }
+    e.parameters.push_back(p);
+    e.parameters.push_back(scalarParam("tau_s", term.knot_spacing_s, kNaN));
+  } else if (nm == "gravity_model") {
+    e.parameters.push_back(scalarParam("delta_g_m_s2", tf.theta(0), tf.sigma(0)));
+  }
+  // earth_rotation_omitted: no parameters.
+  return e;
+}
+
+ChannelRms rmsOf(const Eigen::MatrixXd& r) {
+  ChannelRms out;
+  if (r.rows() == 0) return out;
+  for (int c = 0; c < 3; ++c) {
+    out.gyro(c) = std::sqrt(r.col(c).squaredNorm() / r.rows());
+    out.accel(c) = std::sqrt(r.col(3 + c).squaredNorm() / r.rows());
+  }
+  return out;
+}
+
+std::vector<Eigen::Matrix3d> attitudeAlongGrid(const BinnedImu& x, const NavState& init) {
+  std::vector<Eigen::Matrix3d> C_bn(x.size());
+  Eigen::Matrix3d C_nb = init.q_nb.normalized().toRotationMatrix();
+  for (int i = 0; i < x.size(); ++i) {
+    const Eigen::Vector3d w = x.omega_rad_s.row(i).transpose();
+    const Eigen::Matrix3d half = dcmFromRotationVector(0.5 * w * x.grid.bin_s);
+    C_bn[i] = (C_nb * half).transpose();  // at the bin middle
+    C_nb = C_nb * half * half;
+  }
+  return C_bn;
+}
+
+// Fits and predicts on the second half with a model selected on the first half; bias terms are
+// held at their last first-half value (a wandering bias cannot be extrapolated).
+void holdoutCheck(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
+                  const DiagnoseOptions& opt, DiagnosisResult* out) {
+  const int n = static_cast<int>(r.rows());
+  const int half = n / 2;
+  if (half < 200) {
+    out->notes.push_back("held-out check skipped: fewer than 200 bins per half");
+    return;
+  }
+  const SelectionResult sel = selectTerms(r, terms, opt.selection, 0, half);
+  Eigen::MatrixXd pred = Eigen::MatrixXd::Zero(n, kMismatchChannels);
+  for (const TermFit& tf : sel.selected) {
+    Eigen::MatrixXd c = termContribution(terms[tf.term], tf.theta, n);
+    if (terms[tf.term].name == "bias_instability")
+      for (int i = half; i < n; ++i) c.row(i) = c.row(half - 1);
+    pred += c;
+    out->holdout_terms.push_back(terms[tf.term].key());
+  }
+  const Eigen::MatrixXd bias = termContribution(terms[0], sel.nuisance.theta, n);
+  const Eigen::MatrixXd second = r.bottomRows(n - half);
+  // Before: the constant-only model of the first half (its mean).
+  const Eigen::RowVectorXd mean_first = r.topRows(half).colwise().mean();
+  out->holdout_before = rmsOf(second.rowwise() - mean_first);
+  out->holdout_after = rmsOf(second - bias.bottomRows(n - half) - pred.bottomRows(n - half));
+  out->holdout_split_s = out->grid.binStart(half);
+  out->has_holdout = true;
+}
+
+}  // namespace
+
+DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt) {
+  opt.validate();
+  if (in.reference.empty() || in.simulated.empty() || in.real.empty())
+    throw std::invalid_argument("diagnose: reference, simulated and real records must be non-empty");
+  DiagnosisResult out;
+  out.case_name = in.case_name;
+  out.simulation_kind = in.simulation_kind;
+
+  // 1. Grid inside all three records.
+  GridSpec grid = commonGrid(in.reference, in.real, opt.bin_s, opt.margin_s);
+  {
+    const GridSpec gs = commonGrid(in.simulated, in.real, opt.bin_s, opt.margin_s);
+    const double t0 = std::max(grid.t_begin_s, gs.t_begin_s);
+    const double t1 = std::min(grid.binStart(grid.count), gs.binStart(gs.count));
+    grid.t_begin_s = t0;
+    grid.count = static_cast<int>(std::floor((t1 - t0) / opt.bin_s + 1e-9));
+    if (grid.count < 100)
+      throw std::invalid_argument("diagnose: the records overlap by fewer than 100 bins");
+  }
+  out.grid = grid;
+  const int n = grid.count;
+
+  // 2. Time offset (pivot of the time_offset regressor).
+  double pivot = 0.0;
+  try {
+    out.time_offset_xcorr = estimateTimeOffset(in.reference, in.real, opt.time_offset);
+    if (out.time_offset_xcorr.reliable) pivot = out.time_offset_xcorr.tau_s;
+    else
+      out.notes.push_back(fmt::format(
+          "cross-correlation time offset not reliable (peak correlation {:.3f}); the time_offset "
+          "term uses the derivative regressor", out.time_offset_xcorr.peak_correlation));
+  } catch (const std::invalid_argument& e) {
+    out.notes.push_back(std::string("time offset not estimated by cross-correlation: ") + e.what());
+  }
+  if (std::abs(pivot) < 0.25 * opt.bin_s * 0.1) pivot = 0.0;
+
+  // 3. Residual on the grid.
+  const BinnedImu x = binImu(in.reference, grid);
+  const BinnedImu s = binImu(in.simulated, grid);
+  const BinnedImu y = binImu(in.real, grid);
+  Eigen::MatrixXd r(n, kMismatchChannels);
+  r << y.omega_rad_s - s.omega_rad_s, y.f_m_s2 - s.f_m_s2;
+  out.residual_before = r;
+
+  RegressorInputs ri;
+  ri.reference = x;
+  ri.time_offset_column = timeOffsetRegressor(in.reference, grid, pivot);
+  ri.tested_temperature_degC = y.temperature_degC;
+  ri.vibration_f_hp_sq = vibrationLevelPerBin(in.reference, grid, "specific_force_hp_sq");
+  ri.vibration_w_hp_sq = vibrationLevelPerBin(in.reference, grid, "angular_rate_hp_sq");
+  if (in.initial_state && in.reference_is_simulated) {
+    ri.C_bn = attitudeAlongGrid(x, *in.initial_state);
+    ri.omega_ie_n = earth::omega_ie_n(in.initial_state->pos.lat_rad);
+  } else {
+    out.notes.push_back(in.reference_is_simulated
+                            ? "no initial attitude: earth_rotation_omitted and gravity_model not tested"
+                            : "the reference signals are a recording (they carry the Earth's rotation "
+                              "and the true gravity): earth_rotation_omitted and gravity_model not tested");
+  }
+  std::vector<CandidateTerm> terms = buildCandidateLibrary(ri, opt.library);
+
+  // 4-5. Explain (the selection also measures the noise left by the largest candidate model),
+  // then locate against the lower of two noise references: the quietest windows of the residual,
+  // and that full-model noise (an effect present everywhere leaves no quiet window).
+  SelectionResult sel = selectTerms(r, terms, opt.selection);
+  {
+    // Second pass: the tested IMU's signal is shifted as a whole, so the time-offset regressor is
+    // the chord of the modelled tested signal x + (other selected terms), not of x alone; a
+    // lever arm or misalignment would otherwise bias tau by their share of the signal.
+    int to_idx = -1;
+    for (std::size_t t = 0; t < terms.size(); ++t)
+      if (terms[t].name == "time_offset") to_idx = static_cast<int>(t);
+    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(n, kMismatchChannels);
+    bool has_to = false, has_other = false;
+    for (const TermFit& tf : sel.selected) {
+      if (tf.term == to_idx) {
+        has_to = true;
+      } else if (terms[tf.term].name != "bias_instability") {
+        C += termContribution(terms[tf.term], tf.theta, n);
+        has_other = true;
+      }
+    }
+    if (has_to && has_other) {
+      for (int i = 0; i < n; ++i) {
+        const int a = std::max(0, i - 1), b = std::min(n - 1, i + 1);
+        ri.time_offset_column.row(i) -= (C.row(b) - C.row(a)) / ((b - a) * grid.bin_s);
+      }
+      terms = buildCandidateLibrary(ri, opt.library);
+      std::vector<std::string> log = sel.log;
+      sel = selectTerms(r, terms, opt.selection);
+      log.push_back("second pass: time_offset regressor rebuilt from the modelled tested signal");
+      log.insert(log.end(), sel.log.begin(), sel.log.end());
+      sel.log = log;
+    }
+  }
+  out.regimes = labelRegimes(x, y.temperature_degC, opt.regimes);
+  Eigen::Matrix<double, 6, 1> noise_ms = windowNoiseLevel(r, grid, opt.locate);
+  for (int c = 0; c < kMismatchChannels; ++c) {
+    const double full = sel.sigma(c) * sel.sigma(c) / (1.0 - sel.rho(c) * sel.rho(c));
+    noise_ms(c) = std::min(noise_ms(c), full);
+  }
+  out.located = locateResidual(r, grid, out.regimes, opt.locate, &noise_ms);
+  {
+    std::vector<int> keep;
+    bool gated = false;
+    for (const TermFit& tf : sel.selected) {
+      const CandidateTerm& t = terms[tf.term];
+      std::optional<double> lab = t.sensor == "gyro" ? in.lab_gyro_bias_instability_rad_s
+                                                     : in.lab_accel_bias_instability_m_s2;
+      if (t.name == "bias_instability" && lab) {
+        const Effect e = effectFromTerm(t, tf, n);
+        const double wander = *std::max_element(e.parameters[0].values.begin(),
+                                                e.parameters[0].values.end());
+        if (wander <= std::sqrt(2.0) * *lab) {
+          gated = true;
+          out.notes.push_back(fmt::format(
+              "{} bias wander {:.3g} is within sqrt(2) x the lab bias instability {:.3g}: not "
+              "claimed (the graft already carries it)", t.sensor, wander, *lab));
+          continue;
+        }
+      }
+      keep.push_back(tf.term);
+    }
+    if (gated) {
+      std::vector<std::string> log = sel.log;
+      sel = fitTerms(r, terms, keep, opt.selection);
+      sel.log = log;
+    }
+  }
+  out.selection = sel;
+  for (const TermFit& tf : sel.selected) out.effects.push_back(effectFromTerm(terms[tf.term], tf, n));
+  out.nuisance_bias = sel.nuisance.theta;
+
+  if (opt.detect_quantization) {
+    for (int sidx = 0; sidx < 2; ++sidx) {
+      const Eigen::Vector3d q_real = detectQuantizationStep(in.real, sidx == 0);
+      const Eigen::Vector3d q_sim = detectQuantizationStep(in.simulated, sidx == 0);
+      bool any = false;
+      for (int a = 0; a < 3; ++a)
+        any |= q_real(a) > 0.0 && std::abs(q_sim(a) - q_real(a)) > 1e-3 * q_real(a);
+      if (!any) continue;
+      Effect e;
+      e.name = "quantization";
+      e.sensor = sidx == 0 ? "gyro" : "accel";
+      e.evidence_method = "value_lattice";
+      EffectParameter p;
+      p.key = "step";
+      p.values = {q_real(0), q_real(1), q_real(2)};
+      for (int a = 0; a < 3; ++a) p.sigma.push_back(1e-6 * q_real(a));
+      e.parameters.push_back(p);
+      e.explanation = std::string("the real ") + e.sensor +
+                      " increments are whole multiples of a step (pulse counting); the "
+                      "simulation's are not";
+      out.effects.push_back(e);
+    }
+  }
+
+  // 6. Model and show.
+  out.model = predictSelection(sel, terms, n, false);
+  const Eigen::MatrixXd bias = termContribution(terms[0], sel.nuisance.theta, n);
+  out.rms_raw = rmsOf(r);
+  out.rms_before = rmsOf(r.rowwise() - r.colwise().mean());
+  const Eigen::MatrixXd after = r - bias - out.model;
+  out.rms_after = rmsOf(after);
+  out.unexplained = locateResidual(after, grid, out.regimes, opt.locate, &noise_ms);
+  if (opt.holdout) holdoutCheck(r, terms, opt, &out);
+  out.sg3 = addBinnedContribution(in.simulated, grid, out.model);
+  return out;
+}
+
+StaticBiasSimulation simulateFromReferenceAndStaticBias(const ImuSeries& reference,
+                                                        const ImuSeries& tested,
+                                                        double min_static_s, double max_static_s) {
+  const double bin = 0.1;
+  const GridSpec g = commonGrid(reference, tested, bin);
+  const BinnedImu x = binImu(reference, g), y = binImu(tested, g);
+  const std::vector<std::string> reg = labelRegimes(x, Eigen::VectorXd());
+  const int need = static_cast<int>(std::ceil(min_static_s / bin));
+  const int most = static_cast<int>(std::floor(max_static_s / bin));
+  int start = -1, len = 0;
+  for (int i = 0; i < g.count; ++i) {
+    if (reg[i] == "stopped") {
+      if (len == 0) start = i;
+      ++len;
+      if (len >= most) break;
+    } else {
+      if (len >= need) break;
+      len = 0;
+    }
+  }
+  if (len < need)
+    throw std::runtime_error("simulateFromReferenceAndStaticBias: no static span of " +
+                             std::to_string(min_static_s) + " s in the field recording");
+  // Skip the span's edges (motion may start within a bin).
+  const int a = start + std::min(5, len / 4), b = start + len - std::min(5, len / 4);
+  StaticBiasSimulation out;
+  out.t_start_s = g.binStart(a);
+  out.t_end_s = g.binStart(b);
+  out.gyro_bias_rad_s = (y.omega_rad_s.middleRows(a, b - a) - x.omega_rad_s.middleRows(a, b - a))
+                            .colwise().mean().transpose();
+  out.accel_bias_m_s2 = (y.f_m_s2.middleRows(a, b - a) - x.f_m_s2.middleRows(a, b - a))
+                            .colwise().mean().transpose();
+  out.simulated = reference;
+  for (ImuSample& smp : out.simulated) {
+    smp.dtheta_rad += out.gyro_bias_rad_s * smp.dt_s;
+    smp.dvel_m_s += out.accel_bias_m_s2 * smp.dt_s;
+  }
+  return out;
+}
+
+Eigen::Vector3d detectQuantizationStep(const ImuSeries& imu, bool gyro) {
+  Eigen::Vector3d step = Eigen::Vector3d::Zero();
+  if (imu.size() < 100) return step;
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> v;
+    v.reserve(imu.size());
+    for (const ImuSample& s : imu) v.push_back(gyro ? s.dtheta_rad(a) : s.dvel_m_s(a));
+    std::vector<double> u = v;
+    std::sort(u.begin(), u.end());
+    u.erase(std::unique(u.begin(), u.end()), u.end());
+    if (u.size() < 2 || u.size() > v.size() / 2) continue;  // values must repeat
+    double q = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 1; i < u.size(); ++i) q = std::min(q, u[i] - u[i - 1]);
+    if (!(q > 0.0)) continue;
+    // Refine with the median of gap / round(gap / q) and check every value is on the lattice.
+    std::vector<double> est;
+    for (std::size_t i = 1; i < u.size(); ++i) {
+      const double m = std::round((u[i] - u[i - 1]) / q);
+      if (m >= 1.0 && m <= 1000.0) est.push_back((u[i] - u[i - 1]) / m);
+    }
+    std::nth_element(est.begin(), est.begin() + est.size() / 2, est.end());
+    q = est[est.size() / 2];
+    bool on_lattice = true;
+    for (double val : u) {
+      const double f = val / q;
+      if (std::abs(f - std::round(f)) > 1e-3 && std::abs(f) < 1e12) {
+        on_lattice = false;
+        break;
+      }
+    }
+    if (on_lattice) step(a) = q;
+  }
+  return step;
+}
+
+ImuSeries addBinnedContribution(const ImuSeries& simulated, const GridSpec& grid,
+                                const Eigen::MatrixXd& c) {
+  if (c.rows() != grid.count || c.cols() != kMismatchChannels)
+    throw std::invalid_argument("addBinnedContribution: contribution is not grid.count x 6");
+  ImuSeries out = simulated;
+  for (ImuSample& s : out) {
+    const double mid = s.t_s - 0.5 * s.dt_s;
+    const int i = std::clamp(static_cast<int>(std::floor((mid - grid.t_begin_s) / grid.bin_s)), 0,
+                             grid.count - 1);
+    s.dtheta_rad += c.row(i).head<3>().transpose() * s.dt_s;
+    s.dvel_m_s += c.row(i).tail<3>().transpose() * s.dt_s;
+  }
+  return out;
+}
+
+}  // namespace graftnav
