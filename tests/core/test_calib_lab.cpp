@@ -83,6 +83,23 @@ void writeSimCase(const std::string& dir, const LabSimOptions& o, const ImuError
   saveCaseConfig(dir + "/case.yaml", cfg);
 }
 
+// Allan variance of a first-order Gauss-Markov rate (variance s2, correlation time T).
+double gmAvar(double s2, double T, double tau) {
+  const double x = tau / T;
+  return 2.0 * s2 * T / tau * (1.0 - (3.0 - 4.0 * std::exp(-x) + std::exp(-2.0 * x)) / (2.0 * x));
+}
+
+// "Injected" Allan terms of white noise + Gauss-Markov: the noise-term model fitted to the EXACT
+// Allan deviation of the injected process on the same cluster times and weights.
+AllanFit injectedAllan(const AllanCurve& like, const Eigen::Vector3d& white, const GaussMarkovParams& gm) {
+  AllanCurve c = like;
+  for (std::size_t i = 0; i < c.tau_s.size(); ++i)
+    for (int a = 0; a < 3; ++a)
+      c.adev[i][a] = std::sqrt(white[a] * white[a] / c.tau_s[i] +
+                               gmAvar(gm.sigma[a] * gm.sigma[a], gm.tau_s, c.tau_s[i]));
+  return fitAllanNoiseTerms(c);
+}
+
 struct Zscores {
   std::vector<double> z;
   void add(double est, double truth, double sigma) { z.push_back((est - truth) / sigma); }
@@ -105,7 +122,14 @@ TEST(CalibLab, SimulatedSessionRecoversInjectedParametersWithinThreeSigma) {
   for (unsigned seed : {101u, 102u}) {
     const std::string dir = test::makeTempDir("calib_lab_sim_" + std::to_string(seed));
     const ImuErrorModel model = drawModel(seed, false);
-    writeSimCase(dir, labOptions(600.0), model, model, seed);
+    // The static record also carries a Gauss-Markov bias instability (gyro 20 deg/h, accel
+    // 0.5 mg, tau 100 s); see docs/calibration.md for the definition of the injected terms.
+    ImuErrorModel static_model = model;
+    static_model.gyro.bias_instability.sigma.setConstant(20.0 * kDegToRad / 3600.0);
+    static_model.gyro.bias_instability.tau_s = 100.0;
+    static_model.accel.bias_instability.sigma.setConstant(0.5e-3 * 9.80665);
+    static_model.accel.bias_instability.tau_s = 100.0;
+    writeSimCase(dir, labOptions(3600.0), model, static_model, seed);
     const LabData data = loadLabData(dir);
     EXPECT_EQ(data.six_position.size(), 6u);
     EXPECT_EQ(data.tilts.size(), 4u);
@@ -124,13 +148,23 @@ TEST(CalibLab, SimulatedSessionRecoversInjectedParametersWithinThreeSigma) {
     EXPECT_LT((rep.eq10.M - rep.result.gyro.M).cwiseAbs().maxCoeff(), 1e-4);
     // Calibrated |f| at rest is closer to gravity.
     EXPECT_LT(rep.norm_rms_after, 0.1 * rep.norm_rms_before);
-    // Allan white noise of the 10-min static record.
+    // Allan terms of the 1-h static record: ARW/VRW and bias instability.
     ASSERT_TRUE(rep.has_allan);
+    const AllanFit ig = injectedAllan(rep.gyro_allan, static_model.gyro.white_noise.density,
+                                      static_model.gyro.bias_instability);
+    const AllanFit ia = injectedAllan(rep.accel_allan, static_model.accel.white_noise.density,
+                                      static_model.accel.bias_instability);
+    const auto& G = rep.result.gyro.allan;
+    const auto& A = rep.result.accel.allan;
     for (int a = 0; a < 3; ++a) {
-      EXPECT_LT(std::abs(rep.result.gyro.allan.white_noise[a] - model.gyro.white_noise.density[a]),
-                3.0 * rep.result.gyro.allan.white_noise_sigma[a]);
-      EXPECT_LT(std::abs(rep.result.accel.allan.white_noise[a] - model.accel.white_noise.density[a]),
-                3.0 * rep.result.accel.allan.white_noise_sigma[a]);
+      EXPECT_LT(std::abs(G.white_noise[a] - ig.terms.white_noise[a]), 3.0 * G.white_noise_sigma[a]);
+      EXPECT_LT(std::abs(A.white_noise[a] - ia.terms.white_noise[a]), 3.0 * A.white_noise_sigma[a]);
+      EXPECT_LT(std::abs(G.bias_instability[a] - ig.terms.bias_instability[a]), 3.0 * G.bias_instability_sigma[a]);
+      EXPECT_LT(std::abs(A.bias_instability[a] - ia.terms.bias_instability[a]), 3.0 * A.bias_instability_sigma[a]);
+      // The injected white density itself is within 2 % of the model-fitted one.
+      EXPECT_NEAR(ig.terms.white_noise[a], static_model.gyro.white_noise.density[a],
+                  0.02 * static_model.gyro.white_noise.density[a]);
+      EXPECT_GT(ig.terms.bias_instability[a], 0.0);
     }
     // Round trip through calibration.yaml.
     writeCalibrationYaml(dir + "/calibration.yaml", rep.result);
@@ -141,42 +175,26 @@ TEST(CalibLab, SimulatedSessionRecoversInjectedParametersWithinThreeSigma) {
 }
 
 TEST(CalibLab, SimulatedNonlinearityRecoveredByTheFittingFunctions) {
-  const unsigned seed = 201;
-  const std::string dir = test::makeTempDir("calib_lab_fit");
-  const ImuErrorModel model = drawModel(seed, true);
-  writeSimCase(dir, labOptions(0.0), model, model, seed);
-  const LabCalibrationReport rep = calibrateLab(loadLabData(dir));
-  ASSERT_TRUE(rep.result.gyro.has_fit);
-  ASSERT_TRUE(rep.result.accel.has_fit);
-  for (const auto* sensor : {&rep.result.gyro, &rep.result.accel}) {
-    const SensorErrorTerms& t = sensor == &rep.result.gyro ? model.gyro : model.accel;
-    for (int a = 0; a < 3; ++a) {
-      const PolynomialFit& f = sensor->fit[a];
-      ASSERT_GE(f.degree, 2) << sensor->method << " axis " << a;
-      const double truth[3] = {t.constant_bias.b[a], 1.0 + t.scale_factor.k[a], t.scale_nonlinearity.k2[a]};
-      for (int k = 0; k < 3; ++k)
-        EXPECT_LT(std::abs(f.coeffs[k] - truth[k]), 3.0 * f.coeffs_sigma[k])
-            << sensor->method << " axis " << a << " c" << k << " = " << f.coeffs[k] << " vs " << truth[k];
+  for (unsigned seed : {201u, 202u}) {
+    const std::string dir = test::makeTempDir("calib_lab_fit");
+    const ImuErrorModel model = drawModel(seed, true);
+    writeSimCase(dir, labOptions(0.0), model, model, seed);
+    const LabCalibrationReport rep = calibrateLab(loadLabData(dir));
+    ASSERT_TRUE(rep.result.gyro.has_fit);
+    ASSERT_TRUE(rep.result.accel.has_fit);
+    for (const auto* sensor : {&rep.result.gyro, &rep.result.accel}) {
+      const SensorErrorTerms& t = sensor == &rep.result.gyro ? model.gyro : model.accel;
+      for (int a = 0; a < 3; ++a) {
+        const PolynomialFit& f = sensor->fit[a];
+        ASSERT_GE(f.degree, 2) << sensor->method << " axis " << a << " seed " << seed;
+        const double truth[3] = {t.constant_bias.b[a], 1.0 + t.scale_factor.k[a], t.scale_nonlinearity.k2[a]};
+        for (int k = 0; k < 3; ++k)
+          EXPECT_LT(std::abs(f.coeffs[k] - truth[k]), 3.0 * f.coeffs_sigma[k])
+              << sensor->method << " axis " << a << " c" << k << " = " << f.coeffs[k] << " vs " << truth[k];
+      }
     }
+    fs::remove_all(dir);
   }
-  fs::remove_all(dir);
-}
-
-// Allan variance of a first-order Gauss-Markov rate (variance s2, correlation time T).
-double gmAvar(double s2, double T, double tau) {
-  const double x = tau / T;
-  return 2.0 * s2 * T / tau * (1.0 - (3.0 - 4.0 * std::exp(-x) + std::exp(-2.0 * x)) / (2.0 * x));
-}
-
-// "Injected" Allan terms of white noise + Gauss-Markov: the noise-term model fitted to the EXACT
-// Allan deviation of the injected process on the same cluster times and weights.
-AllanFit injectedAllan(const AllanCurve& like, const Eigen::Vector3d& white, const GaussMarkovParams& gm) {
-  AllanCurve c = like;
-  for (std::size_t i = 0; i < c.tau_s.size(); ++i)
-    for (int a = 0; a < 3; ++a)
-      c.adev[i][a] = std::sqrt(white[a] * white[a] / c.tau_s[i] +
-                               gmAvar(gm.sigma[a] * gm.sigma[a], gm.tau_s, c.tau_s[i]));
-  return fitAllanNoiseTerms(c);
 }
 
 struct SweepStats {
