@@ -338,6 +338,24 @@ TEST_F(CalibLabBad, RateFileNotWholeTurns) {
   expectError("x_neg_50.txt", "not a whole number of turns");
 }
 
+// The command end to end (skipped when the graftnav binary has not been built).
+TEST_F(CalibLabBad, CommandWritesCalibrationYamlAndReportsBadData) {
+  const std::string bin = test::graftnavBinary();
+  if (!fs::exists(bin)) GTEST_SKIP() << "graftnav binary not built: " << bin;
+  const std::string out = dir + "/out";
+  const std::string log = dir + "/log.txt";
+  ASSERT_EQ(std::system((bin + " calibrate " + dir + " --out " + out + " --no-plots > " + log + " 2>&1").c_str()), 0);
+  const CalibrationResult r = readCalibrationYaml(out + "/calibration.yaml");
+  EXPECT_EQ(r.gyro.method, "rate_table_ceres");
+  EXPECT_GT(r.accel.M_sigma(0, 0), 0.0);
+  EXPECT_TRUE(fs::exists(out + "/report.md"));
+  fs::remove(dir + "/lab/six_position/z_down.txt");
+  EXPECT_NE(std::system((bin + " calibrate " + dir + " --out " + out + " --no-plots > " + log + " 2>&1").c_str()), 0);
+  std::ifstream f(log);
+  const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("z_down.txt"), std::string::npos) << text;
+}
+
 TEST_F(CalibLabBad, NoLabData) {
   fs::remove_all(dir + "/lab");
   expectError(dir, "insufficient lab data");
