@@ -133,9 +133,7 @@ void GnssInsEkf::flushCovariance() {
   const ErrorCov F = errorDynamics(nav_, sum_dtheta_ / acc_dt_, sum_dvel_ / acc_dt_, profile_);
   ErrorCov Phi, Qd;
   discretize(F, qc_, acc_dt_, &Phi, &Qd);
-  const ErrorCov PhiP = Phi * P_;
-  P_.noalias() = PhiP * Phi.transpose();
-  P_ += Qd;
+  propagateCovariance(Phi, Qd, &P_);
   symmetrize(P_);
   if (recording_) Phi_since_record_ = (Phi * Phi_since_record_).eval();
   sum_dtheta_.setZero();
@@ -220,6 +218,17 @@ void GnssInsEkf::recordNow() {
 }
 
 void GnssInsEkf::pushRecord(const ErrorState& dx, const ErrorCov& P_prior) {
+  if (!records_.empty() && std::abs(records_.back().t_s - nav_.t_s) < 1e-9) {
+    // A second record at the same epoch (an interval record, then an update; or two updates):
+    // merge them, keeping the first prior and transition and summing the corrections.
+    SmootherRecord& b = records_.back();
+    b.nav = nav_;
+    b.sensors = sensors_;
+    b.dx += dx;
+    b.P_post = P_;
+    Phi_since_record_.setIdentity();
+    return;
+  }
   SmootherRecord r;
   r.t_s = nav_.t_s;
   r.nav = nav_;
@@ -234,7 +243,8 @@ void GnssInsEkf::pushRecord(const ErrorState& dx, const ErrorCov& P_prior) {
 }
 
 NavSolution runEkf(const EstimationProblem& problem, const EkfOptions& options,
-                   std::vector<SmootherRecord>* records, const ProgressFn& progress) {
+                   std::vector<SmootherRecord>* records, const ProgressFn& progress,
+                   bool keep_states) {
   options.validate();
   if (problem.imu.empty()) throw std::invalid_argument("runEkf: the IMU series is empty");
   const GnssSeries gnss = withholdGnss(problem.gnss, problem.outages);
@@ -247,7 +257,7 @@ NavSolution runEkf(const EstimationProblem& problem, const EkfOptions& options,
   f.enableRecording(records != nullptr);
 
   const size_t n = problem.imu.size();
-  const size_t reserve = n / static_cast<size_t>(options.output_decimation) + 1;
+  const size_t reserve = keep_states ? n / static_cast<size_t>(options.output_decimation) + 1 : 0;
   sol.states.reserve(reserve);
   sol.sigma.reserve(reserve);
   sol.gyro_bias_rad_s.reserve(reserve);
@@ -279,7 +289,7 @@ NavSolution runEkf(const EstimationProblem& problem, const EkfOptions& options,
     f.propagate(sliceImuSample(s, piece_start, s.t_s));
     while (gi < gnss.size() && gnss[gi].t_s <= s.t_s + kTimeTol_s) doUpdate(gi++);
     t_cur = s.t_s;
-    if (processed++ % static_cast<size_t>(options.output_decimation) == 0) {
+    if (processed++ % static_cast<size_t>(options.output_decimation) == 0 && keep_states) {
       NavState st = f.state();
       st.t_s = s.t_s;
       st.gnss_week = problem.initial.gnss_week;
@@ -291,7 +301,7 @@ NavSolution runEkf(const EstimationProblem& problem, const EkfOptions& options,
       sol.accel_scale.push_back(f.sensors().accel_scale);
     }
   }
-  if (sol.states.empty()) {
+  if (processed == 0) {
     throw std::invalid_argument("runEkf: no IMU sample after the initial time " +
                                 std::to_string(problem.initial.t_s));
   }

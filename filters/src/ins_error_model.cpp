@@ -64,17 +64,44 @@ ErrorState continuousNoiseDensity(const ImuProfile& p) {
   return q;
 }
 
+BlockMask blockMask(const ErrorCov& A) {
+  BlockMask m{};
+  for (int i = 0; i < kBlocks; ++i)
+    for (int k = 0; k < kBlocks; ++k) m[i][k] = !A.block<3, 3>(3 * i, 3 * k).isZero(0.0);
+  return m;
+}
+
+void multiplyBlockSparse(const ErrorCov& A, const BlockMask& mask, const ErrorCov& B, ErrorCov* out) {
+  out->setZero();
+  for (int i = 0; i < kBlocks; ++i) {
+    for (int k = 0; k < kBlocks; ++k) {
+      if (!mask[i][k]) continue;
+      out->block<3, kStateDim>(3 * i, 0).noalias() +=
+          A.block<3, 3>(3 * i, 3 * k) * B.block<3, kStateDim>(3 * k, 0);
+    }
+  }
+}
+
 void discretize(const ErrorCov& F, const ErrorState& qc_diag, double dt_s, ErrorCov* Phi,
                 ErrorCov* Qd) {
-  const ErrorCov Fdt = F * dt_s;
-  Phi->setIdentity();
-  Phi->noalias() += Fdt;
-  Phi->noalias() += 0.5 * Fdt * Fdt;
-  // Phi Qc Phi^T with diagonal Qc, then the trapezoid.
-  ErrorCov PhiQ = (*Phi) * qc_diag.asDiagonal();
-  Qd->noalias() = PhiQ * Phi->transpose();
-  Qd->diagonal() += qc_diag;
-  *Qd *= 0.5 * dt_s;
+  // F is block sparse (14 of 49 blocks): products exploit it.
+  const BlockMask mf = blockMask(F);
+  ErrorCov F2;
+  multiplyBlockSparse(F, mf, F, &F2);
+  *Phi = F * dt_s + F2 * (0.5 * dt_s * dt_s);
+  Phi->diagonal().array() += 1.0;
+  // Second-order Van Loan: Qd = Qc dt + (F Qc + Qc F^T) dt^2 / 2 (Qc diagonal).
+  const ErrorCov FQ = F * qc_diag.asDiagonal();
+  *Qd = (FQ + FQ.transpose()) * (0.5 * dt_s * dt_s);
+  Qd->diagonal() += qc_diag * dt_s;
+}
+
+void propagateCovariance(const ErrorCov& Phi, const ErrorCov& Qd, ErrorCov* P) {
+  const BlockMask m = blockMask(Phi);
+  ErrorCov PhiP, out;
+  multiplyBlockSparse(Phi, m, *P, &PhiP);
+  multiplyBlockSparse(Phi, m, PhiP.transpose(), &out);  // Phi (Phi P)^T = Phi P Phi^T
+  *P = out + Qd;
 }
 
 Geodetic antennaPosition(const NavState& s, const Eigen::Vector3d& lever_arm_b_m) {

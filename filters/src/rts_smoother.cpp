@@ -66,10 +66,10 @@ NavSolution runRts(const EstimationProblem& problem, const EkfOptions& options, 
   std::vector<SmootherRecord> records;
   ProgressFn fwd_progress;
   if (progress) fwd_progress = [&](double f) { progress(0.6 * f); };
-  NavSolution fwd = runEkf(problem, options, &records, fwd_progress);
+  NavSolution fwd = runEkf(problem, options, &records, fwd_progress, forward != nullptr);
   if (stats) {
     stats->records = records.size();
-    stats->record_bytes = records.capacity() * sizeof(SmootherRecord);
+    stats->record_bytes = records.size() * sizeof(SmootherRecord);
   }
   const std::vector<SmoothedRecord> sm = smoothRecords(records);
   records.clear();
@@ -81,7 +81,8 @@ NavSolution runRts(const EstimationProblem& problem, const EkfOptions& options, 
   sol.gnss_used = fwd.gnss_used;
   sol.gnss_rejected = fwd.gnss_rejected;
   sol.gnss_withheld = fwd.gnss_withheld;
-  const size_t reserve = fwd.states.size() + 1;
+  const size_t reserve =
+      problem.imu.size() / static_cast<size_t>(options.output_decimation) + 1;
   sol.states.reserve(reserve);
   sol.sigma.reserve(reserve);
   sol.gyro_bias_rad_s.reserve(reserve);

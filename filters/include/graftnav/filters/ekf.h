@@ -114,7 +114,9 @@ ImuSample sliceImuSample(const ImuSample& s, double t_from, double t_to);
 using ProgressFn = std::function<void(double fraction_done)>;
 
 // Forward EKF over the problem. With `records`, the forward pass is recorded for the smoother.
+// keep_states = false returns only the GNSS bookkeeping (the smoother's forward pass).
 NavSolution runEkf(const EstimationProblem& problem, const EkfOptions& options,
-                   std::vector<SmootherRecord>* records = nullptr, const ProgressFn& progress = {});
+                   std::vector<SmootherRecord>* records = nullptr, const ProgressFn& progress = {},
+                   bool keep_states = true);
 
 }  // namespace graftnav

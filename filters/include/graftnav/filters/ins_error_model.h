@@ -23,6 +23,7 @@
 // Noise (seed Eq. 26): ARW^2 on psi, VRW^2 on dv, 2 sigma^2 / T on each Gauss-Markov state.
 
 #include <Eigen/Core>
+#include <array>
 
 #include "graftnav/core/imu_profile.h"
 #include "graftnav/core/types.h"
@@ -63,9 +64,19 @@ ErrorCov errorDynamics(const NavState& s, const Eigen::Vector3d& omega_ib_b,
 ErrorState continuousNoiseDensity(const ImuProfile& profile);
 
 // Transition and discrete noise over dt from F (held constant): Phi = I + F dt + (F dt)^2 / 2,
-// Qd = (Phi Qc Phi^T + Qc) dt / 2 (trapezoidal rule on the Van Loan integral, second order).
+// Qd = Qc dt + (F Qc + Qc F^T) dt^2 / 2 (Van Loan's integral to second order, Qc diagonal).
 void discretize(const ErrorCov& F, const ErrorState& qc_diag, double dt_s, ErrorCov* Phi,
                 ErrorCov* Qd);
+
+// P <- Phi P Phi^T + Qd using the 3x3 block sparsity of Phi (about 2.5x fewer flops than dense).
+void propagateCovariance(const ErrorCov& Phi, const ErrorCov& Qd, ErrorCov* P);
+
+// Block-sparse helpers on the 7 x 7 grid of 3 x 3 blocks.
+constexpr int kBlocks = ekf::kStateDim / 3;
+using BlockMask = std::array<std::array<bool, kBlocks>, kBlocks>;
+BlockMask blockMask(const ErrorCov& A);
+// out = A B, skipping the zero blocks of A named by mask.
+void multiplyBlockSparse(const ErrorCov& A, const BlockMask& mask, const ErrorCov& B, ErrorCov* out);
 
 // Position at the GNSS antenna: pos + C_nb lever_arm_b as a geodetic position.
 Geodetic antennaPosition(const NavState& s, const Eigen::Vector3d& lever_arm_b_m);
