@@ -25,6 +25,9 @@ bool FgoOptions::validate(std::string* error) const {
   if (!positive(chi2_threshold)) return fail(error, "chi2_threshold", chi2_threshold, "must be > 0");
   if (culling_rounds < 0) return fail(error, "culling_rounds", culling_rounds, "must be >= 0");
   if (!positive(gnss_min_std_m)) return fail(error, "gnss_min_std_m", gnss_min_std_m, "must be > 0");
+  if (!(cull_grace_s >= 0.0)) return fail(error, "cull_grace_s", cull_grace_s, "must be >= 0");
+  if (max_consecutive_culls < 1) return fail(error, "max_consecutive_culls", max_consecutive_culls, "must be >= 1");
+  if (!(max_cull_fraction >= 0.0 && max_cull_fraction <= 1.0)) return fail(error, "max_cull_fraction", max_cull_fraction, "must be in [0, 1]");
   if (!positive(initial_position_std_m)) return fail(error, "initial_position_std_m", initial_position_std_m, "must be > 0");
   if (!positive(initial_velocity_std_m_s)) return fail(error, "initial_velocity_std_m_s", initial_velocity_std_m_s, "must be > 0");
   if (!positive(initial_attitude_std_rad)) return fail(error, "initial_attitude_std_rad", initial_attitude_std_rad, "must be > 0");

@@ -150,23 +150,32 @@ NavSolution solveBatchFgo(const EstimationProblem& problem, const FgoOptions& op
   };
   solve();
   for (int round = 0; round < options.culling_rounds; ++round) {
-    int removed = 0;
+    // Candidates first: when more than max_cull_fraction of the fixes fail, the graph (not the
+    // fixes) is wrong, and culling would only hide it.
+    std::vector<std::pair<size_t, size_t>> bad;  // (node, position in gnss[node])
+    std::vector<double> bad_chi2;
     for (size_t k = 0; k < n; ++k) {
-      for (auto it = gnss[k].begin(); it != gnss[k].end();) {
-        const double chi2 = graph.gnssChi2(it->second, k);
+      for (size_t i = 0; i < gnss[k].size(); ++i) {
+        const double chi2 = graph.gnssChi2(gnss[k][i].second, k);
         if (chi2 > options.chi2_threshold) {
-          rep.culled_times_s.push_back(graph.fixes()[it->second].fix.t_s);
-          rep.culled_chi2.push_back(chi2);
-          prob.RemoveResidualBlock(it->first);
-          it = gnss[k].erase(it);
-          ++removed;
-        } else {
-          ++it;
+          bad.emplace_back(k, i);
+          bad_chi2.push_back(chi2);
         }
       }
     }
-    rep.gnss_culled += removed;
-    if (removed == 0) break;
+    if (bad.empty()) break;
+    if (bad.size() > options.max_cull_fraction * static_cast<double>(graph.fixes().size())) {
+      rep.cull_refused = static_cast<int>(bad.size());
+      break;
+    }
+    for (size_t b = bad.size(); b-- > 0;) {  // back to front keeps positions valid
+      auto& list = gnss[bad[b].first];
+      rep.culled_times_s.push_back(graph.fixes()[list[bad[b].second].second].fix.t_s);
+      rep.culled_chi2.push_back(bad_chi2[b]);
+      prob.RemoveResidualBlock(list[bad[b].second].first);
+      list.erase(list.begin() + static_cast<long>(bad[b].second));
+    }
+    rep.gnss_culled += static_cast<int>(bad.size());
     solve();
   }
   for (int round = 0; round < options.max_reintegration_rounds; ++round) {
@@ -197,9 +206,11 @@ NavSolution solveBatchFgo(const EstimationProblem& problem, const FgoOptions& op
   sol.gnss_rejected = rep.gnss_culled;
   rep.summary = fmt::format(
       "fgo: {} nodes, {} GNSS ({} culled), {} re-preintegrations, {} solves / {} iterations, "
-      "cost {:.4g} -> {:.4g}, window init {:.3f} s, batch {:.3f} s",
+      "cost {:.4g} -> {:.4g}, window init {:.3f} s, batch {:.3f} s{}",
       rep.nodes, rep.gnss_factors, rep.gnss_culled, rep.reintegrations, rep.solves,
-      rep.iterations, rep.initial_cost, rep.final_cost, rep.window_time_s, rep.batch_time_s);
+      rep.iterations, rep.initial_cost, rep.final_cost, rep.window_time_s, rep.batch_time_s,
+      rep.cull_refused > 0 ? fmt::format(" (culling refused: {} fixes failed)", rep.cull_refused)
+                           : std::string());
   return sol;
 }
 

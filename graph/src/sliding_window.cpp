@@ -144,7 +144,14 @@ WindowResult runSlidingWindow(FgoGraph& graph, FgoReport* report) {
   res[0].prior = problem.AddResidualBlock(graph.makeInitialPrior(), nullptr, graph.nodeBlocks(0));
   out.causal[0] = graph.blocks(0).value();
   size_t oldest = 0;
+  double last_gnss_t = graph.nodes()[0].t_s, reacquired_t = graph.nodes()[0].t_s;
+  int consecutive_culls = 0;
   for (size_t k = 1; k < n; ++k) {
+    const double t_k = graph.nodes()[k].t_s;
+    if (!graph.nodes()[k].gnss.empty()) {
+      if (t_k - last_gnss_t > 2.0 * opt.max_node_spacing_s) reacquired_t = t_k;
+      last_gnss_t = t_k;
+    }
     graph.preintegrate(k - 1);
     graph.predictNode(k);
     graph.addNodeBlocks(&problem, k);
@@ -161,7 +168,10 @@ WindowResult runSlidingWindow(FgoGraph& graph, FgoReport* report) {
     const bool solve_now = (k % static_cast<size_t>(opt.window_solve_stride) == 0) || k + 1 == n;
     if (solve_now) solve();
     // Chi-square culling of the newest node's fixes, then re-solve.
-    if (solve_now && opt.culling_rounds > 0) {
+    const bool may_cull = t_k - reacquired_t > opt.cull_grace_s &&
+                          consecutive_culls < opt.max_consecutive_culls;
+    if (!res[k].gnss.empty() && !may_cull) consecutive_culls = 0;
+    if (solve_now && opt.culling_rounds > 0 && may_cull && !res[k].gnss.empty()) {
       bool removed = false;
       for (auto it = res[k].gnss.begin(); it != res[k].gnss.end();) {
         if (graph.gnssChi2(it->second, k) > opt.chi2_threshold) {
@@ -173,6 +183,7 @@ WindowResult runSlidingWindow(FgoGraph& graph, FgoReport* report) {
           ++it;
         }
       }
+      consecutive_culls = removed ? consecutive_culls + 1 : 0;
       if (removed) solve();
     }
     // Re-preintegrate window intervals whose bias moved far from their linearization point.

@@ -21,6 +21,11 @@ struct FgoOptions {
   double chi2_threshold = 16.27;           // 3 dof, 99.9 %: cull after a first solve
   int culling_rounds = 1;                  // solve -> cull -> re-solve rounds
   double gnss_min_std_m = 0.002;           // floor on the fix's stated 1-sigma
+  // Culling guards. A solved residual is not an innovation: after an outage the first fixes
+  // disagree with the drifted estimate by metres and must pull it back, not be culled.
+  double cull_grace_s = 10.0;              // window: no culling this long after a GNSS gap
+  int max_consecutive_culls = 3;           // window: then the next fix is kept (as the EKF)
+  double max_cull_fraction = 0.05;         // batch: more than this culled -> cull none (report)
 
   // First-node prior when EstimationProblem::initial_sigma is not given (< 0).
   double initial_position_std_m = 1.0;

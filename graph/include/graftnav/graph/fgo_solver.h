@@ -18,6 +18,7 @@ struct FgoReport {
   int gnss_culled = 0;          // removed by the chi-square test after a solve
   std::vector<double> culled_times_s;   // their epochs
   std::vector<double> culled_chi2;      // and their whitened squared residuals
+  int cull_refused = 0;         // batch: fixes that failed when too many failed to cull any
   int reintegrations = 0;       // preintegrations redone because the bias moved far
   int solves = 0;
   int iterations = 0;           // total solver iterations

@@ -1,0 +1,305 @@
+// graftnav compare CASE_DIR --out OUT_DIR [--estimators ekf,rts,fgo] [--imu ref|tested|FILE]
+//                  [--outage-length S --outage-period S --outage-start S]
+// Runs several estimators on one case and writes a side-by-side table of their outage errors
+// (seed: RMS over outage epochs; peers: RMS of per-outage maxima) and of their differences from
+// each other (the filter-versus-smoother cross-check), as Markdown and CSV, plus a 1 Hz error
+// series for scripts/plot_compare.py.
+//
+// Estimators: ekf, rts (filters/), fgo, fgo-window (graph/), and the graph variants
+// fgo-noearth, fgo-window-noearth (Earth rotation off in the preintegration, for the Tang et al.
+// comparison). Local dispatch: apps/estimators.h (the shared table) did not exist when this was
+// written; see docs/fgo.md.
+#include <fmt/core.h>
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "graftnav/core/case_config.h"
+#include "graftnav/core/evaluation.h"
+#include "graftnav/core/gnss_io.h"
+#include "graftnav/core/imu_io.h"
+#include "graftnav/core/nav_interp.h"
+#include "graftnav/core/nav_io.h"
+#include "graftnav/core/outage_schedule.h"
+#include "graftnav/core/units.h"
+#include "graftnav/filters/ekf.h"
+#include "graftnav/filters/rts_smoother.h"
+#include "graftnav/graph/fgo_solver.h"
+
+namespace graftnav::app {
+namespace {
+
+struct CompareArgs {
+  std::string case_dir, out, imu = "tested";
+  std::string estimators = "ekf,rts,fgo";
+  double outage_length_s = 60.0, outage_period_s = 180.0, outage_start_s = 300.0;
+  bool no_outages = false;
+};
+
+std::vector<std::string> splitList(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+// The case as an EstimationProblem (local equivalent of navigate's loader).
+struct LoadedCase {
+  EstimationProblem problem;
+  NavSeries truth;
+  std::string truth_name;
+};
+
+LoadedCase loadCase(const CompareArgs& a) {
+  const CasePaths paths(a.case_dir);
+  std::vector<std::string> warnings;
+  const CaseConfig cfg = loadCaseConfig(paths.caseYaml(), &warnings);
+  for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
+  LoadedCase lc;
+  EstimationProblem& p = lc.problem;
+  ImuReadOptions ro;
+  std::string imu_path;
+  if (a.imu == "ref") {
+    imu_path = paths.refImu();
+    ro.nominal_rate_hz = cfg.imu_rate_hz;
+    if (!cfg.reference_imu) throw std::runtime_error(paths.caseYaml() + ": no reference_imu section");
+    p.imu_profile = *cfg.reference_imu;
+  } else {
+    imu_path = a.imu == "tested" ? paths.testedImu() : a.imu;
+    ro.nominal_rate_hz = cfg.testedImuRateHz();
+    if (!cfg.tested_imu) throw std::runtime_error(paths.caseYaml() + ": no tested_imu section");
+    p.imu_profile = *cfg.tested_imu;
+  }
+  p.imu = readImu(imu_path, ro);
+  p.gnss = readGnssPos(paths.gnssPos());
+  if (cfg.lever_arm_m) p.lever_arm_b_m = *cfg.lever_arm_m;
+  if (CasePaths::exists(paths.truthNav())) {
+    lc.truth = readNav(paths.truthNav());
+    lc.truth_name = "truth";
+  } else if (auto ref = paths.referenceSolution(cfg)) {
+    lc.truth = readNav(*ref);
+    lc.truth_name = "reference";
+  }
+  // Initial state: the truth/reference at the start of the first IMU interval, else case.yaml.
+  const double t_start = p.imu.front().t_s - p.imu.front().dt_s;
+  std::optional<NavState> init;
+  if (!lc.truth.empty()) init = interpolateNav(lc.truth, t_start, 1e-3);
+  if (!init && !lc.truth.empty() && lc.truth.front().t_s >= t_start &&
+      lc.truth.front().t_s < p.imu.front().t_s + 1e-6) {
+    init = lc.truth.front();
+  }
+  if (!init && cfg.initial_state) init = cfg.initial_state;
+  if (!init) throw std::runtime_error(a.case_dir + ": no truth, reference or initial_state");
+  p.initial = *init;
+  if (!lc.truth.empty()) {
+    // Started from the truth: tight initial sigmas (position 1 cm, velocity 1 cm/s, attitude
+    // 0.01 deg), the same for every estimator.
+    p.initial_sigma << 0.01, 0.01, 0.01, 0.01, 0.01, 0.01, 1.745e-4, 1.745e-4, 1.745e-4;
+  }
+  OutageScheduleConfig oc;
+  oc.length_s = a.outage_length_s;
+  oc.period_s = a.outage_period_s;
+  oc.start_s = a.outage_start_s;
+  oc.enabled = !a.no_outages;
+  p.outages = buildOutageWindows(oc, p.imu.front().t_s, p.imu.back().t_s);
+  return lc;
+}
+
+NavSolution runEstimator(const std::string& name, const EstimationProblem& p, std::string* note) {
+  if (name == "ekf") return runEkf(p, EkfOptions{});
+  if (name == "rts") return runRts(p, EkfOptions{});
+  FgoOptions fo;
+  FgoReport rep;
+  NavSolution sol;
+  if (name == "fgo" || name == "fgo-noearth") {
+    fo.earth_rotation = name == "fgo";
+    sol = solveBatchFgo(p, fo, &rep);
+  } else if (name == "fgo-window" || name == "fgo-window-noearth") {
+    fo.earth_rotation = name == "fgo-window";
+    sol = solveWindowFgo(p, fo, &rep);
+  } else {
+    throw std::invalid_argument("compare: unknown estimator '" + name +
+                                "' (ekf, rts, fgo, fgo-window, fgo-noearth, fgo-window-noearth)");
+  }
+  *note = rep.summary;
+  sol.estimator = name;
+  return sol;
+}
+
+struct Row {
+  std::string name;
+  double seconds = 0.0;
+  Evaluation eval;
+  int gnss_rejected = 0;
+};
+
+std::string driftCells(const DriftStats& d) {
+  return fmt::format("{:.3f} | {:.3f} | {:.4f} | {:.4f} | {:.4f}", d.horizontal_m, d.vertical_m,
+                     d.roll_rad * units::kRadToDeg, d.pitch_rad * units::kRadToDeg,
+                     d.heading_rad * units::kRadToDeg);
+}
+std::string driftCsv(const DriftStats& d) {
+  return fmt::format("{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}", d.horizontal_m, d.vertical_m,
+                     d.roll_rad * units::kRadToDeg, d.pitch_rad * units::kRadToDeg,
+                     d.heading_rad * units::kRadToDeg);
+}
+
+void runCompare(const CompareArgs& a) {
+  std::filesystem::create_directories(a.out);
+  const LoadedCase lc = loadCase(a);
+  if (lc.truth.empty()) throw std::runtime_error(a.case_dir + ": compare needs truth.nav or a reference");
+  const EstimationProblem& p = lc.problem;
+  const std::vector<std::string> names = splitList(a.estimators);
+  if (names.empty()) throw std::invalid_argument("compare: --estimators is empty");
+  fmt::print(stderr, "compare: {} IMU samples, {} GNSS fixes, {} outages of {:.0f} s\n",
+             p.imu.size(), p.gnss.size(), p.outages.size(), a.outage_length_s);
+
+  std::vector<Row> rows;
+  std::vector<NavSolution> sols;
+  for (const std::string& name : names) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::string note;
+    NavSolution sol = runEstimator(name, p, &note);
+    Row r;
+    r.name = name;
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.eval = evaluateSolution(sol, lc.truth, p.outages);
+    r.gnss_rejected = sol.gnss_rejected;
+    fmt::print(stderr, "  {:<20s} {:7.2f} s  outage horiz RMS {:.3f} m  {}\n", name, r.seconds,
+               r.eval.outage_rms.horizontal_m, note);
+    rows.push_back(std::move(r));
+    sols.push_back(std::move(sol));
+  }
+
+  // Pairwise differences inside outages: a evaluated against b as the reference.
+  struct Pair {
+    std::string a, b;
+    DriftStats rms, max_rms;
+  };
+  std::vector<Pair> pairs;
+  for (size_t i = 0; i < sols.size(); ++i) {
+    for (size_t j = i + 1; j < sols.size(); ++j) {
+      const Evaluation e = evaluateSolution(sols[i], sols[j].states, p.outages);
+      pairs.push_back({names[i], names[j], e.outage_rms, e.outage_max_rms});
+    }
+  }
+
+  // Markdown.
+  std::ofstream md(a.out + "/compare.md");
+  md << fmt::format("# Estimator comparison: {}\n\nIMU: {} ({}), {} outages of {:.0f} s every "
+                    "{:.0f} s from {:.0f} s; errors against the {}.\n\n",
+                    a.case_dir, a.imu, p.imu_profile.name, p.outages.size(), a.outage_length_s,
+                    a.outage_period_s, a.outage_start_s, lc.truth_name);
+  md << "## Outage errors, RMS over outage epochs (seed Tables 2-3)\n\n"
+        "| estimator | horiz. (m) | vert. (m) | roll (deg) | pitch (deg) | heading (deg) | "
+        "run (s) | GNSS rejected |\n|---|---|---|---|---|---|---|---|\n";
+  for (const Row& r : rows) {
+    md << fmt::format("| {} | {} | {:.2f} | {} |\n", r.name, driftCells(r.eval.outage_rms),
+                      r.seconds, r.gnss_rejected);
+  }
+  md << "\n## Outage errors, RMS over outages of the per-outage maximum (peers)\n\n"
+        "| estimator | horiz. (m) | vert. (m) | roll (deg) | pitch (deg) | heading (deg) |\n"
+        "|---|---|---|---|---|---|\n";
+  for (const Row& r : rows) {
+    md << fmt::format("| {} | {} |\n", r.name, driftCells(r.eval.outage_max_rms));
+  }
+  if (!rows.empty()) {
+    md << fmt::format("\n## Ratios to {} (outage RMS)\n\n| estimator | horiz. | vert. | heading |\n"
+                      "|---|---|---|---|\n", rows.front().name);
+    const DriftStats& b = rows.front().eval.outage_rms;
+    for (const Row& r : rows) {
+      const DriftStats& d = r.eval.outage_rms;
+      md << fmt::format("| {} | {:.3f} | {:.3f} | {:.3f} |\n", r.name, d.horizontal_m / b.horizontal_m,
+                        d.vertical_m / b.vertical_m, d.heading_rad / b.heading_rad);
+    }
+  }
+  md << "\n## Differences between estimators inside outages (RMS over outage epochs)\n\n"
+        "| a - b | horiz. (m) | vert. (m) | roll (deg) | pitch (deg) | heading (deg) |\n"
+        "|---|---|---|---|---|---|\n";
+  for (const Pair& q : pairs) md << fmt::format("| {} - {} | {} |\n", q.a, q.b, driftCells(q.rms));
+
+  // CSV: one row per estimator and per pair.
+  std::ofstream csv(a.out + "/compare.csv");
+  csv << "kind,name,statistic,horizontal_m,vertical_m,roll_deg,pitch_deg,heading_deg,run_s,"
+         "gnss_rejected\n";
+  for (const Row& r : rows) {
+    csv << fmt::format("error,{},outage_rms,{},{:.3f},{}\n", r.name, driftCsv(r.eval.outage_rms),
+                       r.seconds, r.gnss_rejected);
+    csv << fmt::format("error,{},outage_max_rms,{},{:.3f},{}\n", r.name,
+                       driftCsv(r.eval.outage_max_rms), r.seconds, r.gnss_rejected);
+    csv << fmt::format("error,{},overall_rms,{},{:.3f},{}\n", r.name, driftCsv(r.eval.overall_rms),
+                       r.seconds, r.gnss_rejected);
+  }
+  for (const Pair& q : pairs) {
+    csv << fmt::format("difference,{}-{},outage_rms,{},,\n", q.a, q.b, driftCsv(q.rms));
+    csv << fmt::format("difference,{}-{},outage_max_rms,{},,\n", q.a, q.b, driftCsv(q.max_rms));
+  }
+
+  // 1 Hz error series and outage windows for the plot.
+  std::ofstream ser(a.out + "/compare_errors.csv");
+  ser << "t_s";
+  for (const Row& r : rows) ser << fmt::format(",{0}_horizontal_m,{0}_vertical_m,{0}_heading_deg", r.name);
+  ser << "\n";
+  std::vector<size_t> idx(rows.size(), 0);
+  const std::vector<EpochError>& first = rows.front().eval.epochs;
+  double next_t = first.empty() ? 0.0 : first.front().t_s;
+  for (const EpochError& e0 : first) {
+    if (e0.t_s + 1e-9 < next_t) continue;
+    next_t = e0.t_s + 1.0;
+    ser << fmt::format("{:.3f}", e0.t_s);
+    for (size_t r = 0; r < rows.size(); ++r) {
+      const auto& ep = rows[r].eval.epochs;
+      while (idx[r] + 1 < ep.size() && ep[idx[r]].t_s < e0.t_s - 1e-9) ++idx[r];
+      const EpochError& e = ep[idx[r]];
+      ser << fmt::format(",{:.4f},{:.4f},{:.5f}", e.pos_ned_m.head<2>().norm(),
+                         std::abs(e.pos_ned_m.z()), e.euler_rad.z() * units::kRadToDeg);
+    }
+    ser << "\n";
+  }
+  std::ofstream ow(a.out + "/compare_outages.csv");
+  ow << "start_s,end_s\n";
+  for (const TimeWindow& w : p.outages) ow << fmt::format("{:.3f},{:.3f}\n", w.start_s, w.end_s);
+
+  std::ifstream back(a.out + "/compare.md");
+  std::stringstream text;
+  text << back.rdbuf();
+  fmt::print("{}", text.str());
+  fmt::print("\nwrote {0}/compare.md, {0}/compare.csv, {0}/compare_errors.csv (plot: python3 "
+             "scripts/plot_compare.py {0})\n", a.out);
+}
+
+}  // namespace
+
+void registerCompare(CLI::App& app) {
+  auto a = std::make_shared<CompareArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "compare", "Run several estimators on one case; table and plot of outage errors and differences");
+  cmd->add_option("case_dir", a->case_dir, "case directory")->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("--out", a->out, "output directory")->required();
+  cmd->add_option("--estimators", a->estimators,
+                  "comma-separated: ekf, rts, fgo, fgo-window, fgo-noearth, fgo-window-noearth")
+      ->capture_default_str();
+  cmd->add_option("--imu", a->imu, "ref | tested | FILE (an IMU text file, tested IMU's profile)")
+      ->capture_default_str();
+  cmd->add_option("--outage-length", a->outage_length_s, "outage length (s)")->capture_default_str();
+  cmd->add_option("--outage-period", a->outage_period_s, "start-to-start spacing (s)")->capture_default_str();
+  cmd->add_option("--outage-start", a->outage_start_s, "first outage start after the first IMU epoch (s)")
+      ->capture_default_str();
+  cmd->add_flag("--no-outages", a->no_outages, "use every GNSS fix");
+  cmd->callback([a]() { runCompare(*a); });
+}
+
+}  // namespace graftnav::app
