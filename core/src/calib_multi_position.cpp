@@ -1,11 +1,14 @@
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "graftnav/core/calibration/multi_position.h"
 #include "graftnav/core/calibration/theoretical_output.h"
