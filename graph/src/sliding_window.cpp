@@ -160,16 +160,19 @@ WindowResult runSlidingWindow(FgoGraph& graph, FgoReport* report) {
     res[k - 1].preint_out = problem.AddResidualBlock(pf, nullptr, graph.preintegrationBlocks(k - 1));
     res[k - 1].bias_out =
         problem.AddResidualBlock(graph.makeBiasFactor(k - 1), nullptr, graph.biasBlocks(k - 1));
+    // Right after a GNSS gap the fixes must pull a drifted estimate back by metres: no robust
+    // loss (it would weigh them down by the drift in sigmas) and no culling for cull_grace_s.
+    const bool reacquiring = t_k - reacquired_t <= opt.cull_grace_s;
     for (size_t fix : graph.nodes()[k].gnss) {
       res[k].gnss.emplace_back(
-          problem.AddResidualBlock(graph.makeGnssFactor(fix), graph.gnssLoss(), graph.poseBlocks(k)),
+          problem.AddResidualBlock(graph.makeGnssFactor(fix), reacquiring ? nullptr : graph.gnssLoss(),
+                                   graph.poseBlocks(k)),
           fix);
     }
     const bool solve_now = (k % static_cast<size_t>(opt.window_solve_stride) == 0) || k + 1 == n;
     if (solve_now) solve();
     // Chi-square culling of the newest node's fixes, then re-solve.
-    const bool may_cull = t_k - reacquired_t > opt.cull_grace_s &&
-                          consecutive_culls < opt.max_consecutive_culls;
+    const bool may_cull = !reacquiring && consecutive_culls < opt.max_consecutive_culls;
     if (!res[k].gnss.empty() && !may_cull) consecutive_culls = 0;
     if (solve_now && opt.culling_rounds > 0 && may_cull && !res[k].gnss.empty()) {
       bool removed = false;

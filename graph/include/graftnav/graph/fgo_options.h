@@ -43,7 +43,7 @@ struct FgoOptions {
   int window_solve_stride = 1;             // solve after every n-th new node (1: every node)
   // Batch initialization: a fixed-lag window pass solving every batch_init_stride nodes over a
   // window of 2 * batch_init_stride nodes.
-  int batch_init_stride = 10;
+  int batch_init_stride = 1;
   bool window_fixed_lag_output = false;    // output each node when it leaves the window (a
                                            // fixed-lag smoother) instead of when it enters (causal)
 
