@@ -4,6 +4,7 @@
 
 #include "graftnav/filters/free_inertial.h"
 #include "graftnav/filters/rts_smoother.h"
+#include "graftnav/graph/fgo_solver.h"
 
 namespace graftnav::app {
 
@@ -16,6 +17,14 @@ const std::vector<EstimatorEntry>& estimatorTable() {
       {"rts", "EKF + Rauch-Tung-Striebel smoother",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn& f) {
          return runRts(p, c.ekf, nullptr, nullptr, f);
+       }},
+      {"fgo", "factor-graph batch smoother (Ceres, SuiteSparse), docs/fgo.md",
+       [](const EstimationProblem& p, const RunConfig& c, const ProgressFn&) {
+         return solveBatchFgo(p, c.fgo);
+       }},
+      {"fgo-window", "factor-graph sliding window with marginalization, causal output",
+       [](const EstimationProblem& p, const RunConfig& c, const ProgressFn&) {
+         return solveWindowFgo(p, c.fgo);
        }},
       {"free-inertial", "mechanization from the initial state, no GNSS",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn& f) {

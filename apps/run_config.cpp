@@ -54,7 +54,7 @@ RunConfig loadRunConfig(const std::string& path, std::vector<std::string>* warni
   RunConfig c;
   if (!root || root.IsNull()) return c;
   if (!root.IsMap()) throw std::runtime_error(path + ": the run config must be a YAML map");
-  warnUnknown(root, "", {"outages", "ekf", "evaluation"}, path, warnings);
+  warnUnknown(root, "", {"outages", "ekf", "evaluation", "fgo"}, path, warnings);
 
   if (const YAML::Node o = root["outages"]) {
     c.outages_given = true;
@@ -114,6 +114,45 @@ RunConfig loadRunConfig(const std::string& path, std::vector<std::string>* warni
                  "gnss_default_std_m", "init_pos_std_m", "init_vel_std_m_s",
                  "init_roll_pitch_std_deg", "init_heading_std_deg", "alignment",
                  "static_alignment_s", "motion_min_speed_m_s"},
+                path, warnings);
+  }
+  if (const YAML::Node g = root["fgo"]) {
+    FgoOptions& f = c.fgo;
+    read(g, "fgo", "earth_rotation", &f.earth_rotation, path);
+    read(g, "fgo", "max_node_spacing_s", &f.max_node_spacing_s, path);
+    read(g, "fgo", "reintegrate_gyro_bias_rad_s", &f.reintegrate_gyro_bias_rad_s, path);
+    read(g, "fgo", "reintegrate_accel_bias_m_s2", &f.reintegrate_accel_bias_m_s2, path);
+    read(g, "fgo", "max_reintegration_rounds", &f.max_reintegration_rounds, path);
+    read(g, "fgo", "robust_loss", &f.robust_loss, path);
+    read(g, "fgo", "robust_loss_scale", &f.robust_loss_scale, path);
+    read(g, "fgo", "chi2_threshold", &f.chi2_threshold, path);
+    read(g, "fgo", "culling_rounds", &f.culling_rounds, path);
+    read(g, "fgo", "gnss_min_std_m", &f.gnss_min_std_m, path);
+    read(g, "fgo", "cull_grace_s", &f.cull_grace_s, path);
+    read(g, "fgo", "max_consecutive_culls", &f.max_consecutive_culls, path);
+    read(g, "fgo", "max_cull_fraction", &f.max_cull_fraction, path);
+    read(g, "fgo", "initial_position_std_m", &f.initial_position_std_m, path);
+    read(g, "fgo", "initial_velocity_std_m_s", &f.initial_velocity_std_m_s, path);
+    read(g, "fgo", "initial_attitude_std_rad", &f.initial_attitude_std_rad, path);
+    read(g, "fgo", "max_iterations", &f.max_iterations, path);
+    read(g, "fgo", "num_threads", &f.num_threads, path);
+    read(g, "fgo", "compute_covariance", &f.compute_covariance, path);
+    read(g, "fgo", "window_nodes", &f.window_nodes, path);
+    read(g, "fgo", "window_iterations", &f.window_iterations, path);
+    read(g, "fgo", "window_solve_stride", &f.window_solve_stride, path);
+    read(g, "fgo", "window_fixed_lag_output", &f.window_fixed_lag_output, path);
+    read(g, "fgo", "batch_init_stride", &f.batch_init_stride, path);
+    std::string err;
+    if (!f.validate(&err)) throw std::runtime_error(path + ": section fgo: " + err);
+    warnUnknown(g, "fgo",
+                {"earth_rotation", "max_node_spacing_s", "reintegrate_gyro_bias_rad_s",
+                 "reintegrate_accel_bias_m_s2", "max_reintegration_rounds", "robust_loss",
+                 "robust_loss_scale", "chi2_threshold", "culling_rounds", "gnss_min_std_m",
+                 "cull_grace_s", "max_consecutive_culls", "max_cull_fraction",
+                 "initial_position_std_m", "initial_velocity_std_m_s", "initial_attitude_std_rad",
+                 "max_iterations", "num_threads", "compute_covariance", "window_nodes",
+                 "window_iterations", "window_solve_stride", "window_fixed_lag_output",
+                 "batch_init_stride"},
                 path, warnings);
   }
   if (const YAML::Node v = root["evaluation"]) {

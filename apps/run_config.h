@@ -24,6 +24,16 @@
 //     alignment: given    # given | static | motion
 //     static_alignment_s: 60
 //     motion_min_speed_m_s: 3.0
+//   fgo:                  # FgoOptions (graph/include/graftnav/graph/fgo_options.h, docs/fgo.md)
+//     earth_rotation: true
+//     max_node_spacing_s: 1.0
+//     robust_loss: huber  # huber | cauchy | none
+//     robust_loss_scale: 3.0
+//     chi2_threshold: 16.27
+//     window_nodes: 10
+//     window_fixed_lag_output: false
+//     compute_covariance: false
+//     (and the other FgoOptions fields by their names)
 //   evaluation:
 //     nees_interval_s: 1.0
 //     csv_rate_hz: 10     # per-epoch error CSV rate (statistics always use every epoch)
@@ -35,6 +45,7 @@
 #include "graftnav/core/outage_schedule.h"
 #include "graftnav/filters/alignment.h"
 #include "graftnav/filters/ekf.h"
+#include "graftnav/graph/fgo_options.h"
 
 namespace graftnav::app {
 
@@ -55,6 +66,7 @@ struct RunConfig {
   EkfOptions ekf;
   AlignmentConfig alignment;
   EvaluationConfig evaluation;
+  FgoOptions fgo;
 };
 
 // Loads the file. Unknown keys are appended to *warnings; a wrong type or invalid value throws
