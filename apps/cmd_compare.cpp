@@ -5,10 +5,10 @@
 // each other (the filter-versus-smoother cross-check), as Markdown and CSV, plus a 1 Hz error
 // series for scripts/plot_compare.py.
 //
-// Estimators: ekf, rts (filters/), fgo, fgo-window (graph/), and the graph variants
-// fgo-noearth, fgo-window-noearth (Earth rotation off in the preintegration, for the Tang et al.
-// comparison). Local dispatch: apps/estimators.h (the shared table) did not exist when this was
-// written; see docs/fgo.md.
+// Estimators: every name of the shared table (apps/estimators.h: ekf, rts, fgo, fgo-window, ...)
+// plus the graph variants fgo-noearth and fgo-window-noearth (Earth rotation off in the
+// preintegration, for the Tang et al. comparison). --config takes the run config of `navigate`
+// (its ekf:, fgo: and outages: sections).
 #include <fmt/core.h>
 #include <fmt/format.h>
 
@@ -24,6 +24,8 @@
 #include <vector>
 
 #include "commands.h"
+#include "estimators.h"
+#include "run_config.h"
 #include "graftnav/core/case_config.h"
 #include "graftnav/core/evaluation.h"
 #include "graftnav/core/gnss_io.h"
@@ -42,6 +44,7 @@ namespace {
 struct CompareArgs {
   std::string case_dir, out, imu = "tested";
   std::string estimators = "ekf,rts,fgo";
+  std::string config;
   double outage_length_s = 60.0, outage_period_s = 180.0, outage_start_s = 300.0;
   bool no_outages = false;
 };
@@ -118,25 +121,20 @@ LoadedCase loadCase(const CompareArgs& a) {
   return lc;
 }
 
-NavSolution runEstimator(const std::string& name, const EstimationProblem& p, std::string* note) {
-  if (name == "ekf") return runEkf(p, EkfOptions{});
-  if (name == "rts") return runRts(p, EkfOptions{});
-  FgoOptions fo;
-  FgoReport rep;
-  NavSolution sol;
-  if (name == "fgo" || name == "fgo-noearth") {
-    fo.earth_rotation = name == "fgo";
-    sol = solveBatchFgo(p, fo, &rep);
-  } else if (name == "fgo-window" || name == "fgo-window-noearth") {
-    fo.earth_rotation = name == "fgo-window";
-    sol = solveWindowFgo(p, fo, &rep);
-  } else {
-    throw std::invalid_argument("compare: unknown estimator '" + name +
-                                "' (ekf, rts, fgo, fgo-window, fgo-noearth, fgo-window-noearth)");
+NavSolution runNamed(const std::string& name, const EstimationProblem& p, const RunConfig& cfg) {
+  const std::string suffix = "-noearth";
+  if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+    RunConfig c = cfg;
+    c.fgo.earth_rotation = false;
+    const std::string base = name.substr(0, name.size() - suffix.size());
+    if (base != "fgo" && base != "fgo-window") {
+      throw std::invalid_argument("compare: '" + name + "': -noearth applies to fgo and fgo-window");
+    }
+    NavSolution sol = runEstimator(base, p, c);
+    sol.estimator = name;
+    return sol;
   }
-  *note = rep.summary;
-  sol.estimator = name;
-  return sol;
+  return runEstimator(name, p, cfg);
 }
 
 struct Row {
@@ -159,7 +157,17 @@ std::string driftCsv(const DriftStats& d) {
 
 void runCompare(const CompareArgs& a) {
   std::filesystem::create_directories(a.out);
-  const LoadedCase lc = loadCase(a);
+  RunConfig cfg;
+  if (!a.config.empty()) {
+    std::vector<std::string> warnings;
+    cfg = loadRunConfig(a.config, &warnings);
+    for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
+  }
+  LoadedCase lc = loadCase(a);
+  if (cfg.outages_given) {
+    lc.problem.outages = buildOutageWindows(cfg.outages, lc.problem.imu.front().t_s,
+                                            lc.problem.imu.back().t_s);
+  }
   if (lc.truth.empty()) throw std::runtime_error(a.case_dir + ": compare needs truth.nav or a reference");
   const EstimationProblem& p = lc.problem;
   const std::vector<std::string> names = splitList(a.estimators);
@@ -171,15 +179,14 @@ void runCompare(const CompareArgs& a) {
   std::vector<NavSolution> sols;
   for (const std::string& name : names) {
     const auto t0 = std::chrono::steady_clock::now();
-    std::string note;
-    NavSolution sol = runEstimator(name, p, &note);
+    NavSolution sol = runNamed(name, p, cfg);
     Row r;
     r.name = name;
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     r.eval = evaluateSolution(sol, lc.truth, p.outages);
     r.gnss_rejected = sol.gnss_rejected;
-    fmt::print(stderr, "  {:<20s} {:7.2f} s  outage horiz RMS {:.3f} m  {}\n", name, r.seconds,
-               r.eval.outage_rms.horizontal_m, note);
+    fmt::print(stderr, "  {:<20s} {:7.2f} s  outage horiz RMS {:.3f} m, GNSS rejected {}\n", name,
+               r.seconds, r.eval.outage_rms.horizontal_m, sol.gnss_rejected);
     rows.push_back(std::move(r));
     sols.push_back(std::move(sol));
   }
@@ -273,6 +280,7 @@ void runCompare(const CompareArgs& a) {
   ow << "start_s,end_s\n";
   for (const TimeWindow& w : p.outages) ow << fmt::format("{:.3f},{:.3f}\n", w.start_s, w.end_s);
 
+  md.close();
   std::ifstream back(a.out + "/compare.md");
   std::stringstream text;
   text << back.rdbuf();
@@ -290,7 +298,7 @@ void registerCompare(CLI::App& app) {
   cmd->add_option("case_dir", a->case_dir, "case directory")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("--out", a->out, "output directory")->required();
   cmd->add_option("--estimators", a->estimators,
-                  "comma-separated: ekf, rts, fgo, fgo-window, fgo-noearth, fgo-window-noearth")
+                  "comma-separated names of the estimator table, plus fgo-noearth, fgo-window-noearth")
       ->capture_default_str();
   cmd->add_option("--imu", a->imu, "ref | tested | FILE (an IMU text file, tested IMU's profile)")
       ->capture_default_str();
@@ -299,6 +307,8 @@ void registerCompare(CLI::App& app) {
   cmd->add_option("--outage-start", a->outage_start_s, "first outage start after the first IMU epoch (s)")
       ->capture_default_str();
   cmd->add_flag("--no-outages", a->no_outages, "use every GNSS fix");
+  cmd->add_option("--config", a->config, "run config YAML (ekf:, fgo:, outages: sections; outages: "
+                  "there overrides the outage flags)")->check(CLI::ExistingFile);
   cmd->callback([a]() { runCompare(*a); });
 }
 
