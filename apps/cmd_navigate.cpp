@@ -197,7 +197,7 @@ void runNavigate(const NavigateArgs& a) {
   if (a.outage_period >= 0) oc.period_s = a.outage_period;
   if (a.outage_start >= 0) oc.start_s = a.outage_start;
   if ((rc.outages_given || cli_outage) && !a.free_inertial) {
-    pr.outages = buildOutageWindows(oc, pr.initial.t_s, pr.imu.back().t_s);
+    pr.outages = buildOutageWindows(oc, t_first, pr.imu.back().t_s);
   }
 
   const std::string estimator = a.free_inertial ? "free-inertial" : a.estimator;
