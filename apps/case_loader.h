@@ -1,0 +1,53 @@
+#pragma once
+// One place that turns a case directory into estimator inputs: case.yaml, GNSS, the truth or
+// reference solution, and, for any IMU series and profile, the EstimationProblem (initial state,
+// alignment, lever arm, outages). Used by navigate, compare, evaluate, batch and diagnose.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "graftnav/core/case_config.h"
+#include "graftnav/core/nav_solution.h"
+#include "run_config.h"
+
+namespace graftnav::app {
+
+struct CaseInputs {
+  std::string dir;
+  CaseConfig config;
+  GnssSeries gnss;              // empty when not loaded
+  NavSeries reference;          // truth.nav, else the case's reference solution (may be empty)
+  std::string reference_name;   // its path
+  bool reference_is_truth = false;
+  std::vector<std::string> warnings;  // from the readers and case.yaml (print them)
+  CasePaths paths() const { return CasePaths(dir); }
+};
+
+struct CaseLoadOptions {
+  bool load_gnss = true;
+  bool lenient = false;  // the "real" read policies (repair/warn) instead of strict
+};
+
+// Throws std::runtime_error naming the directory or file when the case is not usable.
+CaseInputs loadCaseInputs(const std::string& case_dir, const CaseLoadOptions& options = {});
+
+// Which IMU of a case: "ref", "tested", or a file path (navigated with the tested IMU's rate and
+// profile unless a profile file is given).
+struct ImuSelection {
+  ImuSeries imu;
+  ImuProfile profile;
+  bool profile_given = false;  // noise parameters known (case.yaml or a profile file)
+  std::string path;
+  std::string label;
+};
+ImuSelection selectImu(const CaseInputs& c, const std::string& which, const std::string& profile_file = "",
+                       bool lenient = false);
+
+// The estimator inputs for one IMU series: initial state from truth (at the start of the first
+// IMU interval), else case.yaml initial_state, else data alignment (rc.alignment); outages from
+// `outages` when given. Notes on what was assumed are appended to *notes.
+EstimationProblem makeProblem(const CaseInputs& c, const ImuSelection& imu, const RunConfig& rc,
+                              const std::optional<OutageScheduleConfig>& outages,
+                              std::vector<std::string>* notes);
+
+}  // namespace graftnav::app
