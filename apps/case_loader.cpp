@@ -147,7 +147,8 @@ EstimationProblem makeProblem(const CaseInputs& c, const ImuSelection& sel, cons
     pr.initial_sigma << 0.5, 0.5, 0.5, 0.3, 0.3, 0.3, 1.0 * kDegToRad, 1.0 * kDegToRad, 3.0 * kDegToRad;
     notes->push_back(fmt::format("in-motion alignment at t={:.3f}", st->t_s));
   }
-  if (outages) pr.outages = buildOutageWindows(*outages, pr.initial.t_s, pr.imu.back().t_s);
+  // The schedule counts from the first IMU epoch, also when the filter starts later (alignment).
+  if (outages) pr.outages = buildOutageWindows(*outages, t_first, pr.imu.back().t_s);
   return pr;
 }
 
