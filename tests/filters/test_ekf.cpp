@@ -153,7 +153,7 @@ TEST(Ekf, OutagesWithholdGnssAndRtsBeatsForwardInsideThem) {
 // scale factors as Gauss-Markov processes of the profile: with constant biases instead, the
 // modelled bias random walk makes the filter measurably pessimistic, NEES ~5.6 for MEMS), NEES
 // sampled at well separated epochs (end of each outage and of the run).
-void neesCheck(const ImuProfile& p, int runs) {
+void neesCheck(const ImuProfile& p, int runs, bool smoothed = false) {
   const test::Scenario sc = test::makeDrive(240.0, 100.0);
   std::mt19937_64 rng(99);
   std::normal_distribution<double> nd(0.0, 1.0);
@@ -184,13 +184,13 @@ void neesCheck(const ImuProfile& p, int runs) {
     for (int i = 0; i < 9; ++i) x0[i] = std::sqrt(P0(i, i)) * nd(rng);
     pr.initial = perturbNavState(sc.initial, x0);
     pr.initial.t_s = sc.initial.t_s;
-    const NavSolution sol = runEkf(pr, opt);
+    const NavSolution sol = smoothed ? runRts(pr, opt) : runEkf(pr, opt);
     EvaluationOptions eo;
     eo.nees_interval_s = 0.0;
     const Evaluation ev = evaluateSolution(sol, sc.truth, pr.outages, eo);
     // Samples: the last epoch of each outage and the last epoch of the run.
     std::vector<double> times;
-    for (const TimeWindow& w : pr.outages) times.push_back(w.end_s - 0.5);
+    for (const TimeWindow& w : pr.outages) times.push_back(smoothed ? 0.5 * (w.start_s + w.end_s) : w.end_s - 0.5);
     times.push_back(sc.truth.back().t_s);
     for (double t : times) {
       auto it = std::lower_bound(ev.epochs.begin(), ev.epochs.end(), t - 1e-6,
@@ -201,13 +201,16 @@ void neesCheck(const ImuProfile& p, int runs) {
     }
   }
   const double mean = sum / n;
+  ::testing::Test::RecordProperty("nees_mean", std::to_string(mean));
   const double lo = chiSquareQuantile(0.025, 9.0 * n) / n, hi = chiSquareQuantile(0.975, 9.0 * n) / n;
-  EXPECT_GT(mean, lo) << p.grade << " NEES " << mean << " band [" << lo << ", " << hi << "]";
+  EXPECT_GT(mean, lo) << (smoothed ? "RTS " : "EKF ") << p.grade << " NEES " << mean << " band [" << lo << ", " << hi << "]";
   EXPECT_LT(mean, hi) << p.grade << " NEES " << mean << " band [" << lo << ", " << hi << "]";
 }
 
 TEST(Ekf, NeesInsideChiSquareBandTactical) { neesCheck(test::tacticalProfile(), 12); }
 TEST(Ekf, NeesInsideChiSquareBandMems) { neesCheck(test::memsProfile(), 12); }
+// The smoother's covariance: NEES at the middle of each outage (its worst point).
+TEST(Ekf, RtsNeesInsideChiSquareBandMems) { neesCheck(test::memsProfile(), 12, true); }
 TEST(Ekf, ImuSampleSliceKeepsTheIncrementRate) {
   ImuSample s;
   s.t_s = 10.0;
