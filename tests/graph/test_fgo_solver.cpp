@@ -96,6 +96,30 @@ TEST(FgoSolver, BatchBeatsWindowInOutageAndRecoversAccelBias) {
   }
 }
 
+TEST(FgoSolver, MarginalCovarianceIsConsistent) {
+  const Case c = makeCase(100.0, 50.0, 30.0);
+  FgoOptions opt;
+  opt.compute_covariance = true;
+  const NavSolution sol = solveBatchFgo(c.problem, opt);
+  ASSERT_EQ(sol.sigma.size(), sol.states.size());
+  // Normalized position errors at node epochs (every second): about unit variance, and the
+  // outage sigma grows above the GNSS-aided one.
+  double sum_sq = 0.0;
+  int n = 0;
+  for (size_t k = 200; k < sol.states.size(); k += 200) {
+    const Eigen::Vector3d e = earth::nedFromGeodetic(c.sc.truth[k].pos, sol.states[k].pos);
+    for (int i = 0; i < 3; ++i) {
+      ASSERT_TRUE(std::isfinite(sol.sigma[k](i)));
+      sum_sq += std::pow(e(i) / sol.sigma[k](i), 2);
+      ++n;
+    }
+  }
+  const double mean = sum_sq / n;
+  EXPECT_GT(mean, 0.3);
+  EXPECT_LT(mean, 3.0);
+  EXPECT_GT(sol.sigma[65 * 200](0), 3.0 * sol.sigma[20 * 200](0));  // mid-outage vs aided
+}
+
 TEST(FgoSolver, CullsGnssOutlier) {
   Case c = makeCase(60.0, 40.0, 10.0);
   // A 25 m jump at one epoch (multipath-like) far outside its 2 cm sigma.
