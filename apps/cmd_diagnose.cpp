@@ -16,6 +16,7 @@
 #include "graftnav/core/case_config.h"
 #include "graftnav/core/graft_case.h"
 #include "graftnav/core/imu_io.h"
+#include "graftnav/core/nav_io.h"
 #include "graftnav/core/mismatch/diagnosis.h"
 #include "graftnav/core/mismatch/diagnosis_report.h"
 #include "graftnav/core/units.h"
@@ -123,6 +124,7 @@ void registerDiagnose(CLI::App& app) {
     in.initial_state = cfg.initial_state;
     // A case with a truth trajectory is simulated: its reference IMU may lack navigation physics.
     in.reference_is_simulated = CasePaths::exists(paths.truthNav());
+    if (in.reference_is_simulated) in.attitude = readNav(paths.truthNav());
     std::vector<std::string> notes;
     if (CasePaths::exists(paths.labStatic())) {
       fmt::print(stderr, "diagnose: lab data found: simulation = SG#2 from the lab calibration\n");
@@ -131,6 +133,8 @@ void registerDiagnose(CLI::App& app) {
       const GraftedCase g = graftCase(ref, report);
       in.simulated = g.sg2;
       in.simulation_kind = "SG#2 (lab calibration + grafting)";
+      in.lab_gyro_M_sigma = report.result.gyro.M_sigma;
+      in.lab_accel_M_sigma = report.result.accel.M_sigma;
       if (report.result.gyro.has_allan)
         in.lab_gyro_bias_instability_rad_s = report.result.gyro.allan.bias_instability.maxCoeff();
       if (report.result.accel.has_allan)
@@ -183,7 +187,12 @@ void registerDiagnose(CLI::App& app) {
       if (script.empty()) {
         fmt::print(stderr, "warning: scripts/plot_diagnosis.py not found; no plots\n");
       } else {
-        const std::string cmdline = fmt::format("python3 '{}' '{}'", script, args->out);
+        // matplotlib is installed for the system interpreter; GRAFTNAV_PYTHON overrides.
+        const char* env = std::getenv("GRAFTNAV_PYTHON");
+        const std::string py = env ? env
+                               : std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3"
+                                                                             : "python3";
+        const std::string cmdline = fmt::format("'{}' '{}' '{}'", py, script, args->out);
         if (std::system(cmdline.c_str()) != 0)
           fmt::print(stderr, "warning: plotting failed ({}); the numbers are written\n", cmdline);
       }

@@ -69,18 +69,24 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
   const double span_s = n * x.grid.bin_s;
   std::vector<CandidateTerm> terms;
 
-  {  // Nuisance constant bias.
+  {  // Nuisance: constant bias and linear drift per channel.
     CandidateTerm t;
     t.name = "constant_bias";
     t.sensor = "both";
     t.nuisance = true;
-    t.explanation = "turn-on bias of the field run differing from the lab (nuisance, not claimed)";
+    t.explanation = "turn-on bias of the field run differing from the lab, and its linear drift "
+                    "over the record (nuisance, not claimed)";
     for (int c = 0; c < kMismatchChannels; ++c)
       t.columns.push_back(singleChannel(c, Eigen::VectorXd::Ones(n)));
+    if (opt.linear_drift_nuisance) {
+      const Eigen::VectorXd ramp = Eigen::VectorXd::LinSpaced(n, -1.0, 1.0);
+      for (int c = 0; c < kMismatchChannels; ++c) t.columns.push_back(singleChannel(c, ramp));
+    }
     terms.push_back(std::move(t));
   }
 
-  // bias_instability: hat functions at knots 0, d, 2d, ... (the last knot at the end).
+  // bias_instability: hat functions at knots 0, d, 2d, ... (the last knot at the end); interior
+  // knots only.
   const double knot_s = std::max(opt.knot_spacing_s, span_s / (opt.max_knots - 1));
   const int knots = std::max(2, static_cast<int>(std::ceil(span_s / knot_s - 1e-9)) + 1);
   const double spacing = span_s / (knots - 1);
@@ -93,8 +99,11 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
                     " bias wanders during the field run more than the lab record shows "
                     "(piecewise-linear bias, knots every " +
                     std::to_string(static_cast<int>(std::round(spacing))) + " s)";
+    // The first knot is spanned by the nuisance constant, the last one too with a linear drift.
+    const int last = opt.linear_drift_nuisance ? knots - 1 : knots;
+    if (last <= 1) continue;
     for (int axis = 0; axis < 3; ++axis) {
-      for (int k = 1; k < knots; ++k) {
+      for (int k = 1; k < last; ++k) {
         Eigen::VectorXd v(n);
         for (int i = 0; i < n; ++i) {
           const double u = (i + 0.5) * x.grid.bin_s / spacing - k;  // knot k at u = 0
@@ -265,6 +274,7 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
       t.name = "earth_rotation_omitted";
       t.sensor = "gyro";
       t.fixed = true;
+      t.requires_terms = {"bias_instability:gyro"};
       t.explanation = "the simulation leaves out the Earth's rotation, which every real gyro senses";
       RegressorColumn col;
       Eigen::MatrixX3d v(n, 3);
@@ -277,6 +287,7 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
       CandidateTerm t;
       t.name = "gravity_model";
       t.sensor = "accel";
+      t.requires_terms = {"bias_instability:accel"};
       t.explanation = "the simulation's gravity magnitude differs from the true local gravity";
       RegressorColumn col;
       Eigen::MatrixX3d v(n, 3);

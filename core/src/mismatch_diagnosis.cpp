@@ -9,6 +9,7 @@
 
 #include "graftnav/core/earth.h"
 #include "graftnav/core/mismatch/diagnosis.h"
+#include "graftnav/core/nav_interp.h"
 #include "graftnav/core/rotation.h"
 
 namespace graftnav {
@@ -135,16 +136,47 @@ ChannelRms rmsOf(const Eigen::MatrixXd& r) {
   return out;
 }
 
-std::vector<Eigen::Matrix3d> attitudeAlongGrid(const BinnedImu& x, const NavState& init) {
+std::vector<Eigen::Matrix3d> attitudeAlongGrid(const BinnedImu& x, const NavState& init,
+                                               const NavSeries& attitude) {
   std::vector<Eigen::Matrix3d> C_bn(x.size());
+  if (!attitude.empty()) {
+    for (int i = 0; i < x.size(); ++i) {
+      const std::optional<NavState> s = interpolateNav(attitude, x.grid.binMid(i), 1.0);
+      const Eigen::Quaterniond q = s ? s->q_nb
+                                     : (x.grid.binMid(i) < attitude.front().t_s ? attitude.front().q_nb
+                                                                                : attitude.back().q_nb);
+      C_bn[i] = q.normalized().toRotationMatrix().transpose();
+    }
+    return C_bn;
+  }
+  // Integrated from the initial attitude: C_nb' = C_nb [omega_nb x], omega_nb = omega_ib - C_bn
+  // omega_ie_n (the transport rate, ~v/R, is left out).
+  const Eigen::Vector3d w_ie_n = earth::omega_ie_n(init.pos.lat_rad);
   Eigen::Matrix3d C_nb = init.q_nb.normalized().toRotationMatrix();
   for (int i = 0; i < x.size(); ++i) {
-    const Eigen::Vector3d w = x.omega_rad_s.row(i).transpose();
+    const Eigen::Vector3d w = x.omega_rad_s.row(i).transpose() - C_nb.transpose() * w_ie_n;
     const Eigen::Matrix3d half = dcmFromRotationVector(0.5 * w * x.grid.bin_s);
     C_bn[i] = (C_nb * half).transpose();  // at the bin middle
     C_nb = C_nb * half * half;
   }
   return C_bn;
+}
+
+// Per-channel least-squares constant + linear drift (the nuisance alone) fitted over bins
+// [a, b) with the same ramp as the library, evaluated on all bins.
+Eigen::MatrixXd nuisanceOnlyFit(const Eigen::MatrixXd& r, int a, int b, bool drift) {
+  const int n = static_cast<int>(r.rows());
+  const Eigen::VectorXd ramp = drift ? Eigen::VectorXd::LinSpaced(n, -1.0, 1.0).eval()
+                                     : Eigen::VectorXd::Zero(n).eval();
+  Eigen::MatrixXd A(b - a, 2);
+  A.col(0).setOnes();
+  A.col(1) = ramp.segment(a, b - a);
+  Eigen::MatrixXd out(n, r.cols());
+  for (Eigen::Index c = 0; c < r.cols(); ++c) {
+    const Eigen::Vector2d coef = A.colPivHouseholderQr().solve(r.col(c).segment(a, b - a));
+    out.col(c) = coef(0) * Eigen::VectorXd::Ones(n) + coef(1) * ramp;
+  }
+  return out;
 }
 
 // Fits and predicts on the second half with a model selected on the first half; bias terms are
@@ -166,11 +198,14 @@ void holdoutCheck(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& te
     pred += c;
     out->holdout_terms.push_back(terms[tf.term].key());
   }
-  const Eigen::MatrixXd bias = termContribution(terms[0], sel.nuisance.theta, n);
+  // The nuisance drift is not extrapolated either: held at its last first-half value.
+  Eigen::MatrixXd bias = termContribution(terms[0], sel.nuisance.theta, n);
+  for (int i = half; i < n; ++i) bias.row(i) = bias.row(half - 1);
   const Eigen::MatrixXd second = r.bottomRows(n - half);
-  // Before: the constant-only model of the first half (its mean).
-  const Eigen::RowVectorXd mean_first = r.topRows(half).colwise().mean();
-  out->holdout_before = rmsOf(second.rowwise() - mean_first);
+  // Before: the nuisance-only model of the first half, held the same way.
+  Eigen::MatrixXd base = nuisanceOnlyFit(r, 0, half, opt.library.linear_drift_nuisance);
+  for (int i = half; i < n; ++i) base.row(i) = base.row(half - 1);
+  out->holdout_before = rmsOf(second - base.bottomRows(n - half));
   out->holdout_after = rmsOf(second - bias.bottomRows(n - half) - pred.bottomRows(n - half));
   out->holdout_split_s = out->grid.binStart(half);
   out->has_holdout = true;
@@ -229,7 +264,7 @@ DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt) 
   ri.vibration_f_hp_sq = vibrationLevelPerBin(in.reference, grid, "specific_force_hp_sq");
   ri.vibration_w_hp_sq = vibrationLevelPerBin(in.reference, grid, "angular_rate_hp_sq");
   if (in.initial_state && in.reference_is_simulated) {
-    ri.C_bn = attitudeAlongGrid(x, *in.initial_state);
+    ri.C_bn = attitudeAlongGrid(x, *in.initial_state, in.attitude);
     ri.omega_ie_n = earth::omega_ie_n(in.initial_state->pos.lat_rad);
   } else {
     out.notes.push_back(in.reference_is_simulated
@@ -287,6 +322,47 @@ DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt) 
       const CandidateTerm& t = terms[tf.term];
       std::optional<double> lab = t.sensor == "gyro" ? in.lab_gyro_bias_instability_rad_s
                                                      : in.lab_accel_bias_instability_m_s2;
+      const std::optional<Eigen::Matrix3d>& Msig =
+          t.sensor == "gyro" ? in.lab_gyro_M_sigma : in.lab_accel_M_sigma;
+      if ((t.name == "scale_factor" || t.name == "non_orthogonality") && Msig) {
+        const Effect e = effectFromTerm(t, tf, n);
+        const EffectParameter& q = e.parameters[0];
+        bool beyond = false;
+        for (std::size_t k = 0; k < q.values.size(); ++k) {
+          const int i = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) / 3;
+          const int j = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) % 3;
+          if (t.name == "non_orthogonality" && i == j) continue;
+          const double lim = 3.0 * std::hypot(q.sigma[k], (*Msig)(i, j));
+          beyond |= std::abs(q.values[k]) > lim;
+        }
+        if (!beyond) {
+          gated = true;
+          out.notes.push_back(fmt::format(
+              "{} {} fitted but within 3 sigma of the lab calibration's own uncertainty: not "
+              "claimed (calibration error, not missing physics)", t.sensor, t.name));
+          continue;
+        }
+      }
+      if (t.name == "scale_asymmetry" && Msig) {
+        // The gains per sign differ by more than two lab scale uncertainties allow.
+        const Effect e = effectFromTerm(t, tf, n);
+        const EffectParameter& kp = e.parameters[0];
+        const EffectParameter& kn = e.parameters[1];
+        bool beyond = false;
+        for (int a = 0; a < 3; ++a) {
+          if (!std::isfinite(kp.sigma[a]) || !std::isfinite(kn.sigma[a])) continue;
+          const double lim = 3.0 * std::sqrt(kp.sigma[a] * kp.sigma[a] + kn.sigma[a] * kn.sigma[a] +
+                                             2.0 * (*Msig)(a, a) * (*Msig)(a, a));
+          beyond |= std::abs(kp.values[a] - kn.values[a]) > lim;
+        }
+        if (!beyond) {
+          gated = true;
+          out.notes.push_back(fmt::format(
+              "{} scale_asymmetry fitted but within 3 sigma of the lab calibration's scale "
+              "uncertainty: not claimed", t.sensor));
+          continue;
+        }
+      }
       if (t.name == "bias_instability" && lab) {
         const Effect e = effectFromTerm(t, tf, n);
         const double wander = *std::max_element(e.parameters[0].values.begin(),
@@ -308,8 +384,10 @@ DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt) 
     }
   }
   out.selection = sel;
-  for (const TermFit& tf : sel.selected) out.effects.push_back(effectFromTerm(terms[tf.term], tf, n));
-  out.nuisance_bias = sel.nuisance.theta;
+  for (const TermFit& tf : sel.selected)
+    if (tf.claimed) out.effects.push_back(effectFromTerm(terms[tf.term], tf, n));
+  out.nuisance_bias = sel.nuisance.theta.head<6>();
+  if (sel.nuisance.theta.size() == 12) out.nuisance_drift = 2.0 * sel.nuisance.theta.segment<6>(6);
 
   if (opt.detect_quantization) {
     for (int sidx = 0; sidx < 2; ++sidx) {
@@ -338,8 +416,9 @@ DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt) 
   // 6. Model and show.
   out.model = predictSelection(sel, terms, n, false);
   const Eigen::MatrixXd bias = termContribution(terms[0], sel.nuisance.theta, n);
+  out.nuisance = bias;
   out.rms_raw = rmsOf(r);
-  out.rms_before = rmsOf(r.rowwise() - r.colwise().mean());
+  out.rms_before = rmsOf(r - nuisanceOnlyFit(r, 0, n, opt.library.linear_drift_nuisance));
   const Eigen::MatrixXd after = r - bias - out.model;
   out.rms_after = rmsOf(after);
   out.unexplained = locateResidual(after, grid, out.regimes, opt.locate, &noise_ms);

@@ -116,6 +116,7 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
                       {"variance_inflation", num(r.selection.inflation)},
                       {"rows", r.selection.rows}};
   j["constant_bias"] = numList(std::vector<double>(r.nuisance_bias.data(), r.nuisance_bias.data() + 6));
+  j["linear_drift"] = numList(std::vector<double>(r.nuisance_drift.data(), r.nuisance_drift.data() + 6));
   j["selection_log"] = r.selection.log;
   j["notes"] = r.notes;
   j["grid"] = {{"t_begin", r.grid.t_begin_s}, {"bin_s", r.grid.bin_s}, {"bins", r.grid.count}};
@@ -207,7 +208,7 @@ void writeDiagnosisFiles(const std::string& out_dir, const DiagnosisResult& r,
     csv += fmt::format("{:.4f}", r.grid.binMid(i));
     for (int c = 0; c < 6; ++c) csv += fmt::format(",{:.6e}", r.residual_before(i, c));
     for (int c = 0; c < 6; ++c) csv += fmt::format(",{:.6e}", r.model(i, c));
-    for (int c = 0; c < 6; ++c) csv += fmt::format(",{:.6e}", r.nuisance_bias(c));
+    for (int c = 0; c < 6; ++c) csv += fmt::format(",{:.6e}", r.nuisance(i, c));
     csv += "," + r.regimes[i] + "\n";
   }
   writeFileAtomically(out_dir + "/residual.csv", csv);

@@ -242,6 +242,29 @@ class Selector {
     }
   }
 
+  int indexOf(const std::string& key) const {
+    for (std::size_t k = 0; k < terms_.size(); ++k)
+      if (terms_[k].key() == key) return static_cast<int>(k);
+    return -1;
+  }
+
+  // The model a term is tested against: the current one plus the terms it requires.
+  std::vector<int> baseFor(const std::vector<int>& model, int t) const {
+    std::vector<int> base = model;
+    for (const std::string& req : terms_[t].requires_terms) {
+      const int k = indexOf(req);
+      if (k >= 0) base = withTerm(base, k);
+    }
+    return base;
+  }
+
+  bool requiredByOthers(const std::vector<int>& model, int t) const {
+    for (int m : model)
+      for (const std::string& req : terms_[m].requires_terms)
+        if (req == terms_[t].key()) return true;
+    return false;
+  }
+
   std::vector<int> withTerm(std::vector<int> model, int t) const {
     for (const std::string& ex : terms_[t].excludes)
       model.erase(std::remove_if(model.begin(), model.end(),
@@ -333,6 +356,7 @@ class Selector {
         res.nuisance = tf;
       } else {
         evidence(model, t, &tf.delta_bic, &tf.cv_gain);
+        tf.claimed = passes(tf.delta_bic, tf.cv_gain);
         res.selected.push_back(tf);
       }
     }
@@ -396,13 +420,17 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<C
   std::vector<int> model = {0};
   std::vector<std::string> log;
   for (int step = 0; step < options.max_terms; ++step) {
-    const Selector::Score base = sel.score(model);
+    const Selector::Score model_score = sel.score(model);
     int best = -1;
     double best_bic = 0.0, best_cv = 0.0;
+    std::vector<int> best_trial;
     for (std::size_t t = 1; t < terms.size(); ++t) {
       if (std::find(model.begin(), model.end(), static_cast<int>(t)) != model.end()) continue;
-      const std::vector<int> trial = sel.withTerm(model, static_cast<int>(t));
-      if (trial == model) continue;
+      const std::vector<int> base_model = sel.baseFor(model, static_cast<int>(t));
+      const Selector::Score base =
+          base_model == model ? model_score : sel.score(base_model);
+      const std::vector<int> trial = sel.withTerm(base_model, static_cast<int>(t));
+      if (trial == base_model) continue;
       const Selector::Score s = sel.score(trial);
       const double dbic = base.bic - s.bic;
       const double cvg = base.cv > 0.0 ? (base.cv - s.cv) / base.cv : 0.0;
@@ -410,10 +438,11 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<C
         best = static_cast<int>(t);
         best_bic = dbic;
         best_cv = cvg;
+        best_trial = trial;
       }
     }
     if (best < 0) break;
-    model = sel.withTerm(model, best);
+    model = best_trial;
     log.push_back(fmt::format("add {} (delta_bic {:.1f}, cv_gain {:.4f})", terms[best].key(),
                               best_bic, best_cv));
   }
@@ -422,7 +451,7 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<C
     int worst = -1;
     double worst_bic = 0.0;
     for (int t : model) {
-      if (terms[t].nuisance) continue;
+      if (terms[t].nuisance || sel.requiredByOthers(model, t)) continue;
       double dbic = 0.0, cvg = 0.0;
       sel.evidence(model, t, &dbic, &cvg);
       if (!sel.passes(dbic, cvg) && (worst < 0 || dbic < worst_bic)) {

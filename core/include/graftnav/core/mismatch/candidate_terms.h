@@ -8,7 +8,7 @@
 // diagnosis.json (issue 7 item 5) and of ImuErrorModel (imu_error_terms.h). First-order forms:
 //
 //  bias_instability        r_i = b_i(t), piecewise linear in time with knots every knot_s
-//                          (the first knot's value is held by the constant bias, so K-1 columns)
+//                          (the first knot is spanned by the nuisance constant)
 //  scale_factor            r_i = k_i x_i
 //  non_orthogonality       r_i = sum_{j != i} N_ij x_j
 //  g_sensitivity (gyro)    r_i = sum_j G_ij f_j
@@ -23,8 +23,8 @@
 //  vibration_rectification r_i = c_i v(t), v the VibrationRegressor level of the reference
 //  earth_rotation_omitted  r_gyro = C_bn omega_ie_n, coefficient fixed at 1 (no free parameter)
 //  gravity_model (accel)   r = -C_bn [0, 0, 1] dg   (dg = true minus simulated gravity, m/s^2)
-// A constant bias per channel is always in the model (turn-on bias differs between lab and
-// field); it is a nuisance, not a claimed effect.
+// A constant bias per channel (optionally a linear drift too) is always in the model (turn-on
+// bias differs between lab and field); it is a nuisance, not a claimed effect.
 
 #include <Eigen/Core>
 #include <array>
@@ -52,6 +52,10 @@ struct CandidateTerm {
   bool nuisance = false;    // always in the model, never claimed
   bool fixed = false;       // coefficients fixed at 1 (earth_rotation_omitted)
   std::vector<std::string> excludes;  // keys of terms this one replaces when added
+  // Keys of terms that must be in the model when this one is tested (its evidence is measured
+  // against the model with them): the near-constant earth/gravity regressors must beat a
+  // wandering bias before they are believed.
+  std::vector<std::string> requires_terms;
   double knot_spacing_s = 0.0;        // bias_instability only
   double t_ref_degC = 0.0;            // temperature terms only
   std::string key() const { return name + ":" + sensor + (regressor.empty() ? "" : ":" + regressor); }
@@ -72,10 +76,13 @@ struct CandidateLibraryOptions {
   double knot_spacing_s = 60.0;   // bias_instability knot spacing (s)
   int max_knots = 20;             // the spacing grows for long records to keep at most this many
   double min_temperature_span_degC = 0.5;  // temperature terms need this much range
+  // Add a linear drift per channel to the nuisance. Off by default: a drift absorbs most of a
+  // temperature warm-up and costs the temperature terms their power.
+  bool linear_drift_nuisance = false;
   void validate() const;
 };
 
-// Term 0 is the nuisance constant bias; the rest are the candidates whose inputs exist.
+// Term 0 is the nuisance (constant bias per channel [+ linear drift], 6 [12] columns); the rest are the candidates whose inputs exist.
 std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& inputs,
                                                  const CandidateLibraryOptions& options = {});
 

@@ -37,11 +37,20 @@ struct DiagnosisInputs {
   // Omitted navigation physics (earth_rotation_omitted, gravity_model) can only be missing from a
   // simulated reference; a recorded reference IMU senses both. Set for simulated cases.
   bool reference_is_simulated = false;
+  // Attitude of the reference body along the record (e.g. truth.nav of a simulated case); when
+  // empty, the attitude is integrated from initial_state with the reference gyros (Earth rate
+  // removed).
+  NavSeries attitude;
   // Lab bias-instability figure of the tested IMU (SI, per sensor). When given, a
   // bias_instability term is claimed only if its fitted wander exceeds sqrt(2) times the figure
   // (two independent realizations, lab graft and field, differ by that much).
   std::optional<double> lab_gyro_bias_instability_rad_s;
   std::optional<double> lab_accel_bias_instability_m_s2;
+  // 1-sigma of the lab calibration matrices M (calibration_result.h). When given, a scale_factor
+  // or non_orthogonality term is claimed only if some element exceeds 3 x sqrt(fit sigma^2 +
+  // lab sigma^2): a smaller one is the lab calibration's own error, not missing physics.
+  std::optional<Eigen::Matrix3d> lab_gyro_M_sigma;
+  std::optional<Eigen::Matrix3d> lab_accel_M_sigma;
 };
 
 struct DiagnoseOptions {
@@ -90,17 +99,19 @@ struct DiagnosisResult {
   std::vector<Effect> effects;            // claimed
   std::vector<LocatedSpan> unexplained;   // still above noise after modelling
   ChannelRms rms_raw;                     // residual as is
-  ChannelRms rms_before;                  // residual minus its per-channel constant
-  ChannelRms rms_after;                   // residual minus constant and selected terms
+  ChannelRms rms_before;                  // residual minus its per-channel constant + linear drift
+  ChannelRms rms_after;                   // residual minus constant, drift and selected terms
   bool has_holdout = false;
   ChannelRms holdout_before, holdout_after;  // second half, model fitted on the first half
   std::vector<std::string> holdout_terms;    // terms selected on the first half
   double holdout_split_s = 0.0;
   Vector6d nuisance_bias = Vector6d::Zero(); // constant real - simulated per channel (SI)
+  Vector6d nuisance_drift = Vector6d::Zero();// linear drift over the record, end minus start (SI)
   SelectionResult selection;
   std::vector<std::string> notes;            // assumptions and warnings for the report
   Eigen::MatrixXd residual_before;           // n x 6, for plots
   Eigen::MatrixXd model;                     // n x 6, selected terms (no constant)
+  Eigen::MatrixXd nuisance;                  // n x 6, constant + drift
   std::vector<std::string> regimes;          // per bin
   ImuSeries sg3;                             // simulated + selected terms
 };

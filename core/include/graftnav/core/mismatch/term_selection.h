@@ -44,6 +44,9 @@ struct TermFit {
   Eigen::MatrixXd covariance;    // of theta
   double delta_bic = 0.0;
   double cv_gain = 0.0;
+  // False for a term kept only because a claimed term requires it (requires_terms) while it
+  // fails its own test: it stays in the model but is not claimed.
+  bool claimed = true;
 };
 
 struct SelectionResult {
