@@ -5,8 +5,7 @@
 //
 // Nodes sit on IMU sample ends: at every GNSS epoch used (the nearest sample), and every
 // max_node_spacing_s where GNSS is absent (outages, gaps, after the last fix). Node 0 is the
-// problem's initial state. Node k's interval to node k+1 holds samples
-// [sample_begin(k+1)..., sample_begin(k+1)) in the notation below: samples
+// problem's initial state. The interval from node k to node k+1 holds the IMU samples
 // [node[k].sample_end, node[k+1].sample_end).
 
 #include <ceres/loss_function.h>
