@@ -289,7 +289,7 @@ NavSolution runEkf(const EstimationProblem& problem, const EkfOptions& options,
     f.propagate(sliceImuSample(s, piece_start, s.t_s));
     while (gi < gnss.size() && gnss[gi].t_s <= s.t_s + kTimeTol_s) doUpdate(gi++);
     t_cur = s.t_s;
-    if (processed++ % static_cast<size_t>(options.output_decimation) == 0 && keep_states) {
+    if (++processed % static_cast<size_t>(options.output_decimation) == 0 && keep_states) {
       NavState st = f.state();
       st.t_s = s.t_s;
       st.gnss_week = problem.initial.gnss_week;

@@ -119,7 +119,7 @@ NavSolution runRts(const EstimationProblem& problem, const EkfOptions& options, 
     mismatch.head<9>() = navErrorPsi(sd.state(), sm[k + 1].nav);
     const PvaSigma s0 = sigmaOf(sm[k]), s1 = sigmaOf(sm[k + 1]);
     for (const NavState& st : buffer) {
-      if (processed++ % decim != 0) continue;
+      if (++processed % decim != 0) continue;  // keep the N-th, 2N-th, ... epoch
       const double u = std::clamp((st.t_s - t0) / (t1 - t0), 0.0, 1.0);
       NavState out = correctNavState(st, u * mismatch);
       out.t_s = st.t_s;
