@@ -8,6 +8,8 @@ namespace graftnav::app {
 // Every register function adds one subcommand and its callback to `app`.
 void registerSimulate(CLI::App& app);  // cmd_simulate.cpp
 void registerGraft(CLI::App& app);  // cmd_graft.cpp
+void registerEvaluate(CLI::App& app);  // cmd_evaluate.cpp
+void registerBatch(CLI::App& app);  // cmd_batch.cpp
 void registerCalibrate(CLI::App& app);  // cmd_calibrate.cpp
 void registerCompare(CLI::App& app);  // cmd_compare.cpp
 void registerNavigate(CLI::App& app);  // cmd_navigate.cpp

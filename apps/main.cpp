@@ -12,6 +12,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "graftnav 0.1.0");
   graftnav::app::registerSimulate(app);
   graftnav::app::registerGraft(app);
+  graftnav::app::registerEvaluate(app);
+  graftnav::app::registerBatch(app);
   graftnav::app::registerCalibrate(app);
   graftnav::app::registerCompare(app);
   graftnav::app::registerNavigate(app);
