@@ -6,11 +6,19 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdlib>
+#include <array>
 #include <filesystem>
+#include <fstream>
+#include <optional>
 #include <memory>
 #include <string>
 
+#include "case_loader.h"
 #include "commands.h"
+#include "estimators.h"
+#include "graftnav/core/evaluation.h"
+#include "graftnav/core/sg_statistics.h"
+#include "run_config.h"
 #include "graftnav/core/calibration/lab_calibration.h"
 #include "graftnav/core/calibration/lab_data.h"
 #include "graftnav/core/case_config.h"
@@ -76,11 +84,83 @@ std::string findPlotScript() {
   return {};
 }
 
+// Navigation level: SG#2, SG#3 and REAL navigated with one estimator and outage schedule,
+// evaluated against SOL_REF (truth, the case's reference solution, or the RTS-smoothed reference
+// IMU). Throws std::runtime_error when the case cannot be navigated.
+NavigationComparison navigateComparison(const std::string& case_dir, const std::string& estimator,
+                                        const std::string& run_config,
+                                        const std::optional<OutageScheduleConfig>& outages_cli,
+                                        const ImuSeries& sg2, const ImuSeries& sg3,
+                                        std::vector<std::string>* notes) {
+  CaseLoadOptions lo;
+  lo.lenient = true;
+  const CaseInputs c = loadCaseInputs(case_dir, lo);
+  std::vector<std::string> warnings;
+  RunConfig rc;
+  if (!run_config.empty()) rc = loadRunConfig(run_config, &warnings);
+  for (const auto& w : warnings) notes->push_back(w);
+  OutageScheduleConfig oc = rc.outages_given ? rc.outages : OutageScheduleConfig{};
+  if (outages_cli) oc = *outages_cli;
+  NavSeries sol_ref = c.reference;
+  if (sol_ref.empty()) {
+    const ImuSelection ref = selectImu(c, "ref", "", true);
+    if (!ref.profile_given)
+      throw std::runtime_error(c.paths().caseYaml() +
+                               ": no truth or reference solution, and reference_imu has no noise "
+                               "parameters to smooth SOL_REF");
+    std::vector<std::string> n;
+    sol_ref = runEstimator("rts", makeProblem(c, ref, rc, std::nullopt, &n), rc).states;
+    notes->push_back("SOL_REF: RTS-smoothed reference IMU with all GNSS");
+  }
+  const ImuSelection tested = selectImu(c, "tested", "", true);
+  if (!tested.profile_given)
+    notes->push_back("tested_imu has no noise parameters in case.yaml: the estimator's defaults are used");
+  NavigationComparison nav;
+  nav.estimator = estimator;
+  std::array<Evaluation, 3> ev;
+  const std::array<const ImuSeries*, 3> series = {&sg2, &sg3, &tested.imu};
+  for (int k = 0; k < 3; ++k) {
+    ImuSelection s = tested;
+    s.imu = *series[k];
+    std::vector<std::string> n;
+    const EstimationProblem p = makeProblem(c, s, rc, oc, &n);
+    const NavSolution sol = runEstimator(estimator, p, rc);
+    ev[k] = evaluateSolution(sol, sol_ref, p.outages, rc.evaluation.options);
+    if (k == 2) {
+      nav.outage_count = static_cast<int>(p.outages.size());
+      nav.outage_length_s = p.outages.empty() ? 0.0 : p.outages.front().length_s();
+      for (const auto& m : n) notes->push_back(m);
+    }
+  }
+  nav.err_sg2 = ev[0].outage_rms;
+  nav.err_sg3 = ev[1].outage_rms;
+  nav.err_real = ev[2].outage_rms;
+  nav.diff_before = relativeDifference(nav.err_sg2, nav.err_real);
+  nav.diff_after = relativeDifference(nav.err_sg3, nav.err_real);
+  // Which outages carry |ERR_SG2 - ERR_REAL| (per-outage maximum horizontal drift).
+  double total = 0.0;
+  for (std::size_t i = 0; i < ev[2].outages.size(); ++i) {
+    NavigationComparison::OutageShare o;
+    o.window = ev[2].outages[i].window;
+    o.real_horizontal_m = ev[2].outages[i].max.horizontal_m;
+    for (const auto& od : ev[0].outages)
+      if (std::abs(od.window.start_s - o.window.start_s) < 1e-6) o.sg2_horizontal_m = od.max.horizontal_m;
+    for (const auto& od : ev[1].outages)
+      if (std::abs(od.window.start_s - o.window.start_s) < 1e-6) o.sg3_horizontal_m = od.max.horizontal_m;
+    o.share = std::abs(o.sg2_horizontal_m - o.real_horizontal_m);
+    total += o.share;
+    nav.outages.push_back(o);
+  }
+  for (auto& o : nav.outages) o.share = total > 0.0 ? o.share / total : 0.0;
+  return nav;
+}
+
 }  // namespace
 
 void registerDiagnose(CLI::App& app) {
   struct Args {
-    std::string case_dir, out, estimator, config;
+    std::string case_dir, out, estimator, config, run_config;
+    std::optional<double> outage_length_s, outage_period_s, outage_start_s;
     bool no_plots = false;
   };
   auto args = std::make_shared<Args>();
@@ -92,6 +172,11 @@ void registerDiagnose(CLI::App& app) {
                   "also navigate SG#2, SG#3 and REAL with this estimator (ekf|rts|fgo)");
   cmd->add_option("--config", args->config, "options file (see configs/diagnose.yaml)");
   cmd->add_flag("--no-plots", args->no_plots, "do not run scripts/plot_diagnosis.py");
+  cmd->add_option("--run-config", args->run_config,
+                  "run config of the estimator (configs/navigate.yaml: ekf:, outages:, ...)");
+  cmd->add_option("--outage-length", args->outage_length_s, "outage length (s), with --estimator");
+  cmd->add_option("--outage-period", args->outage_period_s, "outage start-to-start period (s)");
+  cmd->add_option("--outage-start", args->outage_start_s, "first outage start after the first epoch (s)");
   cmd->callback([args]() {
     std::filesystem::create_directories(args->out);
     const CasePaths paths(args->case_dir);
@@ -100,10 +185,6 @@ void registerDiagnose(CLI::App& app) {
     DiagnoseOptions opt;
     if (!args->config.empty()) opt = loadDiagnoseConfig(args->config, &warnings);
     for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
-    if (!args->estimator.empty())
-      fmt::print(stderr, "warning: --estimator {}: the navigation level is not wired into diagnose "
-                         "yet; only the signal level is reported (diff_before/diff_after null)\n",
-                 args->estimator);
 
     ImuReadOptions ro;
     ro.policy = ImuReadPolicy::real();
@@ -154,7 +235,39 @@ void registerDiagnose(CLI::App& app) {
                real.size(), in.simulation_kind);
     DiagnosisResult res = diagnose(in, opt);
     res.notes.insert(res.notes.end(), notes.begin(), notes.end());
-    writeDiagnosisFiles(args->out, res);
+    std::optional<NavigationComparison> nav;
+    if (!args->estimator.empty()) {
+      std::optional<OutageScheduleConfig> oc;
+      if (args->outage_length_s || args->outage_period_s || args->outage_start_s) {
+        oc = OutageScheduleConfig{};
+        if (args->outage_length_s) oc->length_s = *args->outage_length_s;
+        if (args->outage_period_s) oc->period_s = *args->outage_period_s;
+        if (args->outage_start_s) oc->start_s = *args->outage_start_s;
+      }
+      try {
+        fmt::print(stderr, "diagnose: navigating SG#2, SG#3 and REAL with {}\n", args->estimator);
+        nav = navigateComparison(args->case_dir, args->estimator, args->run_config, oc,
+                                 in.simulated, res.sg3, &res.notes);
+      } catch (const std::exception& e) {
+        res.notes.push_back(std::string("navigation level skipped: ") + e.what());
+        fmt::print(stderr, "warning: navigation level skipped: {}\n", e.what());
+      }
+    }
+    writeDiagnosisFiles(args->out, res, nav ? &*nav : nullptr);
+    if (nav) {
+      std::string csv = "t_start,t_end,sg2_horizontal_m,sg3_horizontal_m,real_horizontal_m,share\n";
+      for (const auto& o : nav->outages)
+        csv += fmt::format("{:.3f},{:.3f},{:.4f},{:.4f},{:.4f},{:.4f}\n", o.window.start_s,
+                           o.window.end_s, o.sg2_horizontal_m, o.sg3_horizontal_m,
+                           o.real_horizontal_m, o.share);
+      std::ofstream(args->out + "/outages.csv") << csv;
+      const auto pct = [](const DriftStats& d) {
+        return fmt::format("{:.1f} / {:.1f} / {:.1f} / {:.1f} / {:.1f} %", 100 * d.horizontal_m,
+                           100 * d.vertical_m, 100 * d.roll_rad, 100 * d.pitch_rad, 100 * d.heading_rad);
+      };
+      fmt::print("  DIFF before (SG2) h/v/roll/pitch/heading: {}\n", pct(nav->diff_before));
+      fmt::print("  DIFF after  (SG3) h/v/roll/pitch/heading: {}\n", pct(nav->diff_after));
+    }
     writeImu(args->out + "/IMU_SG3.txt", res.sg3);
 
     fmt::print("diagnosis of {}: {} located spans, {} effects, {} unexplained spans\n", cfg.name,
