@@ -267,10 +267,11 @@ NavSolution runEkf(const EstimationProblem& problem, const EkfOptions& options,
 
   double t_cur = problem.initial.t_s;
   size_t gi = 0;
-  while (gi < gnss.size() && gnss[gi].t_s <= t_cur + kTimeTol_s) ++gi;
+  while (gi < gnss.size() && gnss[gi].t_s < t_cur - kTimeTol_s) ++gi;  // before the start
   auto doUpdate = [&](size_t i) {
     if (f.updatePosition(gnss[i], problem.lever_arm_b_m)) ++sol.gnss_used;
   };
+  while (gi < gnss.size() && gnss[gi].t_s <= t_cur + kTimeTol_s) doUpdate(gi++);  // at the start
   size_t processed = 0;
   const size_t progress_step = std::max<size_t>(1, n / 100);
   for (size_t j = 0; j < n; ++j) {
