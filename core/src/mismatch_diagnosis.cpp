@@ -423,7 +423,11 @@ DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt) 
   out.rms_after = rmsOf(after);
   out.unexplained = locateResidual(after, grid, out.regimes, opt.locate, &noise_ms);
   if (opt.holdout) holdoutCheck(r, terms, opt, &out);
-  out.sg3 = addBinnedContribution(in.simulated, grid, out.model);
+  // SG#3 takes each term's variation, not its record mean: a constant part is confounded with
+  // the nuisance bias (e.g. G_iz f_z with f_z ~ -g), which is not grafted, so grafting it would
+  // add an arbitrary bias.
+  out.sg3 = addBinnedContribution(in.simulated, grid,
+                                  out.model.rowwise() - out.model.colwise().mean());
   return out;
 }
 

@@ -7,7 +7,9 @@
 //   3. residual r = real - simulated per channel; locate where it departs from noise (locate.h);
 //   4. explain it with the candidate terms (candidate_terms.h, term_selection.h) plus the
 //      quantization lattice of the raw tested samples;
-//   5. model: SG#3 = simulation + the selected terms; residual RMS before/after on the whole record
+//   5. model: SG#3 = simulation + the selected terms (each channel's record mean of the model left
+//      out: it is confounded with the constant bias, which is not grafted); residual RMS
+//      before/after on the whole record
 //      and on the second half with a model fitted on the first half only;
 //   6. whatever the model leaves above noise is listed as unexplained, with where it lives.
 
@@ -113,7 +115,7 @@ struct DiagnosisResult {
   Eigen::MatrixXd model;                     // n x 6, selected terms (no constant)
   Eigen::MatrixXd nuisance;                  // n x 6, constant + drift
   std::vector<std::string> regimes;          // per bin
-  ImuSeries sg3;                             // simulated + selected terms
+  ImuSeries sg3;                             // simulated + selected terms (record mean removed)
 };
 
 DiagnosisResult diagnose(const DiagnosisInputs& inputs, const DiagnoseOptions& options = {});
