@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "script_locator.h"
 #include "graftnav/core/calibration/calibration_io.h"
 #include "graftnav/core/calibration/lab_calibration.h"
 #include "graftnav/core/calibration/multi_position.h"
@@ -39,36 +40,14 @@ struct CalibArgs {
   bool no_plots = false;
 };
 
-std::string findScriptsDir(const std::string& given) {
-  if (!given.empty()) return given;
-  if (const char* env = std::getenv("GRAFTNAV_SCRIPTS")) return env;
-  char buf[4096];
-  const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
-  if (n > 0) {
-    buf[n] = 0;
-    fs::path p = fs::path(buf).parent_path();
-    for (int up = 0; up < 3; ++up, p = p.parent_path())
-      if (fs::exists(p / "scripts" / "plot_allan.py")) return (p / "scripts").string();
-  }
-  return "scripts";
-}
-
-void runPlot(const std::string& scripts, const std::string& script, const std::string& out,
-             std::vector<std::string>& made) {
-  const std::string path = scripts + "/" + script;
-  if (!fs::exists(path)) {
-    fmt::print(stderr, "warning: {} not found; no plots (use --scripts-dir)\n", path);
-    return;
-  }
-  // Debian's python3-matplotlib lives with /usr/bin/python3 (a pyenv python3 earlier on PATH may
-  // lack it); GRAFTNAV_PYTHON overrides.
-  std::string py = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-  if (const char* env = std::getenv("GRAFTNAV_PYTHON")) py = env;
-  const std::string cmd = py + " '" + path + "' '" + out + "' > '" + out + "/plot.log' 2>&1";
-  if (std::system(cmd.c_str()) != 0)
-    fmt::print(stderr, "warning: {} failed; see {}/plot.log\n", script, out);
-  else
+// Plots through the shared script runner (scripts dir and python with matplotlib found once).
+void runPlot(const std::string& script, const std::string& out, std::vector<std::string>& made) {
+  const std::string w = runPythonScript(script, {out});
+  if (!w.empty()) {
+    fmt::print(stderr, "warning: {}\n", w);
+  } else {
     made.push_back(script);
+  }
 }
 
 std::string mat(const Eigen::Matrix3d& M, double scale, const char* f) {
@@ -171,9 +150,9 @@ void runLab(const CalibArgs& a) {
   }
   std::vector<std::string> plots;
   if (!a.no_plots) {
-    const std::string sd = findScriptsDir(a.scripts_dir);
-    if (rep.has_allan) runPlot(sd, "plot_allan.py", a.out, plots);
-    runPlot(sd, "plot_calibration.py", a.out, plots);
+    if (!a.scripts_dir.empty()) setenv("GRAFTNAV_SCRIPTS_DIR", a.scripts_dir.c_str(), 1);
+    if (rep.has_allan) runPlot("plot_allan.py", a.out, plots);
+    runPlot("plot_calibration.py", a.out, plots);
   }
 
   std::ofstream md(a.out + "/report.md");

@@ -24,14 +24,11 @@
 #include <vector>
 
 #include "commands.h"
+#include "case_loader.h"
 #include "estimators.h"
 #include "run_config.h"
-#include "graftnav/core/case_config.h"
+#include "script_locator.h"
 #include "graftnav/core/evaluation.h"
-#include "graftnav/core/gnss_io.h"
-#include "graftnav/core/imu_io.h"
-#include "graftnav/core/nav_interp.h"
-#include "graftnav/core/nav_io.h"
 #include "graftnav/core/outage_schedule.h"
 #include "graftnav/core/units.h"
 #include "graftnav/filters/ekf.h"
@@ -57,68 +54,6 @@ std::vector<std::string> splitList(const std::string& s) {
     if (!item.empty()) out.push_back(item);
   }
   return out;
-}
-
-// The case as an EstimationProblem (local equivalent of navigate's loader).
-struct LoadedCase {
-  EstimationProblem problem;
-  NavSeries truth;
-  std::string truth_name;
-};
-
-LoadedCase loadCase(const CompareArgs& a) {
-  const CasePaths paths(a.case_dir);
-  std::vector<std::string> warnings;
-  const CaseConfig cfg = loadCaseConfig(paths.caseYaml(), &warnings);
-  for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
-  LoadedCase lc;
-  EstimationProblem& p = lc.problem;
-  ImuReadOptions ro;
-  std::string imu_path;
-  if (a.imu == "ref") {
-    imu_path = paths.refImu();
-    ro.nominal_rate_hz = cfg.imu_rate_hz;
-    if (!cfg.reference_imu) throw std::runtime_error(paths.caseYaml() + ": no reference_imu section");
-    p.imu_profile = *cfg.reference_imu;
-  } else {
-    imu_path = a.imu == "tested" ? paths.testedImu() : a.imu;
-    ro.nominal_rate_hz = cfg.testedImuRateHz();
-    if (!cfg.tested_imu) throw std::runtime_error(paths.caseYaml() + ": no tested_imu section");
-    p.imu_profile = *cfg.tested_imu;
-  }
-  p.imu = readImu(imu_path, ro);
-  p.gnss = readGnssPos(paths.gnssPos());
-  if (cfg.lever_arm_m) p.lever_arm_b_m = *cfg.lever_arm_m;
-  if (CasePaths::exists(paths.truthNav())) {
-    lc.truth = readNav(paths.truthNav());
-    lc.truth_name = "truth";
-  } else if (auto ref = paths.referenceSolution(cfg)) {
-    lc.truth = readNav(*ref);
-    lc.truth_name = "reference";
-  }
-  // Initial state: the truth/reference at the start of the first IMU interval, else case.yaml.
-  const double t_start = p.imu.front().t_s - p.imu.front().dt_s;
-  std::optional<NavState> init;
-  if (!lc.truth.empty()) init = interpolateNav(lc.truth, t_start, 1e-3);
-  if (!init && !lc.truth.empty() && lc.truth.front().t_s >= t_start &&
-      lc.truth.front().t_s < p.imu.front().t_s + 1e-6) {
-    init = lc.truth.front();
-  }
-  if (!init && cfg.initial_state) init = cfg.initial_state;
-  if (!init) throw std::runtime_error(a.case_dir + ": no truth, reference or initial_state");
-  p.initial = *init;
-  if (!lc.truth.empty()) {
-    // Started from the truth: tight initial sigmas (position 1 cm, velocity 1 cm/s, attitude
-    // 0.01 deg), the same for every estimator.
-    p.initial_sigma << 0.01, 0.01, 0.01, 0.01, 0.01, 0.01, 1.745e-4, 1.745e-4, 1.745e-4;
-  }
-  OutageScheduleConfig oc;
-  oc.length_s = a.outage_length_s;
-  oc.period_s = a.outage_period_s;
-  oc.start_s = a.outage_start_s;
-  oc.enabled = !a.no_outages;
-  p.outages = buildOutageWindows(oc, p.imu.front().t_s, p.imu.back().t_s);
-  return lc;
 }
 
 NavSolution runNamed(const std::string& name, const EstimationProblem& p, const RunConfig& cfg) {
@@ -163,13 +98,20 @@ void runCompare(const CompareArgs& a) {
     cfg = loadRunConfig(a.config, &warnings);
     for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
   }
-  LoadedCase lc = loadCase(a);
-  if (cfg.outages_given) {
-    lc.problem.outages = buildOutageWindows(cfg.outages, lc.problem.imu.front().t_s,
-                                            lc.problem.imu.back().t_s);
+  // The same inputs as `navigate` (apps/case_loader.h), so both commands agree to the digit.
+  const CaseInputs c = loadCaseInputs(a.case_dir);
+  for (const auto& w : c.warnings) fmt::print(stderr, "warning: {}\n", w);
+  if (c.reference.empty()) throw std::runtime_error(a.case_dir + ": compare needs truth.nav or a reference");
+  OutageScheduleConfig oc = cfg.outages;
+  if (!cfg.outages_given) {
+    oc.length_s = a.outage_length_s;
+    oc.period_s = a.outage_period_s;
+    oc.start_s = a.outage_start_s;
   }
-  if (lc.truth.empty()) throw std::runtime_error(a.case_dir + ": compare needs truth.nav or a reference");
-  const EstimationProblem& p = lc.problem;
+  oc.enabled = oc.enabled && !a.no_outages;
+  std::vector<std::string> notes;
+  const EstimationProblem problem = makeProblem(c, selectImu(c, a.imu), cfg, oc, &notes);
+  const EstimationProblem& p = problem;
   const std::vector<std::string> names = splitList(a.estimators);
   if (names.empty()) throw std::invalid_argument("compare: --estimators is empty");
   fmt::print(stderr, "compare: {} IMU samples, {} GNSS fixes, {} outages of {:.0f} s\n",
@@ -183,7 +125,7 @@ void runCompare(const CompareArgs& a) {
     Row r;
     r.name = name;
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    r.eval = evaluateSolution(sol, lc.truth, p.outages);
+    r.eval = evaluateSolution(sol, c.reference, p.outages);
     r.gnss_rejected = sol.gnss_rejected;
     fmt::print(stderr, "  {:<20s} {:7.2f} s  outage horiz RMS {:.3f} m, GNSS rejected {}\n", name,
                r.seconds, r.eval.outage_rms.horizontal_m, sol.gnss_rejected);
@@ -209,7 +151,7 @@ void runCompare(const CompareArgs& a) {
   md << fmt::format("# Estimator comparison: {}\n\nIMU: {} ({}), {} outages of {:.0f} s every "
                     "{:.0f} s from {:.0f} s; errors against the {}.\n\n",
                     a.case_dir, a.imu, p.imu_profile.name, p.outages.size(), a.outage_length_s,
-                    a.outage_period_s, a.outage_start_s, lc.truth_name);
+                    a.outage_period_s, a.outage_start_s, c.reference_name);
   md << "## Outage errors, RMS over outage epochs (seed Tables 2-3)\n\n"
         "| estimator | horiz. (m) | vert. (m) | roll (deg) | pitch (deg) | heading (deg) | "
         "run (s) | GNSS rejected |\n|---|---|---|---|---|---|---|---|\n";
@@ -285,8 +227,9 @@ void runCompare(const CompareArgs& a) {
   std::stringstream text;
   text << back.rdbuf();
   fmt::print("{}", text.str());
-  fmt::print("\nwrote {0}/compare.md, {0}/compare.csv, {0}/compare_errors.csv (plot: python3 "
-             "scripts/plot_compare.py {0})\n", a.out);
+  fmt::print("\nwrote {0}/compare.md, {0}/compare.csv, {0}/compare_errors.csv\n", a.out);
+  const std::string w = runPythonScript("plot_compare.py", {a.out});
+  if (!w.empty()) fmt::print(stderr, "warning: {}\n", w);
 }
 
 }  // namespace

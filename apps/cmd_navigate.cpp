@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "case_loader.h"
 #include "estimators.h"
 #include "graftnav/core/case_config.h"
 #include "graftnav/core/evaluation.h"
@@ -23,6 +24,7 @@
 #include "graftnav/filters/alignment.h"
 #include "report_io.h"
 #include "run_config.h"
+#include "script_locator.h"
 
 namespace graftnav::app {
 namespace {
@@ -36,169 +38,44 @@ struct NavigateArgs {
   int decimate = 1;
 };
 
-std::string plotScriptPath() {
-  if (const char* env = std::getenv("GRAFTNAV_PLOT_SCRIPT")) return env;
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  const std::vector<fs::path> candidates = {
-      exe.parent_path() / ".." / "scripts" / "plot_errors.py",
-      exe.parent_path() / ".." / ".." / "scripts" / "plot_errors.py",
-      fs::path("scripts") / "plot_errors.py"};
-  for (const auto& c : candidates) {
-    if (fs::exists(c)) return fs::weakly_canonical(c).string();
-  }
-  return candidates.front().string();
-}
-
 void runNavigate(const NavigateArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&]() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
-  if (!fs::is_directory(a.case_dir)) {
-    throw std::runtime_error("case directory '" + a.case_dir + "' does not exist");
-  }
-  const CasePaths paths(a.case_dir);
-  if (!CasePaths::exists(paths.caseYaml())) {
-    throw std::runtime_error("'" + a.case_dir + "' is not a case directory: no case.yaml");
-  }
-  std::vector<std::string> warnings, notes;
-  const CaseConfig cfg = loadCaseConfig(paths.caseYaml(), &warnings);
+  CaseLoadOptions lo;
+  lo.load_gnss = !a.free_inertial;
+  lo.lenient = a.lenient;
+  const CaseInputs c = loadCaseInputs(a.case_dir, lo);
+  std::vector<std::string> warnings = c.warnings, notes;
   RunConfig rc;
   if (!a.config.empty()) rc = loadRunConfig(a.config, &warnings);
   for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
   rc.ekf.output_decimation = a.decimate;
+  if (a.free_inertial) rc.alignment.mode = "given";
 
-  // IMU and its profile.
-  std::string imu_path, imu_label;
-  double rate_hz = cfg.imu_rate_hz;
-  std::optional<ImuProfile> profile;
-  bool noise_given = false;
-  if (a.imu == "ref") {
-    imu_path = paths.refImu();
-    profile = cfg.reference_imu;
-    noise_given = cfg.reference_imu_noise_given;
-  } else if (a.imu == "tested") {
-    imu_path = paths.testedImu();
-    profile = cfg.tested_imu;
-    noise_given = cfg.tested_imu_noise_given;
-    rate_hz = cfg.testedImuRateHz();
-  } else {
-    imu_path = a.imu;  // e.g. a grafted IMU: navigated with the tested IMU's profile by default
-    profile = cfg.tested_imu;
-    noise_given = cfg.tested_imu_noise_given;
-    rate_hz = cfg.testedImuRateHz();
-  }
-  if (!a.profile.empty()) {
-    std::vector<std::string> pw;
-    profile = loadImuProfile(a.profile, &pw);
-    for (const auto& w : pw) fmt::print(stderr, "warning: {}\n", w);
-    noise_given = true;
-  }
-  if (!CasePaths::exists(imu_path)) throw std::runtime_error("IMU file '" + imu_path + "' not found");
-  const bool needs_profile = !a.free_inertial;
-  if (needs_profile && (!profile || !noise_given)) {
+  fmt::print(stderr, "[{:6.1f} s] reading the {} IMU\n", elapsed(), a.imu);
+  const ImuSelection imu = selectImu(c, a.imu, a.profile, a.lenient);
+  if (!a.free_inertial && !imu.profile_given) {
     throw std::runtime_error("no noise parameters for IMU '" + a.imu +
                              "' in case.yaml: pass --profile FILE (configs/imu/*.yaml)");
   }
-  imu_label = profile && !profile->name.empty() ? profile->name : a.imu;
+  const std::string imu_label = imu.label;
+  const NavSeries& reference = c.reference;
+  const std::string& reference_name = c.reference_name;
 
-  ImuReadOptions ro;
-  ro.nominal_rate_hz = rate_hz;
-  if (a.lenient) ro.policy = ImuReadPolicy::real();
-  fmt::print(stderr, "[{:6.1f} s] reading {}\n", elapsed(), imu_path);
-  EstimationProblem pr;
-  pr.imu = readImu(imu_path, ro);
-  if (profile) pr.imu_profile = *profile;
-  if (pr.imu.empty()) throw std::runtime_error("IMU file '" + imu_path + "' holds no sample");
-  if (!a.free_inertial) {
-    if (!CasePaths::exists(paths.gnssPos())) {
-      throw std::runtime_error("GNSS file '" + paths.gnssPos() + "' not found");
-    }
-    const std::string ft = CasePaths::exists(paths.gnssFixType()) ? paths.gnssFixType() : "";
-    pr.gnss = readGnss(paths.gnssPos(), ft, a.lenient ? GnssReadPolicy::real() : GnssReadPolicy{});
-  }
-  if (cfg.lever_arm_m) {
-    pr.lever_arm_b_m = *cfg.lever_arm_m;
-  } else if (!a.free_inertial) {
-    fmt::print(stderr, "warning: case.yaml has no lever_arm_m: using a zero lever arm\n");
-  }
-
-  // Reference for the evaluation: truth.nav, else the case's reference solution.
-  NavSeries reference;
-  std::string reference_name;
-  if (CasePaths::exists(paths.truthNav())) {
-    reference = readNav(paths.truthNav());
-    reference_name = paths.truthNav();
-  } else if (auto ref = paths.referenceSolution(cfg); ref && CasePaths::exists(*ref)) {
-    reference = readNav(*ref, a.lenient ? NavReadPolicy::real() : NavReadPolicy{});
-    reference_name = *ref;
-  }
-
-  // Initial state: truth (interpolated to the start of the first IMU interval) when present,
-  // else case.yaml initial_state; data-driven alignment when the config asks for it.
-  const double t_first = pr.imu.front().t_s - pr.imu.front().dt_s;
-  const int week = cfg.gnss_week.value_or(reference.empty() ? 0 : reference.front().gnss_week);
-  if (!reference.empty() && CasePaths::exists(paths.truthNav()) &&
-      interpolateNav(reference, std::max(t_first, reference.front().t_s), 1e-3)) {
-    pr.initial = *interpolateNav(reference, std::max(t_first, reference.front().t_s), 1e-3);
-    notes.push_back("initial state from truth.nav at t=" + fmt::format("{:.3f}", pr.initial.t_s));
-  } else if (cfg.initial_state) {
-    pr.initial = *cfg.initial_state;
-    notes.push_back("initial state from case.yaml initial_state");
-  } else if (rc.alignment.mode == "given" || a.free_inertial) {
-    throw std::runtime_error("no initial state: the case has neither field/truth.nav nor "
-                             "case.yaml initial_state (set ekf.alignment: static|motion)");
-  }
-  pr.initial.gnss_week = week;
-  if (!a.free_inertial && rc.alignment.mode == "static") {
-    if (!cfg.initial_state && reference.empty() && pr.gnss.empty()) {
-      throw std::runtime_error("static alignment needs a position (initial_state or GNSS)");
-    }
-    Geodetic pos = pr.initial.pos;
-    if (!cfg.initial_state && reference.empty()) pos = pr.gnss.front().pos;
-    const StaticAlignment al =
-        alignStatic(pr.imu, t_first, rc.alignment.static_duration_s, pos, pr.imu_profile);
-    NavState s;
-    s.t_s = t_first + rc.alignment.static_duration_s;
-    s.pos = pos;
-    s.gnss_week = week;
-    Eigen::Vector3d e = al.euler_rad;
-    if (!al.heading_valid) {
-      fmt::print(stderr, "warning: {}\n", al.note);
-      notes.push_back(al.note);
-      if (cfg.initial_state) {
-        e.z() = eulerFromQuat(cfg.initial_state->q_nb).z();
-        notes.push_back("heading taken from case.yaml initial_state");
-      } else {
-        throw std::runtime_error(al.note + "; use ekf.alignment: motion");
-      }
-    }
-    s.q_nb = quatFromEuler(e);
-    pr.initial = s;
-    pr.initial_sigma << 1.0, 1.0, 1.0, 0.05, 0.05, 0.05, std::max(al.level_std_rad, 1e-4),
-        std::max(al.level_std_rad, 1e-4), al.heading_valid ? std::max(al.heading_std_rad, 1e-3) : 0.05;
-    notes.push_back(fmt::format("static alignment: roll {:.4f} pitch {:.4f} yaw {:.4f} deg",
-                                e.x() * kRadToDeg, e.y() * kRadToDeg, e.z() * kRadToDeg));
-  } else if (!a.free_inertial && rc.alignment.mode == "motion") {
-    const auto st = alignInMotion(pr.imu, pr.gnss, pr.lever_arm_b_m, rc.alignment.motion);
-    if (!st) throw std::runtime_error("in-motion alignment: no GNSS epoch reaches the minimum speed");
-    pr.initial = *st;
-    pr.initial.gnss_week = week;
-    pr.initial_sigma << 0.5, 0.5, 0.5, 0.3, 0.3, 0.3, 1.0 * kDegToRad, 1.0 * kDegToRad,
-        3.0 * kDegToRad;
-    notes.push_back(fmt::format("in-motion alignment at t={:.3f}", st->t_s));
-  }
-
-  // Outages: config section, overridden by the command line.
+  // Outages: config section, overridden by the command line; none for a free-inertial run.
   const bool cli_outage = a.outage_length >= 0 || a.outage_period >= 0 || a.outage_start >= 0;
   OutageScheduleConfig oc = rc.outages;
   if (a.outage_length >= 0) oc.length_s = a.outage_length;
   if (a.outage_period >= 0) oc.period_s = a.outage_period;
   if (a.outage_start >= 0) oc.start_s = a.outage_start;
-  if ((rc.outages_given || cli_outage) && !a.free_inertial) {
-    pr.outages = buildOutageWindows(oc, t_first, pr.imu.back().t_s);
-  }
+  std::optional<OutageScheduleConfig> outages;
+  if ((rc.outages_given || cli_outage) && !a.free_inertial) outages = oc;
+  const EstimationProblem pr = makeProblem(c, imu, rc, outages, &notes);
+  for (const auto& n : notes)
+    if (n.find("alignment") != std::string::npos || n.find("lever") != std::string::npos)
+      fmt::print(stderr, "note: {}\n", n);
 
   const std::string estimator = a.free_inertial ? "free-inertial" : a.estimator;
   fmt::print(stderr, "[{:6.1f} s] {} on {} IMU samples, {} GNSS fixes, {} outages\n", elapsed(),
@@ -262,7 +139,7 @@ void runNavigate(const NavigateArgs& a) {
   }
   fmt::print("  wrote errors.json, run_info.json, errors.csv, outage_drift.csv in {}\n", a.out);
   if (!a.no_plots) {
-    const std::string w = runPlotScript(plotScriptPath(), a.out);
+    const std::string w = runPythonScript("plot_errors.py", {a.out});
     if (!w.empty()) {
       fmt::print(stderr, "warning: {}\n", w);
     } else {

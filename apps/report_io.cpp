@@ -114,21 +114,4 @@ void writeOutageCsv(const std::string& path, const Evaluation& ev) {
   writeText(path, out);
 }
 
-std::string runPlotScript(const std::string& script_path, const std::string& out_dir) {
-  if (!std::filesystem::exists(script_path)) return "plot script not found: " + script_path;
-  // The first python3 that has matplotlib (a pyenv shim may shadow the system one).
-  std::string python;
-  for (const char* cand : {"python3", "/usr/bin/python3"}) {
-    const std::string probe = std::string(cand) + " -c 'import matplotlib' >/dev/null 2>&1";
-    if (std::system(probe.c_str()) == 0) {
-      python = cand;
-      break;
-    }
-  }
-  if (python.empty()) return "python3 with matplotlib not available: no plots written";
-  const std::string cmd = python + " '" + script_path + "' '" + out_dir + "' >/dev/null 2>&1";
-  if (std::system(cmd.c_str()) != 0) return "plot script failed: " + cmd;
-  return {};
-}
-
 }  // namespace graftnav::app

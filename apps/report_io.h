@@ -30,8 +30,5 @@ void writeErrorsCsv(const std::string& path, const Evaluation& ev, double min_in
 // One row per outage: window and maxima.
 void writeOutageCsv(const std::string& path, const Evaluation& ev);
 
-// Runs `python3 SCRIPT OUT_DIR` when python3 and the script exist. Returns an empty string on
-// success, else a warning text (never throws for a missing python/matplotlib).
-std::string runPlotScript(const std::string& script_path, const std::string& out_dir);
 
 }  // namespace graftnav::app

@@ -124,7 +124,7 @@ Eigen::Matrix3d offDiagonal(const std::vector<double>& v, double scale) {
 SimImuConfig parseImu(const Reader& r, const YAML::Node& n, const std::string& key, bool tested,
                       std::vector<std::string>* warnings) {
   if (!n) r.fail(n, key, "required section missing");
-  std::set<std::string> known = {"profile", "turn_on_errors"};
+  std::set<std::string> known = {"profile", "turn_on_errors", "bias_instability_scale"};
   if (tested) {
     known.insert({"gyro_bias_deg_h", "accel_bias_mg", "gyro_scale_ppm", "accel_scale_ppm",
                   "gyro_nonorthogonality_urad", "accel_nonorthogonality_urad",
@@ -141,6 +141,11 @@ SimImuConfig parseImu(const Reader& r, const YAML::Node& n, const std::string& k
     r.fail(n["profile"], key + ".profile", e.what());
   }
   c.turn_on_errors = r.boolean(n, "turn_on_errors", key + ".turn_on_errors", true);
+  c.bias_instability_scale =
+      r.num(n, "bias_instability_scale", key + ".bias_instability_scale", 1.0);
+  if (!(c.bias_instability_scale >= 0.0)) {
+    r.fail(n["bias_instability_scale"], key + ".bias_instability_scale", "must be >= 0");
+  }
   if (tested) {
     if (auto v = r.vec3(n, "gyro_bias_deg_h", key + ".gyro_bias_deg_h")) {
       c.extra.gyro.constant_bias.b = *v * units::kDegPerHourToRadPerSec;
@@ -376,6 +381,10 @@ ImuErrorModel buildSimErrorModel(const SimImuConfig& imu, uint64_t seed, bool id
   if (ideal) return ImuErrorModel{};
   ImuErrorModel m = imu.turn_on_errors ? sampleErrorModel(imu.profile, seed)
                                        : stochasticErrorModel(imu.profile);
+  // The profile's bias instability stays in case.yaml (the navigator's model); only the simulated
+  // sensor's Gauss-Markov wander is scaled (0: a sensor with only the terms grafting models).
+  m.gyro.bias_instability.sigma *= imu.bias_instability_scale;
+  m.accel.bias_instability.sigma *= imu.bias_instability_scale;
   const ImuErrorModel& x = imu.extra;
   m.gyro.constant_bias.b += x.gyro.constant_bias.b;
   m.accel.constant_bias.b += x.accel.constant_bias.b;

@@ -96,6 +96,9 @@ struct SimImuConfig {
   std::string profile_path;
   ImuProfile profile;
   bool turn_on_errors = true;
+  // Multiplies the Gauss-Markov bias instability of the simulated sensor (not the profile written
+  // to case.yaml): 0 gives a sensor whose errors are all of the kinds grafting models.
+  double bias_instability_scale = 1.0;
   ImuErrorModel extra;  // only deterministic terms are filled by the parser
 };
 
