@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdlib>
+#include <algorithm>
 #include <array>
 #include <filesystem>
 #include <fstream>
@@ -82,6 +83,27 @@ std::string findPlotScript() {
     if (fs::exists(s)) return s.string();
   }
   return {};
+}
+
+// SG#2's basic error signal is the lab static record tiled over the field test, so it carries the
+// lab record's temperature history; the same tiling of the lab temperature gives each SG#2 sample
+// the temperature behind its bias (left NaN when the lab file has no temperature).
+void attachLabTemperature(const ImuSeries& lab_static, double start_offset_s, ImuSeries* sg2) {
+  if (lab_static.empty() || sg2->empty() ||
+      !std::all_of(lab_static.begin(), lab_static.end(),
+                   [](const ImuSample& s) { return s.hasTemperature(); }))
+    return;
+  ImuSeries temp = lab_static;
+  for (ImuSample& s : temp) {
+    s.dtheta_rad = Eigen::Vector3d(s.temperature_degC * s.dt_s, 0.0, 0.0);
+    s.dvel_m_s.setZero();
+  }
+  const BasicErrorSignal tiled(temp);
+  const double t0 = sg2->front().t_s - sg2->front().dt_s;
+  for (ImuSample& s : *sg2) {
+    const double u1 = s.t_s - t0 + start_offset_s;
+    s.temperature_degC = tiled.integral(u1 - s.dt_s, u1)(0) / s.dt_s;
+  }
 }
 
 // Navigation level: SG#2, SG#3 and REAL navigated with one estimator and outage schedule,
@@ -213,6 +235,7 @@ void registerDiagnose(CLI::App& app) {
       const LabCalibrationReport report = calibrateLab(lab);
       const GraftedCase g = graftCase(ref, report);
       in.simulated = g.sg2;
+      attachLabTemperature(lab.static_imu, g.start_offset_s, &in.simulated);
       in.simulation_kind = "SG#2 (lab calibration + grafting)";
       in.lab_gyro_M_sigma = report.result.gyro.M_sigma;
       in.lab_accel_M_sigma = report.result.accel.M_sigma;

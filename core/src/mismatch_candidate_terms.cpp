@@ -163,12 +163,16 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
         T.maxCoeff() - T.minCoeff() >= opt.min_temperature_span_degC) {
       const double t_ref = T.mean();
       const Eigen::VectorXd dT = T.array() - t_ref;
+      const Eigen::VectorXd& Ts = in.simulated_temperature_degC;
+      const bool sim_temp = Ts.size() == n && Ts.allFinite();
+      const Eigen::VectorXd dT_bias = sim_temp ? (T - Ts).eval() : dT;
       CandidateTerm tb;
       tb.name = "temperature_bias";
       tb.sensor = sensor;
       tb.t_ref_degC = t_ref;
       tb.explanation = "the " + sensor + " bias follows the sensor temperature";
-      for (int a = 0; a < 3; ++a) tb.columns.push_back(singleChannel(s * 3 + a, dT));
+      if (sim_temp) tb.explanation += " (regressed on the tested minus the simulation's temperature)";
+      for (int a = 0; a < 3; ++a) tb.columns.push_back(singleChannel(s * 3 + a, dT_bias));
       terms.push_back(std::move(tb));
       CandidateTerm ts;
       ts.name = "temperature_scale";

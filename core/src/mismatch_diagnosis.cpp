@@ -261,6 +261,11 @@ DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt) 
   ri.reference = x;
   ri.time_offset_column = timeOffsetRegressor(in.reference, grid, pivot);
   ri.tested_temperature_degC = y.temperature_degC;
+  if (s.temperature_degC.allFinite()) {
+    ri.simulated_temperature_degC = s.temperature_degC;
+    out.notes.push_back("the simulation carries a temperature history: temperature_bias is fitted "
+                        "on tested minus simulated temperature");
+  }
   ri.vibration_f_hp_sq = vibrationLevelPerBin(in.reference, grid, "specific_force_hp_sq");
   ri.vibration_w_hp_sq = vibrationLevelPerBin(in.reference, grid, "angular_rate_hp_sq");
   if (in.initial_state && in.reference_is_simulated) {

@@ -15,7 +15,8 @@
 //  scale_asymmetry         r_i = k_pos_i max(x_i, 0) + k_neg_i min(x_i, 0)  (spans scale_factor,
 //                          so it replaces it: the gains reported are the whole gains per sign)
 //  scale_nonlinearity      r_i = k2_i x_i^2
-//  temperature_bias        r_i = p_i (T - T_ref)      (T of the tested IMU, T_ref its mean)
+//  temperature_bias        r_i = p_i (T - T_ref)      (T of the tested IMU, T_ref its mean; or
+//                          T - T_sim when the simulation carries its own temperature history)
 //  temperature_scale       r_i = s_i (T - T_ref) x_i
 //  time_offset (both)      r = tau u(t), u = -dx/dt or the chord (x(t - tau0) - x(t)) / tau0
 //  lever_arm (accel)       r = omega_dot x r_m + omega x (omega x r_m)
@@ -66,6 +67,10 @@ struct RegressorInputs {
   BinnedImu reference;                  // true inputs x (reference IMU signals, binned)
   Eigen::MatrixXd time_offset_column;   // n x 6 (timeOffsetRegressor) or empty: no term
   Eigen::VectorXd tested_temperature_degC;  // n, or empty / NaN: no temperature terms
+  // n, optional: the temperature behind the simulation's own bias (e.g. the tiled lab record of
+  // SG#2, whose basic error signal carries the lab warm-up). When given, temperature_bias regresses
+  // on T_tested - T_simulated: the simulation already holds p (T_simulated - T_ref).
+  Eigen::VectorXd simulated_temperature_degC;
   Eigen::VectorXd vibration_f_hp_sq;    // n, specific_force_hp_sq level, or empty
   Eigen::VectorXd vibration_w_hp_sq;    // n, angular_rate_hp_sq level, or empty
   std::vector<Eigen::Matrix3d> C_bn;    // n attitudes (nav to body) or empty: no earth/gravity terms

@@ -30,7 +30,9 @@ namespace graftnav {
 struct DiagnosisInputs {
   std::string case_name;
   ImuSeries reference;   // reference IMU: the true inputs x, reference body frame
-  ImuSeries simulated;   // the simulation of the tested IMU (SG#2, or reference + static bias)
+  ImuSeries simulated;   // the simulation of the tested IMU (SG#2, or reference + static bias);
+                         // its temperature column, when every sample has one, is the temperature
+                         // behind its own bias (see RegressorInputs::simulated_temperature_degC)
   ImuSeries real;        // the tested IMU's field recording
   std::string simulation_kind;  // e.g. "SG#2" or "reference + static bias", for the report
   // Initial attitude and position of the reference body (enables the earth_rotation_omitted and
