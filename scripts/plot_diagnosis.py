@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Plots of `graftnav diagnose`: residual real - simulated per channel without and with the model.
 
-Usage: plot_diagnosis.py OUT_DIR   (reads OUT_DIR/residual.csv, writes OUT_DIR/diagnosis_residual.png
-and OUT_DIR/diagnosis_located.png)."""
+Usage: plot_diagnosis.py OUT_DIR   (reads OUT_DIR/residual.csv [and outages.csv], writes
+OUT_DIR/diagnosis_residual.png [and diagnosis_outages.png: per-outage drift of SG#2, SG#3, REAL])."""
 import csv
 import json
 import os
@@ -59,6 +59,30 @@ def main(out_dir):
     fig.savefig(os.path.join(out_dir, "diagnosis_residual.png"), dpi=110)
     plt.close(fig)
     print(f"plot_diagnosis: wrote {out_dir}/diagnosis_residual.png")
+    opath = os.path.join(out_dir, "outages.csv")
+    if os.path.exists(opath):
+        orows = list(csv.DictReader(open(opath)))
+        if orows:
+            x = list(range(len(orows)))
+            w = 0.27
+            fig, ax = plt.subplots(figsize=(10, 4))
+            for k, (key, label, color) in enumerate([("sg2_horizontal_m", "SG#2", "tab:orange"),
+                                                     ("sg3_horizontal_m", "SG#3", "tab:green"),
+                                                     ("real_horizontal_m", "REAL", "tab:blue")]):
+                ax.bar([i + (k - 1) * w for i in x], [float(r[key]) for r in orows], w,
+                       label=label, color=color)
+            ax.set_xticks(x)
+            ax.set_xticklabels([f"{float(r['t_start']) - t0:.0f} s\n{100 * float(r['share']):.0f} %"
+                                for r in orows], fontsize=8)
+            ax.set_xlabel("outage start (since the first bin); share of sum |SG#2 - REAL|")
+            ax.set_ylabel("max horizontal drift in outage [m]")
+            ax.set_title("Outage errors of SG#2, SG#3 and REAL")
+            ax.legend()
+            ax.grid(alpha=0.3, axis="y")
+            fig.tight_layout()
+            fig.savefig(os.path.join(out_dir, "diagnosis_outages.png"), dpi=110)
+            plt.close(fig)
+            print(f"plot_diagnosis: wrote {out_dir}/diagnosis_outages.png")
     return 0
 
 
