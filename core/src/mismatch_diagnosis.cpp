@@ -213,8 +213,14 @@ void holdoutCheck(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& te
 
 }  // namespace
 
+DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& opt);
+
 DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt) {
   opt.validate();
+  return diagnoseImpl(in, opt);
+}
+
+DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& opt_in) {
   if (in.reference.empty() || in.simulated.empty() || in.real.empty())
     throw std::invalid_argument("diagnose: reference, simulated and real records must be non-empty");
   DiagnosisResult out;
@@ -222,18 +228,23 @@ DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt) 
   out.simulation_kind = in.simulation_kind;
 
   // 1. Grid inside all three records.
-  GridSpec grid = commonGrid(in.reference, in.real, opt.bin_s, opt.margin_s);
+  GridSpec grid = commonGrid(in.reference, in.real, opt_in.bin_s, opt_in.margin_s);
   {
-    const GridSpec gs = commonGrid(in.simulated, in.real, opt.bin_s, opt.margin_s);
+    const GridSpec gs = commonGrid(in.simulated, in.real, opt_in.bin_s, opt_in.margin_s);
     const double t0 = std::max(grid.t_begin_s, gs.t_begin_s);
     const double t1 = std::min(grid.binStart(grid.count), gs.binStart(gs.count));
     grid.t_begin_s = t0;
-    grid.count = static_cast<int>(std::floor((t1 - t0) / opt.bin_s + 1e-9));
+    grid.count = static_cast<int>(std::floor((t1 - t0) / opt_in.bin_s + 1e-9));
     if (grid.count < 100)
       throw std::invalid_argument("diagnose: the records overlap by fewer than 100 bins");
   }
   out.grid = grid;
   const int n = grid.count;
+  // Slow-noise blocks: slow_block_s, shortened so that a short record still has 8 blocks.
+  DiagnoseOptions opt = opt_in;
+  if (opt.selection.slow_block_bins == 0 && opt.slow_block_s > 0.0)
+    opt.selection.slow_block_bins =
+        std::min(static_cast<int>(std::round(opt.slow_block_s / opt.bin_s)), n / 8);
 
   // 2. Time offset (pivot of the time_offset regressor).
   double pivot = 0.0;

@@ -114,6 +114,7 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
   j["noise_model"] = {{"ar1_rho", numList(std::vector<double>(r.selection.rho.data(), r.selection.rho.data() + 6))},
                       {"innovation_sigma", numList(std::vector<double>(r.selection.sigma.data(), r.selection.sigma.data() + 6))},
                       {"variance_inflation", num(r.selection.inflation)},
+                      {"slow_noise_inflation", numList(std::vector<double>(r.selection.slow_inflation.data(), r.selection.slow_inflation.data() + 6))},
                       {"rows", r.selection.rows}};
   j["constant_bias"] = numList(std::vector<double>(r.nuisance_bias.data(), r.nuisance_bias.data() + 6));
   j["linear_drift"] = numList(std::vector<double>(r.nuisance_drift.data(), r.nuisance_drift.data() + 6));
@@ -188,9 +189,12 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparis
   m += "\n## Selection log\n\n";
   for (const std::string& l : r.selection.log) m += "- " + l + "\n";
   m += fmt::format("\nNoise model: AR(1) rho per channel [{:.3f}, {:.3f}, {:.3f}, {:.3f}, {:.3f}, {:.3f}], "
-                   "variance inflation {:.2f}.\n",
+                   "variance inflation {:.2f}, slow-noise inflation {:.3g} {:.3g} {:.3g} {:.3g} {:.3g} {:.3g}.\n",
                    r.selection.rho(0), r.selection.rho(1), r.selection.rho(2), r.selection.rho(3),
-                   r.selection.rho(4), r.selection.rho(5), r.selection.inflation);
+                   r.selection.rho(4), r.selection.rho(5), r.selection.inflation,
+                   r.selection.slow_inflation(0), r.selection.slow_inflation(1),
+                   r.selection.slow_inflation(2), r.selection.slow_inflation(3),
+                   r.selection.slow_inflation(4), r.selection.slow_inflation(5));
   if (!r.notes.empty()) {
     m += "\n## Notes\n\n";
     for (const std::string& n : r.notes) m += "- " + n + "\n";

@@ -240,6 +240,73 @@ class Selector {
       const double var = f1.rss / std::max(1.0, gram_.rows - static_cast<double>(S.size()));
       inflation_ *= std::max(1.0, var);
     }
+    estimateSlowNoise(r, full, rb, re);
+  }
+
+  // The AR(1) model leaves out noise with long correlation (a bias random process whose field and
+  // lab realizations differ). Its size: the variance of block means of the whitened residual of
+  // the full model without the slow candidates (bias wander, temperature, Earth/gravity), times
+  // the block length (1 for white noise). A term's slowness: the share of its whitened regressor
+  // energy in the block means. Its evidence and covariance are inflated by
+  // 1 + slowness (slow_inflation - 1).
+  void estimateSlowNoise(const Eigen::MatrixXd& r, const std::vector<int>& full, int rb, int re) {
+    term_inflation_.assign(terms_.size(), 1.0);
+    slow_inflation_.setOnes();
+    const int m = opt_.slow_block_bins;
+    const int len = re - rb;
+    const int blocks = m > 1 ? len / m : 0;
+    if (blocks < 4) return;
+    auto isSlow = [&](int t) {
+      const std::string& nm = terms_[t].name;
+      return nm == "bias_instability" || nm == "temperature_bias" || nm == "temperature_scale" ||
+             nm == "gravity_model" || nm == "earth_rotation_omitted";
+    };
+    std::vector<int> fast;
+    for (int t : full)
+      if (!isSlow(t)) fast.push_back(t);
+    std::vector<int> S, F;
+    modelColumns(fast, terms_, map_, &S, &F);
+    const ModelFit fit = solve(gram_.G_all, gram_.b_all, gram_.yy_all, S, F, false);
+    const Eigen::MatrixXd e = residualOf(r, fast, fit, rb, re);
+    // Whitened series -> block means of the series minus its mean.
+    auto blockMeans = [&](const Eigen::VectorXd& z, int c, int offset, std::vector<double>* bm,
+                          double* energy) {
+      Eigen::VectorXd w(len);
+      for (int i = 0; i < len; ++i) {
+        const double prev = i > 0 ? z(offset + i - 1) : 0.0;
+        w(i) = (z(offset + i) - (i > 0 ? rho_(c) * prev : 0.0)) / sigma_(c);
+      }
+      w.array() -= w.mean();
+      *energy = w.squaredNorm();
+      bm->assign(blocks, 0.0);
+      for (int b = 0; b < blocks; ++b) (*bm)[b] = w.segment(b * m, m).mean();
+    };
+    for (int c = 0; c < kMismatchChannels; ++c) {
+      std::vector<double> bm;
+      double energy = 0.0;
+      blockMeans(e.col(c), c, 0, &bm, &energy);
+      double acc = 0.0;
+      for (double v : bm) acc += v * v;
+      slow_inflation_(c) = std::max(1.0, m * acc / blocks / inflation_);
+    }
+    // A term's inflation: its (mean-removed, whitened) regressor energy per channel, weighted by
+    // the share that lives in block means and that channel's slow inflation.
+    for (std::size_t t = 0; t < terms_.size(); ++t) {
+      double num = 0.0, total = 0.0;
+      for (const RegressorColumn& col : terms_[t].columns)
+        for (int c = 0; c < kMismatchChannels; ++c) {
+          if (!col.actsOn(c)) continue;
+          std::vector<double> bm;
+          double energy = 0.0;
+          blockMeans(col.channel[c], c, rb, &bm, &energy);
+          double slow = 0.0;
+          for (double v : bm) slow += m * v * v;
+          slow = std::min(slow, energy);
+          num += slow * (slow_inflation_(c) - 1.0);
+          total += energy;
+        }
+      term_inflation_[t] = total > 0.0 ? 1.0 + num / total : 1.0;
+    }
   }
 
   int indexOf(const std::string& key) const {
@@ -296,13 +363,27 @@ class Selector {
   struct Score {
     double bic = 0.0;
     double cv = 0.0;
+    double rss = 0.0;
+    int p = 0;
   };
+
+  // delta_bic of going from `without` to `with` for term t: the RSS drop is divided by the term's
+  // inflation (slow regressors compete with the slow part of the noise).
+  double deltaBic(const Score& without, const Score& with, int t) const {
+    const double n_eff = gram_.rows / inflation_;
+    return (without.rss - with.rss) / (inflation_ * termInflation(t)) -
+           static_cast<double>(with.p - without.p) * std::log(n_eff);
+  }
+
+  double termInflation(int t) const { return term_inflation_[t]; }
   Score score(const std::vector<int>& model) const {
     std::vector<int> S, F;
     modelColumns(model, terms_, map_, &S, &F);
     const ModelFit fit = solve(gram_.G_all, gram_.b_all, gram_.yy_all, S, F, false);
     const double n_eff = gram_.rows / inflation_;
     Score s;
+    s.rss = fit.rss;
+    s.p = static_cast<int>(S.size());
     s.bic = fit.rss / inflation_ + static_cast<double>(S.size()) * std::log(n_eff);
     for (int f = 0; f < opt_.folds; ++f) {
       const ModelFit tr = solve(gram_.G_all - gram_.G[f], gram_.b_all - gram_.b[f],
@@ -315,7 +396,7 @@ class Selector {
   void evidence(const std::vector<int>& model, int t, double* delta_bic, double* cv_gain) const {
     const Score with = score(model);
     const Score without = score(withoutTerm(model, t));
-    *delta_bic = without.bic - with.bic;
+    *delta_bic = deltaBic(without, with, t);
     *cv_gain = without.cv > 0.0 ? (without.cv - with.cv) / without.cv : 0.0;
   }
 
@@ -328,6 +409,7 @@ class Selector {
     res.rho = rho_;
     res.sigma = sigma_;
     res.inflation = inflation_;
+    res.slow_inflation = slow_inflation_;
     res.rows = gram_.rows;
     std::vector<int> S, F;
     modelColumns(model, terms_, map_, &S, &F);
@@ -348,7 +430,7 @@ class Selector {
         tf.covariance = Eigen::MatrixXd::Zero(k, k);
       } else {
         tf.theta = fit.theta.segment(pos, k);
-        tf.covariance = cov.block(pos, pos, k, k);
+        tf.covariance = cov.block(pos, pos, k, k) * termInflation(t);
         tf.sigma = tf.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
         pos += k;
       }
@@ -389,6 +471,8 @@ class Selector {
   Eigen::Matrix<double, 6, 1> rho_ = Eigen::Matrix<double, 6, 1>::Zero();
   Eigen::Matrix<double, 6, 1> sigma_ = Eigen::Matrix<double, 6, 1>::Ones();
   double inflation_ = 1.0;
+  Eigen::Matrix<double, 6, 1> slow_inflation_ = Eigen::Matrix<double, 6, 1>::Ones();
+  std::vector<double> term_inflation_;
 };
 
 void checkInputs(const Eigen::MatrixXd& residual, const std::vector<CandidateTerm>& terms,
@@ -432,7 +516,7 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<C
       const std::vector<int> trial = sel.withTerm(base_model, static_cast<int>(t));
       if (trial == base_model) continue;
       const Selector::Score s = sel.score(trial);
-      const double dbic = base.bic - s.bic;
+      const double dbic = sel.deltaBic(base, s, static_cast<int>(t));
       const double cvg = base.cv > 0.0 ? (base.cv - s.cv) / base.cv : 0.0;
       if (sel.passes(dbic, cvg) && (best < 0 || dbic > best_bic)) {
         best = static_cast<int>(t);

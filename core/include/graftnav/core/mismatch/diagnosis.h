@@ -66,6 +66,7 @@ struct DiagnoseOptions {
   RegimeOptions regimes;
   LocateOptions locate;
   bool holdout = true;       // first half fit, second half check
+  double slow_block_s = 60.0;  // block of the slow-noise check (term_selection.h); 0 = off
   bool detect_quantization = true;
   void validate() const;
 };

@@ -9,10 +9,17 @@
 //    is measured on the whitened full-model residual (lag-1 autocorrelation rho_w) and turned into
 //    a variance inflation c = (1 + rho_w) / (1 - rho_w) >= 1 (effective sample size n / c).
 // 2. Information criterion. BIC(model) = RSS_w / c + p ln(N / c), N = rows (bins x channels),
-//    p = free parameters. delta_bic of a term = BIC(model without it) - BIC(model with it).
+//    p = free parameters. delta_bic of a term = BIC(model without it) - BIC(model with it), with
+//    the term's RSS drop further divided by its slow-noise inflation (below).
 // 3. Time-blocked cross-validation. K contiguous folds of bins; each fold is predicted by the
 //    fit on the others; CV = sum of whitened squared prediction errors;
 //    cv_gain = (CV_without - CV_with) / CV_without.
+//    Slow noise: AR(1) misses noise correlated over minutes (a bias random process whose field
+//    and lab realizations differ). Per channel, c_slow = block length x variance of the 60-s
+//    block means of the whitened residual of the full model without the slow candidates (1 for
+//    white noise). A term's RSS drop is divided, and its covariance multiplied, by
+//    1 + sum_c s_c (c_slow_c - 1), s_c the share of its (mean-removed, whitened) regressor energy
+//    that lies in block means on channel c.
 // 4. Forward selection adds, while any exists, the term with the largest delta_bic among those
 //    with delta_bic > min_delta_bic and cv_gain > min_cv_gain; backward elimination then drops
 //    terms that no longer pass. A term is claimed only if it passes both tests in the final model.
@@ -34,6 +41,8 @@ struct SelectionOptions {
   double min_cv_gain = 0.0;      // relative CV improvement required
   int max_terms = 12;            // forward steps at most
   double max_rho = 0.98;         // AR(1) coefficient clamp
+  // Block length (bins) of the slow-noise check (see below); 0 = off. diagnose sets 60 s.
+  int slow_block_bins = 0;
   void validate() const;
 };
 
@@ -55,6 +64,7 @@ struct SelectionResult {
   Eigen::Matrix<double, 6, 1> rho;          // AR(1) coefficient per channel
   Eigen::Matrix<double, 6, 1> sigma;        // AR(1) innovation scale per channel (SI)
   double inflation = 1.0;                   // c of the header
+  Eigen::Matrix<double, 6, 1> slow_inflation = Eigen::Matrix<double, 6, 1>::Ones();  // c_slow per channel
   int rows = 0;                             // N
   std::vector<std::string> log;             // one line per selection step
 };
