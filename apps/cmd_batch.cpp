@@ -5,7 +5,9 @@
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <cctype>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -83,6 +85,89 @@ void writeSummaries(const std::string& out_dir, const std::vector<BatchRun>& run
   }
   writeFileAtomically((fs::path(out_dir) / "summary.csv").string(), csv);
   writeFileAtomically((fs::path(out_dir) / "summary.md").string(), md);
+}
+
+// Monte-Carlo groups: runs whose case names differ only by a trailing "_seed<N>" (same
+// estimator and schedule) are realizations of one experiment. For each group: the mean of each
+// ERR statistic over the seeds, its standard deviation, and DIFF computed on the means, which
+// separates what grafting gets wrong from the spread of single realizations.
+std::string groupName(const std::string& case_name) {
+  const auto pos = case_name.rfind("_seed");
+  if (pos == std::string::npos || pos + 5 >= case_name.size()) return case_name;
+  for (std::size_t i = pos + 5; i < case_name.size(); ++i)
+    if (!std::isdigit(static_cast<unsigned char>(case_name[i]))) return case_name;
+  return case_name.substr(0, pos);
+}
+
+void writeMonteCarloSummary(const std::string& out_dir, const std::vector<BatchRun>& runs) {
+  std::map<std::string, std::vector<const BatchRun*>> groups;
+  std::vector<std::string> order;
+  for (const auto& r : runs) {
+    if (!r.ok) continue;
+    const std::string key = groupName(fs::path(r.case_dir).filename().string()) + "|" + r.estimator + "|" +
+                            r.schedule_label;
+    if (!groups.count(key)) order.push_back(key);
+    groups[key].push_back(&r);
+  }
+  bool any = false;
+  for (const auto& k : order) any = any || groups[k].size() > 1;
+  if (!any) return;
+  std::string md = "# graftnav batch: Monte-Carlo summary over seeds\n\n"
+                   "Mean (and standard deviation over seeds) of the seed's outage statistic; DIFF on the means.\n\n"
+                   "| experiment | estimator | outages | seeds | row | horizontal_m | vertical_m | roll_deg | pitch_deg | heading_deg |\n"
+                   "|---|---|---|---|---|---|---|---|---|---|\n";
+  std::string csv = "experiment,estimator,outages,seeds,row,horizontal_m,vertical_m,roll_deg,pitch_deg,heading_deg\n";
+  for (const auto& k : order) {
+    const auto& g = groups[k];
+    if (g.size() < 2) continue;
+    const std::string exp = k.substr(0, k.find('|'));
+    std::map<std::string, std::array<double, 5>> mean;
+    for (const std::string label : {"SG1", "SG2", "REAL"}) {
+      std::array<double, 5> m{}, sq{};
+      int n = 0;
+      for (const BatchRun* r : g) {
+        const auto v = values(*r, label, false);
+        if (!std::isfinite(v[0])) continue;
+        ++n;
+        for (int i = 0; i < 5; ++i) {
+          m[i] += v[i];
+          sq[i] += v[i] * v[i];
+        }
+      }
+      if (n == 0) continue;
+      std::array<double, 5> sd{};
+      for (int i = 0; i < 5; ++i) {
+        m[i] /= n;
+        sd[i] = n > 1 ? std::sqrt(std::max(0.0, (sq[i] - n * m[i] * m[i]) / (n - 1))) : 0.0;
+      }
+      mean[label] = m;
+      md += fmt::format("| {} | {} | {} | {} | ERR_{} |", exp, g.front()->estimator, g.front()->schedule_label, n, label);
+      csv += fmt::format("{},{},{},{},ERR_{}_mean", exp, g.front()->estimator, g.front()->schedule_label, n, label);
+      for (int i = 0; i < 5; ++i) {
+        md += fmt::format(" {:.4f} ({:.4f}) |", m[i], sd[i]);
+        csv += fmt::format(",{:.6f}", m[i]);
+      }
+      md += "\n";
+      csv += "\n";
+    }
+    if (!mean.count("REAL")) continue;
+    for (const std::string label : {"SG1", "SG2"}) {
+      if (!mean.count(label)) continue;
+      md += fmt::format("| {} | {} | {} | {} | DIFF_{} (of means) |", exp, g.front()->estimator, g.front()->schedule_label,
+                        g.size(), label.substr(2));
+      csv += fmt::format("{},{},{},{},DIFF_{}_of_means", exp, g.front()->estimator, g.front()->schedule_label, g.size(),
+                         label.substr(2));
+      for (int i = 0; i < 5; ++i) {
+        const double d = std::abs(mean[label][i] - mean["REAL"][i]) / mean["REAL"][i];
+        md += fmt::format(" {:.1f}% |", 100.0 * d);
+        csv += fmt::format(",{:.6f}", d);
+      }
+      md += "\n";
+      csv += "\n";
+    }
+  }
+  writeFileAtomically((fs::path(out_dir) / "summary_monte_carlo.md").string(), md);
+  writeFileAtomically((fs::path(out_dir) / "summary_monte_carlo.csv").string(), csv);
 }
 
 }  // namespace
@@ -172,6 +257,7 @@ void registerBatch(CLI::App& app) {
     for (int k = 0; k < n_threads; ++k) pool.emplace_back(worker);
     for (auto& t : pool) t.join();
     writeSummaries(m.out_dir, runs);
+    writeMonteCarloSummary(m.out_dir, runs);
     fmt::print("batch: {} runs, {} ok, {} failed; summary: {}/summary.md and summary.csv\n", runs.size(),
                runs.size() - failed.load(), failed.load(), m.out_dir);
     if (failed.load() > 0) throw std::runtime_error(fmt::format("{} of {} batch runs failed (see the summary)",
