@@ -133,5 +133,42 @@ TEST(Batch, AFailedCaseIsReportedAndDoesNotStopTheOthers) {
   EXPECT_NE(header.find("DIFF_SG2_horizontal_frac"), std::string::npos) << header;
 }
 
+TEST(Batch, MonteCarloSummaryGroupsSeedsAndAveragesThem) {
+  // The same case under two seed names: the group mean must equal the single-run value, the
+  // spread must be zero and DIFF of the means must equal the single-run DIFF.
+  const std::string dir = test::makeTempDir("batch_mc");
+  fs::create_directory_symlink(sample("tactical"), dir + "/exp_seed1");
+  fs::create_directory_symlink(sample("tactical"), dir + "/exp_seed2");
+  std::ofstream(dir + "/manifest.yaml") << "out: out\n"
+                                        << "config: " << sampleConfig() << "\n"
+                                        << "cases: [exp_seed1, exp_seed2]\n"
+                                        << "estimators: [ekf]\n";
+  const RunResult r = run("batch " + dir + "/manifest.yaml --jobs 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto single = readJson(dir + "/out/exp_seed1__ekf__config/evaluation.json");
+  std::ifstream f(dir + "/out/summary_monte_carlo.csv");
+  ASSERT_TRUE(f.good());
+  std::string line;
+  std::getline(f, line);  // header
+  int rows = 0;
+  while (std::getline(f, line)) {
+    std::vector<std::string> c;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) c.push_back(x);
+    ASSERT_EQ(c.size(), 10u) << line;
+    EXPECT_EQ(c[0], "exp");
+    EXPECT_EQ(c[3], "2");
+    if (c[4] == "ERR_SG2_mean") {
+      EXPECT_NEAR(std::stod(c[5]), single["err"]["SG2"]["horizontal_m"].get<double>(), 1e-5);
+      ++rows;
+    }
+    if (c[4] == "DIFF_2_of_means") {
+      EXPECT_NEAR(std::stod(c[5]), single["diff"]["SG2"]["horizontal_m"].get<double>(), 1e-4);
+      ++rows;
+    }
+  }
+  EXPECT_EQ(rows, 2);
+}
+
 }  // namespace
 }  // namespace graftnav
