@@ -262,3 +262,43 @@ TEST(MismatchSelection, RejectsTermsOnColouredNoise) {
 
 }  // namespace
 }  // namespace graftnav
+
+namespace graftnav {
+namespace {
+
+// A slowly wandering bias difference (two Gauss-Markov realizations, tau 20 min) on top of the
+// white noise: without the slow-noise inflation, a temperature ramp regressor soaks it up and is
+// claimed at hundreds of BIC units; with it, the slow candidates stay unclaimed on most records.
+TEST(MismatchSelection, SlowBiasWanderIsNotClaimedAsTemperature) {
+  const Motion m = carMotion(8);
+  const RegressorInputs in = syntheticInputs(m, 600.0, 0.0);
+  const std::vector<CandidateTerm> terms = buildCandidateLibrary(in);
+  const int n = in.reference.size();
+  SelectionOptions opt;
+  opt.slow_block_bins = static_cast<int>(60.0 / in.reference.grid.bin_s);
+  int claimed_temperature = 0;
+  std::string log;
+  for (uint64_t seed = 300; seed < 310; ++seed) {
+    Eigen::MatrixXd r = ar1Noise(n, 0.3, seed);
+    StandardNormalSampler rng(seed + 1000);
+    const double scale[6] = {3e-4, 3e-4, 3e-4, 1e-2, 1e-2, 1e-2};  // wander 1-sigma per channel
+    const double phi = std::exp(-in.reference.grid.bin_s / 1200.0);
+    for (int c = 0; c < 6; ++c) {
+      double b = rng.next();
+      for (int i = 0; i < n; ++i) {
+        b = phi * b + std::sqrt(1.0 - phi * phi) * rng.next();
+        r(i, c) += scale[c] * b;
+      }
+    }
+    const SelectionResult sel = selectTerms(r, terms, opt);
+    for (const TermFit& tf : sel.selected)
+      if (tf.claimed && terms[tf.term].name.rfind("temperature", 0) == 0) {
+        ++claimed_temperature;
+        log += terms[tf.term].key() + " ";
+      }
+  }
+  EXPECT_LE(claimed_temperature, 1) << log;
+}
+
+}  // namespace
+}  // namespace graftnav
