@@ -193,9 +193,12 @@ TEST(MismatchDiagnosis, JsonHasTheIssueShape) {
     EXPECT_TRUE(e.at("evidence").at("delta_bic").is_number());
     EXPECT_TRUE(e.at("evidence").at("cv_gain").is_number());
     EXPECT_TRUE(e.at("explanation").is_string());
-    if (e.at("name") == "time_offset") EXPECT_TRUE(e.at("parameters").at("tau_s").is_number());
-    if (e.at("name") == "mounting_misalignment")
+    if (e.at("name") == "time_offset") {
+      EXPECT_TRUE(e.at("parameters").at("tau_s").is_number());
+    }
+    if (e.at("name") == "mounting_misalignment") {
       EXPECT_EQ(e.at("parameters").at("rotation_rad").size(), 3u);
+    }
   }
   const auto& fit = j.at("fit");
   for (const char* k : {"signal_rms_before", "signal_rms_after"}) {

@@ -94,7 +94,9 @@ TEST(MismatchTimeOffset, RecoveredAcrossSampleRates) {
     const BinnedImu x = binImu(ref, g), y0 = binImu(tested, g), y1 = binImu(tested, g, est.tau_s);
     const double before = (y0.omega_rad_s - x.omega_rad_s).norm();
     const double after = (y1.omega_rad_s - x.omega_rad_s).norm();
-    if (std::abs(tau) > 0.01) EXPECT_LT(after, 0.2 * before);
+    if (std::abs(tau) > 0.01) {
+      EXPECT_LT(after, 0.2 * before);
+    }
   }
 }
 
