@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "graftnav/core/gnss_io.h"
+#include "graftnav/core/gnss_selection.h"
 #include "graftnav/core/imu_io.h"
 #include "graftnav/core/imu_profile_io.h"
 #include "graftnav/core/nav_interp.h"
@@ -42,7 +43,9 @@ CaseInputs loadCaseInputs(const std::string& case_dir, const CaseLoadOptions& o)
     c.reference_name = paths.truthNav();
     c.reference_is_truth = true;
   } else if (auto ref = paths.referenceSolution(c.config); ref && CasePaths::exists(*ref)) {
-    c.reference = readNav(*ref, o.lenient ? NavReadPolicy::real() : NavReadPolicy{});
+    ReadReport rep;
+    c.reference = readNav(*ref, o.lenient ? NavReadPolicy::real() : NavReadPolicy{}, &rep);
+    if (!rep.summary().empty()) c.warnings.push_back(rep.summary());
     c.reference_name = *ref;
   }
   return c;
@@ -76,7 +79,9 @@ ImuSelection selectImu(const CaseInputs& c, const std::string& which, const std:
   ImuReadOptions ro;
   ro.nominal_rate_hz = rate_hz;
   if (lenient) ro.policy = ImuReadPolicy::real();
-  s.imu = readImu(s.path, ro);
+  ReadReport rep;
+  s.imu = readImu(s.path, ro, &rep);
+  s.read_summary = rep.summary();
   if (s.imu.empty()) throw std::runtime_error("IMU file '" + s.path + "' holds no sample");
   s.label = profile && !profile->name.empty() ? profile->name : which;
   return s;
@@ -92,6 +97,12 @@ EstimationProblem makeProblem(const CaseInputs& c, const ImuSelection& sel, cons
   pr.imu = sel.imu;
   pr.imu_profile = sel.profile;
   pr.gnss = c.gnss;
+  if (rc.gnss.given && !c.gnss.empty()) {
+    const GnssSelection sel = selectGnss(c.gnss, rc.gnss.selection);
+    pr.gnss = sel.kept;
+    notes->push_back(sel.counts.summary());
+    if (pr.gnss.empty()) throw std::runtime_error("GNSS selection of the run config rejected every epoch of '" + c.dir + "'");
+  }
   if (cfg.lever_arm_m) {
     pr.lever_arm_b_m = *cfg.lever_arm_m;
   } else if (!c.gnss.empty()) {
@@ -140,7 +151,14 @@ EstimationProblem makeProblem(const CaseInputs& c, const ImuSelection& sel, cons
     notes->push_back(fmt::format("static alignment: roll {:.4f} pitch {:.4f} yaw {:.4f} deg",
                                  e.x() * kRadToDeg, e.y() * kRadToDeg, e.z() * kRadToDeg));
   } else if (rc.alignment.mode == "motion") {
-    const auto st = alignInMotion(pr.imu, pr.gnss, pr.lever_arm_b_m, rc.alignment.motion);
+    GnssSeries precise;
+    for (const auto& f : pr.gnss)
+      if (std::max(f.std_ned_m.x(), f.std_ned_m.y()) <= rc.alignment.motion_max_std_m) precise.push_back(f);
+    if (precise.size() < pr.gnss.size()) {
+      notes->push_back(fmt::format("in-motion alignment from the {} of {} GNSS epochs with horizontal std <= {} m",
+                                   precise.size(), pr.gnss.size(), rc.alignment.motion_max_std_m));
+    }
+    const auto st = alignInMotion(pr.imu, precise, pr.lever_arm_b_m, rc.alignment.motion);
     if (!st) throw std::runtime_error("in-motion alignment: no GNSS epoch reaches the minimum speed");
     pr.initial = *st;
     pr.initial.gnss_week = week;

@@ -39,6 +39,7 @@ struct ImuSelection {
   bool profile_given = false;  // noise parameters known (case.yaml or a profile file)
   std::string path;
   std::string label;
+  std::string read_summary;  // the reader's conditions met (repairs/warnings); empty when clean
 };
 ImuSelection selectImu(const CaseInputs& c, const std::string& which, const std::string& profile_file = "",
                        bool lenient = false);

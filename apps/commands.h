@@ -14,5 +14,6 @@ void registerCalibrate(CLI::App& app);  // cmd_calibrate.cpp
 void registerCompare(CLI::App& app);  // cmd_compare.cpp
 void registerNavigate(CLI::App& app);  // cmd_navigate.cpp
 void registerDiagnose(CLI::App& app);  // cmd_diagnose.cpp
+void registerReal(CLI::App& app);  // cmd_real.cpp (real and real-sg)
 
 }  // namespace graftnav::app

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   graftnav::app::registerCompare(app);
   graftnav::app::registerNavigate(app);
   graftnav::app::registerDiagnose(app);
+  graftnav::app::registerReal(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

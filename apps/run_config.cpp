@@ -54,7 +54,7 @@ RunConfig loadRunConfig(const std::string& path, std::vector<std::string>* warni
   RunConfig c;
   if (!root || root.IsNull()) return c;
   if (!root.IsMap()) throw std::runtime_error(path + ": the run config must be a YAML map");
-  warnUnknown(root, "", {"outages", "ekf", "evaluation", "fgo"}, path, warnings);
+  warnUnknown(root, "", {"outages", "ekf", "evaluation", "fgo", "gnss"}, path, warnings);
 
   if (const YAML::Node o = root["outages"]) {
     c.outages_given = true;
@@ -79,6 +79,26 @@ RunConfig loadRunConfig(const std::string& path, std::vector<std::string>* warni
     warnUnknown(o, "outages", {"length_s", "period_s", "start_s", "end_margin_s", "enabled", "windows"},
                 path, warnings);
   }
+  if (const YAML::Node g = root["gnss"]) {
+    GnssConfig& q = c.gnss;
+    q.given = true;
+    read(g, "gnss", "fix_types", &q.selection.accepted_fix_types, path);
+    read(g, "gnss", "max_horizontal_std_m", &q.selection.max_horizontal_std_m, path);
+    read(g, "gnss", "max_vertical_std_m", &q.selection.max_vertical_std_m, path);
+    read(g, "gnss", "latency_s", &q.selection.latency_s, path);
+    read(g, "gnss", "latency_s_by_fix_type", &q.selection.latency_s_by_fix_type, path);
+    read(g, "gnss", "checkpoint_fix_types", &q.checkpoint_fix_types, path);
+    read(g, "gnss", "min_spacing_s", &q.selection.min_spacing_s, path);
+    try {
+      q.selection.validate();
+    } catch (const std::invalid_argument& ex) {
+      throw std::runtime_error(path + ": section gnss: " + ex.what());
+    }
+    warnUnknown(g, "gnss",
+                {"fix_types", "max_horizontal_std_m", "max_vertical_std_m", "latency_s",
+                 "latency_s_by_fix_type", "checkpoint_fix_types", "min_spacing_s"},
+                path, warnings);
+  }
   if (const YAML::Node e = root["ekf"]) {
     EkfOptions& k = c.ekf;
     read(e, "ekf", "covariance_interval_s", &k.covariance_interval_s, path);
@@ -99,6 +119,10 @@ RunConfig loadRunConfig(const std::string& path, std::vector<std::string>* warni
     read(e, "ekf", "alignment", &c.alignment.mode, path);
     read(e, "ekf", "static_alignment_s", &c.alignment.static_duration_s, path);
     read(e, "ekf", "motion_min_speed_m_s", &c.alignment.motion.min_speed_m_s, path);
+    read(e, "ekf", "motion_max_std_m", &c.alignment.motion_max_std_m, path);
+    if (!(c.alignment.motion_max_std_m > 0.0)) {
+      throw std::runtime_error(where(path, e["motion_max_std_m"], "ekf.motion_max_std_m") + ": must be > 0");
+    }
     if (c.alignment.mode != "given" && c.alignment.mode != "static" && c.alignment.mode != "motion") {
       throw std::runtime_error(where(path, e["alignment"], "ekf.alignment") + ": '" + c.alignment.mode +
                                "' is not one of given, static, motion");
@@ -113,7 +137,7 @@ RunConfig loadRunConfig(const std::string& path, std::vector<std::string>* warni
                  "max_consecutive_rejections", "gnss_std_scale", "gnss_std_floor_m",
                  "gnss_default_std_m", "init_pos_std_m", "init_vel_std_m_s",
                  "init_roll_pitch_std_deg", "init_heading_std_deg", "alignment",
-                 "static_alignment_s", "motion_min_speed_m_s"},
+                 "static_alignment_s", "motion_min_speed_m_s", "motion_max_std_m"},
                 path, warnings);
   }
   if (const YAML::Node g = root["fgo"]) {

@@ -24,6 +24,7 @@
 //     alignment: given    # given | static | motion
 //     static_alignment_s: 60
 //     motion_min_speed_m_s: 3.0
+//     motion_max_std_m: 0.5   # in-motion alignment only from epochs this precise (default: all)
 //   fgo:                  # FgoOptions (graph/include/graftnav/graph/fgo_options.h, docs/fgo.md)
 //     earth_rotation: true
 //     max_node_spacing_s: 1.0
@@ -34,6 +35,14 @@
 //     window_fixed_lag_output: false
 //     compute_covariance: false
 //     (and the other FgoOptions fields by their names)
+//   gnss:                 # GnssSelectionOptions (core/gnss_selection.h), applied by makeProblem
+//     fix_types: [1, 4, 5]          # accepted fix types (empty/absent: all)
+//     max_horizontal_std_m: 5.0     # reject epochs with max(std_N, std_E) above this
+//     max_vertical_std_m: 20.0
+//     latency_s: 0.0                # time-tag latency (t = t_tag - latency) of other fix types
+//     latency_s_by_fix_type: {4: 0.4, 5: 0.4}
+//     checkpoint_fix_types: [4]     # withheld epochs of these types = outage check points
+//     min_spacing_s: 0.05           # of two epochs closer than this keep the more precise one
 //   evaluation:
 //     nees_interval_s: 1.0
 //     csv_rate_hz: 10     # per-epoch error CSV rate (statistics always use every epoch)
@@ -42,6 +51,7 @@
 #include <vector>
 
 #include "graftnav/core/evaluation.h"
+#include "graftnav/core/gnss_selection.h"
 #include "graftnav/core/outage_schedule.h"
 #include "graftnav/filters/alignment.h"
 #include "graftnav/filters/ekf.h"
@@ -53,11 +63,20 @@ struct AlignmentConfig {
   std::string mode = "given";  // given | static | motion
   double static_duration_s = 60.0;
   MotionAlignmentOptions motion;
+  // In-motion alignment uses only GNSS epochs with max(std_N, std_E) <= this (single-point fixes
+  // at 10 Hz with metre noise fake speeds of tens of m/s at rest).
+  double motion_max_std_m = 1e9;
 };
 
 struct EvaluationConfig {
   EvaluationOptions options;
   double csv_rate_hz = 10.0;
+};
+
+struct GnssConfig {
+  bool given = false;  // a gnss: section was present
+  GnssSelectionOptions selection;
+  std::vector<int> checkpoint_fix_types;  // empty: no check-point evaluation
 };
 
 struct RunConfig {
@@ -67,6 +86,7 @@ struct RunConfig {
   AlignmentConfig alignment;
   EvaluationConfig evaluation;
   FgoOptions fgo;
+  GnssConfig gnss;
 };
 
 // Loads the file. Unknown keys are appended to *warnings; a wrong type or invalid value throws

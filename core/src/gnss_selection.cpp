@@ -42,6 +42,9 @@ void GnssSelectionOptions::validate() const {
     }
   };
   check_latency(latency_s, "latency_s");
+  if (!(min_spacing_s >= 0.0) || min_spacing_s > 10.0) {
+    throw std::invalid_argument("GnssSelectionOptions.min_spacing_s must be in [0, 10] s");
+  }
   for (const auto& [k, v] : latency_s_by_fix_type) {
     check_latency(v, "latency_s_by_fix_type[" + std::to_string(k) + "]");
   }
@@ -49,7 +52,7 @@ void GnssSelectionOptions::validate() const {
 
 bool GnssSelectionOptions::isIdentity() const {
   if (!accepted_fix_types.empty() || max_horizontal_std_m < 1e9 || max_vertical_std_m < 1e9) return false;
-  if (latency_s != 0.0) return false;
+  if (latency_s != 0.0 || min_spacing_s > 0.0) return false;
   for (const auto& kv : latency_s_by_fix_type)
     if (kv.second != 0.0) return false;
   return true;
@@ -58,9 +61,10 @@ bool GnssSelectionOptions::isIdentity() const {
 std::string GnssSelectionCounts::summary() const {
   return fmt::format(
       "GNSS selection: {} epochs in ({}), used {} ({}), rejected {} (fix type {}, std {}, "
-      "non-finite {}, duplicate time {}), reordered by the time-tag correction {}",
+      "non-finite {}, duplicate time {}, spacing {}), reordered by the time-tag correction {}",
       input, countsByType(input_by_fix_type), used, countsByType(used_by_fix_type), rejected(),
-      rejected_fix_type, rejected_std, rejected_non_finite, rejected_duplicate_time, reordered);
+      rejected_fix_type, rejected_std, rejected_non_finite, rejected_duplicate_time, rejected_spacing,
+      reordered);
 }
 
 GnssSelection selectGnss(const GnssSeries& gnss, const GnssSelectionOptions& o) {
@@ -102,6 +106,12 @@ GnssSelection selectGnss(const GnssSeries& gnss, const GnssSelectionOptions& o) 
     const GnssFix& g = out.kept[order[i]];
     if (!sorted.empty() && g.t_s <= sorted.back().t_s) {
       ++c.rejected_duplicate_time;
+      continue;
+    }
+    if (o.min_spacing_s > 0.0 && !sorted.empty() && g.t_s - sorted.back().t_s < o.min_spacing_s) {
+      ++c.rejected_spacing;
+      const auto h = [](const GnssFix& f) { return std::max(f.std_ned_m.x(), f.std_ned_m.y()); };
+      if (h(g) < h(sorted.back())) sorted.back() = g;
       continue;
     }
     sorted.push_back(g);

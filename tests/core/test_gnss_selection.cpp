@@ -62,6 +62,19 @@ TEST(GnssSelection, CollidingTimesAfterCorrectionAreCountedNotSilent) {
   EXPECT_EQ(s.counts.used + s.counts.rejected(), s.counts.input);
 }
 
+TEST(GnssSelection, MinSpacingKeepsTheMorePreciseEpoch) {
+  GnssSeries g = {fix(10.0, 1, 2, 9), fix(10.01, 4, 0.01, 0.01), fix(10.1, 1, 2, 9),
+                  fix(10.2, 1, 2, 9), fix(10.22, 1, 3, 9)};
+  GnssSelectionOptions o;
+  o.min_spacing_s = 0.05;
+  const GnssSelection s = selectGnss(g, o);
+  ASSERT_EQ(s.counts.used, 3);
+  EXPECT_EQ(s.counts.rejected_spacing, 2);
+  EXPECT_EQ(s.kept[0].fix_type, 4);             // the RTK epoch replaced the single-point one
+  EXPECT_NEAR(s.kept[2].t_s, 10.2, 1e-12);      // the noisier 10.22 epoch was dropped
+  EXPECT_EQ(s.counts.used + s.counts.rejected(), s.counts.input);
+}
+
 TEST(GnssSelection, ValidateNamesTheField) {
   GnssSelectionOptions o;
   o.max_horizontal_std_m = 0.0;
