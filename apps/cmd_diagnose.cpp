@@ -16,6 +16,7 @@
 
 #include "case_loader.h"
 #include "commands.h"
+#include "script_locator.h"
 #include "estimators.h"
 #include "graftnav/core/evaluation.h"
 #include "graftnav/core/sg_statistics.h"
@@ -74,17 +75,6 @@ DiagnoseOptions loadDiagnoseConfig(const std::string& path, std::vector<std::str
 }
 
 // scripts/plot_diagnosis.py next to the build tree (the binary lives in the build directory).
-std::string findPlotScript() {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  for (fs::path p = exe.parent_path(); !p.empty() && p != p.root_path(); p = p.parent_path()) {
-    const fs::path s = p / "scripts" / "plot_diagnosis.py";
-    if (fs::exists(s)) return s.string();
-  }
-  return {};
-}
-
 // SG#2's basic error signal is the lab static record tiled over the field test, so it carries the
 // lab record's temperature history; the same tiling of the lab temperature gives each SG#2 sample
 // the temperature behind its bias (left NaN when the lab file has no temperature).
@@ -319,19 +309,8 @@ void registerDiagnose(CLI::App& app) {
     }
     fmt::print("  wrote {0}/diagnosis.json, {0}/diagnosis.md, {0}/residual.csv, {0}/IMU_SG3.txt\n", args->out);
     if (!args->no_plots) {
-      const std::string script = findPlotScript();
-      if (script.empty()) {
-        fmt::print(stderr, "warning: scripts/plot_diagnosis.py not found; no plots\n");
-      } else {
-        // matplotlib is installed for the system interpreter; GRAFTNAV_PYTHON overrides.
-        const char* env = std::getenv("GRAFTNAV_PYTHON");
-        const std::string py = env ? env
-                               : std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3"
-                                                                             : "python3";
-        const std::string cmdline = fmt::format("'{}' '{}' '{}'", py, script, args->out);
-        if (std::system(cmdline.c_str()) != 0)
-          fmt::print(stderr, "warning: plotting failed ({}); the numbers are written\n", cmdline);
-      }
+      const std::string w = runPythonScript("plot_diagnosis.py", {args->out});
+      if (!w.empty()) fmt::print(stderr, "warning: {}; the numbers are written\n", w);
     }
   });
 }
