@@ -41,9 +41,10 @@ namespace {
 struct CompareArgs {
   std::string case_dir, out, imu = "tested";
   std::string estimators = "ekf,rts,fgo";
-  std::string config;
+  std::string config, profile;
   double outage_length_s = 60.0, outage_period_s = 180.0, outage_start_s = 300.0;
   bool no_outages = false;
+  bool lenient = false;
 };
 
 std::vector<std::string> splitList(const std::string& s) {
@@ -99,7 +100,9 @@ void runCompare(const CompareArgs& a) {
     for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
   }
   // The same inputs as `navigate` (apps/case_loader.h), so both commands agree to the digit.
-  const CaseInputs c = loadCaseInputs(a.case_dir);
+  CaseLoadOptions lo;
+  lo.lenient = a.lenient;
+  const CaseInputs c = loadCaseInputs(a.case_dir, lo);
   for (const auto& w : c.warnings) fmt::print(stderr, "warning: {}\n", w);
   if (c.reference.empty()) throw std::runtime_error(a.case_dir + ": compare needs truth.nav or a reference");
   OutageScheduleConfig oc = cfg.outages;
@@ -110,7 +113,13 @@ void runCompare(const CompareArgs& a) {
   }
   oc.enabled = oc.enabled && !a.no_outages;
   std::vector<std::string> notes;
-  const EstimationProblem problem = makeProblem(c, selectImu(c, a.imu), cfg, oc, &notes);
+  const ImuSelection imu = selectImu(c, a.imu, a.profile, a.lenient);
+  if (!imu.read_summary.empty()) fmt::print(stderr, "warning: {}\n", imu.read_summary);
+  if (!imu.profile_given) {
+    throw std::runtime_error("no noise parameters for IMU '" + a.imu + "' in case.yaml: pass --profile FILE");
+  }
+  const EstimationProblem problem = makeProblem(c, imu, cfg, oc, &notes);
+  for (const auto& n : notes) fmt::print(stderr, "note: {}\n", n);
   const EstimationProblem& p = problem;
   const std::vector<std::string> names = splitList(a.estimators);
   if (names.empty()) throw std::invalid_argument("compare: --estimators is empty");
@@ -252,6 +261,8 @@ void registerCompare(CLI::App& app) {
   cmd->add_flag("--no-outages", a->no_outages, "use every GNSS fix");
   cmd->add_option("--config", a->config, "run config YAML (ekf:, fgo:, outages: sections; outages: "
                   "there overrides the outage flags)")->check(CLI::ExistingFile);
+  cmd->add_option("--profile", a->profile, "IMU profile YAML (default: from case.yaml)")->check(CLI::ExistingFile);
+  cmd->add_flag("--lenient", a->lenient, "real-data read policies (repair/warn instead of error)");
   cmd->callback([a]() { runCompare(*a); });
 }
 

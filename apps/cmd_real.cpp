@@ -423,6 +423,11 @@ void runRealSg(const RealSgArgs& a) {
     outages = p.outages;
     fmt::print(stderr, "  GNSS used {}, gated {}, withheld {}\n", s.gnss_used, s.gnss_rejected, s.gnss_withheld);
   }
+  {
+    std::ofstream o((fs::path(a.out) / "outages.csv").string());
+    o << "start_s,end_s,data_start_s\n";
+    for (const auto& w : outages) o << fmt::format("{:.3f},{:.3f},{:.3f}\n", w.start_s, w.end_s, t_first);
+  }
   md += fmt::format("ERR against SOL_REF (reference IMU, RTS, all GNSS), {} outages, {} estimator:\n\n", outages.size(), a.estimator);
   md += "| solution | outage RMS h (m) | RMS of per-outage max h (m) | RMS of max v (m) | RMS of max roll (deg) | RMS of max pitch (deg) | RMS of max heading (deg) |\n|---|---|---|---|---|---|---|\n";
   for (std::size_t i = 0; i < evs.size(); ++i) {

@@ -1,0 +1,116 @@
+// Real recordings (../shared/data/real, read in place: the sources carry no licence file, so no
+// slice is copied into the repository). Every test is skipped with a message when the data are absent.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+
+#include "graftnav/core/gnss_io.h"
+#include "graftnav/core/gnss_latency.h"
+#include "graftnav/core/gnss_selection.h"
+#include "graftnav/core/nav_io.h"
+#include "test_support.h"
+
+namespace graftnav {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string realCase(const std::string& name) { return test::sharedDir() + "/data/real/" + name; }
+
+#define SKIP_WITHOUT(dir)                                                                      \
+  if (!fs::exists(dir)) GTEST_SKIP() << "real data not present at " << dir                     \
+                                     << " (../shared/data/real is not part of the repository)"
+
+GnssSeries readYandldGnss(std::vector<ReadReport>* reports) {
+  const std::string d = realCase("yandld_20220405_rtk") + "/field/";
+  return readGnss(d + "gnss.pos", d + "gnss_fixtype.txt", GnssReadPolicy::real(), reports);
+}
+
+TEST(RealData, YandldGnssSelectionCountsEveryEpochAndReadersAreNotSilent) {
+  SKIP_WITHOUT(realCase("yandld_20220405_rtk"));
+  std::vector<ReadReport> reports;
+  const GnssSeries g = readYandldGnss(&reports);
+  ASSERT_EQ(g.size(), 7267u);  // README: all 7267 epochs kept
+  // Epochs off whole seconds (10 Hz) are reported by the real policy, with a count.
+  bool reported = false;
+  for (const auto& r : reports) reported = reported || !r.summary().empty();
+  EXPECT_TRUE(reported);
+  GnssSelectionOptions o;
+  o.accepted_fix_types = {4, 5};
+  const GnssSelection s = selectGnss(g, o);
+  EXPECT_EQ(s.counts.input_by_fix_type.at(1), 6622);  // CONVERSION_LOG fix type counts
+  EXPECT_EQ(s.counts.used_by_fix_type.at(4), 463);
+  EXPECT_EQ(s.counts.used_by_fix_type.at(5), 182);
+  EXPECT_EQ(s.counts.rejected_fix_type, 6622);
+  EXPECT_EQ(s.counts.used + s.counts.rejected(), s.counts.input);
+}
+
+TEST(RealData, YandldRtkLatencyAgainstTheReferenceSlice) {
+  SKIP_WITHOUT(realCase("yandld_20220405_rtk"));
+  const GnssSeries g = readYandldGnss(nullptr);
+  const NavSeries ref_all =
+      readNav(realCase("yandld_20220405_rtk") + "/field/reference.nav", NavReadPolicy::real());
+  // A 250-s slice (t0+250..t0+500 s) of the drive.
+  const double t0 = ref_all.front().t_s;
+  NavSeries ref;
+  for (const auto& s : ref_all)
+    if (s.t_s >= t0 + 250.0 && s.t_s <= t0 + 500.0) ref.push_back(s);
+  const GnssSeries rtk = gnssOfFixTypes(g, {4}, GnssSelectionOptions{});
+  const GnssSeries spp = gnssOfFixTypes(g, {1}, GnssSelectionOptions{});
+  LatencyScanOptions lo;
+  lo.outlier_m = 3.0;
+  const LatencyEstimate e4 = estimateGnssLatency(ref, rtk, Eigen::Vector3d::Zero(), lo);
+  lo.outlier_m = 10.0;
+  const LatencyEstimate e1 = estimateGnssLatency(ref, spp, Eigen::Vector3d::Zero(), lo);
+  // README/CONVERSION_LOG: RTK-fixed epochs are stamped later than the place was passed
+  // (median 0.4 s, p5..p95 -0.1..2.1 s); single-point ones earlier (0..0.3 s, median 0.26 s).
+  EXPECT_GT(e4.grid_s, 0.2);
+  EXPECT_LT(e4.grid_s, 1.2);
+  EXPECT_LT(e1.grid_s, 0.0);
+  EXPECT_GT(e1.grid_s, -0.8);
+  EXPECT_LT(e4.grid_rms_h_m, 0.5 * e4.rms_h_at_zero_m);  // the shift explains most of the residual
+  EXPECT_GE(e4.fixes_used, 15) << "tau4 " << e4.grid_s << " tau1 " << e1.grid_s;
+  std::printf("slice: RTK-fixed tau %.3f s (%d fixes), single-point tau %.3f s (%d fixes)\n", e4.grid_s,
+              e4.fixes_used, e1.grid_s, e1.fixes_used);
+}
+
+TEST(RealData, WidCarGraftedDotFromItsOwnStandstill) {
+  const std::string dir = realCase("wid_car_trial07");
+  SKIP_WITHOUT(dir);
+  const std::string src = test::sourceDir();
+  const std::string out = test::makeTempDir("real_sg");
+  const std::string log = out + "/log.txt";
+  const std::string cmd = test::graftnavBinary() + " real-sg '" + dir + "' --out '" + out +
+                          "' --estimator ekf --config '" + src + "/configs/real/wid_car.yaml' --ref-profile '" +
+                          src + "/configs/real/wid_mrup.yaml' --tested-profile '" + src +
+                          "/configs/real/wid_dot.yaml' --static-gyro-threshold 0.02 --static-accel-threshold 0.65 > '" +
+                          log + "' 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  std::ifstream f(out + "/summary.md");
+  ASSERT_TRUE(f.good());
+  std::stringstream ss;
+  ss << f.rdbuf();
+  const std::string md = ss.str();
+  // The DOT's standstill gyro bias (README: about [-0.82, -1.00, -0.26] deg/s FRD).
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(md, m, std::regex(R"(gyro \[(\S+) (\S+) (\S+)\] deg/s)"))) << md;
+  EXPECT_NEAR(std::stod(m[1]), -0.82, 0.05);
+  EXPECT_NEAR(std::stod(m[2]), -1.00, 0.05);
+  EXPECT_NEAR(std::stod(m[3]), -0.26, 0.05);
+  EXPECT_NE(md.find("DIFF = SG#1 - REAL"), std::string::npos);
+  // The log states the reader results and the GNSS selection counts (never silent).
+  std::ifstream lf(log);
+  std::stringstream ls;
+  ls << lf.rdbuf();
+  EXPECT_NE(ls.str().find("GNSS selection: 751 epochs"), std::string::npos);
+  EXPECT_NE(ls.str().find("reader"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace graftnav
