@@ -98,6 +98,15 @@ EstimationProblem problemReal(const CaseInputs& c, const ImuSelection& imu, cons
     notes.push_back(fmt::format("IMU series starts at the initial state epoch t={:.3f} ({} earlier samples "
                                 "used only by the alignment)", t_init, k0));
   }
+  // GNSS epochs before the start are not navigation inputs (the EKF skips them; the graph would
+  // anchor nodes where no IMU data connects them).
+  const auto first_gnss = std::find_if(pr.gnss.begin(), pr.gnss.end(),
+                                       [&](const GnssFix& f) { return f.t_s > t_init + 1e-6; });
+  if (first_gnss != pr.gnss.begin()) {
+    notes.push_back(fmt::format("{} GNSS epochs before the initial state epoch not used",
+                                std::distance(pr.gnss.begin(), first_gnss)));
+    pr.gnss.erase(pr.gnss.begin(), first_gnss);
+  }
   if (verbose) {
     for (const auto& n : notes) fmt::print(stderr, "  note: {}\n", n);
     if (rc.alignment.mode != "given" && c.config.initial_state) {
