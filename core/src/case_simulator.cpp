@@ -157,7 +157,9 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
     lab_all.insert(lab_all.end(), with_t.begin(), with_t.end());
     lab_sizes.push_back(with_t.size());
   }
-  const ImuSeries lab_meas = applyErrors(lab_all, tested_model, deriveStreamSeed(seed, 100));
+  // Lab: the same sensor without the field-mounting geometry (relative to the reference IMU).
+  const ImuSeries lab_meas =
+      applyErrors(lab_all, labErrorModel(tested_model), deriveStreamSeed(seed, 100));
   std::size_t offset = 0;
   for (std::size_t i = 0; i < lab.size(); ++i) {
     const ImuSeries one(lab_meas.begin() + static_cast<std::ptrdiff_t>(offset),

@@ -129,7 +129,13 @@ SimImuConfig parseImu(const Reader& r, const YAML::Node& n, const std::string& k
     known.insert({"gyro_bias_deg_h", "accel_bias_mg", "gyro_scale_ppm", "accel_scale_ppm",
                   "gyro_nonorthogonality_urad", "accel_nonorthogonality_urad",
                   "g_sensitivity_deg_h_per_g", "gyro_bias_per_degC_deg_h",
-                  "accel_bias_per_degC_mg", "temperature_ref_degC"});
+                  "accel_bias_per_degC_mg", "temperature_ref_degC", "time_offset_s",
+                  "lever_arm_m", "mounting_misalignment_deg", "gyro_scale_asymmetry_pos_ppm",
+                  "gyro_scale_asymmetry_neg_ppm", "accel_scale_asymmetry_pos_ppm",
+                  "accel_scale_asymmetry_neg_ppm", "gyro_scale_nonlinearity_per_rad_s",
+                  "accel_scale_nonlinearity_per_m_s2", "gyro_vibration_rectification",
+                  "accel_vibration_rectification", "gyro_quantization_rad",
+                  "accel_quantization_m_s"});
   }
   r.checkKeys(n, key, known);
   SimImuConfig c;
@@ -179,6 +185,53 @@ SimImuConfig parseImu(const Reader& r, const YAML::Node& n, const std::string& k
         c.extra.g_sensitivity.G(i / 3, i % 3) =
             g[i] * units::kDegPerHourToRadPerSec / units::kStandardGravity_m_s2;
       }
+    }
+    // Geometry of the field mounting (tested relative to the reference IMU; never in the lab).
+    c.extra.time_offset.tau_s = r.num(n, "time_offset_s", key + ".time_offset_s", 0.0);
+    if (auto v = r.vec3(n, "lever_arm_m", key + ".lever_arm_m")) c.extra.lever_arm.r_m = *v;
+    if (auto v = r.vec3(n, "mounting_misalignment_deg", key + ".mounting_misalignment_deg")) {
+      c.extra.mounting_misalignment.rotation_rad = *v * units::kDegToRad;
+    }
+    // Non-linear sensor terms (also in the lab files: they belong to the sensor).
+    const auto ppm3 = [&](const char* k, Eigen::Vector3d* dst) {
+      if (auto v = r.vec3(n, k, key + "." + k)) *dst = *v * units::kPpmToFraction;
+    };
+    ppm3("gyro_scale_asymmetry_pos_ppm", &c.extra.gyro.scale_asymmetry.k_pos);
+    ppm3("gyro_scale_asymmetry_neg_ppm", &c.extra.gyro.scale_asymmetry.k_neg);
+    ppm3("accel_scale_asymmetry_pos_ppm", &c.extra.accel.scale_asymmetry.k_pos);
+    ppm3("accel_scale_asymmetry_neg_ppm", &c.extra.accel.scale_asymmetry.k_neg);
+    if (auto v = r.vec3(n, "gyro_scale_nonlinearity_per_rad_s",
+                        key + ".gyro_scale_nonlinearity_per_rad_s")) {
+      c.extra.gyro.scale_nonlinearity.k2 = *v;
+    }
+    if (auto v = r.vec3(n, "accel_scale_nonlinearity_per_m_s2",
+                        key + ".accel_scale_nonlinearity_per_m_s2")) {
+      c.extra.accel.scale_nonlinearity.k2 = *v;
+    }
+    for (const char* sensor : {"gyro", "accel"}) {
+      const std::string vk = std::string(sensor) + "_vibration_rectification";
+      const YAML::Node vn = n[vk];
+      if (!vn) continue;
+      r.checkKeys(vn, key + "." + vk, {"coeff", "regressor", "window_s"});
+      VibrationRectification& vr = sensor == std::string("gyro")
+                                       ? c.extra.gyro.vibration_rectification
+                                       : c.extra.accel.vibration_rectification;
+      const auto coeff = r.vec3(vn, "coeff", key + "." + vk + ".coeff");
+      if (!coeff) r.fail(vn, key + "." + vk + ".coeff", "required key missing");
+      vr.coeff = *coeff;  // SI: unit of the sensor per unit of the regressor
+      vr.regressor = r.str(vn, "regressor", key + "." + vk + ".regressor", vr.regressor);
+      if (vr.regressor != "specific_force_hp_sq" && vr.regressor != "angular_rate_hp_sq") {
+        r.fail(vn["regressor"], key + "." + vk + ".regressor",
+               "'" + vr.regressor + "' is not specific_force_hp_sq or angular_rate_hp_sq");
+      }
+      vr.window_s = r.num(vn, "window_s", key + "." + vk + ".window_s", vr.window_s);
+      if (!(vr.window_s > 0.0)) r.fail(vn["window_s"], key + "." + vk + ".window_s", "must be > 0");
+    }
+    if (auto v = r.vec3(n, "gyro_quantization_rad", key + ".gyro_quantization_rad")) {
+      c.extra.gyro.quantization.step = *v;
+    }
+    if (auto v = r.vec3(n, "accel_quantization_m_s", key + ".accel_quantization_m_s")) {
+      c.extra.accel.quantization.step = *v;
     }
   }
   return c;
@@ -395,7 +448,26 @@ ImuErrorModel buildSimErrorModel(const SimImuConfig& imu, uint64_t seed, bool id
   m.g_sensitivity.G += x.g_sensitivity.G;
   m.gyro.temperature_bias = x.gyro.temperature_bias;
   m.accel.temperature_bias = x.accel.temperature_bias;
+  m.gyro.scale_asymmetry = x.gyro.scale_asymmetry;
+  m.accel.scale_asymmetry = x.accel.scale_asymmetry;
+  m.gyro.scale_nonlinearity = x.gyro.scale_nonlinearity;
+  m.accel.scale_nonlinearity = x.accel.scale_nonlinearity;
+  m.gyro.vibration_rectification = x.gyro.vibration_rectification;
+  m.accel.vibration_rectification = x.accel.vibration_rectification;
+  m.gyro.quantization = x.gyro.quantization;
+  m.accel.quantization = x.accel.quantization;
+  m.time_offset = x.time_offset;
+  m.lever_arm = x.lever_arm;
+  m.mounting_misalignment = x.mounting_misalignment;
   m.validate();
+  return m;
+}
+
+ImuErrorModel labErrorModel(const ImuErrorModel& field_model) {
+  ImuErrorModel m = field_model;
+  m.time_offset = TimeOffset{};
+  m.lever_arm = LeverArm{};
+  m.mounting_misalignment = MountingMisalignment{};
   return m;
 }
 

@@ -46,6 +46,17 @@
 //     gyro_bias_per_degC_deg_h: [0.01, 0.02, -0.01]   # temperature coefficient of the bias
 //     accel_bias_per_degC_mg: [0.005, 0, 0.01]
 //     temperature_ref_degC: 25
+//     # Field-mounting geometry relative to the reference IMU (field file only, never the lab):
+//     time_offset_s: 0.004                    # tested tags late by this much (issue 7 convention)
+//     lever_arm_m: [0.03, -0.02, 0.01]        # tested IMU from the reference IMU, reference body FRD
+//     mounting_misalignment_deg: [0.1, -0.2, 0.15]  # rotation of tested body rel. to reference body
+//     # Non-linear sensor terms (field and lab files):
+//     gyro_scale_asymmetry_pos_ppm: [..3], gyro_scale_asymmetry_neg_ppm: [..3]   (also accel_)
+//     gyro_scale_nonlinearity_per_rad_s: [..3]   # k2, y = x + k2 x^2 (SI: 1/(rad/s))
+//     accel_scale_nonlinearity_per_m_s2: [..3]   # k2 (SI: 1/(m/s^2))
+//     accel_vibration_rectification: {coeff: [..3], regressor: specific_force_hp_sq, window_s: 1}
+//                                    # coeff SI per regressor unit (also gyro_)
+//     gyro_quantization_rad: [..3]     # increment step (rad); accel_quantization_m_s (m/s)
 //   temperature:                    # optional: tested IMU files get an 8th (temperature) column
 //     start_degC: 20                # warm-up T(t) = end + (start - end) exp(-(t - t_file0) / tau)
 //     end_degC: 35
@@ -138,5 +149,9 @@ SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warni
 // The error model of a simulated IMU: the profile's stochastic terms (+ one draw of the turn-on
 // bias and scale when turn_on_errors) plus the extra deterministic terms; ideal() when `ideal`.
 ImuErrorModel buildSimErrorModel(const SimImuConfig& imu, uint64_t seed, bool ideal);
+
+// The model of the same sensor on the lab bench: `field_model` without the field-mounting
+// geometry (time offset, lever arm and misalignment are relative to the reference IMU in the car).
+ImuErrorModel labErrorModel(const ImuErrorModel& field_model);
 
 }  // namespace graftnav
