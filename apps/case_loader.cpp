@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
@@ -164,6 +165,17 @@ EstimationProblem makeProblem(const CaseInputs& c, const ImuSelection& sel, cons
     pr.initial.gnss_week = week;
     pr.initial_sigma << 0.5, 0.5, 0.5, 0.3, 0.3, 0.3, 1.0 * kDegToRad, 1.0 * kDegToRad, 3.0 * kDegToRad;
     notes->push_back(fmt::format("in-motion alignment at t={:.3f}", st->t_s));
+    if (cfg.initial_state) {
+      const double yaw_case = eulerFromQuat(cfg.initial_state->q_nb).z() * kRadToDeg;
+      const double yaw = eulerFromQuat(st->q_nb).z() * kRadToDeg;
+      const double d = std::remainder(yaw - yaw_case, 360.0);
+      if (std::abs(d) > 5.0) {
+        notes->push_back(fmt::format(
+            "WARNING: in-motion alignment yaw {:.1f} deg at t={:.3f} differs by {:.1f} deg from case.yaml "
+            "initial_state ({:.1f} deg at t={:.3f}): the case's initial heading is NOT used",
+            yaw, st->t_s, d, yaw_case, cfg.initial_state->t_s));
+      }
+    }
   }
   // The schedule counts from the first IMU epoch, also when the filter starts later (alignment).
   if (outages) pr.outages = buildOutageWindows(*outages, t_first, pr.imu.back().t_s);

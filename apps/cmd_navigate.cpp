@@ -74,7 +74,8 @@ void runNavigate(const NavigateArgs& a) {
   if ((rc.outages_given || cli_outage) && !a.free_inertial) outages = oc;
   const EstimationProblem pr = makeProblem(c, imu, rc, outages, &notes);
   for (const auto& n : notes)
-    if (n.find("alignment") != std::string::npos || n.find("lever") != std::string::npos)
+    if (n.find("alignment") != std::string::npos || n.find("lever") != std::string::npos ||
+        n.find("GNSS selection") != std::string::npos)
       fmt::print(stderr, "note: {}\n", n);
 
   const std::string estimator = a.free_inertial ? "free-inertial" : a.estimator;

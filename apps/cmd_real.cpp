@@ -109,7 +109,7 @@ EstimationProblem problemReal(const CaseInputs& c, const ImuSelection& imu, cons
   }
   if (verbose) {
     for (const auto& n : notes) fmt::print(stderr, "  note: {}\n", n);
-    if (rc.alignment.mode != "given" && c.config.initial_state) {
+    if (rc.alignment.mode == "static" && c.config.initial_state) {
       const double yaw_case = eulerFromQuat(c.config.initial_state->q_nb).z() * kR2D;
       const double yaw_used = eulerFromQuat(pr.initial.q_nb).z() * kR2D;
       const double d = std::remainder(yaw_used - yaw_case, 360.0);
