@@ -112,5 +112,25 @@ TEST(RealData, WidCarGraftedDotFromItsOwnStandstill) {
   EXPECT_NE(ls.str().find("reader"), std::string::npos);
 }
 
+TEST(RealData, RunConfigGnssSectionIsValidatedWithFileAndKey) {
+  const std::string dir = realCase("wid_car_trial07");
+  SKIP_WITHOUT(dir);
+  const std::string out = test::makeTempDir("real_cfg");
+  {
+    std::ofstream c(out + "/bad.yaml");
+    c << "outages: {length_s: 20, period_s: 35, start_s: 55}\ngnss:\n  max_horizontal_std_m: 0\n";
+  }
+  const std::string log = out + "/log.txt";
+  const std::string cmd = test::graftnavBinary() + " real '" + dir + "' --out '" + out + "/o' --imu ref --profile '" +
+                          test::sourceDir() + "/configs/real/wid_mrup.yaml' --estimators ekf --config '" + out +
+                          "/bad.yaml' > '" + log + "' 2>&1";
+  EXPECT_NE(std::system(cmd.c_str()), 0);
+  std::ifstream lf(log);
+  std::stringstream ls;
+  ls << lf.rdbuf();
+  EXPECT_NE(ls.str().find("bad.yaml: section gnss"), std::string::npos) << ls.str();
+  EXPECT_NE(ls.str().find("max_horizontal_std_m"), std::string::npos) << ls.str();
+}
+
 }  // namespace
 }  // namespace graftnav
