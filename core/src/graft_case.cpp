@@ -31,6 +31,9 @@ GraftedCase graftCase(const ImuSeries& ref, const LabCalibrationReport& lab,
   GraftedCase out;
   out.gyro_fit = dynamicFitFromCalibration(lab.result.gyro, options.use_cross_axis);
   out.accel_fit = dynamicFitFromCalibration(lab.result.accel, options.use_cross_axis);
+  // The basic error signal holds the dynamic error at the static attitude already.
+  out.gyro_fit.static_point = lab.basic.omega_ie_b;
+  out.accel_fit.static_point = lab.basic.f_b;
   GraftOptions g = options.graft;
   g.start_offset_s = graftStartOffset(g, basic);
   out.start_offset_s = g.start_offset_s;

@@ -17,18 +17,25 @@ double evalPoly(const std::vector<double>& c, double x) {
 }
 }  // namespace
 
-Eigen::Vector3d SensorDynamicFit::dynamicError(const Eigen::Vector3d& x) const {
+namespace {
+// D(x): the fitted dynamic error without its constant term.
+Eigen::Vector3d dynamicPart(const SensorDynamicFit& f, const Eigen::Vector3d& x) {
   Eigen::Vector3d d;
   for (int i = 0; i < 3; ++i) {
-    const auto& c = poly[i];
+    const auto& c = f.poly[i];
     d[i] = c.empty() ? 0.0 : evalPoly(c, x[i]) - c[0] - x[i];
   }
-  if (use_cross_axis) {
-    Eigen::Matrix3d off = M;
+  if (f.use_cross_axis) {
+    Eigen::Matrix3d off = f.M;
     off.diagonal().setZero();
     d += off * x;
   }
   return d;
+}
+}  // namespace
+
+Eigen::Vector3d SensorDynamicFit::dynamicError(const Eigen::Vector3d& x) const {
+  return dynamicPart(*this, x) - dynamicPart(*this, static_point);
 }
 
 BasicErrorSignal::BasicErrorSignal(const ImuSeries& e) {

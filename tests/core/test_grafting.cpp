@@ -87,6 +87,48 @@ TEST(Grafting, FullErrorAddsDynamicErrorsWithoutDoubleCountingBias) {
   EXPECT_NEAR(sg2[1].dvel_m_s.z(), graftBasic(ref, basic, opt)[1].dvel_m_s.z(), 1e-15);
 }
 
+TEST(Grafting, NoiseFreeFullGraftReproducesTheSensorModelExactly) {
+  // Sensor: measured = M true + b. The lab static record sees true = x_s (gravity at the static
+  // attitude), so its basic error is (M - I) x_s + b. SG#2 of any reference signal x must then be
+  // exactly M x + b: no bias counted twice, no scale on gravity counted twice.
+  Eigen::Matrix3d M;
+  M << 1.0 + 300e-6, 40e-6, -25e-6,  //
+      30e-6, 1.0 - 180e-6, 15e-6,    //
+      -35e-6, 20e-6, 1.0 + 120e-6;
+  const Eigen::Vector3d b(0.003, -0.004, 0.002);
+  const Eigen::Vector3d x_s(0.0, 0.0, -9.79);
+  const double dt = 0.01;
+  ImuSeries lab;
+  for (int k = 1; k <= 10; ++k) {
+    ImuSample s;
+    s.t_s = k * dt;
+    s.dt_s = dt;
+    s.dvel_m_s = ((M - Eigen::Matrix3d::Identity()) * x_s + b) * dt;
+    lab.push_back(s);
+  }
+  const BasicErrorSignal basic(lab);
+  SensorDynamicFit accel;
+  for (int i = 0; i < 3; ++i) accel.poly[i] = {b[i], M(i, i)};
+  accel.M = M;
+  accel.static_point = x_s;
+  ImuSeries ref;
+  const std::vector<Eigen::Vector3d> xs{{1.5, -0.3, -9.7}, {-2.0, 3.1, -10.4}, {0.0, 0.0, -9.79}};
+  for (std::size_t k = 0; k < xs.size(); ++k) {
+    ImuSample s;
+    s.t_s = 50.0 + (k + 1) * dt;
+    s.dt_s = dt;
+    s.dvel_m_s = xs[k] * dt;
+    ref.push_back(s);
+  }
+  GraftOptions opt;
+  opt.start_offset_s = 0.0;
+  const ImuSeries sg2 = graftFull(ref, basic, SensorDynamicFit{}, accel, opt);
+  for (std::size_t k = 0; k < xs.size(); ++k) {
+    const Eigen::Vector3d expected = M * xs[k] + b;
+    EXPECT_LT((sg2[k].dvel_m_s / dt - expected).norm(), 1e-12) << k;
+  }
+}
+
 TEST(Grafting, DeterministicForASeedAndDifferentAcrossSeeds) {
   const BasicErrorSignal basic(series({0.1, 0.9, -0.4, 0.3, 0.8, -0.2, 0.05}, 0.5));
   const ImuSeries ref = series({0, 0, 0}, 0.5);

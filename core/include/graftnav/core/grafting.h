@@ -8,8 +8,9 @@
 // x_ref are the reference IMU's mean rates / specific forces over each sample interval, e_basic
 // the basic error signal (lab static output minus its theoretical value, seed Eq. 13-20), and
 // d(x) the dynamic error from the lab fitting functions (seed Eq. 21) with their constant term
-// removed, because the constant (the bias) is already inside e_basic:
-//   d_i(x) = p_i(x_i) - p_i(0) - x_i + sum_{j != i} M_ij x_j
+// taken relative to the lab static point x_s (gravity and Earth rate at the static attitude),
+// because e_basic already holds the bias AND the dynamic error at x_s:
+//   D_i(x) = p_i(x_i) - x_i + sum_{j != i} M_ij x_j,   d(x) = D(x) - D(x_s)
 // p_i is the per-axis polynomial fitted from theoretical to measured output; the off-diagonal of
 // the calibration matrix M carries the cross-axis terms (non-orthogonality) that a per-axis
 // polynomial cannot see. The reference IMU's own errors stay in x_ref: they are grafted too, and
@@ -41,8 +42,11 @@ struct SensorDynamicFit {
   // Calibration matrix (measured = M true + bias); only its off-diagonal is used here.
   Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
   bool use_cross_axis = true;
+  // The theoretical output during the lab static record (f_b or omega_ie_b at the static
+  // attitude): the basic error signal already carries the dynamic error there.
+  Eigen::Vector3d static_point = Eigen::Vector3d::Zero();
 
-  // The dynamic error d(x) (SI, same unit as x).
+  // The dynamic error d(x) = D(x) - D(static_point) (SI, same unit as x).
   Eigen::Vector3d dynamicError(const Eigen::Vector3d& x) const;
 };
 
