@@ -51,6 +51,12 @@ Vector6d CumulativeImu::at(double t_s) const {
   return cum_[k] + w * (cum_[k + 1] - cum_[k]);
 }
 
+Vector6d CumulativeImu::rateAt(double t_s) const {
+  if (t_.size() < 2) return Vector6d::Zero();
+  const std::size_t k = segment(t_s);
+  return (cum_[k + 1] - cum_[k]) / (t_[k + 1] - t_[k]);
+}
+
 double CumulativeImu::temperatureIntegralAt(double t_s) const {
   if (!has_temperature_) return std::numeric_limits<double>::quiet_NaN();
   const std::size_t k = segment(t_s);

@@ -430,7 +430,8 @@ class Selector {
         tf.covariance = Eigen::MatrixXd::Zero(k, k);
       } else {
         tf.theta = fit.theta.segment(pos, k);
-        tf.covariance = cov.block(pos, pos, k, k) * termInflation(t);
+        tf.inflation_factor = termInflation(t);
+        tf.covariance = cov.block(pos, pos, k, k) * tf.inflation_factor;
         tf.sigma = tf.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
         pos += k;
       }

@@ -28,6 +28,9 @@ class CumulativeImu {
   // Integral from beginTime_s() to t_s; outside the record the end rates are held.
   Vector6d at(double t_s) const;
   double temperatureIntegralAt(double t_s) const;  // NaN when no temperature
+  // Derivative of at(): the mean rate of the sample interval holding t_s (right-continuous at
+  // sample boundaries; the end rates outside the record).
+  Vector6d rateAt(double t_s) const;
 
  private:
   std::size_t segment(double t_s) const;

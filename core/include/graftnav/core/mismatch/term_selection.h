@@ -53,6 +53,9 @@ struct TermFit {
   Eigen::MatrixXd covariance;    // of theta
   double delta_bic = 0.0;
   double cv_gain = 0.0;
+  // The term's slow-noise covariance factor (1 + sum_c s_c (c_slow_c - 1)); the covariance above
+  // already carries it and the AR(1) inflation c.
+  double inflation_factor = 1.0;
   // False for a term kept only because a claimed term requires it (requires_terms) while it
   // fails its own test: it stays in the model but is not claimed.
   bool claimed = true;
