@@ -9,12 +9,14 @@
 
 #include "graftnav/core/earth.h"
 #include "graftnav/core/mismatch/diagnosis.h"
+#include "graftnav/core/mismatch/joint_fit.h"
 #include "graftnav/core/nav_interp.h"
 #include "graftnav/core/rotation.h"
 
 namespace graftnav {
 
 void DiagnoseOptions::validate() const {
+  joint_fit.validate();
   if (!(bin_s > 0.0 && bin_s <= 1.0))
     throw std::invalid_argument("DiagnoseOptions: bin_s = " + std::to_string(bin_s) +
                                 " must be in (0, 1] s");
@@ -397,6 +399,25 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
       std::vector<std::string> log = sel.log;
       sel = fitTerms(r, terms, keep, opt.selection);
       sel.log = log;
+    }
+  }
+  // Joint fit with Ceres: the time offset as a non-linear parameter with everything else selected
+  // (joint_fit.h); the linear solution is its start. Evidence stays that of the selection.
+  if (opt.ceres_joint_fit) {
+    int to_idx = -1;
+    for (const TermFit& tf : sel.selected)
+      if (terms[tf.term].name == "time_offset") to_idx = tf.term;
+    if (to_idx >= 0) {
+      const JointFitResult jf =
+          jointFitWithTimeOffset(r, in.reference, grid, terms, sel, to_idx, opt.joint_fit);
+      sel.log.push_back(jf.summary);
+      if (jf.converged) {
+        sel.nuisance = jf.nuisance;
+        sel.selected = jf.terms;
+        out.notes.push_back(jf.summary);
+      } else {
+        out.notes.push_back(jf.summary + "; the linear fit is reported");
+      }
     }
   }
   out.selection = sel;

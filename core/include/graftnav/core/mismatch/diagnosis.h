@@ -20,6 +20,7 @@
 
 #include "graftnav/core/mismatch/candidate_terms.h"
 #include "graftnav/core/mismatch/common_grid.h"
+#include "graftnav/core/mismatch/joint_fit.h"
 #include "graftnav/core/mismatch/locate.h"
 #include "graftnav/core/mismatch/term_selection.h"
 #include "graftnav/core/mismatch/time_offset.h"
@@ -68,6 +69,10 @@ struct DiagnoseOptions {
   bool holdout = true;       // first half fit, second half check
   double slow_block_s = 60.0;  // block of the slow-noise check (term_selection.h); 0 = off
   bool detect_quantization = true;
+  // When time_offset is selected, refit the final model with tau as a non-linear parameter in a
+  // ceres::Problem (joint_fit.h); the reported parameters and covariances are then Ceres'.
+  bool ceres_joint_fit = true;
+  JointFitOptions joint_fit;
   void validate() const;
 };
 
