@@ -226,9 +226,13 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
 
   {  // lever_arm: accel rows.
     Eigen::MatrixX3d wdot(n, 3);
-    for (int i = 0; i < n; ++i) {
-      const int a = std::max(0, i - 1), b = std::min(n - 1, i + 1);
-      wdot.row(i) = (x.omega_rad_s.row(b) - x.omega_rad_s.row(a)) / ((b - a) * x.grid.bin_s);
+    if (in.omega_dot_rad_s2.rows() == n) {
+      wdot = in.omega_dot_rad_s2;
+    } else {
+      for (int i = 0; i < n; ++i) {
+        const int a = std::max(0, i - 1), b = std::min(n - 1, i + 1);
+        wdot.row(i) = (x.omega_rad_s.row(b) - x.omega_rad_s.row(a)) / ((b - a) * x.grid.bin_s);
+      }
     }
     CandidateTerm t;
     t.name = "lever_arm";
@@ -302,6 +306,28 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
     }
   }
   return terms;
+}
+
+Eigen::MatrixX3d angularAccelerationPerBin(const ImuSeries& imu, const GridSpec& grid) {
+  if (imu.size() < 2) throw std::invalid_argument("angularAccelerationPerBin: fewer than 2 samples");
+  // Instantaneous rate at t: linear interpolation of the sample mean rates at the sample mids.
+  std::vector<double> mid(imu.size());
+  for (std::size_t k = 0; k < imu.size(); ++k) mid[k] = imu[k].t_s - 0.5 * imu[k].dt_s;
+  const auto rateAt = [&](double t) -> Eigen::Vector3d {
+    auto it = std::upper_bound(mid.begin(), mid.end(), t);
+    std::size_t k = it == mid.begin() ? 0 : static_cast<std::size_t>(it - mid.begin()) - 1;
+    k = std::min(k, imu.size() - 2);
+    const double w = std::clamp((t - mid[k]) / (mid[k + 1] - mid[k]), 0.0, 1.0);
+    return (1.0 - w) * imu[k].dtheta_rad / imu[k].dt_s + w * imu[k + 1].dtheta_rad / imu[k + 1].dt_s;
+  };
+  Eigen::MatrixX3d out(grid.count, 3);
+  Eigen::Vector3d prev = rateAt(grid.binStart(0));
+  for (int i = 0; i < grid.count; ++i) {
+    const Eigen::Vector3d cur = rateAt(grid.binStart(i + 1));
+    out.row(i) = ((cur - prev) / grid.bin_s).transpose();
+    prev = cur;
+  }
+  return out;
 }
 
 Eigen::MatrixXd termContribution(const CandidateTerm& term, const Eigen::VectorXd& theta, int n) {

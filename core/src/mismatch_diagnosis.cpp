@@ -279,6 +279,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     out.notes.push_back("the simulation carries a temperature history: temperature_bias is fitted "
                         "on tested minus simulated temperature");
   }
+  ri.omega_dot_rad_s2 = angularAccelerationPerBin(in.reference, grid);
   ri.vibration_f_hp_sq = vibrationLevelPerBin(in.reference, grid, "specific_force_hp_sq");
   ri.vibration_w_hp_sq = vibrationLevelPerBin(in.reference, grid, "angular_rate_hp_sq");
   if (in.initial_state && in.reference_is_simulated) {
