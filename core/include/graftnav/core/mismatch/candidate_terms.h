@@ -101,7 +101,8 @@ Eigen::VectorXd vibrationLevelPerBin(const ImuSeries& imu, const GridSpec& grid,
                                      const std::string& regressor_name, double window_s = 1.0);
 
 // Bin means of the angular acceleration of `imu` on `grid`: (omega(b) - omega(a)) / (b - a) for
-// bin (a, b], omega(t) the sample mean rates interpolated linearly between sample mids.
+// bin (a, b], omega(t) the mean rate over one bin length centred on t (less attenuation of
+// few-Hz oscillations than central differences of bin means, at twice their noise).
 // Throws std::invalid_argument with fewer than 2 samples.
 Eigen::MatrixX3d angularAccelerationPerBin(const ImuSeries& imu, const GridSpec& grid);
 
