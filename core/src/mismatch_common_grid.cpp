@@ -35,6 +35,7 @@ CumulativeImu::CumulativeImu(const ImuSeries& imu) {
     cum_temp_.push_back(cum_temp_.back() +
                         (has_temperature_ ? s.temperature_degC * (t_end - t_[t_.size() - 2]) : 0.0));
   }
+  computeSlopes();
 }
 
 std::size_t CumulativeImu::segment(double t_s) const {
@@ -44,17 +45,49 @@ std::size_t CumulativeImu::segment(double t_s) const {
   return std::min(k, t_.size() - 2);
 }
 
+void CumulativeImu::computeSlopes() {
+  // Node slopes of the cumulative integral: 5-point derivative where the four neighbouring
+  // intervals are equal (to 1e-6), else 3-point; the adjacent sample's rate at the ends.
+  const std::size_t N = t_.size();
+  slope_.assign(N, Vector6d::Zero());
+  for (std::size_t k = 0; k < N; ++k) {
+    if (k == 0 || k + 1 == N) {
+      const std::size_t a = k == 0 ? 0 : k - 1;
+      slope_[k] = (cum_[a + 1] - cum_[a]) / (t_[a + 1] - t_[a]);
+    } else if (k >= 2 && k + 2 < N) {
+      const double d = t_[k + 1] - t_[k];
+      bool uniform = true;
+      for (std::size_t j = k - 2; j < k + 2; ++j)
+        uniform &= std::abs((t_[j + 1] - t_[j]) - d) <= 1e-6 * d;
+      slope_[k] = uniform ? Vector6d((cum_[k - 2] - 8.0 * cum_[k - 1] + 8.0 * cum_[k + 1] -
+                                      cum_[k + 2]) / (12.0 * d))
+                          : Vector6d((cum_[k + 1] - cum_[k - 1]) / (t_[k + 1] - t_[k - 1]));
+    } else {
+      slope_[k] = (cum_[k + 1] - cum_[k - 1]) / (t_[k + 1] - t_[k - 1]);
+    }
+  }
+}
+
 Vector6d CumulativeImu::at(double t_s) const {
   if (t_.size() < 2) return Vector6d::Zero();
+  if (t_s <= t_.front()) return cum_.front() + (t_s - t_.front()) * slope_.front();
+  if (t_s >= t_.back()) return cum_.back() + (t_s - t_.back()) * slope_.back();
   const std::size_t k = segment(t_s);
-  const double w = (t_s - t_[k]) / (t_[k + 1] - t_[k]);
-  return cum_[k] + w * (cum_[k + 1] - cum_[k]);
+  const double L = t_[k + 1] - t_[k];
+  const double s = (t_s - t_[k]) / L, s2 = s * s, s3 = s2 * s;
+  return (2.0 * s3 - 3.0 * s2 + 1.0) * cum_[k] + (s3 - 2.0 * s2 + s) * L * slope_[k] +
+         (-2.0 * s3 + 3.0 * s2) * cum_[k + 1] + (s3 - s2) * L * slope_[k + 1];
 }
 
 Vector6d CumulativeImu::rateAt(double t_s) const {
   if (t_.size() < 2) return Vector6d::Zero();
+  if (t_s <= t_.front()) return slope_.front();
+  if (t_s >= t_.back()) return slope_.back();
   const std::size_t k = segment(t_s);
-  return (cum_[k + 1] - cum_[k]) / (t_[k + 1] - t_[k]);
+  const double L = t_[k + 1] - t_[k];
+  const double s = (t_s - t_[k]) / L, s2 = s * s;
+  return ((6.0 * s2 - 6.0 * s) * (cum_[k] - cum_[k + 1])) / L +
+         (3.0 * s2 - 4.0 * s + 1.0) * slope_[k] + (3.0 * s2 - 2.0 * s) * slope_[k + 1];
 }
 
 double CumulativeImu::temperatureIntegralAt(double t_s) const {

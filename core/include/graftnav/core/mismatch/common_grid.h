@@ -1,8 +1,8 @@
 #pragma once
 // Common time base of the mismatch finder: two IMU records with different rates and sample
 // phases are compared on one grid of averaging bins. Each record's increments are summed into a
-// cumulative integral Theta(t) (piecewise linear: the rate is constant within a sample interval,
-// which is all an increment says), and the mean rate over a bin (a, b] is exactly
+// cumulative integral Theta(t) (exact at the sample boundaries, a cubic Hermite curve between
+// them, see CumulativeImu::at), and the mean rate over a bin (a, b] is
 // (Theta(b) - Theta(a)) / (b - a). Nothing is filtered or resampled twice, different rates
 // (100 vs 120 Hz) and sample phases are handled, and a time shift is a shift of a and b.
 
@@ -25,17 +25,22 @@ class CumulativeImu {
   double beginTime_s() const { return t_.front(); }
   double endTime_s() const { return t_.back(); }
   bool hasTemperature() const { return has_temperature_; }
-  // Integral from beginTime_s() to t_s; outside the record the end rates are held.
+  // Integral from beginTime_s() to t_s; outside the record the end rates are held. Between the
+  // sample boundaries (where it equals the summed increments exactly) it is a cubic Hermite
+  // curve whose node slopes are the 5-point derivative of the cumulative values: a piecewise
+  // linear integral (rate constant within a sample) shifts a signal by a fraction of a sample
+  // with a low-pass error that the finder read as a scale factor (~0.3 % at 3 Hz, 4 ms).
   Vector6d at(double t_s) const;
   double temperatureIntegralAt(double t_s) const;  // NaN when no temperature
-  // Derivative of at(): the mean rate of the sample interval holding t_s (right-continuous at
-  // sample boundaries; the end rates outside the record).
+  // Derivative of at() (the end rates outside the record).
   Vector6d rateAt(double t_s) const;
 
  private:
   std::size_t segment(double t_s) const;
+  void computeSlopes();
   std::vector<double> t_;         // sample boundaries: t_[0] = start of sample 0, t_[k+1] = end of k
   std::vector<Vector6d> cum_;     // integral at t_[k]
+  std::vector<Vector6d> slope_;   // rate at t_[k] (node slope of the Hermite interpolation)
   std::vector<double> cum_temp_;  // temperature integral at t_[k]
   bool has_temperature_ = false;
 };
