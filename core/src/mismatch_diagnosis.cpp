@@ -404,6 +404,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   }
   // Joint fit with Ceres: the time offset as a non-linear parameter with everything else selected
   // (joint_fit.h); the linear solution is its start. Evidence stays that of the selection.
+  Eigen::MatrixXd joint_model;  // the Ceres model's prediction when the joint fit ran
   if (opt.ceres_joint_fit) {
     int to_idx = -1;
     for (const TermFit& tf : sel.selected)
@@ -415,6 +416,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
       if (jf.converged) {
         sel.nuisance = jf.nuisance;
         sel.selected = jf.terms;
+        joint_model = jf.model;
         out.notes.push_back(jf.summary);
       } else {
         out.notes.push_back(jf.summary + "; the linear fit is reported");
@@ -452,7 +454,9 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   }
 
   // 6. Model and show.
-  out.model = predictSelection(sel, terms, n, false);
+  // The joint model includes the exact shift and the shifted other terms; the linear columns with
+  // its parameters would not be the model that was fitted.
+  out.model = joint_model.rows() == n ? joint_model : predictSelection(sel, terms, n, false);
   const Eigen::MatrixXd bias = termContribution(terms[0], sel.nuisance.theta, n);
   out.nuisance = bias;
   out.rms_raw = rmsOf(r);

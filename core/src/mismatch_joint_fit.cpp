@@ -250,6 +250,16 @@ JointFitResult jointFitWithTimeOffset(const Eigen::MatrixXd& residual, const Imu
   for (int a = 0; a <= d.P; ++a)
     for (int b = 0; b <= d.P; ++b) cov(a, b) *= linear.inflation * std::sqrt(factor[a] * factor[b]);
 
+  // Model prediction at the solution (r - e), without the nuisance.
+  out.model.resize(n, kMismatchChannels);
+  {
+    double e[6];
+    for (int i = 0; i < n; ++i) {
+      d.error(i, theta.data(), tau, e, nullptr, nullptr);
+      for (int c = 0; c < kMismatchChannels; ++c) out.model(i, c) = residual(i, c) - e[c];
+    }
+  }
+
   auto fill = [&](const TermFit& lin, int s0, TermFit* tf) {
     *tf = lin;
     if (s0 < 0) return;  // fixed term
@@ -261,6 +271,10 @@ JointFitResult jointFitWithTimeOffset(const Eigen::MatrixXd& residual, const Imu
       if (!std::isfinite(lin.sigma(j))) tf->sigma(j) = lin.sigma(j);
   };
   fill(linear.nuisance, start[0], &out.nuisance);
+  {
+    const int t0 = linear.nuisance.term < 0 ? 0 : linear.nuisance.term;
+    out.model -= termContribution(terms[t0], out.nuisance.theta, n);
+  }
   std::size_t f = 1;
   for (const TermFit& lin : linear.selected) {
     TermFit tf;

@@ -44,6 +44,9 @@ struct JointFitResult {
   TermFit nuisance;              // constant bias per channel
   std::vector<TermFit> terms;    // the linear fit's selected terms, in its order; the time_offset
                                  // term carries theta = [tau_s]
+  // n x 6 prediction of the joint model without the nuisance (the shift of the reference, the
+  // shifted other terms and the fixed terms): what the finder subtracts and grafts (SG#3).
+  Eigen::MatrixXd model;
   std::string summary;           // one line: costs, iterations, tau linear -> joint
 };
 
