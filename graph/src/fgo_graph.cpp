@@ -246,6 +246,34 @@ double FgoGraph::gnssChi2(size_t fix, size_t node) {
   return r.squaredNorm();
 }
 
+void FgoGraph::requireFinite(size_t begin, size_t end, const std::string& stage) const {
+  end = std::min(end, blocks_.size());
+  for (size_t k = begin; k < end; ++k) {
+    const NodeBlocks& b = blocks_[k];
+    const char* bad = nullptr;
+    auto finite = [](const double* x, int n) {
+      for (int i = 0; i < n; ++i) {
+        if (!std::isfinite(x[i])) return false;
+      }
+      return true;
+    };
+    if (!finite(b.p, 3)) bad = "position";
+    else if (!finite(b.q, 4)) bad = "attitude";
+    else if (!finite(b.v, 3)) bad = "velocity";
+    else if (!finite(b.bg, 3)) bad = "gyro bias";
+    else if (!finite(b.ba, 3)) bad = "accel bias";
+    if (bad == nullptr) continue;
+    std::string msg = stage + ": node " + std::to_string(k) + " at t=" +
+                      std::to_string(nodes_[k].t_s) + " has a non-finite " + bad;
+    if (k > 0 && hasPreintegration(k - 1)) {
+      msg += " (preintegration from node " + std::to_string(k - 1) + " at t=" +
+             std::to_string(nodes_[k - 1].t_s) + " over " + std::to_string(pre_[k - 1]->dt_s()) +
+             " s, " + std::to_string(nodes_[k].gnss.size()) + " GNSS fixes on the node)";
+    }
+    throw std::runtime_error(msg);
+  }
+}
+
 void FgoGraph::predictNode(size_t k) {
   const NodeValue x = blocks_[k - 1].value();
   std::unique_ptr<PreintegrationFactor> f(makePreintegrationFactor(k - 1));

@@ -32,6 +32,7 @@ bool FgoOptions::validate(std::string* error) const {
   if (!positive(initial_velocity_std_m_s)) return fail(error, "initial_velocity_std_m_s", initial_velocity_std_m_s, "must be > 0");
   if (!positive(initial_attitude_std_rad)) return fail(error, "initial_attitude_std_rad", initial_attitude_std_rad, "must be > 0");
   if (max_iterations < 1) return fail(error, "max_iterations", max_iterations, "must be >= 1");
+  if (!positive(initial_trust_region_radius)) return fail(error, "initial_trust_region_radius", initial_trust_region_radius, "must be > 0");
   if (num_threads < 1) return fail(error, "num_threads", num_threads, "must be >= 1");
   if (window_nodes < 2) return fail(error, "window_nodes", window_nodes, "must be >= 2");
   if (window_iterations < 1) return fail(error, "window_iterations", window_iterations, "must be >= 1");

@@ -65,6 +65,7 @@ NavSolution solveWindowFgo(const EstimationProblem& problem, const FgoOptions& o
   rep.window_time_s = secondsSince(t0);
   const std::vector<NodeValue>& values = options.window_fixed_lag_output ? wr.lagged : wr.causal;
   for (size_t k = 0; k < values.size(); ++k) graph.blocks(k).set(values[k]);
+  graph.requireFinite(0, values.size(), "solveWindowFgo");
   rep.nodes = static_cast<int>(graph.nodes().size());
   rep.gnss_factors = static_cast<int>(graph.fixes().size());
   t0 = std::chrono::steady_clock::now();
@@ -96,6 +97,7 @@ NavSolution solveBatchFgo(const EstimationProblem& problem, const FgoOptions& op
     runSlidingWindow(graph, &wrep);
     rep.reintegrations += wrep.reintegrations;
     graph.setOptions(options);
+    graph.requireFinite(0, graph.nodes().size(), "solveBatchFgo (window initialization)");
   }
   rep.window_time_s = secondsSince(t0);
   t0 = std::chrono::steady_clock::now();
@@ -133,6 +135,7 @@ NavSolution solveBatchFgo(const EstimationProblem& problem, const FgoOptions& op
   so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   so.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
   so.max_num_iterations = options.max_iterations;
+  so.initial_trust_region_radius = options.initial_trust_region_radius;  // see sliding_window.cpp
   so.num_threads = options.num_threads;
   so.logging_type = ceres::SILENT;
   bool first = true;
@@ -142,6 +145,7 @@ NavSolution solveBatchFgo(const EstimationProblem& problem, const FgoOptions& op
     if (summary.termination_type == ceres::FAILURE) {
       throw std::runtime_error("solveBatchFgo: Ceres failed: " + summary.message);
     }
+    graph.requireFinite(0, n, "solveBatchFgo (solve " + std::to_string(rep.solves + 1) + ")");
     if (first) rep.initial_cost = summary.initial_cost;
     first = false;
     rep.final_cost = summary.final_cost;

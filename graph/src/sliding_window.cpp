@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <chrono>
 #include <map>
+#include <string>
 #include <stdexcept>
 
 namespace graftnav {
@@ -23,6 +24,13 @@ ceres::Solver::Options windowSolverOptions(const FgoOptions& o) {
   so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   so.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
   so.max_num_iterations = o.window_iterations;
+  // LM damps each parameter by diag(J^T J) / radius. The preintegration factors between 10 Hz
+  // nodes are stiff (information ~1e8 on position) while the window's GNSS-observed modes (a
+  // common shift, velocity, biases) carry ~0.1: with Ceres' default radius 1e4 those modes are
+  // damped by ~1e5 and a 4-iteration solve barely moves them, so the window dead-reckons and
+  // diverges on a MEMS with a 0.5 m/s^2 accelerometer error. The problem is nearly linear over
+  // a window (steps are accepted with relative decrease ~1): start almost undamped.
+  so.initial_trust_region_radius = o.initial_trust_region_radius;
   so.logging_type = ceres::SILENT;
   so.num_threads = 1;
   return so;
@@ -133,9 +141,15 @@ WindowResult runSlidingWindow(FgoGraph& graph, FgoReport* report) {
   ceres::Problem problem(po);
   const ceres::Solver::Options so = windowSolverOptions(opt);
   int culled = 0, reint = 0, solves = 0, iterations = 0;
+  size_t solving_node = 0;  // newest node, named in errors
   auto solve = [&]() {
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
+    if (summary.termination_type == ceres::FAILURE) {
+      throw std::runtime_error("runSlidingWindow: Ceres failed at node " + std::to_string(solving_node) +
+                               " (t=" + std::to_string(graph.nodes()[solving_node].t_s) +
+                               "): " + summary.message);
+    }
     ++solves;
     iterations += static_cast<int>(summary.iterations.size());
   };
@@ -148,6 +162,7 @@ WindowResult runSlidingWindow(FgoGraph& graph, FgoReport* report) {
   int consecutive_culls = 0;
   for (size_t k = 1; k < n; ++k) {
     const double t_k = graph.nodes()[k].t_s;
+    solving_node = k;
     if (!graph.nodes()[k].gnss.empty()) {
       if (t_k - last_gnss_t > 2.0 * opt.max_node_spacing_s) reacquired_t = t_k;
       last_gnss_t = t_k;
@@ -198,6 +213,7 @@ WindowResult runSlidingWindow(FgoGraph& graph, FgoReport* report) {
       }
     }
     out.causal[k] = graph.blocks(k).value();
+    graph.requireFinite(k, k + 1, "runSlidingWindow");
 
     if (k - oldest + 1 > static_cast<size_t>(opt.window_nodes)) {
       std::vector<ceres::ResidualBlockId> ids;

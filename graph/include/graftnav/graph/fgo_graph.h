@@ -87,6 +87,10 @@ class FgoGraph {
   // Whitened squared norm of GNSS observation `fix` at node k's current values, no loss.
   double gnssChi2(size_t fix, size_t node);
 
+  // Throws std::runtime_error naming `stage`, the first node in [begin, end) with a non-finite
+  // value (index, time, block) and, when known, its preintegration interval.
+  void requireFinite(size_t begin, size_t end, const std::string& stage) const;
+
   // Node k predicted from node k-1's current values through preintegration k-1.
   void predictNode(size_t k);
   // Sets node 0 from the initial state.
