@@ -9,6 +9,7 @@
 #include "graftnav/core/imu_error_model.h"
 #include "graftnav/core/mismatch/joint_fit.h"
 #include "graftnav/core/mismatch/time_offset.h"
+#include "synthetic_imu.h"
 
 namespace graftnav {
 namespace {
@@ -39,20 +40,7 @@ Waves carLikeWaves(uint64_t seed) {
 }
 
 ImuSeries sample(const Waves& m, double rate_hz, double duration_s) {
-  ImuSeries out;
-  const int n = static_cast<int>(duration_s * rate_hz);
-  Vector6d prev = m.integral(0.0);
-  for (int k = 1; k <= n; ++k) {
-    const Vector6d cur = m.integral(k / rate_hz);
-    ImuSample s;
-    s.t_s = 1000.0 + k / rate_hz;
-    s.dt_s = 1.0 / rate_hz;
-    s.dtheta_rad = (cur - prev).head<3>();
-    s.dvel_m_s = (cur - prev).tail<3>();
-    out.push_back(s);
-    prev = cur;
-  }
-  return out;
+  return test::sampleIntegral([&m](double t) { return m.integral(t); }, rate_hz, duration_s, 1000.0);
 }
 
 ImuErrorModel truthModel(double tau_s) {
