@@ -24,9 +24,8 @@
 #include "graftnav/core/calibration/lab_calibration.h"
 #include "graftnav/core/calibration/lab_data.h"
 #include "graftnav/core/case_config.h"
-#include "graftnav/core/graft_case.h"
 #include "graftnav/core/imu_io.h"
-#include "graftnav/core/nav_io.h"
+#include "graftnav/core/graft_case.h"
 #include "graftnav/core/mismatch/diagnosis.h"
 #include "graftnav/core/mismatch/diagnosis_report.h"
 #include "graftnav/core/units.h"
@@ -99,14 +98,12 @@ void attachLabTemperature(const ImuSeries& lab_static, double start_offset_s, Im
 // Navigation level: SG#2, SG#3 and REAL navigated with one estimator and outage schedule,
 // evaluated against SOL_REF (truth, the case's reference solution, or the RTS-smoothed reference
 // IMU). Throws std::runtime_error when the case cannot be navigated.
-NavigationComparison navigateComparison(const std::string& case_dir, const std::string& estimator,
-                                        const std::string& run_config,
+NavigationComparison navigateComparison(const CaseInputs& c, const ImuSelection& tested,
+                                        const std::string& estimator, const std::string& run_config,
                                         const std::optional<OutageScheduleConfig>& outages_cli,
                                         const ImuSeries& sg2, const ImuSeries& sg3,
                                         std::vector<std::string>* notes) {
-  CaseLoadOptions lo;
-  lo.lenient = true;
-  const CaseInputs c = loadCaseInputs(case_dir, lo);
+  if (c.gnss.empty()) throw std::runtime_error(c.paths().gnssPos() + " not found or empty");
   std::vector<std::string> warnings;
   RunConfig rc;
   if (!run_config.empty()) rc = loadRunConfig(run_config, &warnings);
@@ -124,7 +121,6 @@ NavigationComparison navigateComparison(const std::string& case_dir, const std::
     sol_ref = runEstimator("rts", makeProblem(c, ref, rc, std::nullopt, &n), rc).states;
     notes->push_back("SOL_REF: RTS-smoothed reference IMU with all GNSS");
   }
-  const ImuSelection tested = selectImu(c, "tested", "", true);
   if (!tested.profile_given)
     notes->push_back("tested_imu has no noise parameters in case.yaml: the estimator's defaults are used");
   NavigationComparison nav;
@@ -191,24 +187,26 @@ void registerDiagnose(CLI::App& app) {
   cmd->add_option("--outage-start", args->outage_start_s, "first outage start after the first epoch (s)");
   cmd->callback([args]() {
     std::filesystem::create_directories(args->out);
-    const CasePaths paths(args->case_dir);
-    std::vector<std::string> warnings;
-    const CaseConfig cfg = loadCaseConfig(paths.caseYaml(), &warnings);
+    // One load of the case for both levels: GNSS only when the navigation level runs.
+    CaseLoadOptions lo;
+    lo.lenient = true;
+    lo.load_gnss = !args->estimator.empty() && CasePaths::exists(CasePaths(args->case_dir).gnssPos());
+    const CaseInputs c = loadCaseInputs(args->case_dir, lo);
+    const CasePaths paths = c.paths();
+    const CaseConfig& cfg = c.config;
+    std::vector<std::string> warnings = c.warnings;
     DiagnoseOptions opt;
     if (!args->config.empty()) opt = loadDiagnoseConfig(args->config, &warnings);
     for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
 
-    ImuReadOptions ro;
-    ro.policy = ImuReadPolicy::real();
-    ro.nominal_rate_hz = cfg.imu_rate_hz;
-    ReadReport ref_report, tested_report;
-    const ImuSeries ref = readImu(paths.refImu(), ro, &ref_report);
-    ro.nominal_rate_hz = cfg.testedImuRateHz();
     if (!CasePaths::exists(paths.testedImu()))
       throw std::runtime_error(paths.testedImu() + ": diagnose needs the tested IMU's field recording");
-    const ImuSeries real = readImu(paths.testedImu(), ro, &tested_report);
-    for (const ReadReport* r : {&ref_report, &tested_report})
-      if (!r->clean()) fmt::print(stderr, "warning: {}\n", r->summary());
+    const ImuSelection ref_imu = selectImu(c, "ref", "", true);
+    const ImuSelection tested = selectImu(c, "tested", "", true);
+    for (const ImuSelection* sel : {&ref_imu, &tested})
+      if (!sel->read_summary.empty()) fmt::print(stderr, "warning: {}\n", sel->read_summary);
+    const ImuSeries& ref = ref_imu.imu;
+    const ImuSeries& real = tested.imu;
 
     DiagnosisInputs in;
     in.case_name = cfg.name;
@@ -216,8 +214,8 @@ void registerDiagnose(CLI::App& app) {
     in.real = real;
     in.initial_state = cfg.initial_state;
     // A case with a truth trajectory is simulated: its reference IMU may lack navigation physics.
-    in.reference_is_simulated = CasePaths::exists(paths.truthNav());
-    if (in.reference_is_simulated) in.attitude = readNav(paths.truthNav());
+    in.reference_is_simulated = c.reference_is_truth;
+    if (in.reference_is_simulated) in.attitude = c.reference;
     std::vector<std::string> notes;
     if (CasePaths::exists(paths.labStatic())) {
       fmt::print(stderr, "diagnose: lab data found: simulation = SG#2 from the lab calibration\n");
@@ -259,7 +257,7 @@ void registerDiagnose(CLI::App& app) {
       }
       try {
         fmt::print(stderr, "diagnose: navigating SG#2, SG#3 and REAL with {}\n", args->estimator);
-        nav = navigateComparison(args->case_dir, args->estimator, args->run_config, oc,
+        nav = navigateComparison(c, tested, args->estimator, args->run_config, oc,
                                  in.simulated, res.sg3, &res.notes);
       } catch (const std::exception& e) {
         res.notes.push_back(std::string("navigation level skipped: ") + e.what());
