@@ -16,6 +16,7 @@
 #include "graftnav/core/graft_case.h"
 #include "graftnav/core/imu_io.h"
 #include "graftnav/core/units.h"
+#include "report_io.h"
 #include "script_locator.h"
 
 namespace graftnav::app {
@@ -152,8 +153,8 @@ SgEvaluationReport runSgEvaluation(const SgEvaluateOptions& o, const LogFn& log_
     e.label = jobs[k].label;
     e.imu_file = jobs[k].imu.path;
     e.evaluation = evaluateSolution(sols[k], sol_ref, rep.outages, rc.evaluation.options);
-    writeEpochErrorCsv((fs::path(o.out_dir) / ("errors_" + e.label + ".csv")).string(), e.evaluation,
-                       rc.evaluation.csv_rate_hz);
+    writeErrorsCsv((fs::path(o.out_dir) / ("errors_" + e.label + ".csv")).string(), e.evaluation,
+                   1.0 / rc.evaluation.csv_rate_hz);
     rep.solutions.push_back(std::move(e));
   }
   const fs::path out(o.out_dir);

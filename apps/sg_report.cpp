@@ -183,21 +183,4 @@ void writePerOutageCsv(const std::string& path, const SgEvaluationReport& r) {
   writeFileAtomically(path, csv);
 }
 
-void writeEpochErrorCsv(const std::string& path, const Evaluation& e, double rate_hz) {
-  std::string csv =
-      "t_s,north_m,east_m,down_m,horizontal_m,vertical_m,roll_deg,pitch_deg,heading_deg,outage\n";
-  csv.reserve(e.epochs.size() * 90 + 128);
-  double next_t = -1e300;
-  const double step = rate_hz > 0.0 ? 1.0 / rate_hz : 0.0;
-  for (const auto& ep : e.epochs) {
-    if (ep.t_s + 1e-9 < next_t) continue;
-    next_t = ep.t_s + step;
-    const auto& p = ep.pos_ned_m;
-    csv += fmt::format("{:.3f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.5f},{:.5f},{:.5f},{}\n", ep.t_s, p.x(),
-                       p.y(), p.z(), p.head<2>().norm(), std::abs(p.z()), ep.euler_rad.x() * units::kRadToDeg,
-                       ep.euler_rad.y() * units::kRadToDeg, ep.euler_rad.z() * units::kRadToDeg, ep.outage);
-  }
-  writeFileAtomically(path, csv);
-}
-
 }  // namespace graftnav::app

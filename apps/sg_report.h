@@ -1,6 +1,7 @@
 #pragma once
 // Outputs of `graftnav evaluate`: evaluation.json (issue 6 contract), tables.md in the seed's
-// Table 2/3 layout, evaluation.csv, per-outage CSV and per-epoch error CSVs for the plots.
+// Table 2/3 layout, evaluation.csv and the per-outage CSV. Per-epoch error CSVs use navigate's
+// writer (report_io.h: writeErrorsCsv).
 #include <map>
 #include <optional>
 #include <string>
@@ -40,7 +41,5 @@ void writeTablesMarkdown(const std::string& path, const SgEvaluationReport& r);
 void writeEvaluationCsv(const std::string& path, const SgEvaluationReport& r);
 // One row per outage and solution: per-outage maxima (the peers' statistic).
 void writePerOutageCsv(const std::string& path, const SgEvaluationReport& r);
-// Per-epoch errors of one solution, decimated to at most rate_hz (0: every epoch).
-void writeEpochErrorCsv(const std::string& path, const Evaluation& e, double rate_hz);
 
 }  // namespace graftnav::app

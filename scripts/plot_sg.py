@@ -15,8 +15,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 COLORS = {"SG1": "tab:blue", "SG2": "tab:orange", "SG3": "tab:green", "REAL": "black"}
-STATS = [("horizontal_m", "horizontal (m)"), ("vertical_m", "vertical (m)"),
-         ("roll_deg", "roll (deg)"), ("pitch_deg", "pitch (deg)"), ("heading_deg", "heading (deg)")]
+# (evaluation.json key, errors_<LABEL>.csv column, axis title); vertical = |down|.
+STATS = [("horizontal_m", "horizontal_m", "horizontal (m)"), ("vertical_m", "down_m", "vertical (m)"),
+         ("roll_deg", "roll_deg", "roll (deg)"), ("pitch_deg", "pitch_deg", "pitch (deg)"),
+         ("heading_deg", "heading_deg", "heading (deg)")]
 
 
 def read_csv(path):
@@ -34,14 +36,14 @@ def main(out):
     t0 = min(d["t_s"][0] for d in data.values() if d)
 
     fig, axes = plt.subplots(len(STATS), 1, figsize=(11, 11), sharex=True)
-    for ax, (key, title) in zip(axes, STATS):
+    for ax, (_, column, title) in zip(axes, STATS):
         for w in windows:
             ax.axvspan(w[0] - t0, w[1] - t0, color="cyan", alpha=0.2, lw=0)
         for l in labels:
             d = data[l]
             # Only epochs inside outages: between them every solution sits at the GNSS level.
             xs, ys = [], []
-            for t, v, o in zip(d["t_s"], d[key], d["outage"]):
+            for t, v, o in zip(d["t_s"], d[column], d["outage"]):
                 if o >= 0:
                     xs.append(t - t0)
                     ys.append(abs(v))
@@ -60,7 +62,7 @@ def main(out):
 
     if "diff" in ev:
         fig, ax = plt.subplots(figsize=(8, 4))
-        keys = [k for k, _ in STATS]
+        keys = [k for k, _, _ in STATS]
         sols = list(ev["diff"].keys())
         width = 0.8 / max(len(sols), 1)
         for i, s in enumerate(sols):
@@ -68,7 +70,7 @@ def main(out):
             ax.bar([j + i * width for j in range(len(keys))], vals, width, label=f"DIFF_{s[2:]}",
                    color=COLORS.get(s, None))
         ax.set_xticks([j + width * (len(sols) - 1) / 2 for j in range(len(keys))])
-        ax.set_xticklabels([t for _, t in STATS])
+        ax.set_xticklabels([t for _, _, t in STATS])
         ax.set_ylabel("|ERR_x - ERR_REAL| / ERR_REAL (%)")
         ax.legend()
         ax.grid(axis="y", alpha=0.3)

@@ -75,6 +75,18 @@ TEST(Evaluate, WritesTheContractShapeAndConsistentDiff) {
   }
 }
 
+TEST(Evaluate, MakesBothPlotsWhenMatplotlibIsThere) {
+  if (std::system("/usr/bin/python3 -c 'import matplotlib' > /dev/null 2>&1") != 0) {
+    GTEST_SKIP() << "Debian's python3-matplotlib is not installed: the plots are skipped by design";
+  }
+  const std::string out = test::makeTempDir("eval_plots") + "/out";
+  const RunResult r = run("evaluate " + sample("mems") + " --out " + out + " --config " + sampleConfig());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("warning"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(out + "/outage_errors.png"));
+  EXPECT_TRUE(fs::exists(out + "/diff.png"));
+}
+
 TEST(Evaluate, WithoutARealRecordingStillGivesSgErrors) {
   const std::string c = copyCase(sample("tactical"), "noreal");
   fs::remove(c + "/field/tested_imu.txt");
