@@ -145,6 +145,24 @@ TEST(Batch, AFailedCaseIsReportedAndDoesNotStopTheOthers) {
   EXPECT_NE(header.find("DIFF_SG2_horizontal_frac"), std::string::npos) << header;
 }
 
+TEST(Batch, BadManifestNamesFileLineAndKey) {
+  const std::string dir = test::makeTempDir("batch_bad");
+  std::ofstream(dir + "/m1.yaml") << "out: out\ncases: [a]\nestimator: [ekf]\n";
+  RunResult r = run("batch " + dir + "/m1.yaml");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("m1.yaml:3"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("'estimator'"), std::string::npos) << r.output;
+  std::ofstream(dir + "/m2.yaml") << "out: out\ncases: [a]\njobs: many\n";
+  r = run("batch " + dir + "/m2.yaml");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("m2.yaml:3"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("jobs"), std::string::npos) << r.output;
+  std::ofstream(dir + "/m3.yaml") << "out: out\n";
+  r = run("batch " + dir + "/m3.yaml");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("cases"), std::string::npos) << r.output;
+}
+
 TEST(Batch, MonteCarloSummaryGroupsSeedsAndAveragesThem) {
   // The same case under two seed names: the group mean must equal the single-run value, the
   // spread must be zero and DIFF of the means must equal the single-run DIFF.
