@@ -98,8 +98,8 @@ Vec6 BasicErrorSignal::integral(double u0, double u1) const { return cumulative(
 double graftStartOffset(const GraftOptions& opt, const BasicErrorSignal& basic) {
   if (opt.start_offset_s >= 0.0) return opt.start_offset_s;
   std::mt19937_64 rng(opt.seed);
-  std::uniform_real_distribution<double> u(0.0, basic.recordLength_s());
-  return u(rng);
+  std::uniform_int_distribution<std::size_t> j(0, basic.sampleCount() - 1);
+  return basic.sampleStart_s(j(rng));
 }
 
 namespace {

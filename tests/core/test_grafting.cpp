@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 #include "graftnav/core/grafting.h"
 
 namespace graftnav {
@@ -129,8 +133,14 @@ TEST(Grafting, NoiseFreeFullGraftReproducesTheSensorModelExactly) {
   }
 }
 
+std::vector<double> pseudoNoise(std::size_t n) {
+  std::vector<double> v(n);
+  for (std::size_t k = 0; k < n; ++k) v[k] = std::sin(0.7 * k * k + 0.3 * k);  // white-like
+  return v;
+}
+
 TEST(Grafting, DeterministicForASeedAndDifferentAcrossSeeds) {
-  const BasicErrorSignal basic(series({0.1, 0.9, -0.4, 0.3, 0.8, -0.2, 0.05}, 0.5));
+  const BasicErrorSignal basic(series(pseudoNoise(64), 0.5));
   const ImuSeries ref = series({0, 0, 0}, 0.5);
   GraftOptions a;
   a.seed = 42;
@@ -141,6 +151,32 @@ TEST(Grafting, DeterministicForASeedAndDifferentAcrossSeeds) {
   EXPECT_NE(graftStartOffset(a, basic), graftStartOffset(c, basic));
   const ImuSeries ya = graftBasic(ref, basic, a), yb = graftBasic(ref, basic, b);
   for (std::size_t k = 0; k < ya.size(); ++k) EXPECT_EQ(ya[k].dtheta_rad, yb[k].dtheta_rad);
+}
+
+TEST(Grafting, SeededStartKeepsEachLabSampleWhole) {
+  // Equal lab and field rates: whatever the seed, every grafted increment must be one lab
+  // increment, not a blend of two neighbours (a blend lowers the per-sample noise while keeping
+  // its random walk, so the grafted IMU would look quieter than the lab record at 200 Hz).
+  const double dt = 0.005;
+  const std::vector<double> lab = pseudoNoise(400);
+  const BasicErrorSignal basic(series(lab, dt));
+  const ImuSeries ref = series(std::vector<double>(250, 0.0), dt, 1234.5);
+  double lab_ms = 0.0;
+  for (double r : lab) lab_ms += r * r / lab.size();
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    GraftOptions opt;
+    opt.seed = seed;
+    const ImuSeries sg1 = graftBasic(ref, basic, opt);
+    double sg_ms = 0.0;
+    for (const ImuSample& s : sg1) {
+      const double rate = s.dtheta_rad.x() / dt;
+      double nearest = 1e9;
+      for (double r : lab) nearest = std::min(nearest, std::abs(rate - r));
+      ASSERT_LT(nearest, 1e-6) << "seed " << seed << " t " << s.t_s;
+      sg_ms += rate * rate / sg1.size();
+    }
+    EXPECT_NEAR(sg_ms / lab_ms, 1.0, 0.25) << "seed " << seed;
+  }
 }
 
 TEST(Grafting, RejectsAnEmptyRecord) {
