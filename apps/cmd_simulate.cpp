@@ -1,4 +1,5 @@
 // graftnav simulate --config FILE --out CASE_DIR [--seed N] [--track FILE.pos] [--ideal]
+//                   [--common-random-numbers]
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
@@ -18,6 +19,7 @@ void registerSimulate(CLI::App& app) {
     std::string config, out, track;
     uint64_t seed = 0;
     bool ideal = false;
+    bool common_random_numbers = false;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -30,6 +32,8 @@ void registerSimulate(CLI::App& app) {
   cmd->add_option("--track", args->track, "use this .pos track instead of the config's trajectory")
       ->check(CLI::ExistingFile);
   cmd->add_flag("--ideal", args->ideal, "every IMU error-free and GNSS noise-free");
+  cmd->add_flag("--common-random-numbers", args->common_random_numbers,
+                "lab noise = the field tested IMU's noise stream (sets lab.common_random_numbers)");
   cmd->callback([args, seed_opt]() {
     const auto t_start = std::chrono::steady_clock::now();
     std::vector<std::string> warnings;
@@ -44,6 +48,7 @@ void registerSimulate(CLI::App& app) {
       cfg.script.reset();
     }
     cfg.ideal = args->ideal;
+    if (args->common_random_numbers) cfg.lab_common_random_numbers = true;
     auto elapsed = [&]() {
       return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     };

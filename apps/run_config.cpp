@@ -54,7 +54,7 @@ RunConfig loadRunConfig(const std::string& path, std::vector<std::string>* warni
   RunConfig c;
   if (!root || root.IsNull()) return c;
   if (!root.IsMap()) throw std::runtime_error(path + ": the run config must be a YAML map");
-  warnUnknown(root, "", {"outages", "ekf", "evaluation", "fgo", "gnss"}, path, warnings);
+  warnUnknown(root, "", {"outages", "ekf", "evaluation", "fgo", "gnss", "grafting"}, path, warnings);
 
   if (const YAML::Node o = root["outages"]) {
     c.outages_given = true;
@@ -139,6 +139,10 @@ RunConfig loadRunConfig(const std::string& path, std::vector<std::string>* warni
                  "init_roll_pitch_std_deg", "init_heading_std_deg", "alignment",
                  "static_alignment_s", "motion_min_speed_m_s", "motion_max_std_m"},
                 path, warnings);
+  }
+  if (const YAML::Node g = root["grafting"]) {
+    warnUnknown(g, "grafting", {"start_offset_s"}, path, warnings);
+    read(g, "grafting", "start_offset_s", &c.grafting.start_offset_s, path);
   }
   if (const YAML::Node g = root["fgo"]) {
     FgoOptions& f = c.fgo;

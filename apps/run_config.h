@@ -79,6 +79,13 @@ struct GnssConfig {
   std::vector<int> checkpoint_fix_types;  // empty: no check-point evaluation
 };
 
+struct GraftingConfig {
+  // Where the field test starts in the tiled lab static record (s); negative: drawn from the
+  // grafting seed. 0 pairs field sample k with lab static sample k, for common-random-number
+  // experiments whose lab record shares the field noise (sim key lab.common_random_numbers).
+  double start_offset_s = -1.0;
+};
+
 struct RunConfig {
   OutageScheduleConfig outages;
   bool outages_given = false;  // an outages: section was present
@@ -87,6 +94,7 @@ struct RunConfig {
   EvaluationConfig evaluation;
   FgoOptions fgo;
   GnssConfig gnss;
+  GraftingConfig grafting;
 };
 
 // Loads the file. Unknown keys are appended to *warnings; a wrong type or invalid value throws

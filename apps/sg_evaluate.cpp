@@ -70,6 +70,7 @@ SgEvaluationReport runSgEvaluation(const SgEvaluateOptions& o, const LogFn& log_
   // A rate that disagrees with case.yaml is rejected by the strict reader (file, line, interval).
   GraftCaseOptions go;
   go.graft.seed = o.seed;
+  go.graft.start_offset_s = rc.grafting.start_offset_s;
   go.use_cross_axis = o.use_cross_axis;
   log(fmt::format("[{}] grafting SG#1 and SG#2 onto {} reference samples", tag, ref.imu.size()));
   GraftedCase g = graftCase(ref.imu, labrep, go);

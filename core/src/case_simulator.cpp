@@ -133,8 +133,9 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
   say("reference IMU");
   writeImu(paths.refImu(), applyErrors(ideal, ref_model, deriveStreamSeed(seed, 1)));
   say("tested IMU");
+  const uint64_t tested_noise_seed = deriveStreamSeed(seed, 2);
   writeImu(paths.testedImu(), applyErrors(withTemperature(ideal, config.temperature), tested_model,
-                                              deriveStreamSeed(seed, 2)));
+                                              tested_noise_seed));
 
   say("GNSS");
   GnssSimOptions gopt = config.gnss;
@@ -158,8 +159,18 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
     lab_sizes.push_back(with_t.size());
   }
   // Lab: the same sensor without the field-mounting geometry (relative to the reference IMU).
+  uint64_t lab_noise_seed = deriveStreamSeed(seed, 100);
+  if (config.lab_common_random_numbers) {
+    if (lab.empty() || lab.front().relative_path != "lab/static.txt" ||
+        lab.front().ideal.size() < ideal.size()) {
+      throw std::invalid_argument(
+          config.source_path + ": lab.common_random_numbers needs a lab static record at least as "
+          "long as the field test (" + std::to_string(ideal.size()) + " samples)");
+    }
+    lab_noise_seed = tested_noise_seed;
+  }
   const ImuSeries lab_meas =
-      applyErrors(lab_all, labErrorModel(tested_model), deriveStreamSeed(seed, 100));
+      applyErrors(lab_all, labErrorModel(tested_model), lab_noise_seed);
   std::size_t offset = 0;
   for (std::size_t i = 0; i < lab.size(); ++i) {
     const ImuSeries one(lab_meas.begin() + static_cast<std::ptrdiff_t>(offset),

@@ -387,7 +387,9 @@ SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warni
     r.checkKeys(l, "lab",
                 {"latitude_deg", "longitude_deg", "height_m", "start_time_s", "static_duration_s",
                  "static_attitude_deg", "six_position_duration_s", "rate_table_deg_s",
-                 "rate_table_turns", "tilt_duration_s", "tilts"});
+                 "rate_table_turns", "tilt_duration_s", "tilts", "common_random_numbers"});
+    c.lab_common_random_numbers =
+        r.boolean(l, "common_random_numbers", "lab.common_random_numbers", false);
     c.lab.latitude_rad = r.num(l, "latitude_deg", "lab.latitude_deg", 30.53) * units::kDegToRad;
     c.lab.longitude_rad = r.num(l, "longitude_deg", "lab.longitude_deg", 114.35) * units::kDegToRad;
     c.lab.height_m = r.num(l, "height_m", "lab.height_m", c.lab.height_m);

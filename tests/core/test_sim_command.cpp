@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "graftnav/core/case_config.h"
 #include "graftnav/core/earth.h"
@@ -132,6 +133,56 @@ TEST(SimCommand, SeedMakesRunsReproducible) {
   const double dev_deg_h = (m - ideal).norm() * kRadToDeg * 3600.0;
   EXPECT_GT(dev_deg_h, 1.0);
   EXPECT_LT(dev_deg_h, 200.0);
+}
+
+// Common random numbers: the lab static record carries the field tested IMU's noise stream, so
+// lab noise sample k is field noise sample k (correlation ~1; ~0 without the flag). A static
+// record shorter than the field test is refused with the key named.
+TEST(SimCommand, CommonRandomNumbersShareTheFieldNoiseWithTheLab) {
+  const std::string dir = test::makeTempDir("sim_crn");
+  std::string cfg = tinyConfig(dir);
+  ASSERT_NE(run("simulate --config " + cfg + " --out " + dir + "/short --common-random-numbers",
+                dir + "/short.txt"),
+            0);
+  EXPECT_NE(slurp(dir + "/short.txt").find("lab.common_random_numbers"), std::string::npos)
+      << slurp(dir + "/short.txt");
+  {
+    std::string text = slurp(cfg);
+    text.replace(text.find("static_duration_s: 20"), 21, "static_duration_s: 90");
+    std::ofstream(cfg) << text;
+  }
+  for (const char* c : {"ideal", "crn", "indep"}) {
+    const std::string flag = std::string(c) == "ideal" ? " --ideal"
+                             : std::string(c) == "crn" ? " --common-random-numbers"
+                                                       : "";
+    ASSERT_EQ(run("simulate --config " + cfg + " --out " + dir + "/" + c + flag, dir + "/log.txt"), 0)
+        << slurp(dir + "/log.txt");
+  }
+  const ImuSeries field_ideal = readImu(dir + "/ideal/field/tested_imu.txt", {100.0, {}});
+  const ImuSeries lab_ideal = readImu(dir + "/ideal/lab/static.txt", {100.0, {}});
+  auto correlation = [&](const std::string& c) {
+    const ImuSeries field = readImu(dir + "/" + c + "/field/tested_imu.txt", {100.0, {}});
+    const ImuSeries lab = readImu(dir + "/" + c + "/lab/static.txt", {100.0, {}});
+    // Accelerometer x noise: first differences remove the constant bias and most of the motion.
+    std::vector<double> a, b;
+    for (std::size_t k = 1; k < field.size(); ++k) {
+      const double nf = (field[k].dvel_m_s.x() - field_ideal[k].dvel_m_s.x()) -
+                        (field[k - 1].dvel_m_s.x() - field_ideal[k - 1].dvel_m_s.x());
+      const double nl = (lab[k].dvel_m_s.x() - lab_ideal[k].dvel_m_s.x()) -
+                        (lab[k - 1].dvel_m_s.x() - lab_ideal[k - 1].dvel_m_s.x());
+      a.push_back(nf);
+      b.push_back(nl);
+    }
+    double ab = 0, aa = 0, bb = 0;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      ab += a[k] * b[k];
+      aa += a[k] * a[k];
+      bb += b[k] * b[k];
+    }
+    return ab / std::sqrt(aa * bb);
+  };
+  EXPECT_GT(correlation("crn"), 0.99);
+  EXPECT_LT(std::abs(correlation("indep")), 0.1);
 }
 
 // A temperature section gives the tested IMU files a temperature column, and a bias temperature

@@ -135,6 +135,13 @@ struct SimConfig {
   SimImuConfig tested_imu;
   GnssSimOptions gnss;
   LabSimOptions lab;
+  // Common random numbers (key lab.common_random_numbers): the lab session's noise (white and
+  // bias wander) is the same random stream as the field tested IMU's, so lab static sample k
+  // carries the noise of field sample k. A variance-reduction design for grafting experiments
+  // (graft with grafting.start_offset_s: 0): SG and REAL then differ only by what grafting
+  // models or misses, not by two noise realizations. Needs a static record at least as long as
+  // the field test. Not a physical lab session.
+  bool lab_common_random_numbers = false;
   std::optional<SimTemperature> temperature;
   bool ideal = false;  // every IMU error-free and GNSS noise-free (set by --ideal)
 
