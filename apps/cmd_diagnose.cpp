@@ -221,7 +221,12 @@ void registerDiagnose(CLI::App& app) {
       fmt::print(stderr, "diagnose: lab data found: simulation = SG#2 from the lab calibration\n");
       const LabData lab = loadLabData(args->case_dir);
       const LabCalibrationReport report = calibrateLab(lab);
-      const GraftedCase g = graftCase(ref, report);
+      GraftCaseOptions go;
+      if (!args->run_config.empty()) {
+        // Only the grafting section here; navigateComparison reads the rest (and its warnings).
+        go.graft.start_offset_s = loadRunConfig(args->run_config).grafting.start_offset_s;
+      }
+      const GraftedCase g = graftCase(ref, report, go);
       in.simulated = g.sg2;
       attachLabTemperature(lab.static_imu, g.start_offset_s, &in.simulated);
       in.simulation_kind = "SG#2 (lab calibration + grafting)";

@@ -139,8 +139,8 @@ struct SimConfig {
   // bias wander) is the same random stream as the field tested IMU's, so lab static sample k
   // carries the noise of field sample k. A variance-reduction design for grafting experiments
   // (graft with grafting.start_offset_s: 0): SG and REAL then differ only by what grafting
-  // models or misses, not by two noise realizations. Needs a static record at least as long as
-  // the field test. Not a physical lab session.
+  // models or misses, not by two noise realizations. A static record shorter than the field test
+  // is extended to its length. Not a physical lab session.
   bool lab_common_random_numbers = false;
   std::optional<SimTemperature> temperature;
   bool ideal = false;  // every IMU error-free and GNSS noise-free (set by --ideal)
