@@ -164,7 +164,9 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
   ImuSeries lab_all;
   std::vector<std::size_t> lab_sizes;
   for (const LabSession& l : lab) {
-    const ImuSeries with_t = withTemperature(l.ideal, config.temperature);
+    const ImuSeries with_t = withTemperature(
+        l.ideal, config.temperature ? std::optional<SimTemperature>(config.temperature->lab())
+                                    : std::nullopt);
     lab_all.insert(lab_all.end(), with_t.begin(), with_t.end());
     lab_sizes.push_back(with_t.size());
   }

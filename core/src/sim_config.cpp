@@ -371,7 +371,7 @@ SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warni
     if (auto v = r.vec3(g, "lever_arm_m", "gnss.lever_arm_m")) c.gnss.lever_arm_b_m = *v;
   }
   if (const YAML::Node t = root["temperature"]) {
-    r.checkKeys(t, "temperature", {"start_degC", "end_degC", "time_constant_s"});
+    r.checkKeys(t, "temperature", {"start_degC", "end_degC", "time_constant_s", "lab_degC"});
     SimTemperature st;
     st.start_degC = r.requiredNum(t, "start_degC", "temperature.start_degC");
     st.end_degC = r.num(t, "end_degC", "temperature.end_degC", st.start_degC);
@@ -379,6 +379,7 @@ SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warni
     if (!(st.time_constant_s > 0.0)) {
       r.fail(t["time_constant_s"], "temperature.time_constant_s", "must be > 0");
     }
+    if (t["lab_degC"]) st.lab_degC = r.requiredNum(t, "lab_degC", "temperature.lab_degC");
     c.temperature = st;
   }
   c.lab.rate_hz = c.imu_rate_hz;
@@ -425,6 +426,13 @@ SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warni
   } catch (const std::exception& e) {
     throw std::runtime_error(path + ": " + e.what());
   }
+  return c;
+}
+
+SimTemperature SimTemperature::lab() const {
+  if (!lab_degC) return *this;
+  SimTemperature c = *this;
+  c.start_degC = c.end_degC = *lab_degC;
   return c;
 }
 

@@ -229,6 +229,29 @@ TEST(SimCommand, TemperatureWarmUpAndBiasCoefficient) {
   EXPECT_NEAR((warm.z() - cold.z()) * kRadToDeg * 3600.0, expected, 0.05 * expected);
 }
 
+// temperature.lab_degC: the lab files sit at a constant temperature while the field file still
+// warms up.
+TEST(SimCommand, LabTemperatureCanBeHeldConstant) {
+  const std::string dir = test::makeTempDir("sim_lab_temp");
+  std::string text = slurp(tinyConfig(dir));
+  text += "temperature: {start_degC: 20, end_degC: 40, time_constant_s: 5, lab_degC: 23}\n";
+  {
+    std::ofstream(dir + "/temp.yaml") << text;
+  }
+  ASSERT_EQ(run("simulate --config " + dir + "/temp.yaml --out " + dir + "/case", dir + "/log.txt"),
+            0)
+      << slurp(dir + "/log.txt");
+  for (const char* f : {"/case/lab/static.txt", "/case/lab/tilt/tilt_a.txt"}) {
+    const ImuSeries lab = readImu(dir + f, {100.0, {}});
+    ASSERT_TRUE(lab.front().hasTemperature()) << f;
+    EXPECT_DOUBLE_EQ(lab.front().temperature_degC, 23.0) << f;
+    EXPECT_DOUBLE_EQ(lab.back().temperature_degC, 23.0) << f;
+  }
+  const ImuSeries field = readImu(dir + "/case/field/tested_imu.txt", {100.0, {}});
+  EXPECT_NEAR(field.front().temperature_degC, 20.0, 0.1);
+  EXPECT_GT(field.back().temperature_degC, 39.0);
+}
+
 TEST(SimCommand, ConfigErrorsNameFileAndKey) {
   const std::string dir = test::makeTempDir("sim_cfg");
   const std::string cfg = tinyConfig(dir);

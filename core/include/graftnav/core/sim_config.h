@@ -118,7 +118,12 @@ struct SimTemperature {
   double start_degC = 25.0;
   double end_degC = 25.0;
   double time_constant_s = 900.0;
+  // Lab files at this constant temperature (a thermally settled bench) instead of warming up
+  // from their start like the field file (key temperature.lab_degC; unset: warm-up too).
+  std::optional<double> lab_degC;
   double at(double seconds_since_file_start) const;
+  // The temperature model of the lab files.
+  SimTemperature lab() const;
 };
 
 struct SimConfig {
