@@ -310,13 +310,23 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
 
 Eigen::MatrixX3d angularAccelerationPerBin(const ImuSeries& imu, const GridSpec& grid) {
   if (imu.size() < 2) throw std::invalid_argument("angularAccelerationPerBin: fewer than 2 samples");
-  // Rate at a bin edge t: mean rate over (t - h/2, t + h/2] (h = bin length), from the cumulative
-  // integral: centred on the edge, so the difference of two edges has the attenuation of one bin
-  // (sinc, 2.5 % at 2.5 Hz for 0.05-s bins) and the noise of two bin means.
+  // The bin mean of omega_dot over (a, b] is exactly (omega(b) - omega(a)) / (b - a), omega the
+  // instantaneous rate: the tested IMU's velocity increments carry omega(t_k) x r at its sample
+  // boundaries, so its bin means hold this exact mean. The rate at an edge t is estimated from
+  // the reference's cumulative integral by Richardson extrapolation of two centred window means,
+  // omega(t) ~ (4 m_h(t) - m_2h(t)) / 3 with m_w(t) the mean rate over (t - w/2, t + w/2]
+  // (h = bin length): a window mean has gain sinc(f w) = 1 - (pi f w)^2 / 6 + O(f^4), and the
+  // combination cancels the quadratic term. Gain error at 0.05-s bins: 0.08 % at 2.5 Hz, 0.2 %
+  // at 3.1 Hz, 1.2 % at 5 Hz (a single centred window: 2.5 %, 3.9 %, 10 %); white-noise
+  // variance 1.39 x that of one window, 2.5 x less than the 5-point instantaneous node rate
+  // (whose noise in the regressor biases r_m towards 0, errors-in-variables).
   const CumulativeImu cum(imu);
   const double h = grid.bin_s;
+  const auto windowMean = [&](double t, double w) -> Eigen::Vector3d {
+    return ((cum.at(t + 0.5 * w) - cum.at(t - 0.5 * w)) / w).head<3>();
+  };
   const auto rateAt = [&](double t) -> Eigen::Vector3d {
-    return ((cum.at(t + 0.5 * h) - cum.at(t - 0.5 * h)) / h).head<3>();
+    return (4.0 * windowMean(t, h) - windowMean(t, 2.0 * h)) / 3.0;
   };
   Eigen::MatrixX3d out(grid.count, 3);
   Eigen::Vector3d prev = rateAt(grid.binStart(0));

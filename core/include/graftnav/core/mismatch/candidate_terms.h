@@ -101,8 +101,9 @@ Eigen::VectorXd vibrationLevelPerBin(const ImuSeries& imu, const GridSpec& grid,
                                      const std::string& regressor_name, double window_s = 1.0);
 
 // Bin means of the angular acceleration of `imu` on `grid`: (omega(b) - omega(a)) / (b - a) for
-// bin (a, b], omega(t) the mean rate over one bin length centred on t (less attenuation of
-// few-Hz oscillations than central differences of bin means, at twice their noise).
+// bin (a, b] (exact for the instantaneous rate omega), omega at an edge from Richardson
+// extrapolation of the mean rates over one and two bin lengths centred on it, (4 m_h - m_2h) / 3
+// (gain error O(f^4): 0.2 % at 3.1 Hz, 1.2 % at 5 Hz for 0.05-s bins).
 // Throws std::invalid_argument with fewer than 2 samples.
 Eigen::MatrixX3d angularAccelerationPerBin(const ImuSeries& imu, const GridSpec& grid);
 
