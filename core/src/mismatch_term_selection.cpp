@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -188,7 +189,7 @@ class Selector {
  public:
   Selector(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
            const SelectionOptions& opt, int rb, int re)
-      : terms_(terms), opt_(opt), map_(mapColumns(terms)) {
+      : terms_(terms), opt_(opt), map_(mapColumns(terms)), r_(r), rb_(rb), re_(re) {
     // Noise model from the largest model: all candidates, one of each exclusive group.
     std::vector<int> full = {0};
     for (std::size_t t = 1; t < terms.size(); ++t) {
@@ -240,7 +241,7 @@ class Selector {
       const double var = f1.rss / std::max(1.0, gram_.rows - static_cast<double>(S.size()));
       inflation_ *= std::max(1.0, var);
     }
-    estimateSlowNoise(r, full, rb, re);
+    full_ = full;
   }
 
   // The AR(1) model leaves out noise with long correlation (a bias random process whose field and
@@ -249,21 +250,46 @@ class Selector {
   // the block length (1 for white noise). A term's slowness: the share of its whitened regressor
   // energy in the block means. Its evidence and covariance are inflated by
   // 1 + slowness (slow_inflation - 1).
-  void estimateSlowNoise(const Eigen::MatrixXd& r, const std::vector<int>& full, int rb, int re) {
-    term_inflation_.assign(terms_.size(), 1.0);
-    slow_inflation_.setOnes();
+  // For a fast term (not slow itself), the slow terms already in the model it is tested against
+  // (`base`: selected, so they passed this test themselves) stay in that residual: their signal
+  // is established physics, not noise. Without that, a temperature warm-up in the gyro residual
+  // raised c_slow to 9-13 and cost a g-sensitivity (whose specific-force regressor has slow
+  // content) its detection. A slow term is always measured against the residual without any slow
+  // term (claimed slow physics and bias wander are the very ambiguity it must overcome).
+  struct SlowNoise {
+    Eigen::Matrix<double, 6, 1> slow_inflation = Eigen::Matrix<double, 6, 1>::Ones();
+    std::vector<double> term_inflation;
+  };
+
+  bool isSlow(int t) const {
+    const std::string& nm = terms_[t].name;
+    return nm == "bias_instability" || nm == "temperature_bias" || nm == "temperature_scale" ||
+           nm == "gravity_model" || nm == "earth_rotation_omitted";
+  }
+
+  const SlowNoise& slowNoise(const std::vector<int>& base) const {
+    std::vector<int> slow_in_base;
+    for (int t : base)
+      if (isSlow(t)) slow_in_base.push_back(t);
+    auto it = slow_cache_.find(slow_in_base);
+    if (it == slow_cache_.end())
+      it = slow_cache_.emplace(slow_in_base, estimateSlowNoise(slow_in_base)).first;
+    return it->second;
+  }
+
+  SlowNoise estimateSlowNoise(const std::vector<int>& slow_in_model) const {
+    SlowNoise out;
+    out.term_inflation.assign(terms_.size(), 1.0);
+    const Eigen::MatrixXd& r = r_;
+    const int rb = rb_, re = re_;
     const int m = opt_.slow_block_bins;
     const int len = re - rb;
     const int blocks = m > 1 ? len / m : 0;
-    if (blocks < 4) return;
-    auto isSlow = [&](int t) {
-      const std::string& nm = terms_[t].name;
-      return nm == "bias_instability" || nm == "temperature_bias" || nm == "temperature_scale" ||
-             nm == "gravity_model" || nm == "earth_rotation_omitted";
-    };
+    if (blocks < 4) return out;
     std::vector<int> fast;
-    for (int t : full)
+    for (int t : full_)
       if (!isSlow(t)) fast.push_back(t);
+    for (int t : slow_in_model) fast = withTerm(fast, t);
     std::vector<int> S, F;
     modelColumns(fast, terms_, map_, &S, &F);
     const ModelFit fit = solve(gram_.G_all, gram_.b_all, gram_.yy_all, S, F, false);
@@ -287,7 +313,7 @@ class Selector {
       blockMeans(e.col(c), c, 0, &bm, &energy);
       double acc = 0.0;
       for (double v : bm) acc += v * v;
-      slow_inflation_(c) = std::max(1.0, m * acc / blocks / inflation_);
+      out.slow_inflation(c) = std::max(1.0, m * acc / blocks / inflation_);
     }
     // A term's inflation: its (mean-removed, whitened) regressor energy per channel, weighted by
     // the share that lives in block means and that channel's slow inflation.
@@ -302,11 +328,12 @@ class Selector {
           double slow = 0.0;
           for (double v : bm) slow += m * v * v;
           slow = std::min(slow, energy);
-          num += slow * (slow_inflation_(c) - 1.0);
+          num += slow * (out.slow_inflation(c) - 1.0);
           total += energy;
         }
-      term_inflation_[t] = total > 0.0 ? 1.0 + num / total : 1.0;
+      out.term_inflation[t] = total > 0.0 ? 1.0 + num / total : 1.0;
     }
+    return out;
   }
 
   int indexOf(const std::string& key) const {
@@ -369,13 +396,17 @@ class Selector {
 
   // delta_bic of going from `without` to `with` for term t: the RSS drop is divided by the term's
   // inflation (slow regressors compete with the slow part of the noise).
-  double deltaBic(const Score& without, const Score& with, int t) const {
+  double deltaBic(const Score& without, const Score& with, int t,
+                  const std::vector<int>& base) const {
     const double n_eff = gram_.rows / inflation_;
-    return (without.rss - with.rss) / (inflation_ * termInflation(t)) -
+    return (without.rss - with.rss) / (inflation_ * termInflation(t, base)) -
            static_cast<double>(with.p - without.p) * std::log(n_eff);
   }
 
-  double termInflation(int t) const { return term_inflation_[t]; }
+  // The slow-noise factor of term t tested against the model `base` (which does not hold t).
+  double termInflation(int t, const std::vector<int>& base) const {
+    return slowNoise(isSlow(t) ? std::vector<int>{} : base).term_inflation[t];
+  }
   Score score(const std::vector<int>& model) const {
     std::vector<int> S, F;
     modelColumns(model, terms_, map_, &S, &F);
@@ -395,8 +426,9 @@ class Selector {
 
   void evidence(const std::vector<int>& model, int t, double* delta_bic, double* cv_gain) const {
     const Score with = score(model);
-    const Score without = score(withoutTerm(model, t));
-    *delta_bic = deltaBic(without, with, t);
+    const std::vector<int> base = withoutTerm(model, t);
+    const Score without = score(base);
+    *delta_bic = deltaBic(without, with, t, base);
     *cv_gain = without.cv > 0.0 ? (without.cv - with.cv) / without.cv : 0.0;
   }
 
@@ -409,7 +441,7 @@ class Selector {
     res.rho = rho_;
     res.sigma = sigma_;
     res.inflation = inflation_;
-    res.slow_inflation = slow_inflation_;
+    res.slow_inflation = slowNoise(model).slow_inflation;
     res.rows = gram_.rows;
     std::vector<int> S, F;
     modelColumns(model, terms_, map_, &S, &F);
@@ -430,7 +462,7 @@ class Selector {
         tf.covariance = Eigen::MatrixXd::Zero(k, k);
       } else {
         tf.theta = fit.theta.segment(pos, k);
-        tf.inflation_factor = termInflation(t);
+        tf.inflation_factor = termInflation(t, withoutTerm(model, t));
         tf.covariance = cov.block(pos, pos, k, k) * tf.inflation_factor;
         tf.sigma = tf.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
         pos += k;
@@ -472,8 +504,10 @@ class Selector {
   Eigen::Matrix<double, 6, 1> rho_ = Eigen::Matrix<double, 6, 1>::Zero();
   Eigen::Matrix<double, 6, 1> sigma_ = Eigen::Matrix<double, 6, 1>::Ones();
   double inflation_ = 1.0;
-  Eigen::Matrix<double, 6, 1> slow_inflation_ = Eigen::Matrix<double, 6, 1>::Ones();
-  std::vector<double> term_inflation_;
+  const Eigen::MatrixXd& r_;
+  int rb_ = 0, re_ = 0;
+  std::vector<int> full_;  // the largest model (noise model)
+  mutable std::map<std::vector<int>, SlowNoise> slow_cache_;
 };
 
 void checkInputs(const Eigen::MatrixXd& residual, const std::vector<CandidateTerm>& terms,
@@ -517,7 +551,7 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<C
       const std::vector<int> trial = sel.withTerm(base_model, static_cast<int>(t));
       if (trial == base_model) continue;
       const Selector::Score s = sel.score(trial);
-      const double dbic = sel.deltaBic(base, s, static_cast<int>(t));
+      const double dbic = sel.deltaBic(base, s, static_cast<int>(t), base_model);
       const double cvg = base.cv > 0.0 ? (base.cv - s.cv) / base.cv : 0.0;
       if (sel.passes(dbic, cvg) && (best < 0 || dbic > best_bic)) {
         best = static_cast<int>(t);

@@ -332,5 +332,37 @@ TEST(MismatchSelection, SlowBiasWanderIsNotClaimedAsTemperature) {
   EXPECT_LE(claimed_temperature, 1) << log;
 }
 
+// A term's slow-noise inflation is measured against the model it is tested in: once a
+// temperature warm-up is claimed, its ramp is no longer "slow noise". Before, the warm-up stayed
+// in the slow-noise residual, raised the gyro c_slow ~10-fold and cost a g-sensitivity (whose
+// specific-force regressor has slow content) its detection (concealed gsens_temperature case).
+TEST(MismatchSelection, ClaimedTemperatureDoesNotInflateOtherTerms) {
+  const Motion m = carMotion(9);
+  const RegressorInputs in = syntheticInputs(m, 1200.0, 0.0);
+  const std::vector<CandidateTerm> terms = buildCandidateLibrary(in);
+  const int n = in.reference.size();
+  SelectionOptions opt;
+  opt.slow_block_bins = static_cast<int>(60.0 / in.reference.grid.bin_s);
+  const int g = findTerm(terms, "g_sensitivity:gyro"), tb = findTerm(terms, "temperature_bias:gyro");
+  ASSERT_GE(g, 0);
+  ASSERT_GE(tb, 0);
+  Eigen::VectorXd G = Eigen::Map<const Eigen::VectorXd>(G9().data(), 9) * 0.25;
+  const Eigen::MatrixXd r0 = termContribution(terms[g], G, n) + ar1Noise(n, 0.3, 21);
+  const Eigen::MatrixXd r1 =
+      r0 + termContribution(terms[tb], Eigen::Vector3d(1e-4, -1e-4, 8e-5), n);
+  const SelectionResult alone = fitTerms(r0, terms, {g}, opt);
+  const SelectionResult both = selectTerms(r1, terms, opt);
+  const TermFit* g_fit = nullptr;
+  bool temperature = false;
+  for (const TermFit& tf : both.selected) {
+    if (tf.term == g && tf.claimed) g_fit = &tf;
+    temperature |= tf.term == tb && tf.claimed;
+  }
+  EXPECT_TRUE(temperature);
+  ASSERT_NE(g_fit, nullptr) << "g_sensitivity missed next to a temperature warm-up";
+  ASSERT_EQ(alone.selected.size(), 1u);
+  EXPECT_LT(g_fit->inflation_factor, 1.2 * alone.selected[0].inflation_factor);
+}
+
 }  // namespace
 }  // namespace graftnav

@@ -19,7 +19,9 @@
 //    block means of the whitened residual of the full model without the slow candidates (1 for
 //    white noise). A term's RSS drop is divided, and its covariance multiplied, by
 //    1 + sum_c s_c (c_slow_c - 1), s_c the share of its (mean-removed, whitened) regressor energy
-//    that lies in block means on channel c.
+//    that lies in block means on channel c. For a term that is not slow itself, the slow terms
+//    already in the model it is tested against stay in that residual (claimed physics is not
+//    noise); a slow term is always measured against the residual without any slow term.
 // 4. Forward selection adds, while any exists, the term with the largest delta_bic among those
 //    with delta_bic > min_delta_bic and cv_gain > min_cv_gain; backward elimination then drops
 //    terms that no longer pass. A term is claimed only if it passes both tests in the final model.
