@@ -4,7 +4,7 @@
 # estimator, and print a Markdown table: effect injected, effect found, parameter error, fit
 # before/after (signal RMS and DIFF of the five outage statistics).
 #
-# Usage: scripts/run_concealed_suite.sh [--seeds N] [--estimator ekf|rts|fgo] [--jobs J]
+# Usage: scripts/run_concealed_suite.sh [--seeds N] [--estimator ekf|rts|fgo] [--jobs J] [--crn]
 #                                       [--cases "name1 name2"] [OUT_DIR] [GRAFTNAV_BINARY]
 #   OUT_DIR defaults to /tmp/graftnav_concealed; the binary to build/graftnav.
 #   --seeds N   Monte-Carlo mode: every case is simulated with N seeds (`simulate --seed`, the
@@ -18,12 +18,18 @@
 #   --estimator ekf (default), rts or fgo.
 #   --jobs J    cases run in parallel (default 1; the machine may be shared).
 #   --cases     only these cases (YAML base names).
+#   --crn       common random numbers: simulate with --common-random-numbers (the lab session
+#               carries the field tested IMU's noise stream) and diagnose with
+#               configs/sg/crn_run.yaml (graft from lab sample 0), so SG2/SG3 and REAL share one
+#               noise realization and DIFF measures the model, not two realizations
+#               (docs/sg-evaluation.md). Results under OUT_DIR/crn (and OUT_DIR/crn/mc_<est>).
 set -euo pipefail
 repo="$(cd "$(dirname "$0")/.." && pwd)"
 seeds=0
 estimator=ekf
 njobs=1
 cases=""
+crn=0
 pos=()
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -31,7 +37,8 @@ while [ $# -gt 0 ]; do
     --estimator) estimator="$2"; shift 2 ;;
     --jobs) njobs="$2"; shift 2 ;;
     --cases) cases="$2"; shift 2 ;;
-    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    --crn) crn=1; shift ;;
+    -h|--help) sed -n '2,27p' "$0"; exit 0 ;;
     --*) echo "unknown option $1" >&2; exit 2 ;;
     *) pos+=("$1"); shift ;;
   esac
@@ -41,6 +48,7 @@ bin="${pos[1]:-$repo/build/graftnav}"
 py="${GRAFTNAV_PYTHON:-/usr/bin/python3}"
 [ -x "$py" ] || py=python3
 cfg_dir="$repo/configs/sim/concealed"
+[ "$crn" = 1 ] && out="$out/crn"
 mkdir -p "$out"
 
 cfgs=()
@@ -54,13 +62,17 @@ done
 # run_one CFG CASE_DIR DIAG_DIR [SEED]: simulate and diagnose one case; logs next to CASE_DIR.
 run_one() {
   local cfg="$1" case_dir="$2" diag_dir="$3" seed="${4:-}"
-  local seed_arg=()
+  local seed_arg=() sim_crn=() diag_crn=()
   [ -n "$seed" ] && seed_arg=(--seed "$seed")
-  if ! "$bin" simulate --config "$cfg" --out "$case_dir" "${seed_arg[@]}" > "$case_dir.simulate.log" 2>&1; then
+  if [ "$crn" = 1 ]; then
+    sim_crn=(--common-random-numbers)
+    diag_crn=(--run-config "$repo/configs/sg/crn_run.yaml")
+  fi
+  if ! "$bin" simulate --config "$cfg" --out "$case_dir" "${seed_arg[@]}" "${sim_crn[@]}" > "$case_dir.simulate.log" 2>&1; then
     echo "simulate failed: $case_dir.simulate.log" >&2
     return 0
   fi
-  "$bin" diagnose "$case_dir" --out "$diag_dir" --no-plots --estimator "$estimator" \
+  "$bin" diagnose "$case_dir" --out "$diag_dir" --no-plots --estimator "$estimator" "${diag_crn[@]}" \
     --outage-length 60 --outage-period 120 --outage-start 100 > "$case_dir.diagnose.log" 2>&1 ||
     echo "diagnose failed: $case_dir.diagnose.log" >&2
 }
