@@ -334,7 +334,11 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     noise_ms(c) = std::min(noise_ms(c), full);
   }
   out.located = locateResidual(r, grid, out.regimes, opt.locate, &noise_ms);
-  {
+  // Gates against claiming what the lab calibration's own uncertainty explains. A gated term
+  // leaves the model, the rest is refitted, and the gates run again on the refit (a term fitted
+  // to compensate the gated one, e.g. a gyro non-orthogonality cancelling a misalignment's gyro
+  // part, then shrinks and may be gated in turn).
+  for (int gate_pass = 0; gate_pass < 4; ++gate_pass) {
     std::vector<int> keep;
     bool gated = false;
     for (const TermFit& tf : sel.selected) {
@@ -382,6 +386,33 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
           continue;
         }
       }
+      if (t.name == "mounting_misalignment" && (in.lab_gyro_M_sigma || in.lab_accel_M_sigma)) {
+        // For either sensor a rotation is indistinguishable from the antisymmetric part of its
+        // cross-axis calibration error: phi_z from (M_yx - M_xy) / 2 etc., whose 1-sigma is
+        // sqrt(s_xy^2 + s_yx^2) / 2. A mounting rotation is claimed only beyond 3 sigma of the
+        // fit and of the less certain sensor's lab rotation uncertainty combined.
+        const Effect e = effectFromTerm(t, tf, n);
+        const EffectParameter& q = e.parameters[0];
+        auto labRotationSigma = [](const std::optional<Eigen::Matrix3d>& M, int axis) {
+          if (!M) return 0.0;
+          const int i = (axis + 1) % 3, j = (axis + 2) % 3;
+          return 0.5 * std::hypot((*M)(i, j), (*M)(j, i));
+        };
+        bool beyond = false;
+        for (int a = 0; a < 3; ++a) {
+          const double lab_sigma = std::max(labRotationSigma(in.lab_gyro_M_sigma, a),
+                                            labRotationSigma(in.lab_accel_M_sigma, a));
+          beyond |= std::abs(q.values[a]) > 3.0 * std::hypot(q.sigma[a], lab_sigma);
+        }
+        if (!beyond) {
+          gated = true;
+          out.notes.push_back(
+              "mounting_misalignment fitted but within 3 sigma of the lab calibration's rotation "
+              "uncertainty (antisymmetric cross-axis terms): not claimed (calibration error, not "
+              "missing physics)");
+          continue;
+        }
+      }
       if (t.name == "bias_instability" && lab) {
         const Effect e = effectFromTerm(t, tf, n);
         const double wander = *std::max_element(e.parameters[0].values.begin(),
@@ -396,11 +427,10 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
       }
       keep.push_back(tf.term);
     }
-    if (gated) {
-      std::vector<std::string> log = sel.log;
-      sel = fitTerms(r, terms, keep, opt.selection);
-      sel.log = log;
-    }
+    if (!gated) break;
+    std::vector<std::string> log = sel.log;
+    sel = fitTerms(r, terms, keep, opt.selection);
+    sel.log = log;
   }
   // Joint fit with Ceres: the time offset as a non-linear parameter with everything else selected
   // (joint_fit.h); the linear solution is its start. Evidence stays that of the selection.

@@ -167,6 +167,40 @@ TEST(MismatchDiagnosis, NullPairClaimsNothing) {
   EXPECT_TRUE(r.effects.empty()) << diagnosisMarkdown(r);
 }
 
+// An accelerometer-only rotation of its cross-axis terms (what a lab calibration error of the
+// antisymmetric part looks like) within the lab's stated uncertainty is not a mounting
+// misalignment; a real mounting rotation of both sensors, well beyond it, still is.
+TEST(MismatchDiagnosis, MisalignmentWithinTheLabRotationUncertaintyIsNotClaimed) {
+  const Eigen::Matrix3d lab_gyro_sigma = Eigen::Matrix3d::Constant(2e-4);
+  const Eigen::Matrix3d lab_accel_sigma = Eigen::Matrix3d::Constant(1e-3);
+  {
+    ImuErrorModel extra;  // accel triad rotated by 1.5e-3 rad about z and 1e-3 about x
+    extra.accel.non_orthogonality.N(0, 1) = -1.5e-3;
+    extra.accel.non_orthogonality.N(1, 0) = 1.5e-3;
+    extra.accel.non_orthogonality.N(1, 2) = -1e-3;
+    extra.accel.non_orthogonality.N(2, 1) = 1e-3;
+    Pair p = makePair(extra, 11);
+    const DiagnosisResult without_lab = diagnose(p.in);
+    ASSERT_NE(findEffect(without_lab, "mounting_misalignment"), nullptr)
+        << "the case must show a rotation when nothing gates it\n" << diagnosisMarkdown(without_lab);
+    p.in.lab_gyro_M_sigma = lab_gyro_sigma;
+    p.in.lab_accel_M_sigma = lab_accel_sigma;
+    const DiagnosisResult r = diagnose(p.in);
+    EXPECT_TRUE(r.effects.empty()) << diagnosisMarkdown(r);
+  }
+  {
+    ImuErrorModel extra;  // a mounting rotation of 1e-2 rad (0.57 deg), both sensors
+    extra.mounting_misalignment.rotation_rad << 0.0, 4e-3, 1e-2;
+    Pair p = makePair(extra, 12);
+    p.in.lab_gyro_M_sigma = lab_gyro_sigma;
+    p.in.lab_accel_M_sigma = lab_accel_sigma;
+    const DiagnosisResult r = diagnose(p.in);
+    const Effect* mm = findEffect(r, "mounting_misalignment");
+    ASSERT_NE(mm, nullptr) << diagnosisMarkdown(r);
+    EXPECT_NEAR(mm->parameters[0].values[2], 1e-2, std::max(3.0 * mm->parameters[0].sigma[2], 2e-3));
+  }
+}
+
 TEST(MismatchDiagnosis, QuantizationFoundFromTheValueLattice) {
   ImuErrorModel extra;
   extra.accel.quantization.step.setConstant(2e-3);  // m/s per increment
