@@ -99,15 +99,11 @@ void attachLabTemperature(const ImuSeries& lab_static, double start_offset_s, Im
 // evaluated against SOL_REF (truth, the case's reference solution, or the RTS-smoothed reference
 // IMU). Throws std::runtime_error when the case cannot be navigated.
 NavigationComparison navigateComparison(const CaseInputs& c, const ImuSelection& tested,
-                                        const std::string& estimator, const std::string& run_config,
+                                        const std::string& estimator, const RunConfig& rc,
                                         const std::optional<OutageScheduleConfig>& outages_cli,
                                         const ImuSeries& sg2, const ImuSeries& sg3,
                                         std::vector<std::string>* notes) {
   if (c.gnss.empty()) throw std::runtime_error(c.paths().gnssPos() + " not found or empty");
-  std::vector<std::string> warnings;
-  RunConfig rc;
-  if (!run_config.empty()) rc = loadRunConfig(run_config, &warnings);
-  for (const auto& w : warnings) notes->push_back(w);
   OutageScheduleConfig oc = rc.outages_given ? rc.outages : OutageScheduleConfig{};
   if (outages_cli) oc = *outages_cli;
   NavSeries sol_ref = c.reference;
@@ -198,6 +194,10 @@ void registerDiagnose(CLI::App& app) {
     DiagnoseOptions opt;
     if (!args->config.empty()) opt = loadDiagnoseConfig(args->config, &warnings);
     for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
+    // The run config, read once: its grafting section for SG#2, the rest for the navigation level.
+    RunConfig rc;
+    std::vector<std::string> notes;
+    if (!args->run_config.empty()) rc = loadRunConfig(args->run_config, &notes);
 
     if (!CasePaths::exists(paths.testedImu()))
       throw std::runtime_error(paths.testedImu() + ": diagnose needs the tested IMU's field recording");
@@ -216,16 +216,12 @@ void registerDiagnose(CLI::App& app) {
     // A case with a truth trajectory is simulated: its reference IMU may lack navigation physics.
     in.reference_is_simulated = c.reference_is_truth;
     if (in.reference_is_simulated) in.attitude = c.reference;
-    std::vector<std::string> notes;
     if (CasePaths::exists(paths.labStatic())) {
       fmt::print(stderr, "diagnose: lab data found: simulation = SG#2 from the lab calibration\n");
       const LabData lab = loadLabData(args->case_dir);
       const LabCalibrationReport report = calibrateLab(lab);
       GraftCaseOptions go;
-      if (!args->run_config.empty()) {
-        // Only the grafting section here; navigateComparison reads the rest (and its warnings).
-        go.graft.start_offset_s = loadRunConfig(args->run_config).grafting.start_offset_s;
-      }
+      go.graft.start_offset_s = rc.grafting.start_offset_s;
       const GraftedCase g = graftCase(ref, report, go);
       in.simulated = g.sg2;
       attachLabTemperature(lab.static_imu, g.start_offset_s, &in.simulated);
@@ -262,7 +258,7 @@ void registerDiagnose(CLI::App& app) {
       }
       try {
         fmt::print(stderr, "diagnose: navigating SG#2, SG#3 and REAL with {}\n", args->estimator);
-        nav = navigateComparison(c, tested, args->estimator, args->run_config, oc,
+        nav = navigateComparison(c, tested, args->estimator, rc, oc,
                                  in.simulated, res.sg3, &res.notes);
       } catch (const std::exception& e) {
         res.notes.push_back(std::string("navigation level skipped: ") + e.what());
