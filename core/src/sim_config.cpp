@@ -9,6 +9,7 @@
 #include <string>
 
 #include "graftnav/core/imu_profile_io.h"
+#include "graftnav/core/imu_simulator.h"
 #include "graftnav/core/units.h"
 
 namespace graftnav {
@@ -278,6 +279,55 @@ MotionScript parseScript(const Reader& r, const YAML::Node& n) {
   return s;
 }
 
+RoadVibrationOptions parseVibration(const Reader& r, const YAML::Node& v) {
+  const std::string k = "trajectory.vibration";
+  r.checkKeys(v, k,
+              {"accel_rms_m_s2", "gyro_rms_deg_s", "band_hz", "components", "seed",
+               "half_amplitude_speed_m_s"});
+  RoadVibrationOptions o;
+  auto nonNegative = [&](const char* key, double def) {
+    const double x = r.num(v, key, k + "." + key, def);
+    if (x < 0.0) r.fail(v[key], k + "." + key, "must be >= 0");
+    return x;
+  };
+  o.accel_rms_m_s2 = nonNegative("accel_rms_m_s2", 0.0);
+  o.gyro_rms_rad_s = nonNegative("gyro_rms_deg_s", 0.0) * units::kDegToRad;
+  if (v["band_hz"]) {
+    const auto b = r.list(v, "band_hz", k + ".band_hz", 2);
+    if (!(b[0] > 0.0 && b[1] >= b[0])) {
+      r.fail(v["band_hz"], k + ".band_hz", "expected [low, high] with 0 < low <= high");
+    }
+    o.band_low_hz = b[0];
+    o.band_high_hz = b[1];
+  }
+  const double n = r.num(v, "components", k + ".components", o.components);
+  if (!(n >= 3.0) || n != std::floor(n)) {
+    r.fail(v["components"], k + ".components", "must be an integer >= 3 (one per axis)");
+  }
+  o.components = static_cast<int>(n);
+  const double seed = r.num(v, "seed", k + ".seed", static_cast<double>(o.seed));
+  if (seed < 0.0 || seed != std::floor(seed)) r.fail(v["seed"], k + ".seed", "must be an integer >= 0");
+  o.seed = static_cast<uint64_t>(seed);
+  o.half_amplitude_speed_m_s =
+      r.num(v, "half_amplitude_speed_m_s", k + ".half_amplitude_speed_m_s",
+            o.half_amplitude_speed_m_s);
+  if (!(o.half_amplitude_speed_m_s > 0.0)) {
+    r.fail(v["half_amplitude_speed_m_s"], k + ".half_amplitude_speed_m_s", "must be > 0");
+  }
+  return o;
+}
+
+// Relative error of an n-node Gauss-Legendre rule on the increment of a sinusoid of frequency f
+// over one IMU interval h (integral of cos(a x) on [-1, 1], a = pi f h; exact 2 sin(a) / a).
+double quadratureRelativeError(int nodes, double f_hz, double h_s) {
+  const GaussLegendreRule rule = gaussLegendreRule(nodes);
+  const double a = units::kPi * f_hz * h_s;
+  double q = 0.0;
+  for (std::size_t i = 0; i < rule.nodes.size(); ++i) q += rule.weights[i] * std::cos(a * rule.nodes[i]);
+  const double exact = a > 0.0 ? 2.0 * std::sin(a) / a : 2.0;
+  return std::abs(q / exact - 1.0);
+}
+
 }  // namespace
 
 void SimConfig::validate() const {
@@ -300,6 +350,25 @@ void SimConfig::validate() const {
     if (track->start_offset_s < 0.0 || track->duration_s < 0.0 || track->margin_s < 0.0) {
       throw std::invalid_argument("SimConfig: trajectory start_offset_s, duration_s, margin_s "
                                   "must be >= 0");
+    }
+    const RoadVibrationOptions& vib = track->smoothing.vibration;
+    if (vib.enabled()) {
+      // The IMU samples the vibration: keep it below Nyquist, and let the Gauss-Legendre rule of
+      // the ideal IMU integrate its increments to 1e-4 (4 nodes at 100 Hz: 4e-7 at 35 Hz).
+      if (!(vib.band_high_hz < 0.5 * imu_rate_hz)) {
+        throw std::invalid_argument("SimConfig: trajectory.vibration.band_hz upper edge " +
+                                    std::to_string(vib.band_high_hz) + " Hz must be below the "
+                                    "Nyquist frequency imu_rate_hz / 2 = " +
+                                    std::to_string(0.5 * imu_rate_hz) + " Hz");
+      }
+      if (quadrature_nodes < 1 || quadrature_nodes > 64 ||
+          quadratureRelativeError(quadrature_nodes, vib.band_high_hz, 1.0 / imu_rate_hz) > 1e-4) {
+        throw std::invalid_argument(
+            "SimConfig: quadrature_nodes = " + std::to_string(quadrature_nodes) +
+            " integrates trajectory.vibration at " + std::to_string(vib.band_high_hz) +
+            " Hz with a relative error above 1e-4 at imu_rate_hz = " + std::to_string(imu_rate_hz) +
+            "; use more nodes");
+      }
     }
   }
   if (script) script->validate();
@@ -342,7 +411,8 @@ SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warni
   if (!trj) r.fail(root, "trajectory", "required section missing");
   r.checkKeys(trj, "trajectory",
               {"track", "start_offset_s", "duration_s", "margin_s", "position_cutoff_hz",
-               "attitude_cutoff_hz", "roll_deg_per_g", "oscillation_scale", "script"});
+               "attitude_cutoff_hz", "roll_deg_per_g", "oscillation_scale", "vibration",
+               "script"});
   if (trj["track"]) {
     SimTrackSource t;
     t.path = r.resolve(r.str(trj, "track", "trajectory.track", ""));
@@ -357,6 +427,9 @@ SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warni
         r.num(trj, "roll_deg_per_g", "trajectory.roll_deg_per_g", 4.0) * units::kDegToRad;
     const double osc = r.num(trj, "oscillation_scale", "trajectory.oscillation_scale", 1.0);
     for (auto& o : t.smoothing.oscillations) o.amplitude_rad *= osc;
+    if (const YAML::Node v = trj["vibration"]) {
+      t.smoothing.vibration = parseVibration(r, v);
+    }
     c.track = t;
   }
   if (trj["script"]) c.script = parseScript(r, trj["script"]);

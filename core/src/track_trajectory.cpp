@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -165,10 +166,69 @@ void TrackSmoothingOptions::validate() const {
   need(heading_hold_speed_m_s > 0.0, "heading_hold_speed_m_s", heading_hold_speed_m_s);
   need(lateral_speed_floor_m_s > 0.0, "lateral_speed_floor_m_s", lateral_speed_floor_m_s);
   need(oscillation_speed_m_s > 0.0, "oscillation_speed_m_s", oscillation_speed_m_s);
+  vibration.validate();
   for (const auto& o : oscillations) {
     need(o.euler_index >= 0 && o.euler_index <= 2, "oscillation euler_index", o.euler_index);
     need(o.frequency_hz >= 0.0, "oscillation frequency_hz", o.frequency_hz);
   }
+}
+
+namespace {
+
+// Uniform in [0, 1) from the 53 high bits (std::uniform_real_distribution is not specified
+// bit-for-bit by the standard; mt19937_64 is).
+double uniform01(std::mt19937_64& g) { return static_cast<double>(g() >> 11) * 0x1.0p-53; }
+
+// Sinusoids of total vector rms `rms` (of the amplitude's `order`-th derivative, order 2 for a
+// displacement giving acceleration, 1 for an angle giving a rate), axis k % 3 with mean-square
+// shares `share`, frequencies and phases from g.
+std::vector<VibrationComponent> drawVibration(double rms, const double (&share)[3], int order,
+                                              const RoadVibrationOptions& o, std::mt19937_64& g) {
+  std::vector<VibrationComponent> out;
+  if (!(rms > 0.0)) return out;
+  int per_axis[3] = {0, 0, 0};
+  for (int k = 0; k < o.components; ++k) ++per_axis[k % 3];
+  for (int k = 0; k < o.components; ++k) {
+    VibrationComponent c;
+    c.axis = k % 3;
+    c.frequency_hz = o.band_low_hz + (o.band_high_hz - o.band_low_hz) * uniform01(g);
+    c.phase_rad = 2.0 * units::kPi * uniform01(g);
+    const double ms = rms * rms * share[c.axis] / per_axis[c.axis];
+    c.amplitude = std::sqrt(2.0 * ms) / std::pow(2.0 * units::kPi * c.frequency_hz, order);
+    out.push_back(c);
+  }
+  return out;
+}
+
+constexpr double kLinearShare[3] = {0.15, 0.25, 0.60};   // forward, right, down
+constexpr double kAngularShare[3] = {0.40, 0.45, 0.15};  // roll, pitch, yaw
+
+}  // namespace
+
+std::vector<VibrationComponent> RoadVibrationOptions::linearComponents() const {
+  std::mt19937_64 g(seed);
+  return drawVibration(accel_rms_m_s2, kLinearShare, 2, *this, g);
+}
+
+std::vector<VibrationComponent> RoadVibrationOptions::angularComponents() const {
+  std::mt19937_64 g(seed ^ 0x9e3779b97f4a7c15ULL);  // a stream independent of the linear one
+  return drawVibration(gyro_rms_rad_s, kAngularShare, 1, *this, g);
+}
+
+void RoadVibrationOptions::validate() const {
+  auto need = [](bool ok, const char* key, double v) {
+    if (!ok) {
+      throw std::invalid_argument(std::string("RoadVibrationOptions: bad ") + key + " = " +
+                                  std::to_string(v));
+    }
+  };
+  need(accel_rms_m_s2 >= 0.0 && std::isfinite(accel_rms_m_s2), "accel_rms_m_s2", accel_rms_m_s2);
+  need(gyro_rms_rad_s >= 0.0 && std::isfinite(gyro_rms_rad_s), "gyro_rms_rad_s", gyro_rms_rad_s);
+  if (!enabled()) return;
+  need(band_low_hz > 0.0 && std::isfinite(band_low_hz), "band_low_hz", band_low_hz);
+  need(band_high_hz >= band_low_hz && std::isfinite(band_high_hz), "band_high_hz", band_high_hz);
+  need(components >= 3, "components (>= 3, one per axis)", components);
+  need(half_amplitude_speed_m_s > 0.0, "half_amplitude_speed_m_s", half_amplitude_speed_m_s);
 }
 
 TrackTrajectory::~TrackTrajectory() = default;
@@ -349,6 +409,70 @@ TrackTrajectory::TrackTrajectory(const GnssSeries& track, const TrackSmoothingOp
     att_[a] = std::make_unique<Spline>(t_begin_, dt, nseg);
     att_[a]->fit(ts, ang[a], ws, opt.attitude_cutoff_hz);
   }
+  if (opt.vibration.enabled()) {
+    vib_linear_ = opt.vibration.linearComponents();
+    vib_angular_ = opt.vibration.angularComponents();
+  }
+}
+
+// Adds the vibration to the smoothed motion in k (k still without oscillations in v_n0, a_n0).
+// With u(t) = m(t) A sin(w tau + phase):  u' = m' S + m A w C,  u'' = m'' S + 2 m' A w C - m A w^2 S.
+// The horizontal displacement h = (forward, right) is rotated by the path yaw psi:
+//   d = R(psi) h,  d' = R (h' + psi' J h),  d'' = R (h'' + 2 psi' J h' + psi'' J h - psi'^2 h),
+// J = [[0, -1], [1, 0]]; the down displacement adds directly.
+void TrackTrajectory::addVibration(double t_s, LocalKinematics& k) const {
+  // m = s / (s + c), s = v_h^2, c = v_half^2 and its first two derivatives (the jerk is exact
+  // from the quintic position spline).
+  double j[2];
+  for (int a = 0; a < 2; ++a) {
+    double d[4];
+    pos_[a]->eval(t_s, d, 3);
+    j[a] = d[3];
+  }
+  const Eigen::Vector3d& v = k.v_n0;
+  const Eigen::Vector3d& acc = k.a_n0;
+  const double c = opt_.vibration.half_amplitude_speed_m_s * opt_.vibration.half_amplitude_speed_m_s;
+  const double s = v.x() * v.x() + v.y() * v.y();
+  const double ds = 2.0 * (v.x() * acc.x() + v.y() * acc.y());
+  const double dds = 2.0 * (acc.x() * acc.x() + acc.y() * acc.y() + v.x() * j[0] + v.y() * j[1]);
+  const double sc = s + c;
+  const double m = s / sc;
+  const double dm = c * ds / (sc * sc);
+  const double ddm = c * dds / (sc * sc) - 2.0 * c * ds * ds / (sc * sc * sc);
+  const double tau = t_s - t_begin_;
+
+  Eigen::Vector3d h[3] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                          Eigen::Vector3d::Zero()};  // derivative order 0..2, axes fwd/right/down
+  for (const auto& o : vib_linear_) {
+    const double w = 2.0 * units::kPi * o.frequency_hz;
+    const double S = o.amplitude * std::sin(w * tau + o.phase_rad);
+    const double C = o.amplitude * std::cos(w * tau + o.phase_rad);
+    h[0][o.axis] += m * S;
+    h[1][o.axis] += dm * S + m * w * C;
+    h[2][o.axis] += ddm * S + 2.0 * dm * w * C - m * w * w * S;
+  }
+  if (!vib_linear_.empty()) {
+    double psi[3];
+    att_[2]->eval(t_s, psi, 2);
+    const double cp = std::cos(psi[0]), sp = std::sin(psi[0]);
+    auto J = [](const Eigen::Vector3d& x) { return Eigen::Vector2d(-x.y(), x.x()); };
+    const Eigen::Vector2d h1 = h[1].head<2>() + psi[1] * J(h[0]);
+    const Eigen::Vector2d h2 = h[2].head<2>() + 2.0 * psi[1] * J(h[1]) + psi[2] * J(h[0]) -
+                               psi[1] * psi[1] * h[0].head<2>();
+    const Eigen::Vector2d hs[3] = {h[0].head<2>(), h1, h2};
+    Eigen::Vector3d* out[3] = {&k.p_n0, &k.v_n0, &k.a_n0};
+    for (int r = 0; r < 3; ++r) {
+      (*out[r])[0] += cp * hs[r].x() - sp * hs[r].y();
+      (*out[r])[1] += sp * hs[r].x() + cp * hs[r].y();
+      (*out[r])[2] += h[r].z();
+    }
+  }
+  for (const auto& o : vib_angular_) {
+    const double w = 2.0 * units::kPi * o.frequency_hz;
+    const double S = std::sin(w * tau + o.phase_rad), C = std::cos(w * tau + o.phase_rad);
+    k.euler_rad[o.axis] += o.amplitude * m * S;
+    k.euler_rate_rad_s[o.axis] += o.amplitude * (dm * S + m * w * C);
+  }
 }
 
 TangentPlaneTrajectory::LocalKinematics TrackTrajectory::local(double t_s) const {
@@ -378,6 +502,7 @@ TangentPlaneTrajectory::LocalKinematics TrackTrajectory::local(double t_s) const
       k.euler_rate_rad_s[o.euler_index] += o.amplitude_rad * (dm * s + m * w * c);
     }
   }
+  if (!vib_linear_.empty() || !vib_angular_.empty()) addVibration(t_s, k);
   return k;
 }
 

@@ -18,6 +18,13 @@
 //     attitude_cutoff_hz: 0.3
 //     roll_deg_per_g: 4.0           # outward body roll per g of lateral acceleration
 //     oscillation_scale: 1.0        # scales the default road oscillations (0 = none)
+//     vibration:                    # road/engine vibration as true motion (default none;
+//       accel_rms_m_s2: 0.8         #   RoadVibrationOptions in track_trajectory.h): vector rms
+//       gyro_rms_deg_s: 0.3         #   of specific force / angular rate at full speed,
+//       band_hz: [8, 35]            #   sinusoid frequencies (upper edge < imu_rate_hz / 2),
+//       components: 12              #   sinusoids each (linear, angular), >= 3,
+//       seed: 1                     #   draws of frequencies and phases (not the case seed),
+//       half_amplitude_speed_m_s: 5 #   amplitude factor v^2 / (v^2 + this^2)
 //     script:                       # instead of track:
 //       start_time_s: 100000
 //       start_position: [30.5, 114.3, 20]     # deg, deg, m

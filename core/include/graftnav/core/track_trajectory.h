@@ -11,9 +11,14 @@
 //         a_lat = (v_N a_E - v_E a_N) / sqrt(v_h^2 + v_floor^2) (smooth through stops),
 // each sampled at 4 Hz from the position spline and fitted by its own quintic P-spline, plus
 // small road oscillations (sinusoids) whose amplitude fades in with speed:
-//   m(t) = v_h^2 / (v_h^2 + v_osc^2).
+//   m(t) = v_h^2 / (v_h^2 + v_osc^2),
+// and, optionally, road/engine vibration (RoadVibrationOptions, default off) as true motion:
+// sinusoids in a band (8-40 Hz in cars) on the position, along the forward/right/down axes of the
+// heading frame (yaw of the smoothed path), and on the Euler angles, faded in with speed by
+//   m_vib(t) = v_h^2 / (v_h^2 + v_half^2).
 // Every quantity has analytic derivatives, so omega_nb_b is exact.
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -31,6 +36,39 @@ struct AttitudeOscillation {
   double phase_rad = 0.0;
 };
 
+// One vibration sinusoid, m_vib(t) A sin(2 pi f (t - t0) + phase): a displacement (m) along axis
+// 0 forward, 1 right, 2 down of the heading frame, or an Euler-angle term (rad) on 0 roll,
+// 1 pitch, 2 yaw.
+struct VibrationComponent {
+  int axis = 0;
+  double amplitude = 0.0;  // m (linear) or rad (angular)
+  double frequency_hz = 10.0;
+  double phase_rad = 0.0;
+};
+
+// Road/engine vibration of a body-mounted IMU in a car, as true motion. accel_rms_m_s2 is the rms
+// of the vibration's specific-force VECTOR (sqrt of the summed per-axis mean squares; the
+// vibration regressor is a squared norm too) at full amplitude (speed >> half_amplitude_speed);
+// gyro_rms_rad_s the same for the angular rate. Mean-square shares per axis (fixed): linear
+// forward 0.15, right 0.25, down 0.60; angular roll 0.40, pitch 0.45, yaw 0.15. `components`
+// sinusoids each for the linear and the angular part, axis k % 3, frequencies uniform in
+// [band_low_hz, band_high_hz] and phases uniform, drawn from `seed` (mt19937_64); the mean square
+// of an axis is split equally over its sinusoids: acceleration amplitude sqrt(2 ms_i), so a
+// displacement A = sqrt(2 ms_i) / (2 pi f)^2 (micrometres), an angle sqrt(2 ms_i) / (2 pi f).
+struct RoadVibrationOptions {
+  double accel_rms_m_s2 = 0.0;  // 0 and gyro_rms_rad_s 0: no vibration
+  double gyro_rms_rad_s = 0.0;
+  double band_low_hz = 8.0;
+  double band_high_hz = 35.0;
+  int components = 12;
+  uint64_t seed = 1;
+  double half_amplitude_speed_m_s = 5.0;  // v_half in m_vib
+  bool enabled() const { return accel_rms_m_s2 > 0.0 || gyro_rms_rad_s > 0.0; }
+  std::vector<VibrationComponent> linearComponents() const;   // displacement amplitudes (m)
+  std::vector<VibrationComponent> angularComponents() const;  // angle amplitudes (rad)
+  void validate() const;  // throws std::invalid_argument naming the field
+};
+
 struct TrackSmoothingOptions {
   double position_cutoff_hz = 0.4;     // approximate -6 dB frequency of the position smoother
   double attitude_cutoff_hz = 0.3;     // same for the fitted Euler angles
@@ -43,6 +81,7 @@ struct TrackSmoothingOptions {
   double lateral_speed_floor_m_s = 1.0;  // v_floor in a_lat
   double oscillation_speed_m_s = 2.0;    // v_osc in m(t)
   std::vector<AttitudeOscillation> oscillations = defaultOscillations();
+  RoadVibrationOptions vibration;      // default off
   static std::vector<AttitudeOscillation> defaultOscillations();
   void validate() const;  // throws std::invalid_argument naming the field
 };
@@ -75,6 +114,8 @@ class TrackTrajectory final : public TangentPlaneTrajectory {
   TrackSmoothingOptions opt_;
   std::unique_ptr<Spline> pos_[3];  // N, E, D in the tangent plane (m)
   std::unique_ptr<Spline> att_[3];  // roll, pitch, yaw (rad) without oscillations
+  std::vector<VibrationComponent> vib_linear_, vib_angular_;  // drawn once from opt_.vibration
+  void addVibration(double t_s, LocalKinematics& k) const;
   TrackFitReport report_;
 };
 
