@@ -228,10 +228,10 @@ void registerDiagnose(CLI::App& app) {
       in.simulation_kind = "SG#2 (lab calibration + grafting)";
       in.lab_gyro_M_sigma = report.result.gyro.M_sigma;
       in.lab_accel_M_sigma = report.result.accel.M_sigma;
-      if (report.result.gyro.has_allan)
-        in.lab_gyro_bias_instability_rad_s = report.result.gyro.allan.bias_instability.maxCoeff();
-      if (report.result.accel.has_allan)
-        in.lab_accel_bias_instability_m_s2 = report.result.accel.allan.bias_instability.maxCoeff();
+      for (const auto& [cal, noise] : {std::make_pair(&report.result.gyro, &in.lab_gyro_noise),
+                                       std::make_pair(&report.result.accel, &in.lab_accel_noise)})
+        if (cal->has_allan)
+          *noise = LabNoiseFigures{cal->allan.bias_instability, cal->allan.rate_random_walk};
     } else {
       const StaticBiasSimulation sim = simulateFromReferenceAndStaticBias(ref, real);
       in.simulated = sim.simulated;

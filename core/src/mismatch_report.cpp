@@ -83,6 +83,11 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
   }
   j["unexplained"] = json::array();
   for (const LocatedSpan& s : r.unexplained) j["unexplained"].push_back(spanJson(s));
+  j["wander"] = json::array();
+  for (const WanderCheck& k : r.wander)
+    j["wander"].push_back(json{{"channel", k.channel}, {"fitted_sd", num(k.fitted_sd)},
+                               {"expected_sd", num(k.expected_sd)}, {"limit", num(k.limit)},
+                               {"within_lab_noise", k.within}});
   json fit;
   fit["signal_rms_before"] = rmsJson(r.rms_before);
   fit["signal_rms_after"] = rmsJson(r.rms_after);
@@ -186,6 +191,16 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparis
   for (const LocatedSpan& s : r.unexplained)
     m += fmt::format("| {} | {:.2f} | {:.2f} | {} | {:.4g} |\n", s.channel, s.t_start, s.t_end, s.regime, s.excess_rms);
   if (r.unexplained.empty()) m += "| (none) | | | | |\n";
+  if (!r.wander.empty()) {
+    m += "\n## Slow bias wander against the lab's noise figures (SI)\n\n"
+         "Fitted: piecewise-linear bias of the modelled residual (sd about the mean). Expected: two "
+         "independent realizations of the lab's bias instability and rate random walk, plus the "
+         "white noise the knots pass. Within the limit it is treated as noise.\n\n"
+         "| channel | fitted sd | expected sd | limit | verdict |\n|---|---|---|---|---|\n";
+    for (const WanderCheck& k : r.wander)
+      m += fmt::format("| {} | {:.4g} | {:.4g} | {:.4g} | {} |\n", k.channel, k.fitted_sd,
+                       k.expected_sd, k.limit, k.within ? "noise" : "beyond the lab figures");
+  }
   m += "\n## Selection log\n\n";
   for (const std::string& l : r.selection.log) m += "- " + l + "\n";
   m += fmt::format("\nNoise model: AR(1) rho per channel [{:.3f}, {:.3f}, {:.3f}, {:.3f}, {:.3f}, {:.3f}], "

@@ -167,6 +167,56 @@ TEST(MismatchDiagnosis, NullPairClaimsNothing) {
   EXPECT_TRUE(r.effects.empty()) << diagnosisMarkdown(r);
 }
 
+TEST(MismatchDiagnosis, ExpectedWanderOfTwoRealizations) {
+  LabNoiseFigures lab;
+  lab.bias_instability << 1e-3, 0.0, 2e-3;
+  lab.rate_random_walk << 0.0, 3e-4, 1e-4;
+  const Eigen::Vector3d sd = expectedWanderSd(lab, 1200.0);
+  EXPECT_NEAR(sd(0), std::sqrt(2.0) * 1e-3, 1e-12);                      // B only
+  EXPECT_NEAR(sd(1), 3e-4 * std::sqrt(400.0), 1e-12);                    // K sqrt(T / 3)
+  EXPECT_NEAR(sd(2), std::sqrt(2.0 * 4e-6 + 1e-8 * 400.0), 1e-12);       // both
+}
+
+// A tested accelerometer whose bias random-walks (1.5e-3 m/s^2/sqrt(s): ~0.008 m/s^2 over the
+// record, well above the per-window noise) against a simulation that holds a constant bias. With
+// the lab's figures saying so, that wander is noise: no accel span is unexplained. With figures
+// 30 times smaller it is beyond them and is reported (as a claimed bias_instability, or as
+// unexplained spans).
+TEST(MismatchDiagnosis, WanderWithinTheLabNoiseFiguresIsNotUnexplained) {
+  ImuErrorModel extra;
+  extra.accel.bias_random_walk.density.setConstant(1.5e-3);
+  Pair p = makePair(extra, 21);
+  auto accelSpans = [](const DiagnosisResult& r) {
+    int k = 0;
+    for (const LocatedSpan& s : r.unexplained) k += s.channel.rfind("accel", 0) == 0;
+    return k;
+  };
+  const DiagnosisResult without = diagnose(p.in);
+  ASSERT_GT(accelSpans(without), 0) << "the wander must be visible without lab figures\n"
+                                    << diagnosisMarkdown(without);
+  EXPECT_TRUE(without.wander.empty());
+
+  LabNoiseFigures lab;
+  lab.rate_random_walk.setConstant(1.5e-3);
+  p.in.lab_accel_noise = lab;
+  const DiagnosisResult within = diagnose(p.in);
+  ASSERT_EQ(within.wander.size(), 3u);  // accel channels only: no gyro figures given
+  for (const WanderCheck& k : within.wander) {
+    EXPECT_TRUE(k.within) << k.channel << " sd " << k.fitted_sd << " limit " << k.limit;
+    EXPECT_GT(k.fitted_sd, 0.2 * k.expected_sd) << k.channel;  // the fit sees the wander
+  }
+  EXPECT_EQ(accelSpans(within), 0) << diagnosisMarkdown(within);
+
+  lab.rate_random_walk.setConstant(5e-5);
+  p.in.lab_accel_noise = lab;
+  const DiagnosisResult beyond = diagnose(p.in);
+  int outside = 0;
+  for (const WanderCheck& k : beyond.wander) outside += !k.within;
+  EXPECT_GT(outside, 0) << diagnosisMarkdown(beyond);
+  const Effect* bi = findEffect(beyond, "bias_instability");
+  EXPECT_TRUE(accelSpans(beyond) > 0 || (bi && bi->sensor == "accel")) << diagnosisMarkdown(beyond);
+}
+
 // An accelerometer-only rotation of its cross-axis terms (what a lab calibration error of the
 // antisymmetric part looks like) within the lab's stated uncertainty is not a mounting
 // misalignment; a real mounting rotation of both sensors, well beyond it, still is.

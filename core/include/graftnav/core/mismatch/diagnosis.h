@@ -28,6 +28,23 @@
 
 namespace graftnav {
 
+// Allan figures of one sensor triad (calibration_result.h AllanTerms), SI: B in rad/s or m/s^2,
+// K in rad/s/sqrt(s) or m/s^2/sqrt(s).
+struct LabNoiseFigures {
+  Eigen::Vector3d bias_instability = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rate_random_walk = Eigen::Vector3d::Zero();
+};
+
+// Expected standard deviation (about its record mean) of the difference of two independent bias
+// realizations over a record of duration_s: sqrt(2 B^2 + K^2 T / 3) per axis (a random walk of
+// intensity K has mean-removed variance K^2 T / 6 over [0, T]; two realizations double it).
+Eigen::Vector3d expectedWanderSd(const LabNoiseFigures& lab, double duration_s);
+
+// Ratio of the 99.9 % quantile to the expectation of that standard deviation for a random walk
+// (Karhunen-Loeve eigenvalues 1 / (k pi)^2 of the mean-removed Brownian motion; 40000 draws:
+// 50 % 0.84, 99 % 2.12, 99.9 % 2.63).
+inline constexpr double kWanderSdQuantile999 = 2.63;
+
 struct DiagnosisInputs {
   std::string case_name;
   ImuSeries reference;   // reference IMU: the true inputs x, reference body frame
@@ -46,11 +63,12 @@ struct DiagnosisInputs {
   // empty, the attitude is integrated from initial_state with the reference gyros (Earth rate
   // removed).
   NavSeries attitude;
-  // Lab bias-instability figure of the tested IMU (SI, per sensor). When given, a
-  // bias_instability term is claimed only if its fitted wander exceeds sqrt(2) times the figure
-  // (two independent realizations, lab graft and field, differ by that much).
-  std::optional<double> lab_gyro_bias_instability_rad_s;
-  std::optional<double> lab_accel_bias_instability_m_s2;
+  // Lab Allan figures of the tested IMU, per sensor. When given, the slow bias wander that two
+  // independent realizations (lab graft and field) of that noise leave in the residual is noise,
+  // not missing physics: a bias_instability term is claimed only beyond it, and a channel whose
+  // fitted wander lies within it is not listed as unexplained (see WanderCheck).
+  std::optional<LabNoiseFigures> lab_gyro_noise;
+  std::optional<LabNoiseFigures> lab_accel_noise;
   // 1-sigma of the lab calibration matrices M (calibration_result.h). When given, a scale_factor
   // or non_orthogonality term is claimed only if some element exceeds 3 x sqrt(fit sigma^2 +
   // lab sigma^2): a smaller one is the lab calibration's own error, not missing physics.
@@ -100,6 +118,16 @@ struct ChannelRms {
   Eigen::Vector3d accel = Eigen::Vector3d::Zero();  // m/s^2
 };
 
+// Slow bias wander of one channel of the modelled residual (piecewise-linear bias at the
+// bias_instability term's knots, fitted with a constant) against the lab's noise figures.
+struct WanderCheck {
+  std::string channel;       // gyro_x .. accel_z
+  double fitted_sd = 0.0;    // SI, about the record mean
+  double expected_sd = 0.0;  // expectedWanderSd plus the white noise the knots pass
+  double limit = 0.0;        // kWanderSdQuantile999 x expected_sd
+  bool within = false;       // within: noise, removed before listing unexplained spans
+};
+
 struct DiagnosisResult {
   std::string case_name;
   std::string simulation_kind;
@@ -108,6 +136,7 @@ struct DiagnosisResult {
   std::vector<LocatedSpan> located;       // residual before modelling
   std::vector<Effect> effects;            // claimed
   std::vector<LocatedSpan> unexplained;   // still above noise after modelling
+  std::vector<WanderCheck> wander;        // per channel, when the lab's noise figures are known
   ChannelRms rms_raw;                     // residual as is
   ChannelRms rms_before;                  // residual minus its per-channel constant + linear drift
   ChannelRms rms_after;                   // residual minus constant, drift and selected terms
