@@ -232,6 +232,18 @@ void registerDiagnose(CLI::App& app) {
                                        std::make_pair(&report.result.accel, &in.lab_accel_noise)})
         if (cal->has_allan)
           *noise = LabNoiseFigures{cal->allan.bias_instability, cal->allan.rate_random_walk};
+      for (const auto& [cal, quad] :
+           {std::make_pair(&report.result.gyro, &in.lab_gyro_quadratic),
+            std::make_pair(&report.result.accel, &in.lab_accel_quadratic)}) {
+        if (!cal->has_fit) continue;
+        LabQuadratic q;
+        for (int a = 0; a < 3; ++a)
+          if (cal->fit[a].degree >= 2 && cal->fit[a].coeffs.size() >= 3) {
+            q.c2(a) = cal->fit[a].coeffs[2];
+            q.c2_sigma(a) = cal->fit[a].coeffs_sigma.size() >= 3 ? cal->fit[a].coeffs_sigma[2] : 0.0;
+          }
+        *quad = q;
+      }
     } else {
       const StaticBiasSimulation sim = simulateFromReferenceAndStaticBias(ref, real);
       in.simulated = sim.simulated;

@@ -271,6 +271,32 @@ std::vector<WanderCheck> checkWander(const Eigen::MatrixXd& after,
   return out;
 }
 
+// 1-sigma of the rotation about `axis` that a lab calibration leaves in a sensor triad's frame:
+// a rotation is indistinguishable from the antisymmetric part of the cross-axis terms, phi_z from
+// (M_yx - M_xy) / 2 etc., so sqrt(s_xy^2 + s_yx^2) / 2. Zero without lab data.
+double labRotationSigma(const std::optional<Eigen::Matrix3d>& M_sigma, int axis) {
+  if (!M_sigma) return 0.0;
+  const int i = (axis + 1) % 3, j = (axis + 2) % 3;
+  return 0.5 * std::hypot((*M_sigma)(i, j), (*M_sigma)(j, i));
+}
+
+// Turns a scale_nonlinearity effect fitted on the residual (the part SG#2 lacks) into the
+// sensor's own k2 = c2 (lab) + k2_missing, sigma combined, keeping the fitted part as
+// k2_missing. Returns whether some axis is non-zero beyond 3 sigma.
+bool sensorsOwnQuadratic(const LabQuadratic& lab, Effect* e) {
+  EffectParameter missing = e->parameters[0];
+  missing.key = "k2_missing";
+  EffectParameter& own = e->parameters[0];
+  bool beyond = false;
+  for (int a = 0; a < 3; ++a) {
+    own.values[a] = missing.values[a] + lab.c2(a);
+    own.sigma[a] = std::hypot(missing.sigma[a], lab.c2_sigma(a));
+    if (std::isfinite(own.sigma[a])) beyond |= std::abs(own.values[a]) > 3.0 * own.sigma[a];
+  }
+  e->parameters.push_back(missing);
+  return beyond;
+}
+
 }  // namespace
 
 Eigen::Vector3d expectedWanderSd(const LabNoiseFigures& lab, double duration_s) {
@@ -413,12 +439,25 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
       if ((t.name == "scale_factor" || t.name == "non_orthogonality") && Msig) {
         const Effect e = effectFromTerm(t, tf, n);
         const EffectParameter& q = e.parameters[0];
+        // With a mounting rotation in the model, that rotation is shared by both sensors and
+        // fitted mostly from the better-determined one, so it carries that sensor's lab rotation
+        // error; this sensor's cross-axis terms then take up the difference. Their lab budget
+        // adds the other sensor's rotation uncertainty about the complementary axis.
+        const std::optional<Eigen::Matrix3d>& other_Msig =
+            t.sensor == "gyro" ? in.lab_accel_M_sigma : in.lab_gyro_M_sigma;
+        const bool shared_rotation =
+            std::any_of(sel.selected.begin(), sel.selected.end(), [&](const TermFit& o) {
+              return terms[o.term].name == "mounting_misalignment";
+            });
         bool beyond = false;
         for (std::size_t k = 0; k < q.values.size(); ++k) {
           const int i = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) / 3;
           const int j = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) % 3;
           if (t.name == "non_orthogonality" && i == j) continue;
-          const double lim = 3.0 * std::hypot(q.sigma[k], (*Msig)(i, j));
+          double lab_sigma = (*Msig)(i, j);
+          if (t.name == "non_orthogonality" && shared_rotation)
+            lab_sigma = std::hypot(lab_sigma, labRotationSigma(other_Msig, 3 - i - j));
+          const double lim = 3.0 * std::hypot(q.sigma[k], lab_sigma);
           beyond |= std::abs(q.values[k]) > lim;
         }
         if (!beyond) {
@@ -451,16 +490,11 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
       }
       if (t.name == "mounting_misalignment" && (in.lab_gyro_M_sigma || in.lab_accel_M_sigma)) {
         // For either sensor a rotation is indistinguishable from the antisymmetric part of its
-        // cross-axis calibration error: phi_z from (M_yx - M_xy) / 2 etc., whose 1-sigma is
-        // sqrt(s_xy^2 + s_yx^2) / 2. A mounting rotation is claimed only beyond 3 sigma of the
-        // fit and of the less certain sensor's lab rotation uncertainty combined.
+        // cross-axis calibration error (labRotationSigma). A mounting rotation is claimed only
+        // beyond 3 sigma of the fit and of the less certain sensor's lab rotation uncertainty
+        // combined.
         const Effect e = effectFromTerm(t, tf, n);
         const EffectParameter& q = e.parameters[0];
-        auto labRotationSigma = [](const std::optional<Eigen::Matrix3d>& M, int axis) {
-          if (!M) return 0.0;
-          const int i = (axis + 1) % 3, j = (axis + 2) % 3;
-          return 0.5 * std::hypot((*M)(i, j), (*M)(j, i));
-        };
         bool beyond = false;
         for (int a = 0; a < 3; ++a) {
           const double lab_sigma = std::max(labRotationSigma(in.lab_gyro_M_sigma, a),
@@ -524,8 +558,34 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     }
   }
   out.selection = sel;
-  for (const TermFit& tf : sel.selected)
-    if (tf.claimed) out.effects.push_back(effectFromTerm(terms[tf.term], tf, n));
+  for (const TermFit& tf : sel.selected) {
+    if (!tf.claimed) continue;
+    Effect e = effectFromTerm(terms[tf.term], tf, n);
+    if (e.name == "mounting_misalignment" && (in.lab_gyro_M_sigma || in.lab_accel_M_sigma)) {
+      // The rotation is measured between frames the lab calibration defines: its uncertainty
+      // includes the lab's rotation uncertainty (the larger sensor's, as for the gate above).
+      for (int a = 0; a < 3; ++a)
+        e.parameters[0].sigma[a] =
+            std::hypot(e.parameters[0].sigma[a], std::max(labRotationSigma(in.lab_gyro_M_sigma, a),
+                                                          labRotationSigma(in.lab_accel_M_sigma, a)));
+      out.notes.push_back("mounting_misalignment uncertainty includes the lab calibration's "
+                          "rotation uncertainty (the frames it is measured between)");
+    }
+    const std::optional<LabQuadratic>& lab_q =
+        e.sensor == "gyro" ? in.lab_gyro_quadratic : in.lab_accel_quadratic;
+    if (e.name == "scale_nonlinearity" && lab_q && !sensorsOwnQuadratic(*lab_q, &e)) {
+      const EffectParameter& own = e.parameters[0];
+      out.notes.push_back(fmt::format(
+          "{} scale_nonlinearity: the residual's quadratic [{:.3g} {:.3g} {:.3g}] cancels SG#2's "
+          "lab polynomial term c2 [{:.3g} {:.3g} {:.3g}]; the sensor's own k2 [{:.3g} {:.3g} "
+          "{:.3g}] is zero within 3 sigma: modelled in SG#3, not claimed (the simulation's "
+          "artefact, not a non-linearity of the sensor)", e.sensor, e.parameters[1].values[0],
+          e.parameters[1].values[1], e.parameters[1].values[2], lab_q->c2(0), lab_q->c2(1),
+          lab_q->c2(2), own.values[0], own.values[1], own.values[2]));
+      continue;
+    }
+    out.effects.push_back(e);
+  }
   // Scale asymmetry is a sensor property the simulation may partly hold already: SG#2's lab
   // fitting polynomial sees an asymmetric gain k_a |x| on the rate table (+-30 and +-90 deg/s)
   // and, when cross-validation picks degree 2, fits it as c2 x^2, which in the field covers part
@@ -606,13 +666,16 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   // not an unexplained mismatch.
   Eigen::MatrixXd expected_wander;
   out.wander = checkWander(after, terms, in, sel, grid, &expected_wander);
-  for (const WanderCheck& k : out.wander)
-    if (k.within)
+  {
+    std::string within;
+    for (const WanderCheck& k : out.wander)
+      if (k.within) within += (within.empty() ? "" : ", ") + k.channel;
+    if (!within.empty())
       out.notes.push_back(fmt::format(
-          "{}: slow bias wander {:.3g} (sd) is within {:.3g}, {} x what the lab's bias instability "
-          "and rate random walk predict for two realizations over {:.0f} s: treated as noise, not "
-          "listed as unexplained", k.channel, k.fitted_sd, k.limit, kWanderSdQuantile999,
-          n * grid.bin_s));
+          "slow bias wander of {} is within {} x what the lab's bias instability and rate random "
+          "walk predict for two realizations over {:.0f} s (table 'wander'): treated as noise, not "
+          "listed as unexplained", within, kWanderSdQuantile999, n * grid.bin_s));
+  }
   out.unexplained = locateResidual(after - expected_wander, grid, out.regimes, opt.locate, &noise_ms);
   if (opt.holdout) holdoutCheck(r, terms, opt, &out);
   // SG#3 takes each term's variation, not its record mean: a constant part is confounded with

@@ -45,6 +45,14 @@ Eigen::Vector3d expectedWanderSd(const LabNoiseFigures& lab, double duration_s);
 // 50 % 0.84, 99 % 2.12, 99.9 % 2.63).
 inline constexpr double kWanderSdQuantile999 = 2.63;
 
+// The quadratic coefficient per axis of the lab's fitting polynomial (measured = c0 + c1 x +
+// c2 x^2, SI; calibration_result.h PolynomialFit), which SG#2 grafts; zero on axes fitted with
+// degree 1.
+struct LabQuadratic {
+  Eigen::Vector3d c2 = Eigen::Vector3d::Zero();
+  Eigen::Vector3d c2_sigma = Eigen::Vector3d::Zero();
+};
+
 struct DiagnosisInputs {
   std::string case_name;
   ImuSeries reference;   // reference IMU: the true inputs x, reference body frame
@@ -74,6 +82,13 @@ struct DiagnosisInputs {
   // lab sigma^2): a smaller one is the lab calibration's own error, not missing physics.
   std::optional<Eigen::Matrix3d> lab_gyro_M_sigma;
   std::optional<Eigen::Matrix3d> lab_accel_M_sigma;
+  // The lab polynomial's quadratic term. When given, scale_nonlinearity reports the sensor's own
+  // k2 (the lab's c2 plus the missing part the residual shows, k2_missing) and is claimed only
+  // if that is non-zero beyond 3 sigma: a residual quadratic that only cancels SG#2's c2 (e.g. a
+  // scale asymmetry folded into c2 on the rate table) is the simulation's artefact, modelled in
+  // SG#3 but not a non-linearity of the sensor.
+  std::optional<LabQuadratic> lab_gyro_quadratic;
+  std::optional<LabQuadratic> lab_accel_quadratic;
 };
 
 struct DiagnoseOptions {
