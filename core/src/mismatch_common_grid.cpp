@@ -153,4 +153,24 @@ BinnedImu binImu(const ImuSeries& imu, const GridSpec& grid, double time_shift_s
   return out;
 }
 
+std::vector<char> binsOverlappingGaps(const ImuSeries& imu, const GridSpec& grid,
+                                      double gap_factor) {
+  std::vector<char> mask(std::max(0, grid.count), 0);
+  if (imu.size() < 3 || grid.count <= 0) return mask;
+  std::vector<double> dt;
+  dt.reserve(imu.size());
+  for (const ImuSample& s : imu) dt.push_back(s.dt_s);
+  std::nth_element(dt.begin(), dt.begin() + dt.size() / 2, dt.end());
+  const double limit = gap_factor * dt[dt.size() / 2];
+  for (const ImuSample& s : imu) {
+    if (!(s.dt_s > limit)) continue;
+    const double a = (s.t_s - s.dt_s - grid.t_begin_s) / grid.bin_s;
+    const double b = (s.t_s - grid.t_begin_s) / grid.bin_s;
+    const int i0 = std::max(0, static_cast<int>(std::floor(a)) - 1);
+    const int i1 = std::min(grid.count - 1, static_cast<int>(std::ceil(b)));
+    for (int i = i0; i <= i1; ++i) mask[i] = 1;
+  }
+  return mask;
+}
+
 }  // namespace graftnav

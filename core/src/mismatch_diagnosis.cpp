@@ -128,14 +128,38 @@ Effect effectFromTerm(const CandidateTerm& term, const TermFit& tf, int n_bins) 
   return e;
 }
 
-ChannelRms rmsOf(const Eigen::MatrixXd& r) {
+// RMS per channel over the rows of r that are not masked (masked[offset + i] != 0: a bin
+// overlapping a sampling gap).
+ChannelRms rmsOf(const Eigen::MatrixXd& r, const std::vector<char>& masked, int offset = 0) {
   ChannelRms out;
-  if (r.rows() == 0) return out;
+  Vector6d sum = Vector6d::Zero();
+  int rows = 0;
+  for (Eigen::Index i = 0; i < r.rows(); ++i) {
+    if (masked[offset + i]) continue;
+    sum += r.row(i).transpose().cwiseAbs2();
+    ++rows;
+  }
+  if (rows == 0) return out;
   for (int c = 0; c < 3; ++c) {
-    out.gyro(c) = std::sqrt(r.col(c).squaredNorm() / r.rows());
-    out.accel(c) = std::sqrt(r.col(3 + c).squaredNorm() / r.rows());
+    out.gyro(c) = std::sqrt(sum(c) / rows);
+    out.accel(c) = std::sqrt(sum(3 + c) / rows);
   }
   return out;
+}
+
+// Excludes the masked bins from every fit: their residual and regressor values are set to zero,
+// so they add nothing to a Gram matrix or a sum of squares.
+void zeroMaskedRows(const std::vector<char>& masked, Eigen::MatrixXd* r) {
+  for (Eigen::Index i = 0; i < r->rows(); ++i)
+    if (masked[i]) r->row(i).setZero();
+}
+void zeroMaskedRows(const std::vector<char>& masked, std::vector<CandidateTerm>* terms) {
+  for (CandidateTerm& t : *terms)
+    for (RegressorColumn& col : t.columns)
+      for (int c = 0; c < kMismatchChannels; ++c)
+        if (col.actsOn(c))
+          for (Eigen::Index i = 0; i < col.channel[c].size(); ++i)
+            if (masked[i]) col.channel[c](i) = 0.0;
 }
 
 std::vector<Eigen::Matrix3d> attitudeAlongGrid(const BinnedImu& x, const NavState& init,
@@ -166,13 +190,16 @@ std::vector<Eigen::Matrix3d> attitudeAlongGrid(const BinnedImu& x, const NavStat
 
 // Per-channel least-squares constant + linear drift (the nuisance alone) fitted over bins
 // [a, b) with the same ramp as the library, evaluated on all bins.
-Eigen::MatrixXd nuisanceOnlyFit(const Eigen::MatrixXd& r, int a, int b, bool drift) {
+Eigen::MatrixXd nuisanceOnlyFit(const Eigen::MatrixXd& r, int a, int b, bool drift,
+                                const std::vector<char>& masked) {
   const int n = static_cast<int>(r.rows());
   const Eigen::VectorXd ramp = drift ? Eigen::VectorXd::LinSpaced(n, -1.0, 1.0).eval()
                                      : Eigen::VectorXd::Zero(n).eval();
   Eigen::MatrixXd A(b - a, 2);
   A.col(0).setOnes();
   A.col(1) = ramp.segment(a, b - a);
+  for (int i = a; i < b; ++i)
+    if (masked[i]) A.row(i - a).setZero();  // r is zero there too
   Eigen::MatrixXd out(n, r.cols());
   for (Eigen::Index c = 0; c < r.cols(); ++c) {
     const Eigen::Vector2d coef = A.colPivHouseholderQr().solve(r.col(c).segment(a, b - a));
@@ -205,10 +232,12 @@ void holdoutCheck(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& te
   for (int i = half; i < n; ++i) bias.row(i) = bias.row(half - 1);
   const Eigen::MatrixXd second = r.bottomRows(n - half);
   // Before: the nuisance-only model of the first half, held the same way.
-  Eigen::MatrixXd base = nuisanceOnlyFit(r, 0, half, opt.library.linear_drift_nuisance);
+  Eigen::MatrixXd base =
+      nuisanceOnlyFit(r, 0, half, opt.library.linear_drift_nuisance, out->masked_bins);
   for (int i = half; i < n; ++i) base.row(i) = base.row(half - 1);
-  out->holdout_before = rmsOf(second - base.bottomRows(n - half));
-  out->holdout_after = rmsOf(second - bias.bottomRows(n - half) - pred.bottomRows(n - half));
+  out->holdout_before = rmsOf(second - base.bottomRows(n - half), out->masked_bins, half);
+  out->holdout_after = rmsOf(second - bias.bottomRows(n - half) - pred.bottomRows(n - half),
+                             out->masked_bins, half);
   out->holdout_split_s = out->grid.binStart(half);
   out->has_holdout = true;
 }
@@ -217,7 +246,7 @@ void holdoutCheck(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& te
 // the bias_instability term of that channel's sensor (its knots), evaluated on all bins, record
 // mean removed. Also returns the number of fitted columns per channel (for the white-noise share).
 Eigen::MatrixXd fitWander(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
-                          Eigen::Matrix<int, 6, 1>* columns) {
+                          const std::vector<char>& masked, Eigen::Matrix<int, 6, 1>* columns) {
   const int n = static_cast<int>(r.rows());
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, kMismatchChannels);
   columns->setZero();
@@ -230,7 +259,7 @@ Eigen::MatrixXd fitWander(const Eigen::MatrixXd& r, const std::vector<CandidateT
     if (cols.empty()) continue;
     const int p = static_cast<int>(cols.size()) + 1;
     Eigen::MatrixXd X(n, p);
-    X.col(0).setOnes();
+    for (int i = 0; i < n; ++i) X(i, 0) = masked[i] ? 0.0 : 1.0;
     for (int j = 1; j < p; ++j) X.col(j) = *cols[j - 1];
     const Eigen::VectorXd coef = (X.transpose() * X).ldlt().solve(X.transpose() * r.col(c));
     out.col(c) = X.rightCols(p - 1) * coef.tail(p - 1);
@@ -245,13 +274,14 @@ Eigen::MatrixXd fitWander(const Eigen::MatrixXd& r, const std::vector<CandidateT
 std::vector<WanderCheck> checkWander(const Eigen::MatrixXd& after,
                                      const std::vector<CandidateTerm>& terms,
                                      const DiagnosisInputs& in, const SelectionResult& sel,
-                                     const GridSpec& grid, Eigen::MatrixXd* within_wander) {
+                                     const GridSpec& grid, const std::vector<char>& masked,
+                                     Eigen::MatrixXd* within_wander) {
   std::vector<WanderCheck> out;
   const int n = static_cast<int>(after.rows());
   *within_wander = Eigen::MatrixXd::Zero(n, kMismatchChannels);
   if (!in.lab_gyro_noise && !in.lab_accel_noise) return out;
   Eigen::Matrix<int, 6, 1> columns;
-  const Eigen::MatrixXd w = fitWander(after, terms, &columns);
+  const Eigen::MatrixXd w = fitWander(after, terms, masked, &columns);
   const double duration_s = n * grid.bin_s;
   for (int c = 0; c < kMismatchChannels; ++c) {
     const std::optional<LabNoiseFigures>& lab = c < 3 ? in.lab_gyro_noise : in.lab_accel_noise;
@@ -358,6 +388,41 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   Eigen::MatrixXd r(n, kMismatchChannels);
   r << y.omega_rad_s - s.omega_rad_s, y.f_m_s2 - s.f_m_s2;
   out.residual_before = r;
+  // Bins overlapping a sampling gap (lost samples) of any record carry a wrong mean rate: they
+  // are left out of every fit and RMS (residual and regressors zero there) and listed. The joint
+  // fit's shifted reference is not masked; a few bins pull tau negligibly.
+  out.masked_bins.assign(n, 0);
+  for (const ImuSeries* rec : {&in.reference, &in.simulated, &in.real}) {
+    const std::vector<char> m = binsOverlappingGaps(*rec, grid);
+    for (int i = 0; i < n; ++i) out.masked_bins[i] |= m[i];
+  }
+  {
+    int masked = 0;
+    std::string spans;
+    for (int i = 0; i < n; ++i) {
+      if (!out.masked_bins[i]) continue;
+      ++masked;
+      if (i == 0 || !out.masked_bins[i - 1]) {
+        int j = i;
+        while (j + 1 < n && out.masked_bins[j + 1]) ++j;
+        out.masked_spans.push_back({grid.binStart(i), grid.binStart(j + 1)});
+        if (out.masked_spans.size() <= 5)
+          spans += fmt::format("{}{:.2f}-{:.2f}", spans.empty() ? "" : ", ", grid.binStart(i),
+                               grid.binStart(j + 1));
+      }
+    }
+    if (masked > 0) {
+      if (masked > n / 2)
+        throw std::invalid_argument(fmt::format(
+            "diagnose: {} of {} bins overlap sampling gaps of the records; too few are left",
+            masked, n));
+      out.notes.push_back(fmt::format(
+          "{} bins ({:.2f} s) overlapping sampling gaps (an interval > 1.5 x the median) are left "
+          "out of every fit and RMS: {} span(s), {}{}", masked, masked * grid.bin_s,
+          out.masked_spans.size(), spans, out.masked_spans.size() > 5 ? ", ..." : ""));
+      zeroMaskedRows(out.masked_bins, &r);
+    }
+  }
 
   RegressorInputs ri;
   ri.reference = x;
@@ -381,6 +446,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
                               "and the true gravity): earth_rotation_omitted and gravity_model not tested");
   }
   std::vector<CandidateTerm> terms = buildCandidateLibrary(ri, opt.library);
+  zeroMaskedRows(out.masked_bins, &terms);
 
   // 4-5. Explain (the selection also measures the noise left by the largest candidate model),
   // then locate against the lower of two noise references: the quietest windows of the residual,
@@ -409,6 +475,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         ri.time_offset_column.row(i) -= (C.row(b) - C.row(a)) / ((b - a) * grid.bin_s);
       }
       terms = buildCandidateLibrary(ri, opt.library);
+      zeroMaskedRows(out.masked_bins, &terms);
       std::vector<std::string> log = sel.log;
       sel = selectTerms(r, terms, opt.selection);
       log.push_back("second pass: time_offset regressor rebuilt from the modelled tested signal");
@@ -612,6 +679,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         model.push_back(t_nonorth);
       Eigen::MatrixXd y_minus_x(n, kMismatchChannels);
       y_minus_x << y.omega_rad_s - x.omega_rad_s, y.f_m_s2 - x.f_m_s2;
+      zeroMaskedRows(out.masked_bins, &y_minus_x);
       const SelectionResult own = fitTerms(y_minus_x, terms, model, opt.selection);
       for (const TermFit& tf : own.selected) {
         if (tf.term != t_asym) continue;
@@ -658,14 +726,17 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   out.model = joint_model.rows() == n ? joint_model : predictSelection(sel, terms, n, false);
   const Eigen::MatrixXd bias = termContribution(terms[0], sel.nuisance.theta, n);
   out.nuisance = bias;
-  out.rms_raw = rmsOf(r);
-  out.rms_before = rmsOf(r - nuisanceOnlyFit(r, 0, n, opt.library.linear_drift_nuisance));
-  const Eigen::MatrixXd after = r - bias - out.model;
-  out.rms_after = rmsOf(after);
+  out.rms_raw = rmsOf(r, out.masked_bins);
+  out.rms_before = rmsOf(
+      r - nuisanceOnlyFit(r, 0, n, opt.library.linear_drift_nuisance, out.masked_bins),
+      out.masked_bins);
+  Eigen::MatrixXd after = r - bias - out.model;
+  zeroMaskedRows(out.masked_bins, &after);
+  out.rms_after = rmsOf(after, out.masked_bins);
   // Slow wander within the lab's noise figures is the two bias realizations differing: noise,
   // not an unexplained mismatch.
   Eigen::MatrixXd expected_wander;
-  out.wander = checkWander(after, terms, in, sel, grid, &expected_wander);
+  out.wander = checkWander(after, terms, in, sel, grid, out.masked_bins, &expected_wander);
   {
     std::string within;
     for (const WanderCheck& k : out.wander)

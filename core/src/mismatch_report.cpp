@@ -83,6 +83,8 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
   }
   j["unexplained"] = json::array();
   for (const LocatedSpan& s : r.unexplained) j["unexplained"].push_back(spanJson(s));
+  j["masked_spans"] = json::array();
+  for (const auto& [a, b] : r.masked_spans) j["masked_spans"].push_back(json::array({a, b}));
   j["wander"] = json::array();
   for (const WanderCheck& k : r.wander)
     j["wander"].push_back(json{{"channel", k.channel}, {"fitted_sd", num(k.fitted_sd)},

@@ -58,6 +58,13 @@ struct GridSpec {
 // Throws std::invalid_argument when bin_s <= 0 or the overlap holds fewer than 10 bins.
 GridSpec commonGrid(const ImuSeries& a, const ImuSeries& b, double bin_s, double margin_s = 0.0);
 
+// Bins of `grid` (1 = affected) that overlap a sampling gap of `imu`: a sample whose interval
+// dt_s exceeds gap_factor x the median interval (lost samples: the sample after the gap carries
+// only its own increment, so a bin's mean rate there is wrong), widened by one bin on each side
+// (the integral's node slopes use neighbouring samples). Empty records give no mask.
+std::vector<char> binsOverlappingGaps(const ImuSeries& imu, const GridSpec& grid,
+                                      double gap_factor = 1.5);
+
 // Mean rates of one record over the bins of a grid.
 struct BinnedImu {
   GridSpec grid;

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "graftnav/core/mismatch/candidate_terms.h"
@@ -152,6 +153,9 @@ struct DiagnosisResult {
   std::vector<Effect> effects;            // claimed
   std::vector<LocatedSpan> unexplained;   // still above noise after modelling
   std::vector<WanderCheck> wander;        // per channel, when the lab's noise figures are known
+  // Per bin: 1 = left out (overlaps a sampling gap of a record; common_grid.h), and those spans.
+  std::vector<char> masked_bins;
+  std::vector<std::pair<double, double>> masked_spans;  // [t_start, t_end) s
   ChannelRms rms_raw;                     // residual as is
   ChannelRms rms_before;                  // residual minus its per-channel constant + linear drift
   ChannelRms rms_after;                   // residual minus constant, drift and selected terms
