@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <set>
@@ -7,6 +8,7 @@
 #include <string>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <fmt/core.h>
 
 #include "graftnav/core/mismatch/term_selection.h"
@@ -165,6 +167,18 @@ ModelFit solve(const Eigen::MatrixXd& G, const Eigen::VectorXd& b, double yy,
   return fit;
 }
 
+// A normal matrix made safely invertible the way solve() does it: a relative ridge of 1e-11 and
+// all-zero columns pinned.
+Eigen::MatrixXd regularized(const Eigen::MatrixXd& A) {
+  Eigen::MatrixXd Ar = A;
+  if (A.rows() == 0) return Ar;
+  const double diag_max = std::max(A.diagonal().maxCoeff(), 1e-300);
+  Ar.diagonal().array() += 1e-11 * diag_max;
+  for (Eigen::Index i = 0; i < A.rows(); ++i)
+    if (A(i, i) <= 1e-14 * diag_max) Ar(i, i) += diag_max;
+  return Ar;
+}
+
 // Whitened squared prediction error of theta (over S, fixed F at 1) on one fold's Gram.
 double foldError(const ModelFit& fit, const Eigen::MatrixXd& G, const Eigen::VectorXd& b, double yy) {
   // e = z - X theta with z = y - X_F 1:  |e|^2 = zz - 2 theta' X'z + theta' X'X theta.
@@ -242,6 +256,46 @@ class Selector {
       inflation_ *= std::max(1.0, var);
     }
     full_ = full;
+    priorVariances();
+  }
+
+  // The prior of step 2: isotropic within a term (its parameters share units), with the variance
+  // that makes the information of the term's average column, net of the nuisance, worth N / c
+  // observations ("unit information"): prior variance = (N / c) p / trace(D), D the whitened
+  // normal matrix of the term's columns with the nuisance projected out, p its columns with
+  // signal. A term whose columns are equally informative and orthogonal to the base gets
+  // s_i = N / c on every direction, the BIC penalty ln(1 + N / c) per parameter.
+  void priorVariances() {
+    prior_variance_.assign(terms_.size(), 0.0);
+    const double n_eff = gram_.rows / inflation_;
+    const Eigen::MatrixXd& G = gram_.G_all;
+    std::vector<int> Sn, Fn;
+    modelColumns({0}, terms_, map_, &Sn, &Fn);
+    const int pn = static_cast<int>(Sn.size());
+    Eigen::MatrixXd Gnn(pn, pn);
+    for (int i = 0; i < pn; ++i)
+      for (int j = 0; j < pn; ++j) Gnn(i, j) = G(Sn[i], Sn[j]);
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(regularized(Gnn));
+    for (std::size_t t = 1; t < terms_.size(); ++t) {
+      if (terms_[t].fixed) continue;
+      const int k = map_.count[t];
+      Eigen::MatrixXd Ctn(k, pn);
+      Eigen::VectorXd d(k);
+      for (int i = 0; i < k; ++i) {
+        d(i) = G(map_.start[t] + i, map_.start[t] + i);
+        for (int j = 0; j < pn; ++j) Ctn(i, j) = G(map_.start[t] + i, Sn[j]);
+      }
+      const Eigen::MatrixXd proj = Ctn * ldlt.solve(Ctn.transpose());
+      const double dmax = d.maxCoeff();
+      double trace = 0.0;
+      int live = 0;
+      for (int i = 0; i < k; ++i) {
+        if (!(d(i) > 1e-14 * dmax)) continue;  // a column without signal
+        trace += std::max(0.0, d(i) - proj(i, i));
+        ++live;
+      }
+      if (trace > 0.0) prior_variance_[t] = n_eff * live / trace;
+    }
   }
 
   // The AR(1) model leaves out noise with long correlation (a bias random process whose field and
@@ -388,19 +442,90 @@ class Selector {
   }
 
   struct Score {
-    double bic = 0.0;
     double cv = 0.0;
     double rss = 0.0;
-    int p = 0;
   };
 
-  // delta_bic of going from `without` to `with` for term t: the RSS drop is divided by the term's
-  // inflation (slow regressors compete with the slow part of the noise).
-  double deltaBic(const Score& without, const Score& with, int t,
-                  const std::vector<int>& base) const {
-    const double n_eff = gram_.rows / inflation_;
-    return (without.rss - with.rss) / (inflation_ * termInflation(t, base)) -
-           static_cast<double>(with.p - without.p) * std::log(n_eff);
+  // Evidence of going from `without` to `with` for term t: twice the log Bayes factor of the
+  // two models (header, step 2). With a term that replaces another (excludes) the models are not
+  // nested; both are then measured against the terms they share.
+  double deltaBic(const std::vector<int>& without, const std::vector<int>& with, int t) const {
+    const double c = inflation_ * termInflation(t, without);
+    std::vector<int> common;
+    std::set_intersection(without.begin(), without.end(), with.begin(), with.end(),
+                          std::back_inserter(common));
+    double e = evidenceOver(common, with, c);
+    if (common != without) e -= evidenceOver(common, without, c);
+    return e;
+  }
+
+  // 2 ln(Bayes factor) of `model` over `base` (a subset of it), Laplace form with a Gaussian prior
+  // on the added parameters: sum_i [q_i s_i / (1 + s_i) - ln(1 + s_i)] over the eigen-directions
+  // i of the added parameters' information after projecting out the base, q_i the RSS drop along
+  // direction i (divided by the inflation c) and s_i = prior variance x information there. Added
+  // fixed terms contribute their RSS drop without a penalty.
+  double evidenceOver(const std::vector<int>& base, const std::vector<int>& model, double c) const {
+    std::vector<int> added;
+    std::set_difference(model.begin(), model.end(), base.begin(), base.end(),
+                        std::back_inserter(added));
+    std::vector<int> Sb, Fb, Sa, Fa;
+    modelColumns(base, terms_, map_, &Sb, &Fb);
+    modelColumns(added, terms_, map_, &Sa, &Fa);
+    std::vector<int> F = Fb;
+    F.insert(F.end(), Fa.begin(), Fa.end());
+    double gain = 0.0;
+    if (!Fa.empty())
+      gain += (solve(gram_.G_all, gram_.b_all, gram_.yy_all, Sb, Fb, false).rss -
+               solve(gram_.G_all, gram_.b_all, gram_.yy_all, Sb, F, false).rss) / c;
+    const int pa = static_cast<int>(Sa.size());
+    if (pa == 0) return gain;
+    // Information and score of the added columns with the base projected out (fixed at 1: F).
+    const Eigen::MatrixXd& G = gram_.G_all;
+    auto target = [&](int i) {
+      double v = gram_.b_all(i);
+      for (int j : F) v -= G(i, j);
+      return v;
+    };
+    Eigen::MatrixXd A(pa, pa);
+    Eigen::VectorXd r(pa);
+    for (int i = 0; i < pa; ++i) {
+      r(i) = target(Sa[i]);
+      for (int j = 0; j < pa; ++j) A(i, j) = G(Sa[i], Sa[j]);
+    }
+    const int pb = static_cast<int>(Sb.size());
+    if (pb > 0) {
+      Eigen::MatrixXd Bb(pb, pb), Cab(pa, pb);
+      Eigen::VectorXd rb(pb);
+      for (int i = 0; i < pb; ++i) {
+        rb(i) = target(Sb[i]);
+        for (int j = 0; j < pb; ++j) Bb(i, j) = G(Sb[i], Sb[j]);
+      }
+      for (int i = 0; i < pa; ++i)
+        for (int j = 0; j < pb; ++j) Cab(i, j) = G(Sa[i], Sb[j]);
+      const Eigen::LDLT<Eigen::MatrixXd> ldlt(regularized(Bb));
+      A -= Cab * ldlt.solve(Cab.transpose());
+      r -= Cab * ldlt.solve(rb);
+    }
+    // Prior standard deviation per column (whitened units); the inflation c divides the drop.
+    Eigen::VectorXd sd(pa);
+    for (int t : added) {
+      if (terms_[t].fixed) continue;
+      for (int j = 0; j < map_.count[t]; ++j) {
+        const int col = map_.start[t] + j;
+        const int i = static_cast<int>(std::find(Sa.begin(), Sa.end(), col) - Sa.begin());
+        sd(i) = std::sqrt(prior_variance_[t]);
+      }
+    }
+    const Eigen::MatrixXd M = sd.asDiagonal() * A * sd.asDiagonal();
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (M + M.transpose()));
+    const Eigen::VectorXd h = eig.eigenvectors().transpose() * sd.cwiseProduct(r);
+    const double smax = std::max(eig.eigenvalues().maxCoeff(), 0.0);
+    for (int i = 0; i < pa; ++i) {
+      const double s = std::max(eig.eigenvalues()(i), 1e-12 * smax);
+      // q s / (1 + s) with q = h^2 / (s c): the drop along the direction, shrunk by the prior.
+      gain += h(i) * h(i) / (c * (1.0 + s)) - std::log1p(s);
+    }
+    return gain;
   }
 
   // The slow-noise factor of term t tested against the model `base` (which does not hold t).
@@ -411,11 +536,8 @@ class Selector {
     std::vector<int> S, F;
     modelColumns(model, terms_, map_, &S, &F);
     const ModelFit fit = solve(gram_.G_all, gram_.b_all, gram_.yy_all, S, F, false);
-    const double n_eff = gram_.rows / inflation_;
     Score s;
     s.rss = fit.rss;
-    s.p = static_cast<int>(S.size());
-    s.bic = fit.rss / inflation_ + static_cast<double>(S.size()) * std::log(n_eff);
     for (int f = 0; f < opt_.folds; ++f) {
       const ModelFit tr = solve(gram_.G_all - gram_.G[f], gram_.b_all - gram_.b[f],
                                 gram_.yy_all - gram_.yy[f], S, F, false);
@@ -428,7 +550,7 @@ class Selector {
     const Score with = score(model);
     const std::vector<int> base = withoutTerm(model, t);
     const Score without = score(base);
-    *delta_bic = deltaBic(without, with, t, base);
+    *delta_bic = deltaBic(base, model, t);
     *cv_gain = without.cv > 0.0 ? (without.cv - with.cv) / without.cv : 0.0;
   }
 
@@ -507,6 +629,7 @@ class Selector {
   const Eigen::MatrixXd& r_;
   int rb_ = 0, re_ = 0;
   std::vector<int> full_;  // the largest model (noise model)
+  std::vector<double> prior_variance_;  // per term, whitened units (priorVariances)
   mutable std::map<std::vector<int>, SlowNoise> slow_cache_;
 };
 
@@ -551,7 +674,7 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<C
       const std::vector<int> trial = sel.withTerm(base_model, static_cast<int>(t));
       if (trial == base_model) continue;
       const Selector::Score s = sel.score(trial);
-      const double dbic = sel.deltaBic(base, s, static_cast<int>(t), base_model);
+      const double dbic = sel.deltaBic(base_model, trial, static_cast<int>(t));
       const double cvg = base.cv > 0.0 ? (base.cv - s.cv) / base.cv : 0.0;
       if (sel.passes(dbic, cvg) && (best < 0 || dbic > best_bic)) {
         best = static_cast<int>(t);

@@ -8,9 +8,21 @@
 //    sigma_c, so the whitened errors are close to independent N(0, 1). What AR(1) leaves behind
 //    is measured on the whitened full-model residual (lag-1 autocorrelation rho_w) and turned into
 //    a variance inflation c = (1 + rho_w) / (1 - rho_w) >= 1 (effective sample size n / c).
-// 2. Information criterion. BIC(model) = RSS_w / c + p ln(N / c), N = rows (bins x channels),
-//    p = free parameters. delta_bic of a term = BIC(model without it) - BIC(model with it), with
-//    the term's RSS drop further divided by its slow-noise inflation (below).
+// 2. Evidence: twice the log Bayes factor (Laplace form) of the model with a term over the model
+//    without it. With A the whitened normal matrix of the term's columns after projecting out the
+//    model it is tested against, r their whitened score there, and a Gaussian prior on the
+//    term's parameters, isotropic (a term's parameters share units) with variance
+//    tau^2 = (N / c) p / trace(D) (N = rows, bins x channels; D the normal matrix of the term's
+//    columns net of the nuisance only; p its columns with signal): the prior under which the
+//    term's average column carries the information of N / c observations ("unit information"):
+//      delta_bic = sum_i [ (v_i' tau r)^2 / (c (1 + s_i)) - ln(1 + s_i) ],
+//    s_i, v_i the eigenvalues / vectors of tau^2 A. Each direction costs ln(1 + s_i): ln(N / c)
+//    when it is as well determined as an average column, and little when the base model nearly
+//    spans it (e.g. G f_z with f_z ~ -g next to the constant bias: s ~ 2e-3 N), whose RSS drop
+//    is shrunk by s / (1 + s) alike. For a term with equally informative columns orthogonal to
+//    the base this is BIC's RSS_w / c drop minus p ln(N / c). The term's RSS drop is further
+//    divided by its slow-noise inflation (below). A term that replaces another (excludes) is
+//    compared on the terms the two models share.
 // 3. Time-blocked cross-validation. K contiguous folds of bins; each fold is predicted by the
 //    fit on the others; CV = sum of whitened squared prediction errors;
 //    cv_gain = (CV_without - CV_with) / CV_without.
@@ -38,8 +50,8 @@ namespace graftnav {
 
 struct SelectionOptions {
   int folds = 5;                 // contiguous CV folds, >= 2
-  double min_delta_bic = 6.0;    // margin over the BIC penalty (see docs/mismatch.md for the
-                                 //   false-alarm rate this gives)
+  double min_delta_bic = 6.0;    // margin over the evidence penalty (step 2; see
+                                 //   docs/mismatch.md for the false-alarm rate this gives)
   double min_cv_gain = 0.0;      // relative CV improvement required
   int max_terms = 12;            // forward steps at most
   double max_rho = 0.98;         // AR(1) coefficient clamp
@@ -53,7 +65,7 @@ struct TermFit {
   Eigen::VectorXd theta;         // one value per column (SI)
   Eigen::VectorXd sigma;         // 1-sigma, inflated for autocorrelation
   Eigen::MatrixXd covariance;    // of theta
-  double delta_bic = 0.0;
+  double delta_bic = 0.0;        // evidence of step 2 (2 ln Bayes factor; diagnosis.json name)
   double cv_gain = 0.0;
   // The term's slow-noise covariance factor (1 + sum_c s_c (c_slow_c - 1)); the covariance above
   // already carries it and the AR(1) inflation c.
