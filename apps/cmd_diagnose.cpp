@@ -65,6 +65,8 @@ DiagnoseOptions loadDiagnoseConfig(const std::string& path, std::vector<std::str
     else if (k == "folds") { num(v, k, &d); o.selection.folds = static_cast<int>(d); }
     else if (k == "max_terms") { num(v, k, &d); o.selection.max_terms = static_cast<int>(d); }
     else if (k == "max_time_offset_s") num(v, k, &o.time_offset.max_offset_s);
+    else if (k == "coarse_max_time_offset_s") num(v, k, &o.time_offset.coarse_max_offset_s);
+    else if (k == "realign_offset_s") num(v, k, &o.realign_offset_s);
     else if (k == "holdout") o.holdout = v.as<bool>();
     else if (k == "detect_quantization") o.detect_quantization = v.as<bool>();
     else warnings->push_back(fmt::format("{}:{}: unknown key '{}' ignored", path, kv.first.Mark().line + 1, k));

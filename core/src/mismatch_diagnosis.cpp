@@ -22,6 +22,8 @@ void DiagnoseOptions::validate() const {
                                 " must be in (0, 1] s");
   if (!(margin_s >= 0.0))
     throw std::invalid_argument("DiagnoseOptions: margin_s must be >= 0");
+  if (!(realign_offset_s > 0.0))
+    throw std::invalid_argument("DiagnoseOptions: realign_offset_s must be > 0");
   if (!(locate.window_s >= 2.0 * bin_s))
     throw std::invalid_argument("DiagnoseOptions: locate.window_s = " +
                                 std::to_string(locate.window_s) + " must be >= 2 bins");
@@ -348,29 +350,10 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   out.case_name = in.case_name;
   out.simulation_kind = in.simulation_kind;
 
-  // 1. Grid inside all three records.
-  GridSpec grid = commonGrid(in.reference, in.real, opt_in.bin_s, opt_in.margin_s);
-  {
-    const GridSpec gs = commonGrid(in.simulated, in.real, opt_in.bin_s, opt_in.margin_s);
-    const double t0 = std::max(grid.t_begin_s, gs.t_begin_s);
-    const double t1 = std::min(grid.binStart(grid.count), gs.binStart(gs.count));
-    grid.t_begin_s = t0;
-    grid.count = static_cast<int>(std::floor((t1 - t0) / opt_in.bin_s + 1e-9));
-    if (grid.count < 100)
-      throw std::invalid_argument("diagnose: the records overlap by fewer than 100 bins");
-  }
-  out.grid = grid;
-  const int n = grid.count;
-  // Slow-noise blocks: slow_block_s, shortened so that a short record still has 8 blocks.
-  DiagnoseOptions opt = opt_in;
-  if (opt.selection.slow_block_bins == 0 && opt.slow_block_s > 0.0)
-    opt.selection.slow_block_bins =
-        std::min(static_cast<int>(std::round(opt.slow_block_s / opt.bin_s)), n / 8);
-
-  // 2. Time offset (pivot of the time_offset regressor).
+  // 1. Time offset first (pivot of the time_offset regressor): the grid must leave room for it.
   double pivot = 0.0;
   try {
-    out.time_offset_xcorr = estimateTimeOffset(in.reference, in.real, opt.time_offset);
+    out.time_offset_xcorr = estimateTimeOffset(in.reference, in.real, opt_in.time_offset);
     if (out.time_offset_xcorr.reliable) pivot = out.time_offset_xcorr.tau_s;
     else
       out.notes.push_back(fmt::format(
@@ -379,12 +362,56 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   } catch (const std::invalid_argument& e) {
     out.notes.push_back(std::string("time offset not estimated by cross-correlation: ") + e.what());
   }
-  if (std::abs(pivot) < 0.25 * opt.bin_s * 0.1) pivot = 0.0;
+  // A large offset (separately started loggers) is taken out first: the real record's tags are
+  // moved by it, so the joint fit's first-order shift of the other terms stays small, and the
+  // remainder is estimated again; the offset reported adds both.
+  const ImuSeries* real = &in.real;
+  ImuSeries realigned;
+  double realign_s = 0.0;
+  if (std::abs(pivot) > opt_in.realign_offset_s) {
+    realign_s = pivot;
+    realigned = in.real;
+    for (ImuSample& smp : realigned) smp.t_s -= realign_s;
+    real = &realigned;
+    pivot = 0.0;
+    const TimeOffsetEstimate rest = estimateTimeOffset(in.reference, realigned, opt_in.time_offset);
+    if (rest.reliable) pivot = rest.tau_s;
+    out.notes.push_back(fmt::format(
+        "time offset {:.4f} s (cross-correlation) is larger than {:.2f} s: the real record's tags "
+        "were moved by it before binning; the time_offset reported adds the fitted remainder",
+        realign_s, opt_in.realign_offset_s));
+  }
+  if (std::abs(pivot) < 0.25 * opt_in.bin_s * 0.1) pivot = 0.0;
+
+  // 2. Grid inside all three records, margin_s (or the offset plus 0.5 s) from their ends: the
+  // shifted reference x(t - tau) must exist on every bin.
+  const double margin_s = std::max(opt_in.margin_s, std::abs(pivot) + 0.5);
+  GridSpec grid = commonGrid(in.reference, *real, opt_in.bin_s, margin_s);
+  {
+    const GridSpec gs = commonGrid(in.simulated, *real, opt_in.bin_s, margin_s);
+    const double t0 = std::max(grid.t_begin_s, gs.t_begin_s);
+    const double t1 = std::min(grid.binStart(grid.count), gs.binStart(gs.count));
+    grid.t_begin_s = t0;
+    grid.count = static_cast<int>(std::floor((t1 - t0) / opt_in.bin_s + 1e-9));
+    if (grid.count < 100)
+      throw std::invalid_argument("diagnose: the records overlap by fewer than 100 bins");
+  }
+  if (std::abs(pivot) > opt_in.margin_s)
+    out.notes.push_back(fmt::format(
+        "time offset {:.3f} s exceeds the {:.1f}-s margin: the grid keeps {:.3f} s from the "
+        "records' ends", pivot, opt_in.margin_s, margin_s));
+  out.grid = grid;
+  const int n = grid.count;
+  // Slow-noise blocks: slow_block_s, shortened so that a short record still has 8 blocks.
+  DiagnoseOptions opt = opt_in;
+  if (opt.selection.slow_block_bins == 0 && opt.slow_block_s > 0.0)
+    opt.selection.slow_block_bins =
+        std::min(static_cast<int>(std::round(opt.slow_block_s / opt.bin_s)), n / 8);
 
   // 3. Residual on the grid.
   const BinnedImu x = binImu(in.reference, grid);
   const BinnedImu s = binImu(in.simulated, grid);
-  const BinnedImu y = binImu(in.real, grid);
+  const BinnedImu y = binImu(*real, grid);
   Eigen::MatrixXd r(n, kMismatchChannels);
   r << y.omega_rad_s - s.omega_rad_s, y.f_m_s2 - s.f_m_s2;
   out.residual_before = r;
@@ -392,7 +419,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   // are left out of every fit and RMS (residual and regressors zero there) and listed. The joint
   // fit's shifted reference is not masked; a few bins pull tau negligibly.
   out.masked_bins.assign(n, 0);
-  for (const ImuSeries* rec : {&in.reference, &in.simulated, &in.real}) {
+  for (const ImuSeries* rec : {&in.reference, &in.simulated, real}) {
     const std::vector<char> m = binsOverlappingGaps(*rec, grid);
     for (int i = 0; i < n; ++i) out.masked_bins[i] |= m[i];
   }
@@ -422,6 +449,15 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
           out.masked_spans.size(), spans, out.masked_spans.size() > 5 ? ", ..." : ""));
       zeroMaskedRows(out.masked_bins, &r);
     }
+  }
+  // With a realignment: the residual of the record as tagged (signal_rms_raw; the evidence of
+  // the realignment when its remainder is not claimed).
+  Eigen::MatrixXd r0;
+  if (realign_s != 0.0) {
+    const BinnedImu y0 = binImu(in.real, grid);
+    r0.resize(n, kMismatchChannels);
+    r0 << y0.omega_rad_s - s.omega_rad_s, y0.f_m_s2 - s.f_m_s2;
+    zeroMaskedRows(out.masked_bins, &r0);
   }
 
   RegressorInputs ri;
@@ -625,9 +661,14 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     }
   }
   out.selection = sel;
+  bool time_offset_claimed = false;
   for (const TermFit& tf : sel.selected) {
     if (!tf.claimed) continue;
     Effect e = effectFromTerm(terms[tf.term], tf, n);
+    if (e.name == "time_offset") {
+      e.parameters[0].values[0] += realign_s;
+      time_offset_claimed = true;
+    }
     if (e.name == "mounting_misalignment" && (in.lab_gyro_M_sigma || in.lab_accel_M_sigma)) {
       // The rotation is measured between frames the lab calibration defines: its uncertainty
       // includes the lab's rotation uncertainty (the larger sensor's, as for the gate above).
@@ -652,6 +693,28 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
       continue;
     }
     out.effects.push_back(e);
+  }
+  if (realign_s != 0.0 && !time_offset_claimed) {
+    // The remainder was not significant: the offset is the realignment, with the evidence of
+    // the realignment itself (whitened residual sum of squares without and with it).
+    double rss0 = 0.0, rss1 = 0.0;
+    for (int c = 0; c < kMismatchChannels; ++c) {
+      const double w = 1.0 / (sel.sigma(c) * sel.sigma(c));
+      rss0 += w * (r0.col(c).array() - r0.col(c).mean()).square().sum();
+      rss1 += w * (r.col(c).array() - r.col(c).mean()).square().sum();
+    }
+    Effect e;
+    e.name = "time_offset";
+    e.sensor = "both";
+    e.evidence_method = "xcorr_realignment";
+    e.delta_bic = (rss0 - rss1) / sel.inflation - std::log(sel.rows / sel.inflation);
+    e.cv_gain = rss0 > 0.0 ? (rss0 - rss1) / rss0 : 0.0;
+    // Sigma: the lag grid's resolution (the parabola refines it; a conservative bound).
+    e.parameters.push_back(
+        scalarParam("tau_s", realign_s + pivot, opt.time_offset.bin_s / std::sqrt(12.0)));
+    e.explanation = "the tested IMU's time tags are offset (late when positive) from the "
+                    "reference's by more than the realignment threshold";
+    out.effects.insert(out.effects.begin(), e);
   }
   // Scale asymmetry is a sensor property the simulation may partly hold already: SG#2's lab
   // fitting polynomial sees an asymmetric gain k_a |x| on the rate table (+-30 and +-90 deg/s)
@@ -698,7 +761,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
 
   if (opt.detect_quantization) {
     for (int sidx = 0; sidx < 2; ++sidx) {
-      const Eigen::Vector3d q_real = detectQuantizationStep(in.real, sidx == 0);
+      const Eigen::Vector3d q_real = detectQuantizationStep(*real, sidx == 0);
       const Eigen::Vector3d q_sim = detectQuantizationStep(in.simulated, sidx == 0);
       bool any = false;
       for (int a = 0; a < 3; ++a)
@@ -726,7 +789,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   out.model = joint_model.rows() == n ? joint_model : predictSelection(sel, terms, n, false);
   const Eigen::MatrixXd bias = termContribution(terms[0], sel.nuisance.theta, n);
   out.nuisance = bias;
-  out.rms_raw = rmsOf(r, out.masked_bins);
+  out.rms_raw = rmsOf(realign_s != 0.0 ? r0 : r, out.masked_bins);
   out.rms_before = rmsOf(
       r - nuisanceOnlyFit(r, 0, n, opt.library.linear_drift_nuisance, out.masked_bins),
       out.masked_bins);

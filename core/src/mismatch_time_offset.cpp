@@ -14,28 +14,41 @@ void TimeOffsetOptions::validate() const {
   if (!(max_offset_s >= bin_s))
     throw std::invalid_argument("TimeOffsetOptions: max_offset_s = " +
                                 std::to_string(max_offset_s) + " must be >= bin_s");
+  if (!(coarse_bin_s > 0.0))
+    throw std::invalid_argument("TimeOffsetOptions: coarse_bin_s = " + std::to_string(coarse_bin_s) +
+                                " must be > 0");
 }
 
-TimeOffsetEstimate estimateTimeOffset(const ImuSeries& reference, const ImuSeries& tested,
-                                      const TimeOffsetOptions& options) {
-  options.validate();
-  const GridSpec grid = commonGrid(reference, tested, options.bin_s);
-  const int max_lag = static_cast<int>(std::ceil(options.max_offset_s / options.bin_s));
-  if (grid.count < 4 * max_lag + 10)
+namespace {
+
+// Normalized cross-correlation of the mean-removed angular rates of two records binned on
+// bin_s, at integer lags center - half .. center + half (bins); the best lag refined by a
+// parabola.
+struct CorrelationPeak {
+  double lag_bins = 0.0;
+  double correlation = 0.0;
+  bool interior = false;
+};
+
+CorrelationPeak correlationPeak(const ImuSeries& reference, const ImuSeries& tested,
+                                double bin_s, int center, int half) {
+  const GridSpec grid = commonGrid(reference, tested, bin_s);
+  const int extent = std::abs(center) + half;
+  if (grid.count < 4 * extent + 10)
     throw std::invalid_argument("estimateTimeOffset: overlap of " +
                                 std::to_string(grid.count * grid.bin_s) +
-                                " s is too short for a search range of " +
-                                std::to_string(options.max_offset_s) + " s");
+                                " s is too short for a search out to " +
+                                std::to_string(extent * bin_s) + " s");
   const BinnedImu x = binImu(reference, grid);
   const BinnedImu y = binImu(tested, grid);
-  Eigen::MatrixX3d xc = x.omega_rad_s.rowwise() - x.omega_rad_s.colwise().mean();
-  Eigen::MatrixX3d yc = y.omega_rad_s.rowwise() - y.omega_rad_s.colwise().mean();
+  const Eigen::MatrixX3d xc = x.omega_rad_s.rowwise() - x.omega_rad_s.colwise().mean();
+  const Eigen::MatrixX3d yc = y.omega_rad_s.rowwise() - y.omega_rad_s.colwise().mean();
   const int n = grid.count;
   // c(L) = sum_t x(t) y(t + L) over the rows where both exist, normalized.
-  const int lags = 2 * max_lag + 1;
+  const int lags = 2 * half + 1;
   Eigen::VectorXd corr(lags);
   for (int li = 0; li < lags; ++li) {
-    const int L = li - max_lag;
+    const int L = center + li - half;
     const int i0 = std::max(0, -L), i1 = std::min(n, n - L);
     const int len = i1 - i0;
     const auto xs = xc.middleRows(i0, len);
@@ -46,17 +59,50 @@ TimeOffsetEstimate estimateTimeOffset(const ImuSeries& reference, const ImuSerie
   }
   Eigen::Index best = 0;
   corr.maxCoeff(&best);
-  TimeOffsetEstimate est;
-  est.peak_correlation = corr(best);
+  CorrelationPeak peak;
+  peak.correlation = corr(best);
+  peak.interior = best > 0 && best < lags - 1;
   double frac = 0.0;
-  const bool interior = best > 0 && best < lags - 1;
-  if (interior) {
+  if (peak.interior) {
     const double cm = corr(best - 1), c0 = corr(best), cp = corr(best + 1);
     const double den = cm - 2.0 * c0 + cp;
     if (den < 0.0) frac = std::clamp(0.5 * (cm - cp) / den, -0.5, 0.5);
   }
-  est.tau_s = (static_cast<double>(best - max_lag) + frac) * options.bin_s;
-  est.reliable = interior && est.peak_correlation >= options.min_correlation;
+  peak.lag_bins = center + static_cast<double>(best - half) + frac;
+  return peak;
+}
+
+}  // namespace
+
+TimeOffsetEstimate estimateTimeOffset(const ImuSeries& reference, const ImuSeries& tested,
+                                      const TimeOffsetOptions& options) {
+  options.validate();
+  const double overlap_s =
+      std::min(reference.back().t_s, tested.back().t_s) -
+      std::max(reference.front().t_s - reference.front().dt_s, tested.front().t_s - tested.front().dt_s);
+  // Coarse stage: a wide search on coarse bins, capped at a quarter of the overlap.
+  double center_s = 0.0;
+  const double coarse_range_s = std::min(options.coarse_max_offset_s, 0.25 * overlap_s - 1.0);
+  if (coarse_range_s > options.max_offset_s) {
+    const int half = static_cast<int>(std::ceil(coarse_range_s / options.coarse_bin_s));
+    const CorrelationPeak coarse =
+        correlationPeak(reference, tested, options.coarse_bin_s, 0, half);
+    if (coarse.interior && coarse.correlation >= options.min_correlation)
+      center_s = coarse.lag_bins * options.coarse_bin_s;
+  }
+  // Fine stage around zero and, when the coarse peak lies elsewhere, around it: the higher
+  // correlation wins (so a coarse stage can only help).
+  const int half = static_cast<int>(std::ceil(options.max_offset_s / options.bin_s));
+  CorrelationPeak fine = correlationPeak(reference, tested, options.bin_s, 0, half);
+  const int center = static_cast<int>(std::lround(center_s / options.bin_s));
+  if (std::abs(center) > half / 2) {
+    const CorrelationPeak far = correlationPeak(reference, tested, options.bin_s, center, half);
+    if (far.correlation > fine.correlation) fine = far;
+  }
+  TimeOffsetEstimate est;
+  est.peak_correlation = fine.correlation;
+  est.tau_s = fine.lag_bins * options.bin_s;
+  est.reliable = fine.interior && est.peak_correlation >= options.min_correlation;
   return est;
 }
 

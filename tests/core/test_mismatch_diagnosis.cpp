@@ -131,6 +131,42 @@ TEST(MismatchDiagnosis, FindsTimeOffsetLeverArmAndGSensitivityOnly) {
   }
 }
 
+// Separately started loggers: offsets of seconds are found by the coarse stage and refined.
+TEST(MismatchTimeOffset, CoarseStageFindsOffsetsOfSeconds) {
+  const Motion m = carMotion(4);
+  const ImuSeries ref = sampleMotion(m, 100.0, 150.0);
+  for (double tau : {2.37, -3.104, 0.0213}) {
+    const ImuSeries tested = test::sampleIntegral(
+        [&m, tau](double t) { return m.integral(t - tau); }, 120.0, 150.0, 5000.0);
+    const TimeOffsetEstimate est = estimateTimeOffset(ref, tested);
+    EXPECT_TRUE(est.reliable) << "tau " << tau;
+    EXPECT_NEAR(est.tau_s, tau, 1.5e-3) << "tau " << tau;
+    TimeOffsetOptions fine_only;
+    fine_only.coarse_max_offset_s = 0.0;
+    if (std::abs(tau) > 1.0)  // the fine search alone cannot reach it
+      EXPECT_GT(std::abs(estimateTimeOffset(ref, tested, fine_only).tau_s - tau), 0.5);
+  }
+}
+
+// A 1.3-s offset is taken out of the real record's tags before binning; the time_offset reported
+// is the whole offset, and the lever arm comes back as with a small offset.
+TEST(MismatchDiagnosis, LargeTimeOffsetIsRealignedAndReported) {
+  ImuErrorModel extra;
+  extra.time_offset.tau_s = 1.3;
+  extra.lever_arm.r_m << 0.5, -0.3, 0.2;
+  const Pair p = makePair(extra, 3);
+  const DiagnosisResult r = diagnose(p.in);
+  const Effect* to = findEffect(r, "time_offset");
+  ASSERT_NE(to, nullptr) << diagnosisMarkdown(r);
+  EXPECT_NEAR(to->parameters[0].values[0], 1.3, 3.0 * to->parameters[0].sigma[0] + 1e-3);
+  const Effect* la = findEffect(r, "lever_arm");
+  ASSERT_NE(la, nullptr) << diagnosisMarkdown(r);
+  for (int a = 0; a < 3; ++a)
+    EXPECT_NEAR(la->parameters[0].values[a], extra.lever_arm.r_m(a),
+                std::max(3.0 * la->parameters[0].sigma[a], 0.2 * std::abs(extra.lever_arm.r_m(a))));
+  for (int a = 0; a < 3; ++a) EXPECT_LT(r.rms_after.gyro(a), 0.1 * r.rms_raw.gyro(a));
+}
+
 // Lost samples: 1.5 s of the real record missing, the sample after the gap stretched over it (as
 // the reader does: dt = t_k - t_{k-1}), so it carries 8 ms of increments for 1.5 s. The bins
 // overlapping the gap are left out and listed; the same effects are found as without the gap

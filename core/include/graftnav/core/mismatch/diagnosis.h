@@ -95,6 +95,10 @@ struct DiagnosisInputs {
 struct DiagnoseOptions {
   double bin_s = 0.05;       // averaging bin (s)
   double margin_s = 1.0;     // dropped at both ends of the overlap (room for the time shift)
+  // A cross-correlation time offset larger than this is taken out of the real record's tags
+  // before binning (the joint fit shifts the other terms only to first order); the reported
+  // time_offset adds the fitted remainder.
+  double realign_offset_s = 0.1;
   TimeOffsetOptions time_offset;
   CandidateLibraryOptions library;
   SelectionOptions selection;

@@ -6,7 +6,9 @@
 // sample tagged t was measured at t - tau_s: tested(t) = x(t - tau_s). The cross-covariance
 // c(L) = sum_t x(t) tested(t + L) of the mean-removed angular rates (bins of bin_s, summed over
 // the three axes so that the axis with most motion dominates) peaks at L = tau_s; the peak is
-// located to a fraction of a bin by a parabola through the three best lags.
+// located to a fraction of a bin by a parabola through the three best lags. Two stages: a coarse
+// search over +/- coarse_max_offset_s on coarse_bin_s bins (separately started loggers can be
+// seconds apart), then the fine search over +/- max_offset_s around the coarse peak.
 
 #include <Eigen/Core>
 
@@ -17,7 +19,10 @@ namespace graftnav {
 
 struct TimeOffsetOptions {
   double bin_s = 0.01;         // averaging bin of the correlation (s)
-  double max_offset_s = 0.5;   // search range +/- (s)
+  double max_offset_s = 0.5;   // fine search range +/- (s) around the coarse peak
+  double coarse_bin_s = 0.05;  // bins of the coarse search (s)
+  double coarse_max_offset_s = 10.0;  // coarse search range +/- (s), capped at a quarter of the
+                                      // overlap; <= max_offset_s: no coarse stage
   double min_correlation = 0.3;  // below this peak correlation the estimate is not trusted
   void validate() const;       // throws std::invalid_argument naming the field
 };
