@@ -661,49 +661,60 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<C
   Selector sel(residual, terms, options, row_begin, row_end);
   std::vector<int> model = {0};
   std::vector<std::string> log;
-  for (int step = 0; step < options.max_terms; ++step) {
-    const Selector::Score model_score = sel.score(model);
-    int best = -1;
-    double best_bic = 0.0, best_cv = 0.0;
-    std::vector<int> best_trial;
-    for (std::size_t t = 1; t < terms.size(); ++t) {
-      if (std::find(model.begin(), model.end(), static_cast<int>(t)) != model.end()) continue;
-      const std::vector<int> base_model = sel.baseFor(model, static_cast<int>(t));
-      const Selector::Score base =
-          base_model == model ? model_score : sel.score(base_model);
-      const std::vector<int> trial = sel.withTerm(base_model, static_cast<int>(t));
-      if (trial == base_model) continue;
-      const Selector::Score s = sel.score(trial);
-      const double dbic = sel.deltaBic(base_model, trial, static_cast<int>(t));
-      const double cvg = base.cv > 0.0 ? (base.cv - s.cv) / base.cv : 0.0;
-      if (sel.passes(dbic, cvg) && (best < 0 || dbic > best_bic)) {
-        best = static_cast<int>(t);
-        best_bic = dbic;
-        best_cv = cvg;
-        best_trial = trial;
-      }
-    }
-    if (best < 0) break;
-    model = best_trial;
-    log.push_back(fmt::format("add {} (delta_bic {:.1f}, cv_gain {:.4f})", terms[best].key(),
-                              best_bic, best_cv));
-  }
-  // Backward elimination.
+  // Stepwise: forward selection, then backward elimination; after a drop the smaller model can
+  // admit a term the dropped one had masked (e.g. a g-sensitivity whose lateral part a gyro
+  // non-orthogonality absorbed before the misalignment came in), so forward runs again, until a
+  // backward pass drops nothing or a model repeats.
+  std::set<std::vector<int>> visited;
+  int steps = 0;
   for (;;) {
-    int worst = -1;
-    double worst_bic = 0.0;
-    for (int t : model) {
-      if (terms[t].nuisance || sel.requiredByOthers(model, t)) continue;
-      double dbic = 0.0, cvg = 0.0;
-      sel.evidence(model, t, &dbic, &cvg);
-      if (!sel.passes(dbic, cvg) && (worst < 0 || dbic < worst_bic)) {
-        worst = t;
-        worst_bic = dbic;
+    for (; steps < options.max_terms; ++steps) {
+      const Selector::Score model_score = sel.score(model);
+      int best = -1;
+      double best_bic = 0.0, best_cv = 0.0;
+      std::vector<int> best_trial;
+      for (std::size_t t = 1; t < terms.size(); ++t) {
+        if (std::find(model.begin(), model.end(), static_cast<int>(t)) != model.end()) continue;
+        const std::vector<int> base_model = sel.baseFor(model, static_cast<int>(t));
+        const Selector::Score base =
+            base_model == model ? model_score : sel.score(base_model);
+        const std::vector<int> trial = sel.withTerm(base_model, static_cast<int>(t));
+        if (trial == base_model) continue;
+        const Selector::Score s = sel.score(trial);
+        const double dbic = sel.deltaBic(base_model, trial, static_cast<int>(t));
+        const double cvg = base.cv > 0.0 ? (base.cv - s.cv) / base.cv : 0.0;
+        if (sel.passes(dbic, cvg) && (best < 0 || dbic > best_bic)) {
+          best = static_cast<int>(t);
+          best_bic = dbic;
+          best_cv = cvg;
+          best_trial = trial;
+        }
       }
+      if (best < 0) break;
+      model = best_trial;
+      log.push_back(fmt::format("add {} (delta_bic {:.1f}, cv_gain {:.4f})", terms[best].key(),
+                                best_bic, best_cv));
     }
-    if (worst < 0) break;
-    model = sel.withoutTerm(model, worst);
-    log.push_back(fmt::format("drop {} (delta_bic {:.1f})", terms[worst].key(), worst_bic));
+    // Backward elimination.
+    bool dropped = false;
+    for (;;) {
+      int worst = -1;
+      double worst_bic = 0.0;
+      for (int t : model) {
+        if (terms[t].nuisance || sel.requiredByOthers(model, t)) continue;
+        double dbic = 0.0, cvg = 0.0;
+        sel.evidence(model, t, &dbic, &cvg);
+        if (!sel.passes(dbic, cvg) && (worst < 0 || dbic < worst_bic)) {
+          worst = t;
+          worst_bic = dbic;
+        }
+      }
+      if (worst < 0) break;
+      model = sel.withoutTerm(model, worst);
+      dropped = true;
+      log.push_back(fmt::format("drop {} (delta_bic {:.1f})", terms[worst].key(), worst_bic));
+    }
+    if (!dropped || !visited.insert(model).second) break;
   }
   SelectionResult res = sel.result(model);
   res.log = std::move(log);

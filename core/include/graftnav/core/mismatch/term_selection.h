@@ -36,7 +36,9 @@
 //    noise); a slow term is always measured against the residual without any slow term.
 // 4. Forward selection adds, while any exists, the term with the largest delta_bic among those
 //    with delta_bic > min_delta_bic and cv_gain > min_cv_gain; backward elimination then drops
-//    terms that no longer pass. A term is claimed only if it passes both tests in the final model.
+//    terms that no longer pass; after a drop, forward and backward run again (a term the dropped
+//    one masked may now pass) until nothing is dropped or a model repeats. A term is claimed
+//    only if it passes both tests in the final model.
 // Everything works on Gram matrices accumulated once per fold, so each trial fit costs a small
 // dense solve, independent of the record length.
 
