@@ -247,14 +247,25 @@ void registerDiagnose(CLI::App& app) {
         *quad = q;
       }
     } else {
-      const StaticBiasSimulation sim = simulateFromReferenceAndStaticBias(ref, real);
-      in.simulated = sim.simulated;
-      in.simulation_kind = fmt::format(
-          "reference IMU + tested IMU static bias (no lab data; bias from the static span {:.2f}-{:.2f} s: "
-          "gyro [{:.4f} {:.4f} {:.4f}] deg/s, accel [{:.4f} {:.4f} {:.4f}] m/s^2)",
-          sim.t_start_s, sim.t_end_s, sim.gyro_bias_rad_s.x() * units::kRadToDeg,
-          sim.gyro_bias_rad_s.y() * units::kRadToDeg, sim.gyro_bias_rad_s.z() * units::kRadToDeg,
-          sim.accel_bias_m_s2.x(), sim.accel_bias_m_s2.y(), sim.accel_bias_m_s2.z());
+      try {
+        const StaticBiasSimulation sim = simulateFromReferenceAndStaticBias(ref, real);
+        in.simulated = sim.simulated;
+        in.simulation_kind = fmt::format(
+            "reference IMU + tested IMU static bias (no lab data; bias from the static span "
+            "{:.2f}-{:.2f} s: gyro [{:.4f} {:.4f} {:.4f}] deg/s, accel [{:.4f} {:.4f} {:.4f}] m/s^2)",
+            sim.t_start_s, sim.t_end_s, sim.gyro_bias_rad_s.x() * units::kRadToDeg,
+            sim.gyro_bias_rad_s.y() * units::kRadToDeg, sim.gyro_bias_rad_s.z() * units::kRadToDeg,
+            sim.accel_bias_m_s2.x(), sim.accel_bias_m_s2.y(), sim.accel_bias_m_s2.z());
+      } catch (const std::runtime_error& e) {
+        // A recording that starts moving has no static span: the simulation is the reference
+        // alone; the per-channel constant of the model (the nuisance) carries the bias instead.
+        in.simulated = ref;
+        in.simulation_kind = "reference IMU (no lab data, no static span for the tested bias)";
+        notes.push_back(std::string("no static span in the tested record (") + e.what() +
+                        "): the simulation is the reference IMU alone and the tested bias is "
+                        "the fitted constant (constant_bias in diagnosis.json)");
+        fmt::print(stderr, "warning: {}\n", notes.back());
+      }
       notes.push_back("the reference IMU's own errors are in the simulation: effects are relative to it");
     }
     fmt::print(stderr, "diagnose: {} reference, {} tested samples; simulation: {}\n", ref.size(),

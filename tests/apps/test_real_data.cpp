@@ -9,6 +9,9 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "graftnav/core/gnss_io.h"
 #include "graftnav/core/gnss_latency.h"
@@ -110,6 +113,68 @@ TEST(RealData, WidCarGraftedDotFromItsOwnStandstill) {
   ls << lf.rdbuf();
   EXPECT_NE(ls.str().find("GNSS selection: 751 epochs"), std::string::npos);
   EXPECT_NE(ls.str().find("reader"), std::string::npos);
+}
+
+// What further two-IMU recordings do to the mismatch finder, made from wid_car_trial07: the DOT's
+// tags 1.7 s late (loggers started apart) and 2.5 s of DOT packets lost; and a slice that never
+// stands still. The first must give tau = 1.7 s plus the recording's own -25 ms and list the gap;
+// the second must run with the reference alone as the simulation.
+TEST(RealData, WidCarDiagnoseSurvivesLoggerOffsetLostPacketsAndNoStandstill) {
+  const std::string dir = realCase("wid_car_trial07");
+  SKIP_WITHOUT(dir);
+  const std::string out = test::makeTempDir("real_diag");
+  auto makeCase = [&](const std::string& name, double shift_s, long drop_a, long drop_b,
+                      double t_min, double t_max) {
+    const std::string c = out + "/" + name;
+    fs::create_directories(c + "/field");
+    fs::copy_file(dir + "/case.yaml", c + "/case.yaml");
+    fs::copy_file(dir + "/field/gnss.pos", c + "/field/gnss.pos");
+    for (const std::string f : {"ref_imu", "tested_imu"}) {
+      std::ifstream in(dir + "/field/" + f + ".txt");
+      std::ofstream o(c + "/field/" + f + ".txt");
+      std::string line;
+      long k = 0;
+      while (std::getline(in, line)) {
+        ++k;
+        std::istringstream ls(line);
+        double t = 0.0;
+        ls >> t;
+        if (t <= t_min || t >= t_max) continue;
+        if (f == "tested_imu") {
+          if (k >= drop_a && k <= drop_b) continue;
+          char buf[32];
+          std::snprintf(buf, sizeof buf, "%.6f", t + shift_s);
+          o << buf << line.substr(line.find_first_of(" \t")) << "\n";
+        } else {
+          o << line << "\n";
+        }
+      }
+    }
+    return c;
+  };
+  auto diagnoseJson = [&](const std::string& c) {
+    const std::string o = c + "_out";
+    const std::string cmd = test::graftnavBinary() + " diagnose '" + c + "' --out '" + o +
+                            "' --no-plots > '" + o + ".log' 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    std::ifstream f(o + "/diagnosis.json");
+    return nlohmann::json::parse(f);
+  };
+  auto effect = [](const nlohmann::json& js, const std::string& name) {
+    for (const auto& e : js["effects"])
+      if (e["name"] == name) return e;
+    return nlohmann::json();
+  };
+  const nlohmann::json js = diagnoseJson(makeCase("offset_gap", 1.7, 6000, 6300, 0.0, 1e9));
+  const nlohmann::json to = effect(js, "time_offset");
+  ASSERT_FALSE(to.is_null()) << js.dump(1);
+  EXPECT_NEAR(to["parameters"]["tau_s"].get<double>(), 1.7 - 0.0254, 0.003);
+  EXPECT_EQ(js["masked_spans"].size(), 1u) << "the lost packets are listed";
+
+  const nlohmann::json js2 = diagnoseJson(makeCase("moving", 0.0, 0, -1, 100035.0, 100072.0));
+  EXPECT_NE(js2["notes"].dump().find("no static span in the tested record"), std::string::npos)
+      << js2.dump(1);
+  EXPECT_FALSE(effect(js2, "time_offset").is_null()) << js2.dump(1);
 }
 
 TEST(RealData, RunConfigGnssSectionIsValidatedWithFileAndKey) {
