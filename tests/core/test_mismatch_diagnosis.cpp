@@ -143,8 +143,9 @@ TEST(MismatchTimeOffset, CoarseStageFindsOffsetsOfSeconds) {
     EXPECT_NEAR(est.tau_s, tau, 1.5e-3) << "tau " << tau;
     TimeOffsetOptions fine_only;
     fine_only.coarse_max_offset_s = 0.0;
-    if (std::abs(tau) > 1.0)  // the fine search alone cannot reach it
+    if (std::abs(tau) > 1.0) {  // the fine search alone cannot reach it
       EXPECT_GT(std::abs(estimateTimeOffset(ref, tested, fine_only).tau_s - tau), 0.5);
+    }
   }
 }
 
