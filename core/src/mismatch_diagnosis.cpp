@@ -694,6 +694,23 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     }
     out.effects.push_back(e);
   }
+  // Candidates left out: the size each of their parameters alone would need to be claimed over
+  // the final model (term_selection.h TermLimit), so a miss can be read against it.
+  for (const TermLimit& lim : sel.limits) {
+    const CandidateTerm& t = terms[lim.term];
+    if (t.name == "bias_instability" || t.columns.empty()) continue;
+    TermFit tf;
+    tf.term = lim.term;
+    tf.theta = lim.theta_limit;
+    const Eigen::Index k = tf.theta.size();
+    tf.sigma = Eigen::VectorXd::Constant(k, kNaN);
+    tf.covariance = Eigen::MatrixXd::Constant(k, k, kNaN);
+    Effect e = effectFromTerm(t, tf, n);
+    e.delta_bic = kNaN;
+    e.cv_gain = kNaN;
+    e.evidence_method = "detection_limit";
+    out.detection_limits.push_back(e);
+  }
   if (realign_s != 0.0 && !time_offset_claimed) {
     // The remainder was not significant: the offset is the realignment, with the evidence of
     // the realignment itself (whitened residual sum of squares without and with it).

@@ -83,6 +83,18 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
   }
   j["unexplained"] = json::array();
   for (const LocatedSpan& s : r.unexplained) j["unexplained"].push_back(spanJson(s));
+  j["detection_limits"] = json::array();
+  for (const Effect& e : r.detection_limits) {
+    json lim = json::object();
+    for (const EffectParameter& q : e.parameters) {
+      if (!q.text.empty()) continue;
+      lim[q.key] = q.scalar ? num(q.values[0]) : numList(q.values);
+    }
+    json entry{{"name", e.name}, {"sensor", e.sensor}, {"limit", lim}};
+    if (!e.parameters.empty() && !e.parameters.back().text.empty())
+      entry["regressor"] = e.parameters.back().text;
+    j["detection_limits"].push_back(entry);
+  }
   j["masked_spans"] = json::array();
   for (const auto& [a, b] : r.masked_spans) j["masked_spans"].push_back(json::array({a, b}));
   j["wander"] = json::array();
@@ -193,6 +205,25 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparis
   for (const LocatedSpan& s : r.unexplained)
     m += fmt::format("| {} | {:.2f} | {:.2f} | {} | {:.4g} |\n", s.channel, s.t_start, s.t_end, s.regime, s.excess_rms);
   if (r.unexplained.empty()) m += "| (none) | | | | |\n";
+  if (!r.detection_limits.empty()) {
+    m += "\n## Not claimed: detection limits (SI)\n\nThe size each parameter alone (the term's "
+         "others zero) would need for its expected evidence over the final model to reach the "
+         "claim threshold (about a 50 % detection probability).\n\n| term | sensor | limit |\n"
+         "|---|---|---|\n";
+    for (const Effect& e : r.detection_limits) {
+      std::string lim;
+      for (const EffectParameter& q : e.parameters) {
+        if (!q.text.empty()) {
+          lim += (lim.empty() ? "" : "; ") + q.key + " " + q.text;
+          continue;
+        }
+        lim += (lim.empty() ? "" : "; ") + q.key + " ";
+        for (std::size_t i = 0; i < q.values.size(); ++i)
+          lim += fmt::format("{}{:.3g}", i ? " " : "", q.values[i]);
+      }
+      m += fmt::format("| {} | {} | {} |\n", e.name, e.sensor, lim);
+    }
+  }
   if (!r.wander.empty()) {
     m += "\n## Slow bias wander against the lab's noise figures (SI)\n\n"
          "Fitted: piecewise-linear bias of the modelled residual (sd about the mean). Expected: two "

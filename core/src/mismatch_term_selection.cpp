@@ -464,68 +464,125 @@ class Selector {
   // i of the added parameters' information after projecting out the base, q_i the RSS drop along
   // direction i (divided by the inflation c) and s_i = prior variance x information there. Added
   // fixed terms contribute their RSS drop without a penalty.
-  double evidenceOver(const std::vector<int>& base, const std::vector<int>& model, double c) const {
+  // Information of the columns a model adds to a base model, the base projected out: what the
+  // Laplace evidence and the detection limit are computed from.
+  struct AddedInformation {
+    std::vector<int> Sb, Fb, Sa, Fa, F;  // free / fixed columns of the base and of the added terms
+    Eigen::MatrixXd A;                   // information of the added free columns, base projected out
+    Eigen::VectorXd r;                   // their score (whitened X'y net of the fixed columns)
+    Eigen::VectorXd sd;                  // prior standard deviation per added free column
+  };
+
+  AddedInformation addedInformation(const std::vector<int>& base, const std::vector<int>& model) const {
+    AddedInformation ai;
     std::vector<int> added;
     std::set_difference(model.begin(), model.end(), base.begin(), base.end(),
                         std::back_inserter(added));
-    std::vector<int> Sb, Fb, Sa, Fa;
-    modelColumns(base, terms_, map_, &Sb, &Fb);
-    modelColumns(added, terms_, map_, &Sa, &Fa);
-    std::vector<int> F = Fb;
-    F.insert(F.end(), Fa.begin(), Fa.end());
-    double gain = 0.0;
-    if (!Fa.empty())
-      gain += (solve(gram_.G_all, gram_.b_all, gram_.yy_all, Sb, Fb, false).rss -
-               solve(gram_.G_all, gram_.b_all, gram_.yy_all, Sb, F, false).rss) / c;
-    const int pa = static_cast<int>(Sa.size());
-    if (pa == 0) return gain;
-    // Information and score of the added columns with the base projected out (fixed at 1: F).
+    modelColumns(base, terms_, map_, &ai.Sb, &ai.Fb);
+    modelColumns(added, terms_, map_, &ai.Sa, &ai.Fa);
+    ai.F = ai.Fb;
+    ai.F.insert(ai.F.end(), ai.Fa.begin(), ai.Fa.end());
+    const int pa = static_cast<int>(ai.Sa.size());
+    if (pa == 0) return ai;
     const Eigen::MatrixXd& G = gram_.G_all;
     auto target = [&](int i) {
       double v = gram_.b_all(i);
-      for (int j : F) v -= G(i, j);
+      for (int j : ai.F) v -= G(i, j);
       return v;
     };
-    Eigen::MatrixXd A(pa, pa);
-    Eigen::VectorXd r(pa);
+    ai.A.resize(pa, pa);
+    ai.r.resize(pa);
     for (int i = 0; i < pa; ++i) {
-      r(i) = target(Sa[i]);
-      for (int j = 0; j < pa; ++j) A(i, j) = G(Sa[i], Sa[j]);
+      ai.r(i) = target(ai.Sa[i]);
+      for (int j = 0; j < pa; ++j) ai.A(i, j) = G(ai.Sa[i], ai.Sa[j]);
     }
-    const int pb = static_cast<int>(Sb.size());
+    const int pb = static_cast<int>(ai.Sb.size());
     if (pb > 0) {
       Eigen::MatrixXd Bb(pb, pb), Cab(pa, pb);
       Eigen::VectorXd rb(pb);
       for (int i = 0; i < pb; ++i) {
-        rb(i) = target(Sb[i]);
-        for (int j = 0; j < pb; ++j) Bb(i, j) = G(Sb[i], Sb[j]);
+        rb(i) = target(ai.Sb[i]);
+        for (int j = 0; j < pb; ++j) Bb(i, j) = G(ai.Sb[i], ai.Sb[j]);
       }
       for (int i = 0; i < pa; ++i)
-        for (int j = 0; j < pb; ++j) Cab(i, j) = G(Sa[i], Sb[j]);
+        for (int j = 0; j < pb; ++j) Cab(i, j) = G(ai.Sa[i], ai.Sb[j]);
       const Eigen::LDLT<Eigen::MatrixXd> ldlt(regularized(Bb));
-      A -= Cab * ldlt.solve(Cab.transpose());
-      r -= Cab * ldlt.solve(rb);
+      ai.A -= Cab * ldlt.solve(Cab.transpose());
+      ai.r -= Cab * ldlt.solve(rb);
     }
-    // Prior standard deviation per column (whitened units); the inflation c divides the drop.
-    Eigen::VectorXd sd(pa);
+    ai.sd = Eigen::VectorXd::Zero(pa);
     for (int t : added) {
       if (terms_[t].fixed) continue;
       for (int j = 0; j < map_.count[t]; ++j) {
         const int col = map_.start[t] + j;
-        const int i = static_cast<int>(std::find(Sa.begin(), Sa.end(), col) - Sa.begin());
-        sd(i) = std::sqrt(prior_variance_[t]);
+        const int i = static_cast<int>(std::find(ai.Sa.begin(), ai.Sa.end(), col) - ai.Sa.begin());
+        ai.sd(i) = std::sqrt(prior_variance_[t]);
       }
     }
-    const Eigen::MatrixXd M = sd.asDiagonal() * A * sd.asDiagonal();
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (M + M.transpose()));
-    const Eigen::VectorXd h = eig.eigenvectors().transpose() * sd.cwiseProduct(r);
+    return ai;
+  }
+
+  // Eigen-decomposition of the prior-scaled information sd A sd, eigenvalues floored.
+  static Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> scaledInformation(const AddedInformation& ai,
+                                                                         Eigen::VectorXd* s) {
+    const Eigen::MatrixXd M = ai.sd.asDiagonal() * ai.A * ai.sd.asDiagonal();
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (M + M.transpose()));
     const double smax = std::max(eig.eigenvalues().maxCoeff(), 0.0);
+    *s = eig.eigenvalues().cwiseMax(1e-12 * smax);
+    return eig;
+  }
+
+  double evidenceOver(const std::vector<int>& base, const std::vector<int>& model, double c) const {
+    const AddedInformation ai = addedInformation(base, model);
+    double gain = 0.0;
+    if (!ai.Fa.empty())
+      gain += (solve(gram_.G_all, gram_.b_all, gram_.yy_all, ai.Sb, ai.Fb, false).rss -
+               solve(gram_.G_all, gram_.b_all, gram_.yy_all, ai.Sb, ai.F, false).rss) / c;
+    const int pa = static_cast<int>(ai.Sa.size());
+    if (pa == 0) return gain;
+    // Prior standard deviation per column (whitened units); the inflation c divides the drop.
+    Eigen::VectorXd s;
+    const auto eig = scaledInformation(ai, &s);
+    const Eigen::VectorXd h = eig.eigenvectors().transpose() * ai.sd.cwiseProduct(ai.r);
     for (int i = 0; i < pa; ++i) {
-      const double s = std::max(eig.eigenvalues()(i), 1e-12 * smax);
       // q s / (1 + s) with q = h^2 / (s c): the drop along the direction, shrunk by the prior.
-      gain += h(i) * h(i) / (c * (1.0 + s)) - std::log1p(s);
+      gain += h(i) * h(i) / (c * (1.0 + s(i))) - std::log1p(s(i));
     }
     return gain;
+  }
+
+  // Detection limit of term t (not in `model`) per column: the value that column alone (the
+  // term's others zero) must have for its noise-free evidence over `model` to reach
+  // min_delta_bic: with score A theta e_j the gain is theta^2 Q_j - P, P = sum ln(1 + s_i),
+  // Q_j = sum_i (V' sd A e_j)_i^2 / (c (1 + s_i)). About a 50 % detection probability; infinite
+  // for a column with no information.
+  Eigen::VectorXd detectionLimit(const std::vector<int>& model, int t) const {
+    const int k = map_.count[t];
+    Eigen::VectorXd limit = Eigen::VectorXd::Constant(k, std::numeric_limits<double>::infinity());
+    const std::vector<int> base = baseFor(model, t);
+    const std::vector<int> with = withTerm(base, t);
+    if (with == base || terms_[t].fixed || terms_[t].nuisance) return limit;
+    std::vector<int> common;
+    std::set_intersection(base.begin(), base.end(), with.begin(), with.end(),
+                          std::back_inserter(common));
+    const AddedInformation ai = addedInformation(common, with);
+    if (ai.Sa.empty()) return limit;
+    const double c = inflation_ * termInflation(t, base);
+    Eigen::VectorXd s;
+    const auto eig = scaledInformation(ai, &s);
+    double P = 0.0;
+    for (int i = 0; i < s.size(); ++i) P += std::log1p(s(i));
+    for (int j = 0; j < k; ++j) {
+      const int col = map_.start[t] + j;
+      const auto it = std::find(ai.Sa.begin(), ai.Sa.end(), col);
+      if (it == ai.Sa.end()) continue;
+      const int i = static_cast<int>(it - ai.Sa.begin());
+      const Eigen::VectorXd h = eig.eigenvectors().transpose() * ai.sd.cwiseProduct(ai.A.col(i));
+      double Q = 0.0;
+      for (int m = 0; m < s.size(); ++m) Q += h(m) * h(m) / (c * (1.0 + s(m)));
+      if (Q > 0.0) limit(j) = std::sqrt((P + opt_.min_delta_bic) / Q);
+    }
+    return limit;
   }
 
   // The slow-noise factor of term t tested against the model `base` (which does not hold t).
@@ -596,6 +653,11 @@ class Selector {
         tf.claimed = passes(tf.delta_bic, tf.cv_gain);
         res.selected.push_back(tf);
       }
+    }
+    for (std::size_t t = 1; t < terms_.size(); ++t) {
+      const int ti = static_cast<int>(t);
+      if (std::find(model.begin(), model.end(), ti) != model.end() || terms_[t].fixed) continue;
+      res.limits.push_back({ti, detectionLimit(model, ti)});
     }
     // Parameters are whitened-scale free: the columns and residual were divided by the same
     // sigma_c, so theta is in SI units already.

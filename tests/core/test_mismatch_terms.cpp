@@ -292,6 +292,38 @@ TEST(MismatchSelection, RejectsTermsOnColouredNoise) {
   EXPECT_LE(records_with_claims, 5) << claimed;
 }
 
+// The detection limit reported for a candidate left out means what it says: injected at 2.5 times
+// its limit (one parameter) the term is claimed on nearly every record, at 0.3 times almost never.
+TEST(MismatchSelection, DetectionLimitSeparatesFoundFromMissed) {
+  const Motion m = carMotion(5);
+  const RegressorInputs in = syntheticInputs(m, 200.0, 0.0);
+  const std::vector<CandidateTerm> terms = buildCandidateLibrary(in);
+  const int n = in.reference.size();
+  for (const std::string key : {"scale_factor:gyro", "lever_arm:accel"}) {
+    const int t = findTerm(terms, key);
+    ASSERT_GE(t, 0) << key;
+    const SelectionResult noise_only = selectTerms(ar1Noise(n, 0.3, 500), terms);
+    double limit = 0.0;
+    for (const TermLimit& l : noise_only.limits)
+      if (l.term == t) limit = l.theta_limit(2);
+    ASSERT_TRUE(std::isfinite(limit) && limit > 0.0) << key;
+    for (const double factor : {2.5, 0.3}) {
+      Eigen::VectorXd theta = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(terms[t].columns.size()));
+      theta(2) = factor * limit;
+      int found = 0;
+      for (uint64_t seed = 600; seed < 620; ++seed) {
+        const Eigen::MatrixXd r = ar1Noise(n, 0.3, seed) + termContribution(terms[t], theta, n);
+        for (const TermFit& tf : selectTerms(r, terms).selected) found += tf.term == t && tf.claimed;
+      }
+      if (factor > 1.0) {
+        EXPECT_GE(found, 18) << key << " at " << factor << " x its limit " << limit;
+      } else {
+        EXPECT_LE(found, 2) << key << " at " << factor << " x its limit " << limit;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace graftnav
 

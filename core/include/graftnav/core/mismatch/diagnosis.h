@@ -155,6 +155,9 @@ struct DiagnosisResult {
   TimeOffsetEstimate time_offset_xcorr;
   std::vector<LocatedSpan> located;       // residual before modelling
   std::vector<Effect> effects;            // claimed
+  // Every candidate left out of the final model, its parameters holding the detection limit
+  // (each parameter alone, the others zero; about 50 % detection; term_selection.h TermLimit).
+  std::vector<Effect> detection_limits;
   std::vector<LocatedSpan> unexplained;   // still above noise after modelling
   std::vector<WanderCheck> wander;        // per channel, when the lab's noise figures are known
   // Per bin: 1 = left out (overlaps a sampling gap of a record; common_grid.h), and those spans.

@@ -77,6 +77,14 @@ struct TermFit {
   bool claimed = true;
 };
 
+// Detection limit of a candidate left out of the final model: per column, the value that column
+// alone would need for its expected (noise-free) evidence over that model to reach
+// min_delta_bic (about a 50 % detection probability; infinite without information).
+struct TermLimit {
+  int term = -1;
+  Eigen::VectorXd theta_limit;  // SI, one per column
+};
+
 struct SelectionResult {
   std::vector<TermFit> selected;            // claimed terms (nuisance excluded)
   TermFit nuisance;                         // the constant bias per channel
@@ -86,6 +94,7 @@ struct SelectionResult {
   Eigen::Matrix<double, 6, 1> slow_inflation = Eigen::Matrix<double, 6, 1>::Ones();  // c_slow per channel
   int rows = 0;                             // N
   std::vector<std::string> log;             // one line per selection step
+  std::vector<TermLimit> limits;            // every non-fixed candidate not in the model
 };
 
 // Selects terms explaining `residual` (n x 6) over bins [row_begin, row_end) (row_end < 0: all).
