@@ -244,65 +244,6 @@ void holdoutCheck(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& te
   out->has_holdout = true;
 }
 
-// The slow wander of each channel of `r`: least squares on a constant plus the hat functions of
-// the bias_instability term of that channel's sensor (its knots), evaluated on all bins, record
-// mean removed. Also returns the number of fitted columns per channel (for the white-noise share).
-Eigen::MatrixXd fitWander(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
-                          const std::vector<char>& masked, Eigen::Matrix<int, 6, 1>* columns) {
-  const int n = static_cast<int>(r.rows());
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, kMismatchChannels);
-  columns->setZero();
-  for (int c = 0; c < kMismatchChannels; ++c) {
-    std::vector<const Eigen::VectorXd*> cols;
-    for (const CandidateTerm& t : terms)
-      if (t.name == "bias_instability")
-        for (const RegressorColumn& col : t.columns)
-          if (col.actsOn(c)) cols.push_back(&col.channel[c]);
-    if (cols.empty()) continue;
-    const int p = static_cast<int>(cols.size()) + 1;
-    Eigen::MatrixXd X(n, p);
-    for (int i = 0; i < n; ++i) X(i, 0) = masked[i] ? 0.0 : 1.0;
-    for (int j = 1; j < p; ++j) X.col(j) = *cols[j - 1];
-    const Eigen::VectorXd coef = (X.transpose() * X).ldlt().solve(X.transpose() * r.col(c));
-    out.col(c) = X.rightCols(p - 1) * coef.tail(p - 1);
-    out.col(c).array() -= out.col(c).mean();
-    (*columns)(c) = p;
-  }
-  return out;
-}
-
-// Compares each channel's fitted wander with what the lab's noise figures predict for two
-// independent realizations; also returns the wander (n x 6) for the channels within it.
-std::vector<WanderCheck> checkWander(const Eigen::MatrixXd& after,
-                                     const std::vector<CandidateTerm>& terms,
-                                     const DiagnosisInputs& in, const SelectionResult& sel,
-                                     const GridSpec& grid, const std::vector<char>& masked,
-                                     Eigen::MatrixXd* within_wander) {
-  std::vector<WanderCheck> out;
-  const int n = static_cast<int>(after.rows());
-  *within_wander = Eigen::MatrixXd::Zero(n, kMismatchChannels);
-  if (!in.lab_gyro_noise && !in.lab_accel_noise) return out;
-  Eigen::Matrix<int, 6, 1> columns;
-  const Eigen::MatrixXd w = fitWander(after, terms, masked, &columns);
-  const double duration_s = n * grid.bin_s;
-  for (int c = 0; c < kMismatchChannels; ++c) {
-    const std::optional<LabNoiseFigures>& lab = c < 3 ? in.lab_gyro_noise : in.lab_accel_noise;
-    if (!lab || columns(c) == 0) continue;
-    WanderCheck k;
-    k.channel = mismatchChannelNames()[c];
-    k.fitted_sd = std::sqrt(w.col(c).squaredNorm() / n);
-    // White noise the knots pass: a share columns / n of the per-bin noise variance.
-    const double bin_var = sel.sigma(c) * sel.sigma(c) / (1.0 - sel.rho(c) * sel.rho(c));
-    const double expected = expectedWanderSd(*lab, duration_s)(c % 3);
-    k.expected_sd = std::sqrt(expected * expected + bin_var * columns(c) / n);
-    k.limit = kWanderSdQuantile999 * k.expected_sd;
-    k.within = k.fitted_sd <= k.limit;
-    if (k.within) within_wander->col(c) = w.col(c);
-    out.push_back(k);
-  }
-  return out;
-}
-
 // 1-sigma of the rotation about `axis` that a lab calibration leaves in a sensor triad's frame:
 // a rotation is indistinguishable from the antisymmetric part of the cross-axis terms, phi_z from
 // (M_yx - M_xy) / 2 etc., so sqrt(s_xy^2 + s_yx^2) / 2. Zero without lab data.
@@ -329,12 +270,127 @@ bool sensorsOwnQuadratic(const LabQuadratic& lab, Effect* e) {
   return beyond;
 }
 
-}  // namespace
-
-Eigen::Vector3d expectedWanderSd(const LabNoiseFigures& lab, double duration_s) {
-  const Eigen::Vector3d B = lab.bias_instability, K = lab.rate_random_walk;
-  return (2.0 * B.cwiseProduct(B) + K.cwiseProduct(K) * (duration_s / 3.0)).cwiseSqrt();
+// Gates against claiming what the lab calibration's own uncertainty explains (docs/mismatch.md,
+// Method, gates a, b, d). A gated term leaves the model, the rest is refitted, and the gates run
+// again on the refit (a term fitted to compensate the gated one, e.g. a gyro non-orthogonality
+// cancelling a misalignment's gyro part, then shrinks and may be gated in turn).
+SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
+                              const DiagnosisInputs& in, const SelectionOptions& options,
+                              const GridSpec& grid, SelectionResult sel,
+                              std::vector<std::string>* notes) {
+  for (int gate_pass = 0; gate_pass < 4; ++gate_pass) {
+    std::vector<int> keep;
+    bool gated = false;
+    for (const TermFit& tf : sel.selected) {
+      const CandidateTerm& t = terms[tf.term];
+      const std::optional<LabNoiseFigures>& lab =
+          t.sensor == "gyro" ? in.lab_gyro_noise : in.lab_accel_noise;
+      const std::optional<Eigen::Matrix3d>& Msig =
+          t.sensor == "gyro" ? in.lab_gyro_M_sigma : in.lab_accel_M_sigma;
+      if ((t.name == "scale_factor" || t.name == "non_orthogonality") && Msig) {
+        const Effect e = effectFromTerm(t, tf, grid.count);
+        const EffectParameter& q = e.parameters[0];
+        // With a mounting rotation in the model, that rotation is shared by both sensors and
+        // fitted mostly from the better-determined one, so it carries that sensor's lab rotation
+        // error; this sensor's cross-axis terms then take up the difference. Their lab budget
+        // adds the other sensor's rotation uncertainty about the complementary axis.
+        const std::optional<Eigen::Matrix3d>& other_Msig =
+            t.sensor == "gyro" ? in.lab_accel_M_sigma : in.lab_gyro_M_sigma;
+        const bool shared_rotation =
+            std::any_of(sel.selected.begin(), sel.selected.end(), [&](const TermFit& o) {
+              return terms[o.term].name == "mounting_misalignment";
+            });
+        bool beyond = false;
+        for (std::size_t k = 0; k < q.values.size(); ++k) {
+          const int i = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) / 3;
+          const int j = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) % 3;
+          if (t.name == "non_orthogonality" && i == j) continue;
+          double lab_sigma = (*Msig)(i, j);
+          if (t.name == "non_orthogonality" && shared_rotation)
+            lab_sigma = std::hypot(lab_sigma, labRotationSigma(other_Msig, 3 - i - j));
+          const double lim = 3.0 * std::hypot(q.sigma[k], lab_sigma);
+          beyond |= std::abs(q.values[k]) > lim;
+        }
+        if (!beyond) {
+          gated = true;
+          notes->push_back(fmt::format(
+              "{} {} fitted but within 3 sigma of the lab calibration's own uncertainty: not "
+              "claimed (calibration error, not missing physics)", t.sensor, t.name));
+          continue;
+        }
+      }
+      if (t.name == "scale_asymmetry" && Msig) {
+        // The gains per sign differ by more than two lab scale uncertainties allow.
+        const Effect e = effectFromTerm(t, tf, grid.count);
+        const EffectParameter& kp = e.parameters[0];
+        const EffectParameter& kn = e.parameters[1];
+        bool beyond = false;
+        for (int a = 0; a < 3; ++a) {
+          if (!std::isfinite(kp.sigma[a]) || !std::isfinite(kn.sigma[a])) continue;
+          const double lim = 3.0 * std::sqrt(kp.sigma[a] * kp.sigma[a] + kn.sigma[a] * kn.sigma[a] +
+                                             2.0 * (*Msig)(a, a) * (*Msig)(a, a));
+          beyond |= std::abs(kp.values[a] - kn.values[a]) > lim;
+        }
+        if (!beyond) {
+          gated = true;
+          notes->push_back(fmt::format(
+              "{} scale_asymmetry fitted but within 3 sigma of the lab calibration's scale "
+              "uncertainty: not claimed", t.sensor));
+          continue;
+        }
+      }
+      if (t.name == "mounting_misalignment" && (in.lab_gyro_M_sigma || in.lab_accel_M_sigma)) {
+        // For either sensor a rotation is indistinguishable from the antisymmetric part of its
+        // cross-axis calibration error (labRotationSigma). A mounting rotation is claimed only
+        // beyond 3 sigma of the fit and of the less certain sensor's lab rotation uncertainty
+        // combined.
+        const Effect e = effectFromTerm(t, tf, grid.count);
+        const EffectParameter& q = e.parameters[0];
+        bool beyond = false;
+        for (int a = 0; a < 3; ++a) {
+          const double lab_sigma = std::max(labRotationSigma(in.lab_gyro_M_sigma, a),
+                                            labRotationSigma(in.lab_accel_M_sigma, a));
+          beyond |= std::abs(q.values[a]) > 3.0 * std::hypot(q.sigma[a], lab_sigma);
+        }
+        if (!beyond) {
+          gated = true;
+          notes->push_back(
+              "mounting_misalignment fitted but within 3 sigma of the lab calibration's rotation "
+              "uncertainty (antisymmetric cross-axis terms): not claimed (calibration error, not "
+              "missing physics)");
+          continue;
+        }
+      }
+      if (t.name == "bias_instability" && lab) {
+        // Claimed only when some axis wanders beyond what two independent realizations of the
+        // lab's bias instability and rate random walk give (99.9 % quantile).
+        const Effect e = effectFromTerm(t, tf, grid.count);
+        const Eigen::Vector3d expected = expectedWanderSd(*lab, grid.count * grid.bin_s);
+        bool beyond = false;
+        for (int a = 0; a < 3; ++a)
+          beyond |= e.parameters[0].values[a] > kWanderSdQuantile999 * expected(a);
+        if (!beyond) {
+          gated = true;
+          notes->push_back(fmt::format(
+              "{} bias wander [{:.3g} {:.3g} {:.3g}] is within {} x the wander the lab's bias "
+              "instability and rate random walk predict for two realizations [{:.3g} {:.3g} "
+              "{:.3g}]: not claimed (the graft already carries it)", t.sensor,
+              e.parameters[0].values[0], e.parameters[0].values[1], e.parameters[0].values[2],
+              kWanderSdQuantile999, expected(0), expected(1), expected(2)));
+          continue;
+        }
+      }
+      keep.push_back(tf.term);
+    }
+    if (!gated) break;
+    std::vector<std::string> log = sel.log;
+    sel = fitTerms(r, terms, keep, options);
+    sel.log = log;
+  }
+  return sel;
 }
+
+}  // namespace
 
 DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& opt);
 
@@ -526,119 +582,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     noise_ms(c) = std::min(noise_ms(c), full);
   }
   out.located = locateResidual(r, grid, out.regimes, opt.locate, &noise_ms);
-  // Gates against claiming what the lab calibration's own uncertainty explains. A gated term
-  // leaves the model, the rest is refitted, and the gates run again on the refit (a term fitted
-  // to compensate the gated one, e.g. a gyro non-orthogonality cancelling a misalignment's gyro
-  // part, then shrinks and may be gated in turn).
-  for (int gate_pass = 0; gate_pass < 4; ++gate_pass) {
-    std::vector<int> keep;
-    bool gated = false;
-    for (const TermFit& tf : sel.selected) {
-      const CandidateTerm& t = terms[tf.term];
-      const std::optional<LabNoiseFigures>& lab =
-          t.sensor == "gyro" ? in.lab_gyro_noise : in.lab_accel_noise;
-      const std::optional<Eigen::Matrix3d>& Msig =
-          t.sensor == "gyro" ? in.lab_gyro_M_sigma : in.lab_accel_M_sigma;
-      if ((t.name == "scale_factor" || t.name == "non_orthogonality") && Msig) {
-        const Effect e = effectFromTerm(t, tf, n);
-        const EffectParameter& q = e.parameters[0];
-        // With a mounting rotation in the model, that rotation is shared by both sensors and
-        // fitted mostly from the better-determined one, so it carries that sensor's lab rotation
-        // error; this sensor's cross-axis terms then take up the difference. Their lab budget
-        // adds the other sensor's rotation uncertainty about the complementary axis.
-        const std::optional<Eigen::Matrix3d>& other_Msig =
-            t.sensor == "gyro" ? in.lab_accel_M_sigma : in.lab_gyro_M_sigma;
-        const bool shared_rotation =
-            std::any_of(sel.selected.begin(), sel.selected.end(), [&](const TermFit& o) {
-              return terms[o.term].name == "mounting_misalignment";
-            });
-        bool beyond = false;
-        for (std::size_t k = 0; k < q.values.size(); ++k) {
-          const int i = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) / 3;
-          const int j = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) % 3;
-          if (t.name == "non_orthogonality" && i == j) continue;
-          double lab_sigma = (*Msig)(i, j);
-          if (t.name == "non_orthogonality" && shared_rotation)
-            lab_sigma = std::hypot(lab_sigma, labRotationSigma(other_Msig, 3 - i - j));
-          const double lim = 3.0 * std::hypot(q.sigma[k], lab_sigma);
-          beyond |= std::abs(q.values[k]) > lim;
-        }
-        if (!beyond) {
-          gated = true;
-          out.notes.push_back(fmt::format(
-              "{} {} fitted but within 3 sigma of the lab calibration's own uncertainty: not "
-              "claimed (calibration error, not missing physics)", t.sensor, t.name));
-          continue;
-        }
-      }
-      if (t.name == "scale_asymmetry" && Msig) {
-        // The gains per sign differ by more than two lab scale uncertainties allow.
-        const Effect e = effectFromTerm(t, tf, n);
-        const EffectParameter& kp = e.parameters[0];
-        const EffectParameter& kn = e.parameters[1];
-        bool beyond = false;
-        for (int a = 0; a < 3; ++a) {
-          if (!std::isfinite(kp.sigma[a]) || !std::isfinite(kn.sigma[a])) continue;
-          const double lim = 3.0 * std::sqrt(kp.sigma[a] * kp.sigma[a] + kn.sigma[a] * kn.sigma[a] +
-                                             2.0 * (*Msig)(a, a) * (*Msig)(a, a));
-          beyond |= std::abs(kp.values[a] - kn.values[a]) > lim;
-        }
-        if (!beyond) {
-          gated = true;
-          out.notes.push_back(fmt::format(
-              "{} scale_asymmetry fitted but within 3 sigma of the lab calibration's scale "
-              "uncertainty: not claimed", t.sensor));
-          continue;
-        }
-      }
-      if (t.name == "mounting_misalignment" && (in.lab_gyro_M_sigma || in.lab_accel_M_sigma)) {
-        // For either sensor a rotation is indistinguishable from the antisymmetric part of its
-        // cross-axis calibration error (labRotationSigma). A mounting rotation is claimed only
-        // beyond 3 sigma of the fit and of the less certain sensor's lab rotation uncertainty
-        // combined.
-        const Effect e = effectFromTerm(t, tf, n);
-        const EffectParameter& q = e.parameters[0];
-        bool beyond = false;
-        for (int a = 0; a < 3; ++a) {
-          const double lab_sigma = std::max(labRotationSigma(in.lab_gyro_M_sigma, a),
-                                            labRotationSigma(in.lab_accel_M_sigma, a));
-          beyond |= std::abs(q.values[a]) > 3.0 * std::hypot(q.sigma[a], lab_sigma);
-        }
-        if (!beyond) {
-          gated = true;
-          out.notes.push_back(
-              "mounting_misalignment fitted but within 3 sigma of the lab calibration's rotation "
-              "uncertainty (antisymmetric cross-axis terms): not claimed (calibration error, not "
-              "missing physics)");
-          continue;
-        }
-      }
-      if (t.name == "bias_instability" && lab) {
-        // Claimed only when some axis wanders beyond what two independent realizations of the
-        // lab's bias instability and rate random walk give (99.9 % quantile).
-        const Effect e = effectFromTerm(t, tf, n);
-        const Eigen::Vector3d expected = expectedWanderSd(*lab, n * grid.bin_s);
-        bool beyond = false;
-        for (int a = 0; a < 3; ++a)
-          beyond |= e.parameters[0].values[a] > kWanderSdQuantile999 * expected(a);
-        if (!beyond) {
-          gated = true;
-          out.notes.push_back(fmt::format(
-              "{} bias wander [{:.3g} {:.3g} {:.3g}] is within {} x the wander the lab's bias "
-              "instability and rate random walk predict for two realizations [{:.3g} {:.3g} "
-              "{:.3g}]: not claimed (the graft already carries it)", t.sensor,
-              e.parameters[0].values[0], e.parameters[0].values[1], e.parameters[0].values[2],
-              kWanderSdQuantile999, expected(0), expected(1), expected(2)));
-          continue;
-        }
-      }
-      keep.push_back(tf.term);
-    }
-    if (!gated) break;
-    std::vector<std::string> log = sel.log;
-    sel = fitTerms(r, terms, keep, opt.selection);
-    sel.log = log;
-  }
+  sel = applyLabGates(r, terms, in, opt.selection, grid, std::move(sel), &out.notes);
   // Joint fit with Ceres: the time offset as a non-linear parameter with everything else selected
   // (joint_fit.h); the linear solution is its start. Evidence stays that of the selection.
   Eigen::MatrixXd joint_model;  // the Ceres model's prediction when the joint fit ran
@@ -816,7 +760,11 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   // Slow wander within the lab's noise figures is the two bias realizations differing: noise,
   // not an unexplained mismatch.
   Eigen::MatrixXd expected_wander;
-  out.wander = checkWander(after, terms, in, sel, grid, out.masked_bins, &expected_wander);
+  Vector6d bin_variance;
+  for (int c = 0; c < kMismatchChannels; ++c)
+    bin_variance(c) = sel.sigma(c) * sel.sigma(c) / (1.0 - sel.rho(c) * sel.rho(c));
+  out.wander = checkWander(after, terms, in.lab_gyro_noise, in.lab_accel_noise, bin_variance, grid,
+                           out.masked_bins, &expected_wander);
   {
     std::string within;
     for (const WanderCheck& k : out.wander)

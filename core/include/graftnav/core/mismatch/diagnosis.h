@@ -25,26 +25,10 @@
 #include "graftnav/core/mismatch/locate.h"
 #include "graftnav/core/mismatch/term_selection.h"
 #include "graftnav/core/mismatch/time_offset.h"
+#include "graftnav/core/mismatch/wander.h"
 #include "graftnav/core/types.h"
 
 namespace graftnav {
-
-// Allan figures of one sensor triad (calibration_result.h AllanTerms), SI: B in rad/s or m/s^2,
-// K in rad/s/sqrt(s) or m/s^2/sqrt(s).
-struct LabNoiseFigures {
-  Eigen::Vector3d bias_instability = Eigen::Vector3d::Zero();
-  Eigen::Vector3d rate_random_walk = Eigen::Vector3d::Zero();
-};
-
-// Expected standard deviation (about its record mean) of the difference of two independent bias
-// realizations over a record of duration_s: sqrt(2 B^2 + K^2 T / 3) per axis (a random walk of
-// intensity K has mean-removed variance K^2 T / 6 over [0, T]; two realizations double it).
-Eigen::Vector3d expectedWanderSd(const LabNoiseFigures& lab, double duration_s);
-
-// Ratio of the 99.9 % quantile to the expectation of that standard deviation for a random walk
-// (Karhunen-Loeve eigenvalues 1 / (k pi)^2 of the mean-removed Brownian motion; 40000 draws:
-// 50 % 0.84, 99 % 2.12, 99.9 % 2.63).
-inline constexpr double kWanderSdQuantile999 = 2.63;
 
 // The quadratic coefficient per axis of the lab's fitting polynomial (measured = c0 + c1 x +
 // c2 x^2, SI; calibration_result.h PolynomialFit), which SG#2 grafts; zero on axes fitted with
@@ -136,16 +120,6 @@ struct Effect {
 struct ChannelRms {
   Eigen::Vector3d gyro = Eigen::Vector3d::Zero();   // rad/s
   Eigen::Vector3d accel = Eigen::Vector3d::Zero();  // m/s^2
-};
-
-// Slow bias wander of one channel of the modelled residual (piecewise-linear bias at the
-// bias_instability term's knots, fitted with a constant) against the lab's noise figures.
-struct WanderCheck {
-  std::string channel;       // gyro_x .. accel_z
-  double fitted_sd = 0.0;    // SI, about the record mean
-  double expected_sd = 0.0;  // expectedWanderSd plus the white noise the knots pass
-  double limit = 0.0;        // kWanderSdQuantile999 x expected_sd
-  bool within = false;       // within: noise, removed before listing unexplained spans
 };
 
 struct DiagnosisResult {
