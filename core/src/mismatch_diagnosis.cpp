@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <map>
 #include <stdexcept>
@@ -390,6 +391,42 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
   return sel;
 }
 
+// Marks the bins of `grid` that overlap a sampling gap of any of `records` (common_grid.h
+// binsOverlappingGaps) in out->masked_bins, lists them as spans with a note, and refuses a
+// record of which more than half would be left out.
+void maskSamplingGaps(std::initializer_list<const ImuSeries*> records, const GridSpec& grid,
+                      DiagnosisResult* out) {
+  const int n = grid.count;
+  out->masked_bins.assign(n, 0);
+  for (const ImuSeries* rec : records) {
+    const std::vector<char> m = binsOverlappingGaps(*rec, grid);
+    for (int i = 0; i < n; ++i) out->masked_bins[i] |= m[i];
+  }
+  int masked = 0;
+  std::string spans;
+  for (int i = 0; i < n; ++i) {
+    if (!out->masked_bins[i]) continue;
+    ++masked;
+    if (i == 0 || !out->masked_bins[i - 1]) {
+      int j = i;
+      while (j + 1 < n && out->masked_bins[j + 1]) ++j;
+      out->masked_spans.push_back({grid.binStart(i), grid.binStart(j + 1)});
+      if (out->masked_spans.size() <= 5)
+        spans += fmt::format("{}{:.2f}-{:.2f}", spans.empty() ? "" : ", ", grid.binStart(i),
+                             grid.binStart(j + 1));
+    }
+  }
+  if (masked == 0) return;
+  if (masked > n / 2)
+    throw std::invalid_argument(fmt::format(
+        "diagnose: {} of {} bins overlap sampling gaps of the records; too few are left", masked,
+        n));
+  out->notes.push_back(fmt::format(
+      "{} bins ({:.2f} s) overlapping sampling gaps (an interval > 1.5 x the median) are left out "
+      "of every fit and RMS: {} span(s), {}{}", masked, masked * grid.bin_s,
+      out->masked_spans.size(), spans, out->masked_spans.size() > 5 ? ", ..." : ""));
+}
+
 }  // namespace
 
 DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& opt);
@@ -474,38 +511,8 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   // Bins overlapping a sampling gap (lost samples) of any record carry a wrong mean rate: they
   // are left out of every fit and RMS (residual and regressors zero there) and listed. The joint
   // fit's shifted reference is not masked; a few bins pull tau negligibly.
-  out.masked_bins.assign(n, 0);
-  for (const ImuSeries* rec : {&in.reference, &in.simulated, real}) {
-    const std::vector<char> m = binsOverlappingGaps(*rec, grid);
-    for (int i = 0; i < n; ++i) out.masked_bins[i] |= m[i];
-  }
-  {
-    int masked = 0;
-    std::string spans;
-    for (int i = 0; i < n; ++i) {
-      if (!out.masked_bins[i]) continue;
-      ++masked;
-      if (i == 0 || !out.masked_bins[i - 1]) {
-        int j = i;
-        while (j + 1 < n && out.masked_bins[j + 1]) ++j;
-        out.masked_spans.push_back({grid.binStart(i), grid.binStart(j + 1)});
-        if (out.masked_spans.size() <= 5)
-          spans += fmt::format("{}{:.2f}-{:.2f}", spans.empty() ? "" : ", ", grid.binStart(i),
-                               grid.binStart(j + 1));
-      }
-    }
-    if (masked > 0) {
-      if (masked > n / 2)
-        throw std::invalid_argument(fmt::format(
-            "diagnose: {} of {} bins overlap sampling gaps of the records; too few are left",
-            masked, n));
-      out.notes.push_back(fmt::format(
-          "{} bins ({:.2f} s) overlapping sampling gaps (an interval > 1.5 x the median) are left "
-          "out of every fit and RMS: {} span(s), {}{}", masked, masked * grid.bin_s,
-          out.masked_spans.size(), spans, out.masked_spans.size() > 5 ? ", ..." : ""));
-      zeroMaskedRows(out.masked_bins, &r);
-    }
-  }
+  maskSamplingGaps({&in.reference, &in.simulated, real}, grid, &out);
+  zeroMaskedRows(out.masked_bins, &r);
   // With a realignment: the residual of the record as tagged (signal_rms_raw; the evidence of
   // the realignment when its remainder is not claimed).
   Eigen::MatrixXd r0;
