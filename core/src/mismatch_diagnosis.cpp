@@ -254,6 +254,13 @@ double labRotationSigma(const std::optional<Eigen::Matrix3d>& M_sigma, int axis)
   return 0.5 * std::hypot((*M_sigma)(i, j), (*M_sigma)(j, i));
 }
 
+// The lab rotation uncertainty of a mounting rotation shared by both sensors: the less certain
+// sensor's (labRotationSigma).
+double sharedRotationLabSigma(const DiagnosisInputs& in, int axis) {
+  return std::max(labRotationSigma(in.lab_gyro_M_sigma, axis),
+                  labRotationSigma(in.lab_accel_M_sigma, axis));
+}
+
 // Turns a scale_nonlinearity effect fitted on the residual (the part SG#2 lacks) into the
 // sensor's own k2 = c2 (lab) + k2_missing, sigma combined, keeping the fitted part as
 // k2_missing. Returns whether some axis is non-zero beyond 3 sigma.
@@ -349,9 +356,8 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
         const EffectParameter& q = e.parameters[0];
         bool beyond = false;
         for (int a = 0; a < 3; ++a) {
-          const double lab_sigma = std::max(labRotationSigma(in.lab_gyro_M_sigma, a),
-                                            labRotationSigma(in.lab_accel_M_sigma, a));
-          beyond |= std::abs(q.values[a]) > 3.0 * std::hypot(q.sigma[a], lab_sigma);
+          beyond |= std::abs(q.values[a]) >
+                    3.0 * std::hypot(q.sigma[a], sharedRotationLabSigma(in, a));
         }
         if (!beyond) {
           gated = true;
@@ -467,7 +473,9 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     for (ImuSample& smp : realigned) smp.t_s -= realign_s;
     real = &realigned;
     pivot = 0.0;
-    const TimeOffsetEstimate rest = estimateTimeOffset(in.reference, realigned, opt_in.time_offset);
+    TimeOffsetOptions fine_only = opt_in.time_offset;  // the coarse peak is already taken out
+    fine_only.coarse_max_offset_s = 0.0;
+    const TimeOffsetEstimate rest = estimateTimeOffset(in.reference, realigned, fine_only);
     if (rest.reliable) pivot = rest.tau_s;
     out.notes.push_back(fmt::format(
         "time offset {:.4f} s (cross-correlation) is larger than {:.2f} s: the real record's tags "
@@ -583,10 +591,14 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     }
   }
   out.regimes = labelRegimes(x, y.temperature_degC, opt.regimes);
+  // Per-bin noise variance of the largest candidate model's AR(1) noise (the same for every
+  // selection on this residual and library).
+  Vector6d bin_variance;
+  for (int c = 0; c < kMismatchChannels; ++c)
+    bin_variance(c) = sel.sigma(c) * sel.sigma(c) / (1.0 - sel.rho(c) * sel.rho(c));
   Eigen::Matrix<double, 6, 1> noise_ms = windowNoiseLevel(r, grid, opt.locate);
   for (int c = 0; c < kMismatchChannels; ++c) {
-    const double full = sel.sigma(c) * sel.sigma(c) / (1.0 - sel.rho(c) * sel.rho(c));
-    noise_ms(c) = std::min(noise_ms(c), full);
+    noise_ms(c) = std::min(noise_ms(c), bin_variance(c));
   }
   out.located = locateResidual(r, grid, out.regimes, opt.locate, &noise_ms);
   sel = applyLabGates(r, terms, in, opt.selection, grid, std::move(sel), &out.notes);
@@ -625,8 +637,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
       // includes the lab's rotation uncertainty (the larger sensor's, as for the gate above).
       for (int a = 0; a < 3; ++a)
         e.parameters[0].sigma[a] =
-            std::hypot(e.parameters[0].sigma[a], std::max(labRotationSigma(in.lab_gyro_M_sigma, a),
-                                                          labRotationSigma(in.lab_accel_M_sigma, a)));
+            std::hypot(e.parameters[0].sigma[a], sharedRotationLabSigma(in, a));
       out.notes.push_back("mounting_misalignment uncertainty includes the lab calibration's "
                           "rotation uncertainty (the frames it is measured between)");
     }
@@ -767,9 +778,6 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   // Slow wander within the lab's noise figures is the two bias realizations differing: noise,
   // not an unexplained mismatch.
   Eigen::MatrixXd expected_wander;
-  Vector6d bin_variance;
-  for (int c = 0; c < kMismatchChannels; ++c)
-    bin_variance(c) = sel.sigma(c) * sel.sigma(c) / (1.0 - sel.rho(c) * sel.rho(c));
   out.wander = checkWander(after, terms, in.lab_gyro_noise, in.lab_accel_noise, bin_variance, grid,
                            out.masked_bins, &expected_wander);
   {

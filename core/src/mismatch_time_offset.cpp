@@ -21,29 +21,38 @@ void TimeOffsetOptions::validate() const {
 
 namespace {
 
-// Normalized cross-correlation of the mean-removed angular rates of two records binned on
-// bin_s, at integer lags center - half .. center + half (bins); the best lag refined by a
-// parabola.
+// The mean-removed angular rates of two records binned on one grid of bin_s.
+struct CenteredRates {
+  Eigen::MatrixX3d x, y;
+  double bin_s = 0.0;
+};
+
+CenteredRates centeredRates(const ImuSeries& reference, const ImuSeries& tested, double bin_s) {
+  const GridSpec grid = commonGrid(reference, tested, bin_s);
+  const BinnedImu x = binImu(reference, grid);
+  const BinnedImu y = binImu(tested, grid);
+  return {x.omega_rad_s.rowwise() - x.omega_rad_s.colwise().mean(),
+          y.omega_rad_s.rowwise() - y.omega_rad_s.colwise().mean(), bin_s};
+}
+
+// Normalized cross-correlation of the centred rates at integer lags center - half .. center +
+// half (bins); the best lag refined by a parabola.
 struct CorrelationPeak {
   double lag_bins = 0.0;
   double correlation = 0.0;
   bool interior = false;
 };
 
-CorrelationPeak correlationPeak(const ImuSeries& reference, const ImuSeries& tested,
-                                double bin_s, int center, int half) {
-  const GridSpec grid = commonGrid(reference, tested, bin_s);
+CorrelationPeak correlationPeak(const CenteredRates& rates, int center, int half) {
+  const Eigen::MatrixX3d& xc = rates.x;
+  const Eigen::MatrixX3d& yc = rates.y;
+  const int n = static_cast<int>(xc.rows());
   const int extent = std::abs(center) + half;
-  if (grid.count < 4 * extent + 10)
+  if (n < 4 * extent + 10)
     throw std::invalid_argument("estimateTimeOffset: overlap of " +
-                                std::to_string(grid.count * grid.bin_s) +
+                                std::to_string(n * rates.bin_s) +
                                 " s is too short for a search out to " +
-                                std::to_string(extent * bin_s) + " s");
-  const BinnedImu x = binImu(reference, grid);
-  const BinnedImu y = binImu(tested, grid);
-  const Eigen::MatrixX3d xc = x.omega_rad_s.rowwise() - x.omega_rad_s.colwise().mean();
-  const Eigen::MatrixX3d yc = y.omega_rad_s.rowwise() - y.omega_rad_s.colwise().mean();
-  const int n = grid.count;
+                                std::to_string(extent * rates.bin_s) + " s");
   // c(L) = sum_t x(t) y(t + L) over the rows where both exist, normalized.
   const int lags = 2 * half + 1;
   Eigen::VectorXd corr(lags);
@@ -86,17 +95,18 @@ TimeOffsetEstimate estimateTimeOffset(const ImuSeries& reference, const ImuSerie
   if (coarse_range_s > options.max_offset_s) {
     const int half = static_cast<int>(std::ceil(coarse_range_s / options.coarse_bin_s));
     const CorrelationPeak coarse =
-        correlationPeak(reference, tested, options.coarse_bin_s, 0, half);
+        correlationPeak(centeredRates(reference, tested, options.coarse_bin_s), 0, half);
     if (coarse.interior && coarse.correlation >= options.min_correlation)
       center_s = coarse.lag_bins * options.coarse_bin_s;
   }
   // Fine stage around zero and, when the coarse peak lies elsewhere, around it: the higher
   // correlation wins (so a coarse stage can only help).
   const int half = static_cast<int>(std::ceil(options.max_offset_s / options.bin_s));
-  CorrelationPeak fine = correlationPeak(reference, tested, options.bin_s, 0, half);
+  const CenteredRates rates = centeredRates(reference, tested, options.bin_s);
+  CorrelationPeak fine = correlationPeak(rates, 0, half);
   const int center = static_cast<int>(std::lround(center_s / options.bin_s));
   if (std::abs(center) > half / 2) {
-    const CorrelationPeak far = correlationPeak(reference, tested, options.bin_s, center, half);
+    const CorrelationPeak far = correlationPeak(rates, center, half);
     if (far.correlation > fine.correlation) fine = far;
   }
   TimeOffsetEstimate est;
