@@ -141,19 +141,7 @@ TEST(TrackTrajectoryVibration, FadesOutWhenStopped) {
 // differences (h = 30 us: truncation ~1e-5 m/s^2 at 35 Hz).
 TEST(TrackTrajectoryVibration, AnalyticDerivativesMatchCentralDifferences) {
   const TrackTrajectory trj(realTrackPiece(900.0, 1210.0), withVibration(carVibration()));
-  const double h = 3e-5;
-  int checked = 0;
-  for (double t = trj.startTime_s() + 2.0; t < trj.endTime_s() - 2.0; t += 7.3) {
-    const TrajectoryPoint p = trj.at(t), pm = trj.at(t - h), pp = trj.at(t + h);
-    const Eigen::Vector3d v_num = earth::nedFromGeodetic(pm.pos, pp.pos) / (2 * h);
-    EXPECT_LT((v_num - p.v_n).norm(), 1e-4) << t;
-    EXPECT_LT(((pp.v_n - pm.v_n) / (2 * h) - p.a_n).norm(), 1e-4) << t;
-    const Eigen::Matrix3d W = p.C_nb.transpose() * (pp.C_nb - pm.C_nb) / (2 * h);
-    const Eigen::Vector3d w_num(W(2, 1), W(0, 2), W(1, 0));
-    EXPECT_LT((w_num - p.omega_nb_b).norm(), 1e-6) << t;
-    ++checked;
-  }
-  EXPECT_GT(checked, 30);
+  EXPECT_GT(test::expectDerivativesMatchCentralDifferences(trj, 3e-5, 1e-4, 1e-4, 1e-6), 30);
 }
 
 // Strapdown round trip on a vibrating 5-minute piece of the real track with the suite's IMU

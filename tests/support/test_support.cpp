@@ -4,6 +4,9 @@
 
 #include <filesystem>
 
+#include "graftnav/core/earth.h"
+#include "graftnav/core/trajectory.h"
+
 namespace graftnav::test {
 
 std::string sourceDir() { return GRAFTNAV_SOURCE_DIR; }
@@ -33,6 +36,22 @@ Eigen::MatrixXd numericJacobian(const std::function<Eigen::VectorXd(const Eigen:
     J.col(i) = (f(xp) - f(xm)) / (2.0 * step);
   }
   return J;
+}
+
+int expectDerivativesMatchCentralDifferences(const Trajectory& trj, double h, double tol_v_m_s,
+                                             double tol_a_m_s2, double tol_omega_rad_s) {
+  int checked = 0;
+  for (double t = trj.startTime_s() + 2.0; t < trj.endTime_s() - 2.0; t += 7.3) {
+    const TrajectoryPoint p = trj.at(t), pm = trj.at(t - h), pp = trj.at(t + h);
+    const Eigen::Vector3d v_num = earth::nedFromGeodetic(pm.pos, pp.pos) / (2 * h);
+    EXPECT_LT((v_num - p.v_n).norm(), tol_v_m_s) << t;
+    EXPECT_LT(((pp.v_n - pm.v_n) / (2 * h) - p.a_n).norm(), tol_a_m_s2) << t;
+    const Eigen::Matrix3d W = p.C_nb.transpose() * (pp.C_nb - pm.C_nb) / (2 * h);
+    const Eigen::Vector3d w_num(W(2, 1), W(0, 2), W(1, 0));
+    EXPECT_LT((w_num - p.omega_nb_b).norm(), tol_omega_rad_s) << t;
+    ++checked;
+  }
+  return checked;
 }
 
 }  // namespace graftnav::test
