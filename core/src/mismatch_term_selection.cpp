@@ -128,6 +128,22 @@ void modelColumns(const std::vector<int>& model, const std::vector<CandidateTerm
       (terms[t].fixed ? fixed_cols : free_cols)->push_back(map.start[t] + j);
 }
 
+// A normal matrix made safely invertible: a relative ridge of 1e-11, and all-zero columns (no
+// signal: theta 0, sigma infinite) pinned; `pinned`, when given, marks them.
+Eigen::MatrixXd regularized(const Eigen::MatrixXd& A, std::vector<bool>* pinned = nullptr) {
+  Eigen::MatrixXd Ar = A;
+  if (pinned) pinned->assign(A.rows(), false);
+  if (A.rows() == 0) return Ar;
+  const double diag_max = std::max(A.diagonal().maxCoeff(), 1e-300);
+  Ar.diagonal().array() += 1e-11 * diag_max;
+  for (Eigen::Index i = 0; i < A.rows(); ++i)
+    if (A(i, i) <= 1e-14 * diag_max) {
+      Ar(i, i) += diag_max;
+      if (pinned) (*pinned)[i] = true;
+    }
+  return Ar;
+}
+
 // Least squares on G, b, yy with the fixed columns' coefficients at 1.
 ModelFit solve(const Eigen::MatrixXd& G, const Eigen::VectorXd& b, double yy,
                const std::vector<int>& S, const std::vector<int>& F, bool want_inverse) {
@@ -151,32 +167,11 @@ ModelFit solve(const Eigen::MatrixXd& G, const Eigen::VectorXd& b, double yy,
     fit.rss = zz;
     return fit;
   }
-  const double diag_max = std::max(A.diagonal().maxCoeff(), 1e-300);
-  Eigen::MatrixXd Ar = A;
-  Ar.diagonal().array() += 1e-11 * diag_max;
-  fit.unobservable.assign(p, false);
-  for (int i = 0; i < p; ++i)
-    if (A(i, i) <= 1e-14 * diag_max) {  // a column that is all zero: theta 0, sigma infinite
-      Ar(i, i) += diag_max;
-      fit.unobservable[i] = true;
-    }
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(Ar);
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(regularized(A, &fit.unobservable));
   fit.theta = ldlt.solve(Xz);
   fit.rss = zz - 2.0 * fit.theta.dot(Xz) + fit.theta.dot(A * fit.theta);
   if (want_inverse) fit.A_inv = ldlt.solve(Eigen::MatrixXd::Identity(p, p));
   return fit;
-}
-
-// A normal matrix made safely invertible the way solve() does it: a relative ridge of 1e-11 and
-// all-zero columns pinned.
-Eigen::MatrixXd regularized(const Eigen::MatrixXd& A) {
-  Eigen::MatrixXd Ar = A;
-  if (A.rows() == 0) return Ar;
-  const double diag_max = std::max(A.diagonal().maxCoeff(), 1e-300);
-  Ar.diagonal().array() += 1e-11 * diag_max;
-  for (Eigen::Index i = 0; i < A.rows(); ++i)
-    if (A(i, i) <= 1e-14 * diag_max) Ar(i, i) += diag_max;
-  return Ar;
 }
 
 // Whitened squared prediction error of theta (over S, fixed F at 1) on one fold's Gram.
@@ -459,11 +454,6 @@ class Selector {
     return e;
   }
 
-  // 2 ln(Bayes factor) of `model` over `base` (a subset of it), Laplace form with a Gaussian prior
-  // on the added parameters: sum_i [q_i s_i / (1 + s_i) - ln(1 + s_i)] over the eigen-directions
-  // i of the added parameters' information after projecting out the base, q_i the RSS drop along
-  // direction i (divided by the inflation c) and s_i = prior variance x information there. Added
-  // fixed terms contribute their RSS drop without a penalty.
   // Information of the columns a model adds to a base model, the base projected out: what the
   // Laplace evidence and the detection limit are computed from.
   struct AddedInformation {
@@ -532,6 +522,11 @@ class Selector {
     return eig;
   }
 
+  // 2 ln(Bayes factor) of `model` over `base` (a subset of it), Laplace form with a Gaussian prior
+  // on the added parameters: sum_i [q_i s_i / (1 + s_i) - ln(1 + s_i)] over the eigen-directions
+  // i of the added parameters' information after projecting out the base, q_i the RSS drop along
+  // direction i (divided by the inflation c) and s_i = prior variance x information there. Added
+  // fixed terms contribute their RSS drop without a penalty.
   double evidenceOver(const std::vector<int>& base, const std::vector<int>& model, double c) const {
     const AddedInformation ai = addedInformation(base, model);
     double gain = 0.0;
@@ -540,7 +535,6 @@ class Selector {
                solve(gram_.G_all, gram_.b_all, gram_.yy_all, ai.Sb, ai.F, false).rss) / c;
     const int pa = static_cast<int>(ai.Sa.size());
     if (pa == 0) return gain;
-    // Prior standard deviation per column (whitened units); the inflation c divides the drop.
     Eigen::VectorXd s;
     const auto eig = scaledInformation(ai, &s);
     const Eigen::VectorXd h = eig.eigenvectors().transpose() * ai.sd.cwiseProduct(ai.r);
