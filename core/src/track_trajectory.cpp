@@ -203,6 +203,39 @@ std::vector<VibrationComponent> drawVibration(double rms, const double (&share)[
 constexpr double kLinearShare[3] = {0.15, 0.25, 0.60};   // forward, right, down
 constexpr double kAngularShare[3] = {0.40, 0.45, 0.15};  // roll, pitch, yaw
 
+// Speed fade of road motion, m = s / (s + c) with s = v_h^2 and c = v_half^2, and its time
+// derivatives; the second needs the horizontal jerk (N, E) and is 0 without it.
+struct SpeedFade {
+  double m = 0.0, dm = 0.0, ddm = 0.0;
+};
+
+SpeedFade speedFade(const Eigen::Vector3d& v_n, const Eigen::Vector3d& a_n, double v_half_m_s,
+                    const double* jerk_ne = nullptr) {
+  const double c = v_half_m_s * v_half_m_s;
+  const double s = v_n.x() * v_n.x() + v_n.y() * v_n.y();
+  const double ds = 2.0 * (v_n.x() * a_n.x() + v_n.y() * a_n.y());
+  const double sc = s + c;
+  SpeedFade f;
+  f.m = s / sc;
+  f.dm = c * ds / (sc * sc);
+  if (jerk_ne) {
+    const double dds = 2.0 * (a_n.x() * a_n.x() + a_n.y() * a_n.y() + v_n.x() * jerk_ne[0] +
+                              v_n.y() * jerk_ne[1]);
+    f.ddm = c * dds / (sc * sc) - 2.0 * c * ds * ds / (sc * sc * sc);
+  }
+  return f;
+}
+
+// Adds amplitude m(t) sin(2 pi f tau + phase) to an Euler angle and its time derivative to the
+// angle's rate.
+void addFadedSinusoid(double amplitude, double frequency_hz, double phase_rad, double tau,
+                      const SpeedFade& fade, double* angle, double* rate) {
+  const double w = 2.0 * units::kPi * frequency_hz;
+  const double S = std::sin(w * tau + phase_rad), C = std::cos(w * tau + phase_rad);
+  *angle += amplitude * fade.m * S;
+  *rate += amplitude * (fade.dm * S + fade.m * w * C);
+}
+
 }  // namespace
 
 std::vector<VibrationComponent> RoadVibrationOptions::linearComponents() const {
@@ -421,24 +454,16 @@ TrackTrajectory::TrackTrajectory(const GnssSeries& track, const TrackSmoothingOp
 //   d = R(psi) h,  d' = R (h' + psi' J h),  d'' = R (h'' + 2 psi' J h' + psi'' J h - psi'^2 h),
 // J = [[0, -1], [1, 0]]; the down displacement adds directly.
 void TrackTrajectory::addVibration(double t_s, LocalKinematics& k) const {
-  // m = s / (s + c), s = v_h^2, c = v_half^2 and its first two derivatives (the jerk is exact
-  // from the quintic position spline).
+  // The fade and its first two derivatives (the jerk is exact from the quintic position spline).
   double j[2];
   for (int a = 0; a < 2; ++a) {
     double d[4];
     pos_[a]->eval(t_s, d, 3);
     j[a] = d[3];
   }
-  const Eigen::Vector3d& v = k.v_n0;
-  const Eigen::Vector3d& acc = k.a_n0;
-  const double c = opt_.vibration.half_amplitude_speed_m_s * opt_.vibration.half_amplitude_speed_m_s;
-  const double s = v.x() * v.x() + v.y() * v.y();
-  const double ds = 2.0 * (v.x() * acc.x() + v.y() * acc.y());
-  const double dds = 2.0 * (acc.x() * acc.x() + acc.y() * acc.y() + v.x() * j[0] + v.y() * j[1]);
-  const double sc = s + c;
-  const double m = s / sc;
-  const double dm = c * ds / (sc * sc);
-  const double ddm = c * dds / (sc * sc) - 2.0 * c * ds * ds / (sc * sc * sc);
+  const SpeedFade fade =
+      speedFade(k.v_n0, k.a_n0, opt_.vibration.half_amplitude_speed_m_s, j);
+  const double m = fade.m, dm = fade.dm, ddm = fade.ddm;
   const double tau = t_s - t_begin_;
 
   Eigen::Vector3d h[3] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
@@ -467,12 +492,9 @@ void TrackTrajectory::addVibration(double t_s, LocalKinematics& k) const {
       (*out[r])[2] += h[r].z();
     }
   }
-  for (const auto& o : vib_angular_) {
-    const double w = 2.0 * units::kPi * o.frequency_hz;
-    const double S = std::sin(w * tau + o.phase_rad), C = std::cos(w * tau + o.phase_rad);
-    k.euler_rad[o.axis] += o.amplitude * m * S;
-    k.euler_rate_rad_s[o.axis] += o.amplitude * (dm * S + m * w * C);
-  }
+  for (const auto& o : vib_angular_)
+    addFadedSinusoid(o.amplitude, o.frequency_hz, o.phase_rad, tau, fade, &k.euler_rad[o.axis],
+                     &k.euler_rate_rad_s[o.axis]);
 }
 
 TangentPlaneTrajectory::LocalKinematics TrackTrajectory::local(double t_s) const {
@@ -489,18 +511,10 @@ TangentPlaneTrajectory::LocalKinematics TrackTrajectory::local(double t_s) const
     k.euler_rate_rad_s[a] = e[1];
   }
   if (!opt_.oscillations.empty()) {
-    const double vh2 = k.v_n0.x() * k.v_n0.x() + k.v_n0.y() * k.v_n0.y();
-    const double vdv = k.v_n0.x() * k.a_n0.x() + k.v_n0.y() * k.a_n0.y();
-    const double v02 = opt_.oscillation_speed_m_s * opt_.oscillation_speed_m_s;
-    const double m = vh2 / (vh2 + v02);
-    const double dm = 2.0 * v02 * vdv / ((vh2 + v02) * (vh2 + v02));
-    const double tau = t_s - t_begin_;
-    for (const auto& o : opt_.oscillations) {
-      const double w = 2.0 * units::kPi * o.frequency_hz;
-      const double s = std::sin(w * tau + o.phase_rad), c = std::cos(w * tau + o.phase_rad);
-      k.euler_rad[o.euler_index] += o.amplitude_rad * m * s;
-      k.euler_rate_rad_s[o.euler_index] += o.amplitude_rad * (dm * s + m * w * c);
-    }
+    const SpeedFade fade = speedFade(k.v_n0, k.a_n0, opt_.oscillation_speed_m_s);
+    for (const auto& o : opt_.oscillations)
+      addFadedSinusoid(o.amplitude_rad, o.frequency_hz, o.phase_rad, t_s - t_begin_, fade,
+                       &k.euler_rad[o.euler_index], &k.euler_rate_rad_s[o.euler_index]);
   }
   if (!vib_linear_.empty() || !vib_angular_.empty()) addVibration(t_s, k);
   return k;
