@@ -45,9 +45,7 @@ Eigen::Vector3d expectedWanderSd(const LabNoiseFigures& lab, double duration_s) 
   return (2.0 * B.cwiseProduct(B) + K.cwiseProduct(K) * (duration_s / 3.0)).cwiseSqrt();
 }
 
-// Compares each channel's fitted wander with what the lab's noise figures predict for two
-// independent realizations; also returns the wander (n x 6) for the channels within it.
-std::vector<WanderCheck> checkWander(const Eigen::MatrixXd& after,
+std::vector<WanderCheck> checkWander(const Eigen::MatrixXd& residual,
                                      const std::vector<CandidateTerm>& terms,
                                      const std::optional<LabNoiseFigures>& gyro,
                                      const std::optional<LabNoiseFigures>& accel,
@@ -55,11 +53,11 @@ std::vector<WanderCheck> checkWander(const Eigen::MatrixXd& after,
                                      const GridSpec& grid, const std::vector<char>& masked,
                                      Eigen::MatrixXd* within_wander) {
   std::vector<WanderCheck> out;
-  const int n = static_cast<int>(after.rows());
+  const int n = static_cast<int>(residual.rows());
   *within_wander = Eigen::MatrixXd::Zero(n, kMismatchChannels);
   if (!gyro && !accel) return out;
   Eigen::Matrix<int, 6, 1> columns;
-  const Eigen::MatrixXd w = fitWander(after, terms, masked, &columns);
+  const Eigen::MatrixXd w = fitWander(residual, terms, masked, &columns);
   const double duration_s = n * grid.bin_s;
   for (int c = 0; c < kMismatchChannels; ++c) {
     const std::optional<LabNoiseFigures>& lab = c < 3 ? gyro : accel;
@@ -77,6 +75,5 @@ std::vector<WanderCheck> checkWander(const Eigen::MatrixXd& after,
   }
   return out;
 }
-
 
 }  // namespace graftnav
