@@ -71,7 +71,11 @@ DiagnoseOptions loadDiagnoseConfig(const std::string& path, std::vector<std::str
     else if (k == "detect_quantization") o.detect_quantization = v.as<bool>();
     else warnings->push_back(fmt::format("{}:{}: unknown key '{}' ignored", path, kv.first.Mark().line + 1, k));
   }
-  o.validate();
+  try {
+    o.validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
   return o;
 }
 

@@ -24,7 +24,8 @@ void DiagnoseOptions::validate() const {
   if (!(margin_s >= 0.0))
     throw std::invalid_argument("DiagnoseOptions: margin_s must be >= 0");
   if (!(realign_offset_s > 0.0))
-    throw std::invalid_argument("DiagnoseOptions: realign_offset_s must be > 0");
+    throw std::invalid_argument("DiagnoseOptions: realign_offset_s = " +
+                                std::to_string(realign_offset_s) + " must be > 0");
   if (!(locate.window_s >= 2.0 * bin_s))
     throw std::invalid_argument("DiagnoseOptions: locate.window_s = " +
                                 std::to_string(locate.window_s) + " must be >= 2 bins");

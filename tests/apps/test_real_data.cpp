@@ -177,6 +177,27 @@ TEST(RealData, WidCarDiagnoseSurvivesLoggerOffsetLostPacketsAndNoStandstill) {
   EXPECT_FALSE(effect(js2, "time_offset").is_null()) << js2.dump(1);
 }
 
+// A diagnose option out of range is refused naming the file, the option and its value.
+TEST(RealData, DiagnoseConfigOutOfRangeNamesFileKeyAndValue) {
+  const std::string dir = realCase("wid_car_trial07");
+  SKIP_WITHOUT(dir);
+  const std::string out = test::makeTempDir("diag_cfg");
+  {
+    std::ofstream c(out + "/bad.yaml");
+    c << "realign_offset_s: -1\n";
+  }
+  const std::string log = out + "/log.txt";
+  const std::string cmd = test::graftnavBinary() + " diagnose '" + dir + "' --out '" + out +
+                          "/o' --no-plots --config '" + out + "/bad.yaml' > '" + log + "' 2>&1";
+  EXPECT_NE(std::system(cmd.c_str()), 0);
+  std::ifstream lf(log);
+  std::stringstream ls;
+  ls << lf.rdbuf();
+  EXPECT_NE(ls.str().find(out + "/bad.yaml: DiagnoseOptions: realign_offset_s = -1"),
+            std::string::npos)
+      << ls.str();
+}
+
 TEST(RealData, RunConfigGnssSectionIsValidatedWithFileAndKey) {
   const std::string dir = realCase("wid_car_trial07");
   SKIP_WITHOUT(dir);
