@@ -2,6 +2,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "graftnav/core/imu_error_terms.h"
 #include "graftnav/core/mismatch/candidate_terms.h"
@@ -308,34 +309,99 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
   return terms;
 }
 
-Eigen::MatrixX3d angularAccelerationPerBin(const ImuSeries& imu, const GridSpec& grid) {
+Eigen::Vector3d sampleRateNoiseSd(const ImuSeries& imu) {
+  if (imu.size() < 3) throw std::invalid_argument("sampleRateNoiseSd: fewer than 3 samples");
+  std::vector<double> dts;
+  dts.reserve(imu.size());
+  for (const ImuSample& s : imu) dts.push_back(s.dt_s);
+  std::nth_element(dts.begin(), dts.begin() + dts.size() / 2, dts.end());
+  const double dt = dts[dts.size() / 2];
+  const std::size_t block = std::max<std::size_t>(8, static_cast<std::size_t>(std::lround(1.0 / dt)));
+  std::vector<double> per_block[3];
+  Eigen::Vector3d acc = Eigen::Vector3d::Zero();
+  std::size_t count = 0;
+  for (std::size_t k = 1; k < imu.size(); ++k) {
+    const Eigen::Vector3d d =
+        imu[k].dtheta_rad / imu[k].dt_s - imu[k - 1].dtheta_rad / imu[k - 1].dt_s;
+    acc += d.cwiseAbs2();
+    if (++count == block) {
+      for (int a = 0; a < 3; ++a) per_block[a].push_back(0.5 * acc(a) / count);
+      acc.setZero();
+      count = 0;
+    }
+  }
+  if (count > 0 && per_block[0].empty())
+    for (int a = 0; a < 3; ++a) per_block[a].push_back(0.5 * acc(a) / count);
+  Eigen::Vector3d sd;
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double>& v = per_block[a];
+    const std::size_t q = v.size() / 20;
+    std::nth_element(v.begin(), v.begin() + q, v.end());
+    sd(a) = std::sqrt(v[q]);
+  }
+  return sd;
+}
+
+AngularAccelerationBins angularAccelerationPerBin(const ImuSeries& imu, const GridSpec& grid,
+                                                  double max_noise_fraction) {
   if (imu.size() < 2) throw std::invalid_argument("angularAccelerationPerBin: fewer than 2 samples");
   // The bin mean of omega_dot over (a, b] is exactly (omega(b) - omega(a)) / (b - a), omega the
   // instantaneous rate: the tested IMU's velocity increments carry omega(t_k) x r at its sample
   // boundaries, so its bin means hold this exact mean. The rate at an edge t is estimated from
   // the reference's cumulative integral by Richardson extrapolation of two centred window means,
-  // omega(t) ~ (4 m_h(t) - m_2h(t)) / 3 with m_w(t) the mean rate over (t - w/2, t + w/2]
-  // (h = bin length): a window mean has gain sinc(f w) = 1 - (pi f w)^2 / 6 + O(f^4), and the
-  // combination cancels the quadratic term. Gain error at 0.05-s bins: 0.08 % at 2.5 Hz, 0.2 %
-  // at 3.1 Hz, 1.2 % at 5 Hz (a single centred window: 2.5 %, 3.9 %, 10 %); white-noise
-  // variance 1.39 x that of one window, 2.5 x less than the 5-point instantaneous node rate
-  // (whose noise in the regressor biases r_m towards 0, errors-in-variables).
+  // omega(t) ~ (4 m_w(t) - m_2w(t)) / 3 with m_w(t) the mean rate over (t - w/2, t + w/2]: a
+  // window mean has gain sinc(f w) = 1 - (pi f w)^2 / 6 + O(f^4), and the combination cancels
+  // the quadratic term. Its white-noise variance is (16 - 8 / 2 + 1 / 2) / 9 = 1.39 x one
+  // window's, sigma^2 dt / w, and an edge difference over h doubles it; that noise in the
+  // regressor biases r_m towards 0 by its share of the regressor's variance (errors in
+  // variables), so the window is halved from h only while that share stays small.
   const CumulativeImu cum(imu);
   const double h = grid.bin_s;
-  const auto windowMean = [&](double t, double w) -> Eigen::Vector3d {
-    return ((cum.at(t + 0.5 * w) - cum.at(t - 0.5 * w)) / w).head<3>();
+  std::vector<double> dts;
+  dts.reserve(imu.size());
+  for (const ImuSample& s : imu) dts.push_back(s.dt_s);
+  std::nth_element(dts.begin(), dts.begin() + dts.size() / 2, dts.end());
+  const double dt = dts[dts.size() / 2];
+  const Eigen::Vector3d sigma = imu.size() >= 3 ? sampleRateNoiseSd(imu) : Eigen::Vector3d::Zero();
+
+  const auto regressor = [&](double w) {
+    const auto windowMean = [&](double t, double width) -> Eigen::Vector3d {
+      return ((cum.at(t + 0.5 * width) - cum.at(t - 0.5 * width)) / width).head<3>();
+    };
+    const auto rateAt = [&](double t) -> Eigen::Vector3d {
+      return (4.0 * windowMean(t, w) - windowMean(t, 2.0 * w)) / 3.0;
+    };
+    Eigen::MatrixX3d out(grid.count, 3);
+    Eigen::Vector3d prev = rateAt(grid.binStart(0));
+    for (int i = 0; i < grid.count; ++i) {
+      const Eigen::Vector3d cur = rateAt(grid.binStart(i + 1));
+      out.row(i) = ((cur - prev) / h).transpose();
+      prev = cur;
+    }
+    return out;
   };
-  const auto rateAt = [&](double t) -> Eigen::Vector3d {
-    return (4.0 * windowMean(t, h) - windowMean(t, 2.0 * h)) / 3.0;
+
+  AngularAccelerationBins r;
+  r.rate_noise_sd_rad_s = sigma;
+  r.omega_dot_rad_s2 = regressor(h);
+  r.window_s.setConstant(h);
+  const auto noiseFraction = [&](const Eigen::MatrixX3d& z, double w, int a) {
+    const double var = (z.col(a).array() - z.col(a).mean()).square().mean();
+    const double noise = 2.0 * (25.0 / 18.0) * sigma(a) * sigma(a) * dt / (w * h * h);
+    return var > 0.0 ? noise / var : 1.0;
   };
-  Eigen::MatrixX3d out(grid.count, 3);
-  Eigen::Vector3d prev = rateAt(grid.binStart(0));
-  for (int i = 0; i < grid.count; ++i) {
-    const Eigen::Vector3d cur = rateAt(grid.binStart(i + 1));
-    out.row(i) = ((cur - prev) / h).transpose();
-    prev = cur;
+  for (int a = 0; a < 3; ++a) r.noise_fraction(a) = noiseFraction(r.omega_dot_rad_s2, h, a);
+  for (double w = 0.5 * h; w >= dt * (1.0 - 1e-9); w *= 0.5) {
+    const Eigen::MatrixX3d z = regressor(w);
+    for (int a = 0; a < 3; ++a) {
+      const double frac = noiseFraction(z, w, a);
+      if (frac > max_noise_fraction) continue;
+      r.omega_dot_rad_s2.col(a) = z.col(a);
+      r.window_s(a) = w;
+      r.noise_fraction(a) = frac;
+    }
   }
-  return out;
+  return r;
 }
 
 Eigen::MatrixXd termContribution(const CandidateTerm& term, const Eigen::VectorXd& theta, int n) {

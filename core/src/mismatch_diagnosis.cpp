@@ -541,7 +541,17 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     out.notes.push_back("the simulation carries a temperature history: temperature_bias is fitted "
                         "on tested minus simulated temperature");
   }
-  ri.omega_dot_rad_s2 = angularAccelerationPerBin(in.reference, grid);
+  {
+    const AngularAccelerationBins wdot = angularAccelerationPerBin(in.reference, grid);
+    ri.omega_dot_rad_s2 = wdot.omega_dot_rad_s2;
+    out.notes.push_back(fmt::format(
+        "lever_arm regressor: angular acceleration from edge rates over {:.1f}/{:.1f}/{:.1f} ms "
+        "windows (x/y/z; the shortest whose reference noise, {:.2g}/{:.2g}/{:.2g} rad/s per "
+        "sample, is <= 1 % of the regressor's variance: {:.2g}/{:.2g}/{:.2g} %)",
+        1e3 * wdot.window_s(0), 1e3 * wdot.window_s(1), 1e3 * wdot.window_s(2),
+        wdot.rate_noise_sd_rad_s(0), wdot.rate_noise_sd_rad_s(1), wdot.rate_noise_sd_rad_s(2),
+        100 * wdot.noise_fraction(0), 100 * wdot.noise_fraction(1), 100 * wdot.noise_fraction(2)));
+  }
   ri.vibration_f_hp_sq = vibrationLevelPerBin(in.reference, grid, "specific_force_hp_sq");
   ri.vibration_w_hp_sq = vibrationLevelPerBin(in.reference, grid, "angular_rate_hp_sq");
   if (in.initial_state && in.reference_is_simulated) {

@@ -112,7 +112,7 @@ TEST(MismatchLeverArm, AngularAccelerationBinMeansUnbiasedAtRoadFrequencies) {
   for (double rate : {100.0, 120.0}) {
     const ImuSeries imu = sampleMotion(m, rate, 60.0);
     const GridSpec g = commonGrid(imu, imu, 0.05, 0.5);
-    const Eigen::MatrixX3d wdot = angularAccelerationPerBin(imu, g);
+    const Eigen::MatrixX3d wdot = angularAccelerationPerBin(imu, g).omega_dot_rad_s2;
     for (int c = 0; c < 3; ++c) {
       const Wave& w = m.waves[c][0];
       const auto omega = [&](double t) { return w.amp * std::sin(w.omega * (t - 1000.0) + w.phase); };

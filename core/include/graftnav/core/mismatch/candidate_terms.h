@@ -102,10 +102,26 @@ Eigen::VectorXd vibrationLevelPerBin(const ImuSeries& imu, const GridSpec& grid,
 
 // Bin means of the angular acceleration of `imu` on `grid`: (omega(b) - omega(a)) / (b - a) for
 // bin (a, b] (exact for the instantaneous rate omega), omega at an edge from Richardson
-// extrapolation of the mean rates over one and two bin lengths centred on it, (4 m_h - m_2h) / 3
-// (gain error O(f^4): 0.2 % at 3.1 Hz, 1.2 % at 5 Hz for 0.05-s bins).
+// extrapolation of the mean rates over windows w and 2w centred on it, (4 m_w - m_2w) / 3 (gain
+// error O((f w)^4): 0.2 % at 3.1 Hz, 1.2 % at 5 Hz for w = 0.05 s). Per axis, w is the shortest
+// of h, h/2, h/4, ... (h = bin length, not below the sample interval) whose white noise in the
+// regressor is at most `max_noise_fraction` of its variance: a short window follows road and
+// engine vibration (a one-bin window's gain turns negative above 1/h = 20 Hz), a long one keeps
+// a noisy reference's noise out of the regressor (errors-in-variables biases r_m towards 0).
+struct AngularAccelerationBins {
+  Eigen::MatrixX3d omega_dot_rad_s2;       // n x 3
+  Eigen::Vector3d window_s;                // the window w chosen per axis
+  Eigen::Vector3d noise_fraction;          // white-noise share of the regressor's variance
+  Eigen::Vector3d rate_noise_sd_rad_s;     // per-sample white noise of the rates (estimate)
+};
 // Throws std::invalid_argument with fewer than 2 samples.
-Eigen::MatrixX3d angularAccelerationPerBin(const ImuSeries& imu, const GridSpec& grid);
+AngularAccelerationBins angularAccelerationPerBin(const ImuSeries& imu, const GridSpec& grid,
+                                                  double max_noise_fraction = 0.01);
+
+// Per-axis white noise (standard deviation per sample) of the angular rates dtheta / dt of
+// `imu`: half the mean squared first difference over 1-s blocks, the 5th percentile over the
+// blocks (the quietest, e.g. standstills; an upper bound when the record never rests).
+Eigen::Vector3d sampleRateNoiseSd(const ImuSeries& imu);
 
 // Contribution sum_j theta_j u_j of a term on the grid (n x 6). theta has one value per column
 // (ignored for fixed terms, whose coefficients are 1).
