@@ -5,7 +5,8 @@
 # before/after (signal RMS and DIFF of the five outage statistics).
 #
 # Usage: scripts/run_concealed_suite.sh [--seeds N] [--estimator ekf|rts|fgo] [--jobs J] [--crn]
-#                                       [--cases "name1 name2"] [OUT_DIR] [GRAFTNAV_BINARY]
+#                                       [--cases "name1 name2"] [--config-dir DIR]
+#                                       [OUT_DIR] [GRAFTNAV_BINARY]
 #   OUT_DIR defaults to /tmp/graftnav_concealed; the binary to build/graftnav.
 #   --seeds N   Monte-Carlo mode: every case is simulated with N seeds (`simulate --seed`, the
 #               YAML seed + 1000 k, k = 1..N, so the single-seed run is not among them), each is
@@ -18,6 +19,9 @@
 #   --estimator ekf (default), rts or fgo.
 #   --jobs J    cases run in parallel (default 1; the machine may be shared).
 #   --cases     only these cases (YAML base names).
+#   --score-only  no runs: tabulate the diagnoses already under OUT_DIR.
+#   --config-dir  the case configs (default configs/sim/concealed; e.g. the output of
+#               scripts/make_random_cases.sh).
 #   --crn       common random numbers: simulate with --common-random-numbers (the lab session
 #               carries the field tested IMU's noise stream) and diagnose with
 #               configs/sg/crn_run.yaml (graft from lab sample 0), so SG2/SG3 and REAL share one
@@ -30,6 +34,8 @@ estimator=ekf
 njobs=1
 cases=""
 crn=0
+score_only=0
+cfg_dir="$repo/configs/sim/concealed"
 pos=()
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -38,7 +44,9 @@ while [ $# -gt 0 ]; do
     --jobs) njobs="$2"; shift 2 ;;
     --cases) cases="$2"; shift 2 ;;
     --crn) crn=1; shift ;;
-    -h|--help) sed -n '2,27p' "$0"; exit 0 ;;
+    --score-only) score_only=1; shift ;;
+    --config-dir) cfg_dir="$(cd "$2" && pwd)"; shift 2 ;;
+    -h|--help) sed -n '2,30p' "$0"; exit 0 ;;
     --*) echo "unknown option $1" >&2; exit 2 ;;
     *) pos+=("$1"); shift ;;
   esac
@@ -47,7 +55,6 @@ out="${pos[0]:-/tmp/graftnav_concealed}"
 bin="${pos[1]:-$repo/build/graftnav}"
 py="${GRAFTNAV_PYTHON:-/usr/bin/python3}"
 [ -x "$py" ] || py=python3
-cfg_dir="$repo/configs/sim/concealed"
 [ "$crn" = 1 ] && out="$out/crn"
 mkdir -p "$out"
 
@@ -82,7 +89,10 @@ throttle() {
   while [ "$(jobs -rp | wc -l)" -ge "$njobs" ]; do wait -n || true; done
 }
 
-if [ "$seeds" -eq 0 ]; then
+if [ "$score_only" = 1 ]; then
+  result_dir="$out"
+  [ "$seeds" -eq 0 ] || result_dir="$out/mc_$estimator"
+elif [ "$seeds" -eq 0 ]; then
   for cfg in "${cfgs[@]}"; do
     name="$(basename "$cfg" .yaml)"
     echo "== $name" >&2
@@ -174,13 +184,14 @@ def param(e, pkey):
     p, u = e["parameters"], e["uncertainty"]
     if pkey == "k_pos-k_neg":
         est = [a - b for a, b in zip(p["k_pos"], p["k_neg"])]
-        sig = [math.hypot(a, b) for a, b in zip(u["k_pos"], u["k_neg"])]
+        sig = [math.hypot(a, b) if a is not None and b is not None else float("inf")
+               for a, b in zip(u["k_pos"], u["k_neg"])]
         return est, sig
     if pkey.startswith("coeff@"):
         if p.get("regressor") != pkey.split("@", 1)[1]:
             return None
         pkey = "coeff"
-    return as_list(p[pkey]), as_list(u[pkey])
+    return as_list(p[pkey]), [s if s is not None else float("inf") for s in as_list(u[pkey])]
 
 def param_error(e, pkey, truth):
     """(max |err|/sigma, relative error over the determined elements, n determined, z list) or
@@ -213,6 +224,25 @@ def diff(d):
 def label(k):
     return f"{k[0]}({k[1]})"
 
+def limit_ratio(j, key, pkey, truth):
+    """", truth/limit R" for a missed effect: the largest ratio of a true element to the
+    detection limit the finder stated for it (R < 1: below the stated limit)."""
+    for d in j.get("detection_limits", []):
+        if (d["name"], d["sensor"]) != key:
+            continue
+        lim = d["limit"]
+        if pkey == "k_pos-k_neg":
+            lim = lim.get("k_pos")
+        elif pkey.startswith("coeff@"):
+            lim = lim.get("coeff")
+        else:
+            lim = lim.get(pkey)
+        if lim is None:
+            return ""
+        r = [abs(t) / l for t, l in zip(truth, as_list(lim)) if l]
+        return f", truth/limit {max(r):.2g}" if r else ""
+    return ""
+
 def single_table():
     rows = []
     for path in cfg_paths:
@@ -227,7 +257,7 @@ def single_table():
         for key, (pkey, truth) in inj.items():
             e = found.get(key)
             if e is None:
-                errs.append(f"{label(key)}: not found")
+                errs.append(f"{label(key)}: not found" + limit_ratio(j, key, pkey, truth))
                 continue
             pe = param_error(e, pkey, truth)
             if pe is None:
