@@ -1,8 +1,10 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iterator>
 #include <limits>
 #include <map>
+#include <memory>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -12,6 +14,8 @@
 #include <fmt/core.h>
 
 #include "graftnav/core/mismatch/term_selection.h"
+
+#include "graftnav/core/mismatch/scale_noise.h"
 
 namespace graftnav {
 
@@ -294,19 +298,28 @@ class Selector {
   }
 
   // The AR(1) model leaves out noise with long correlation (a bias random process whose field and
-  // lab realizations differ). Its size: the variance of block means of the whitened residual of
-  // the full model without the slow candidates (bias wander, temperature, Earth/gravity), times
-  // the block length (1 for white noise). A term's slowness: the share of its whitened regressor
-  // energy in the block means. Its evidence and covariance are inflated by
-  // 1 + slowness (slow_inflation - 1).
+  // lab realizations differ). Per channel, the whitened residual of the full model without the
+  // slow candidates (bias wander, temperature, Earth/gravity) is split into Haar levels and its
+  // variance per level is smoothed by the law c_j = 1 + a 2^j + b 4^j (scale_noise.h). The fit
+  // is then generalized least squares: every channel's whitened rows (residual and regressors)
+  // are Haar transformed and level j is weighted by 1 / c_j. A slow regressor (a warm-up, the
+  // drive's acceleration pattern) meets the noise of its own time scales, and a term acting on
+  // several channels keeps the information of its quiet channels (a misalignment's gyro rows)
+  // while its noisy ones (the accelerometers' bias wander) count for less.
   // For a fast term (not slow itself), the slow terms already in the model it is tested against
   // (`base`: selected, so they passed this test themselves) stay in that residual: their signal
   // is established physics, not noise. Without that, a temperature warm-up in the gyro residual
-  // raised c_slow to 9-13 and cost a g-sensitivity (whose specific-force regressor has slow
-  // content) its detection. A slow term is always measured against the residual without any slow
-  // term (claimed slow physics and bias wander are the very ambiguity it must overcome).
+  // raised the slow noise 10-fold and cost a g-sensitivity (whose specific-force regressor has
+  // slow content) its detection. A slow term is always measured against the residual without any
+  // slow term (claimed slow physics and bias wander are the very ambiguity it must overcome).
   struct SlowNoise {
     Eigen::Matrix<double, 6, 1> slow_inflation = Eigen::Matrix<double, 6, 1>::Ones();
+    // Normal equations of the GLS (all columns), as GramSet's *_all.
+    Eigen::MatrixXd G;
+    Eigen::VectorXd b;
+    double yy = 0.0;
+    // Per term: the factor its evidence's data term is divided by and its covariance multiplied
+    // by on top of c: 1 under GLS, the block-mean factor for a slow term (white fit).
     std::vector<double> term_inflation;
   };
 
@@ -316,25 +329,74 @@ class Selector {
            nm == "gravity_model" || nm == "earth_rotation_omitted";
   }
 
-  const SlowNoise& slowNoise(const std::vector<int>& base) const {
+  // `for_slow_term`: the noise a slow term is measured against (blockMeanNoise).
+  const SlowNoise& slowNoise(const std::vector<int>& base, bool for_slow_term = false) const {
     std::vector<int> slow_in_base;
     for (int t : base)
       if (isSlow(t)) slow_in_base.push_back(t);
+    if (for_slow_term) slow_in_base.push_back(-1);  // its own cache entry
     auto it = slow_cache_.find(slow_in_base);
-    if (it == slow_cache_.end())
-      it = slow_cache_.emplace(slow_in_base, estimateSlowNoise(slow_in_base)).first;
+    if (it == slow_cache_.end()) {
+      if (for_slow_term) slow_in_base.pop_back();
+      SlowNoise sn = for_slow_term ? blockMeanNoise() : estimateSlowNoise(slow_in_base);
+      if (for_slow_term) slow_in_base.push_back(-1);
+      it = slow_cache_.emplace(slow_in_base, std::move(sn)).first;
+    }
     return it->second;
   }
 
-  SlowNoise estimateSlowNoise(const std::vector<int>& slow_in_model) const {
-    SlowNoise out;
-    out.term_inflation.assign(terms_.size(), 1.0);
-    const Eigen::MatrixXd& r = r_;
-    const int rb = rb_, re = re_;
-    const int m = opt_.slow_block_bins;
-    const int len = re - rb;
-    const int blocks = m > 1 ? len / m : 0;
-    if (blocks < 4) return out;
+  // Whitened series (AR(1) of channel c, divided by its innovation scale) over the selection
+  // rows, mean removed (the nuisance constant), as the fit sees it.
+  Eigen::VectorXd whitened(const Eigen::VectorXd& z, int c, int offset) const {
+    const int len = re_ - rb_;
+    Eigen::VectorXd w(len);
+    for (int i = 0; i < len; ++i) {
+      const double prev = i > 0 ? z(offset + i - 1) : 0.0;
+      w(i) = (z(offset + i) - (i > 0 ? rho_(c) * prev : 0.0)) / sigma_(c);
+    }
+    w.array() -= w.mean();
+    return w;
+  }
+
+  // Per channel, the level-j parts of the normal equations of the whitened rows (as accumulate
+  // builds them) of the columns acting on it: [X y]' [X y] of the Haar level-j coefficients.
+  struct ChannelLevels {
+    std::vector<int> idx;                // global column indices
+    std::vector<Eigen::MatrixXd> gram;   // per Haar level, (m + 1) x (m + 1), y last
+  };
+  const std::array<ChannelLevels, kMismatchChannels>& levelGrams() const {
+    if (!level_grams_) {
+      level_grams_ = std::make_unique<std::array<ChannelLevels, kMismatchChannels>>();
+      const int len = re_ - rb_;
+      for (int c = 0; c < kMismatchChannels; ++c) {
+        ChannelLevels& cl = (*level_grams_)[c];
+        std::vector<const Eigen::VectorXd*> src;
+        for (std::size_t t = 0; t < terms_.size(); ++t)
+          for (int j = 0; j < map_.count[t]; ++j)
+            if (terms_[t].columns[j].actsOn(c)) {
+              cl.idx.push_back(map_.start[t] + j);
+              src.push_back(&terms_[t].columns[j].channel[c]);
+            }
+        const int m = static_cast<int>(src.size());
+        Eigen::MatrixXd Xy(len, m + 1);
+        const double p = rho_(c), w = 1.0 / sigma_(c), first = std::sqrt(std::max(0.0, 1.0 - p * p));
+        const auto row = [&](const Eigen::VectorXd& z, int i) {
+          const int t = rb_ + i;
+          return i == 0 ? w * first * z(t) : w * (z(t) - p * z(t - 1));
+        };
+        const Eigen::VectorXd rc = r_.col(c);
+        for (int i = 0; i < len; ++i) {
+          for (int k = 0; k < m; ++k) Xy(i, k) = row(*src[k], i);
+          Xy(i, m) = row(rc, i);
+        }
+        for (const Eigen::MatrixXd& D : haarCoefficients(Xy)) cl.gram.push_back(D.transpose() * D);
+      }
+    }
+    return *level_grams_;
+  }
+
+  // The residual of the fast model plus the slow terms `slow_in_model` (whitened, mean removed).
+  Eigen::MatrixXd slowResidual(const std::vector<int>& slow_in_model) const {
     std::vector<int> fast;
     for (int t : full_)
       if (!isSlow(t)) fast.push_back(t);
@@ -342,45 +404,88 @@ class Selector {
     std::vector<int> S, F;
     modelColumns(fast, terms_, map_, &S, &F);
     const ModelFit fit = solve(gram_.G_all, gram_.b_all, gram_.yy_all, S, F, false);
-    const Eigen::MatrixXd e = residualOf(r, fast, fit, rb, re);
-    // Whitened series -> block means of the series minus its mean.
-    auto blockMeans = [&](const Eigen::VectorXd& z, int c, int offset, std::vector<double>* bm,
-                          double* energy) {
-      Eigen::VectorXd w(len);
-      for (int i = 0; i < len; ++i) {
-        const double prev = i > 0 ? z(offset + i - 1) : 0.0;
-        w(i) = (z(offset + i) - (i > 0 ? rho_(c) * prev : 0.0)) / sigma_(c);
-      }
-      w.array() -= w.mean();
-      *energy = w.squaredNorm();
-      bm->assign(blocks, 0.0);
-      for (int b = 0; b < blocks; ++b) (*bm)[b] = w.segment(b * m, m).mean();
-    };
-    for (int c = 0; c < kMismatchChannels; ++c) {
-      std::vector<double> bm;
-      double energy = 0.0;
-      blockMeans(e.col(c), c, 0, &bm, &energy);
+    const Eigen::MatrixXd e = residualOf(r_, fast, fit, rb_, re_);
+    Eigen::MatrixXd w(e.rows(), e.cols());
+    for (int c = 0; c < kMismatchChannels; ++c) w.col(c) = whitened(e.col(c), c, 0);
+    return w;
+  }
+
+  // A slow term (temperature, bias wander, Earth/gravity) against the slow noise: a warm-up and a
+  // bias wander share the coarse time scales, where the record holds only a few coefficients, so
+  // neither a law fitted below them nor GLS weights can tell them apart (both left the gyro
+  // temperature sigmas 3-5x small on the concealed cases). The slow term is fitted by white least
+  // squares and its evidence and covariance carry one factor, 1 + sum_c s_c (c_slow_c - 1): per
+  // channel c_slow = block length x variance of the block means of the residual without any slow
+  // term (1 for white noise; it holds whatever slow signal is there, the conservative side), s_c
+  // the share of the term's whitened regressor energy in block means on channel c.
+  SlowNoise blockMeanNoise() const {
+    SlowNoise out;
+    out.G = gram_.G_all;
+    out.b = gram_.b_all;
+    out.yy = gram_.yy_all;
+    out.term_inflation.assign(terms_.size(), 1.0);
+    const int m = opt_.slow_block_bins;
+    const int len = re_ - rb_;
+    const int blocks = m > 1 ? len / m : 0;
+    if (blocks < 4) return out;
+    const auto blockEnergy = [&](const Eigen::VectorXd& w) {
       double acc = 0.0;
-      for (double v : bm) acc += v * v;
-      out.slow_inflation(c) = std::max(1.0, m * acc / blocks / inflation_);
-    }
-    // A term's inflation: its (mean-removed, whitened) regressor energy per channel, weighted by
-    // the share that lives in block means and that channel's slow inflation.
+      for (int b = 0; b < blocks; ++b) acc += m * std::pow(w.segment(b * m, m).mean(), 2);
+      return acc;
+    };
+    const Eigen::MatrixXd e = slowResidual({});
+    for (int c = 0; c < kMismatchChannels; ++c)
+      out.slow_inflation(c) = std::max(1.0, blockEnergy(e.col(c)) / blocks / inflation_);
     for (std::size_t t = 0; t < terms_.size(); ++t) {
       double num = 0.0, total = 0.0;
       for (const RegressorColumn& col : terms_[t].columns)
         for (int c = 0; c < kMismatchChannels; ++c) {
           if (!col.actsOn(c)) continue;
-          std::vector<double> bm;
-          double energy = 0.0;
-          blockMeans(col.channel[c], c, rb, &bm, &energy);
-          double slow = 0.0;
-          for (double v : bm) slow += m * v * v;
-          slow = std::min(slow, energy);
-          num += slow * (out.slow_inflation(c) - 1.0);
+          const Eigen::VectorXd w = whitened(col.channel[c], c, rb_);
+          const double energy = w.squaredNorm();
+          num += std::min(blockEnergy(w), energy) * (out.slow_inflation(c) - 1.0);
           total += energy;
         }
       out.term_inflation[t] = total > 0.0 ? 1.0 + num / total : 1.0;
+    }
+    return out;
+  }
+
+  SlowNoise estimateSlowNoise(const std::vector<int>& slow_in_model) const {
+    SlowNoise out;
+    out.G = gram_.G_all;
+    out.b = gram_.b_all;
+    out.yy = gram_.yy_all;
+    out.term_inflation.assign(terms_.size(), 1.0);
+    const int m = opt_.slow_block_bins;
+    const int len = re_ - rb_;
+    const int blocks = m > 1 ? len / m : 0;
+    if (blocks < 4) return out;
+    const Eigen::MatrixXd e = slowResidual(slow_in_model);
+    // Per channel, the residual's noise per Haar scale, the law fitted on the levels up to twice
+    // the block length (coarser ones hold slow physics, a warm-up, that is not noise to a fast
+    // term; the law extrapolates the wander there); reported at the block length.
+    const int report_level = std::max(1, static_cast<int>(std::lround(std::log2(m))));
+    const auto& lg = levelGrams();
+    const int P = map_.total;
+    out.G = Eigen::MatrixXd::Zero(P, P);
+    out.b = Eigen::VectorXd::Zero(P);
+    out.yy = 0.0;
+    for (int c = 0; c < kMismatchChannels; ++c) {
+      const ScaleNoiseModel model =
+          fitScaleNoise(haarEnergies(e.col(c)), inflation_, report_level + 1);
+      out.slow_inflation(c) = model.at(report_level);
+      const ChannelLevels& cl = lg[c];
+      const int k = static_cast<int>(cl.idx.size());
+      for (std::size_t j = 0; j < cl.gram.size(); ++j) {
+        const double w = 1.0 / model.at(static_cast<int>(j) + 1);
+        const Eigen::MatrixXd& g = cl.gram[j];
+        for (int a = 0; a < k; ++a) {
+          out.b(cl.idx[a]) += w * g(a, k);
+          for (int bb = 0; bb < k; ++bb) out.G(cl.idx[a], cl.idx[bb]) += w * g(a, bb);
+        }
+        out.yy += w * g(k, k);
+      }
     }
     return out;
   }
@@ -445,12 +550,13 @@ class Selector {
   // two models (header, step 2). With a term that replaces another (excludes) the models are not
   // nested; both are then measured against the terms they share.
   double deltaBic(const std::vector<int>& without, const std::vector<int>& with, int t) const {
-    const double c = inflation_ * termInflation(t, without);
+    const SlowNoise& sn = slowNoiseFor(t, without);
     std::vector<int> common;
     std::set_intersection(without.begin(), without.end(), with.begin(), with.end(),
                           std::back_inserter(common));
-    double e = evidenceOver(common, with, c);
-    if (common != without) e -= evidenceOver(common, without, c);
+    const double c = inflation_ * sn.term_inflation[t];
+    double e = evidenceOver(common, with, sn, c);
+    if (common != without) e -= evidenceOver(common, without, sn, c);
     return e;
   }
 
@@ -463,7 +569,8 @@ class Selector {
     Eigen::VectorXd sd;                  // prior standard deviation per added free column
   };
 
-  AddedInformation addedInformation(const std::vector<int>& base, const std::vector<int>& model) const {
+  AddedInformation addedInformation(const std::vector<int>& base, const std::vector<int>& model,
+                                    const SlowNoise& sn) const {
     AddedInformation ai;
     std::vector<int> added;
     std::set_difference(model.begin(), model.end(), base.begin(), base.end(),
@@ -474,9 +581,9 @@ class Selector {
     ai.F.insert(ai.F.end(), ai.Fa.begin(), ai.Fa.end());
     const int pa = static_cast<int>(ai.Sa.size());
     if (pa == 0) return ai;
-    const Eigen::MatrixXd& G = gram_.G_all;
+    const Eigen::MatrixXd& G = sn.G;
     auto target = [&](int i) {
-      double v = gram_.b_all(i);
+      double v = sn.b(i);
       for (int j : ai.F) v -= G(i, j);
       return v;
     };
@@ -525,14 +632,16 @@ class Selector {
   // 2 ln(Bayes factor) of `model` over `base` (a subset of it), Laplace form with a Gaussian prior
   // on the added parameters: sum_i [q_i s_i / (1 + s_i) - ln(1 + s_i)] over the eigen-directions
   // i of the added parameters' information after projecting out the base, q_i the RSS drop along
-  // direction i (divided by the inflation c) and s_i = prior variance x information there. Added
-  // fixed terms contribute their RSS drop without a penalty.
-  double evidenceOver(const std::vector<int>& base, const std::vector<int>& model, double c) const {
-    const AddedInformation ai = addedInformation(base, model);
+  // direction i (divided by the AR(1) leftover c) and s_i = prior variance x information there,
+  // both from the GLS normal equations of the slow noise `sn`. Added fixed terms contribute their
+  // RSS drop divided by c, without a penalty.
+  double evidenceOver(const std::vector<int>& base, const std::vector<int>& model,
+                      const SlowNoise& sn, double c) const {
+    const AddedInformation ai = addedInformation(base, model, sn);
     double gain = 0.0;
     if (!ai.Fa.empty())
-      gain += (solve(gram_.G_all, gram_.b_all, gram_.yy_all, ai.Sb, ai.Fb, false).rss -
-               solve(gram_.G_all, gram_.b_all, gram_.yy_all, ai.Sb, ai.F, false).rss) / c;
+      gain += (solve(sn.G, sn.b, sn.yy, ai.Sb, ai.Fb, false).rss -
+               solve(sn.G, sn.b, sn.yy, ai.Sb, ai.F, false).rss) / c;
     const int pa = static_cast<int>(ai.Sa.size());
     if (pa == 0) return gain;
     Eigen::VectorXd s;
@@ -559,9 +668,10 @@ class Selector {
     std::vector<int> common;
     std::set_intersection(base.begin(), base.end(), with.begin(), with.end(),
                           std::back_inserter(common));
-    const AddedInformation ai = addedInformation(common, with);
+    const SlowNoise& sn = slowNoiseFor(t, base);
+    const AddedInformation ai = addedInformation(common, with, sn);
     if (ai.Sa.empty()) return limit;
-    const double c = inflation_ * termInflation(t, base);
+    const double c = inflation_ * sn.term_inflation[t];
     Eigen::VectorXd s;
     const auto eig = scaledInformation(ai, &s);
     double P = 0.0;
@@ -579,9 +689,9 @@ class Selector {
     return limit;
   }
 
-  // The slow-noise factor of term t tested against the model `base` (which does not hold t).
-  double termInflation(int t, const std::vector<int>& base) const {
-    return slowNoise(isSlow(t) ? std::vector<int>{} : base).term_inflation[t];
+  // The slow noise term t is tested against, with the model `base` (which does not hold t).
+  const SlowNoise& slowNoiseFor(int t, const std::vector<int>& base) const {
+    return isSlow(t) ? slowNoise({}, true) : slowNoise(base);
   }
   Score score(const std::vector<int>& model) const {
     std::vector<int> S, F;
@@ -618,12 +728,11 @@ class Selector {
     res.rows = gram_.rows;
     std::vector<int> S, F;
     modelColumns(model, terms_, map_, &S, &F);
-    const ModelFit fit = solve(gram_.G_all, gram_.b_all, gram_.yy_all, S, F, true);
-    // Whitened noise has unit variance; the inflation carries the leftover correlation and any
+    // Each term's estimate and covariance come from the GLS of the slow noise it is measured
+    // against (a slow term: without any slow term; a fast one: with the model's slow terms).
+    // Whitened noise has unit variance; the inflation c carries the leftover correlation and any
     // excess variance of the full model's residual.
-    Eigen::MatrixXd cov = fit.A_inv * inflation_;
-    for (std::size_t i = 0; i < fit.unobservable.size(); ++i)
-      if (fit.unobservable[i]) cov(i, i) = std::numeric_limits<double>::infinity();
+    std::map<const SlowNoise*, ModelFit> fits;
     int pos = 0;
     for (int t : model) {
       TermFit tf;
@@ -634,9 +743,15 @@ class Selector {
         tf.sigma = Eigen::VectorXd::Zero(k);
         tf.covariance = Eigen::MatrixXd::Zero(k, k);
       } else {
+        const SlowNoise& sn = slowNoiseFor(t, withoutTerm(model, t));
+        auto it = fits.find(&sn);
+        if (it == fits.end()) it = fits.emplace(&sn, solve(sn.G, sn.b, sn.yy, S, F, true)).first;
+        const ModelFit& fit = it->second;
         tf.theta = fit.theta.segment(pos, k);
-        tf.inflation_factor = termInflation(t, withoutTerm(model, t));
-        tf.covariance = cov.block(pos, pos, k, k) * tf.inflation_factor;
+        tf.inflation_factor = sn.term_inflation[t];
+        tf.covariance = fit.A_inv.block(pos, pos, k, k) * (inflation_ * tf.inflation_factor);
+        for (int i = 0; i < k; ++i)
+          if (fit.unobservable[pos + i]) tf.covariance(i, i) = std::numeric_limits<double>::infinity();
         tf.sigma = tf.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
         pos += k;
       }
@@ -687,6 +802,7 @@ class Selector {
   std::vector<int> full_;  // the largest model (noise model)
   std::vector<double> prior_variance_;  // per term, whitened units (priorVariances)
   mutable std::map<std::vector<int>, SlowNoise> slow_cache_;
+  mutable std::unique_ptr<std::array<ChannelLevels, kMismatchChannels>> level_grams_;
 };
 
 void checkInputs(const Eigen::MatrixXd& residual, const std::vector<CandidateTerm>& terms,

@@ -27,13 +27,20 @@
 //    fit on the others; CV = sum of whitened squared prediction errors;
 //    cv_gain = (CV_without - CV_with) / CV_without.
 //    Slow noise: AR(1) misses noise correlated over minutes (a bias random process whose field
-//    and lab realizations differ). Per channel, c_slow = block length x variance of the 60-s
-//    block means of the whitened residual of the full model without the slow candidates (1 for
-//    white noise). A term's RSS drop is divided, and its covariance multiplied, by
-//    1 + sum_c s_c (c_slow_c - 1), s_c the share of its (mean-removed, whitened) regressor energy
-//    that lies in block means on channel c. For a term that is not slow itself, the slow terms
-//    already in the model it is tested against stay in that residual (claimed physics is not
-//    noise); a slow term is always measured against the residual without any slow term.
+//    and lab realizations differ). Per channel, the whitened residual of the full model without
+//    the slow candidates is split into Haar levels and its variance per level is smoothed by
+//    the law c_j = 1 + a 2^j + b 4^j (white, flicker, random walk; scale_noise.h), fitted on
+//    the levels up to twice the block length. A fast term is then fitted and tested by
+//    generalized least squares: each channel's whitened rows are Haar transformed and level j
+//    weighted by 1 / c_j (regressors and residual alike), so a slow regressor meets the noise of
+//    its own time scales and a term on several channels keeps the information of its quiet
+//    ones. The slow terms already in the model a fast term is tested against stay in that
+//    residual (claimed physics is not noise). A slow term (temperature, bias wander,
+//    Earth/gravity) cannot be told from a wander on the coarse scales it shares with it: it is
+//    fitted by white least squares, and its RSS drop is divided, and its covariance multiplied,
+//    by 1 + sum_c s_c (c_slow_c - 1), c_slow_c = block length x variance of the block means of
+//    the whitened residual without any slow term (1 for white noise), s_c the share of its
+//    regressor energy in block means on channel c.
 // 4. Forward selection adds, while any exists, the term with the largest delta_bic among those
 //    with delta_bic > min_delta_bic and cv_gain > min_cv_gain; backward elimination then drops
 //    terms that no longer pass; after a drop, forward and backward run again (a term the dropped
@@ -69,8 +76,8 @@ struct TermFit {
   Eigen::MatrixXd covariance;    // of theta
   double delta_bic = 0.0;        // evidence of step 2 (2 ln Bayes factor; diagnosis.json name)
   double cv_gain = 0.0;
-  // The term's slow-noise covariance factor (1 + sum_c s_c (c_slow_c - 1)); the covariance above
-  // already carries it and the AR(1) inflation c.
+  // A slow term's block-mean factor (1 + sum_c s_c (c_slow_c - 1)); 1 for a fast term, whose
+  // slow noise is in its GLS weights. The covariance above already carries it and c.
   double inflation_factor = 1.0;
   // False for a term kept only because a claimed term requires it (requires_terms) while it
   // fails its own test: it stays in the model but is not claimed.
@@ -91,7 +98,8 @@ struct SelectionResult {
   Eigen::Matrix<double, 6, 1> rho;          // AR(1) coefficient per channel
   Eigen::Matrix<double, 6, 1> sigma;        // AR(1) innovation scale per channel (SI)
   double inflation = 1.0;                   // c of the header
-  Eigen::Matrix<double, 6, 1> slow_inflation = Eigen::Matrix<double, 6, 1>::Ones();  // c_slow per channel
+  // Slow noise per channel: the GLS law's c_j at the block length (1 for white noise).
+  Eigen::Matrix<double, 6, 1> slow_inflation = Eigen::Matrix<double, 6, 1>::Ones();
   int rows = 0;                             // N
   std::vector<std::string> log;             // one line per selection step
   std::vector<TermLimit> limits;            // every non-fixed candidate not in the model
