@@ -46,6 +46,13 @@ std::size_t CumulativeImu::segment(double t_s) const {
 }
 
 void CumulativeImu::computeSlopes() {
+  // irregular_[k]: intervals before node k that differ from their predecessor by more than 1e-6
+  // (a prefix count: a window of nodes is uniform when the count does not change across it).
+  irregular_.assign(t_.size(), 0);
+  for (std::size_t k = 2; k < t_.size(); ++k) {
+    const double d = t_[k] - t_[k - 1], d0 = t_[k - 1] - t_[k - 2];
+    irregular_[k] = irregular_[k - 1] + (std::abs(d - d0) > 1e-6 * d0 ? 1 : 0);
+  }
   // Node slopes of the cumulative integral: 5-point derivative where the four neighbouring
   // intervals are equal (to 1e-6), else 3-point; the adjacent sample's rate at the ends.
   const std::size_t N = t_.size();
@@ -68,12 +75,65 @@ void CumulativeImu::computeSlopes() {
   }
 }
 
+namespace {
+
+// Kaiser-windowed sinc (half width kSincHalfWidth samples, beta 8) tabulated over the fraction
+// u in [0, 1] of a sample, for the taps m = 1 - kSincHalfWidth .. kSincHalfWidth: weight of
+// node k + m at position k + u.
+constexpr int kSincHalfWidth = 16;
+constexpr int kSincTable = 512;
+
+const std::vector<double>& sincTable() {
+  static const std::vector<double> table = [] {
+    const double beta = 8.0, i0 = std::cyl_bessel_i(0.0, beta);
+    std::vector<double> t((kSincTable + 1) * 2 * kSincHalfWidth);
+    for (int i = 0; i <= kSincTable; ++i) {
+      const double u = static_cast<double>(i) / kSincTable;
+      for (int j = 0; j < 2 * kSincHalfWidth; ++j) {
+        const double z = u - (j + 1 - kSincHalfWidth);
+        const double x = M_PI * z;
+        const double sinc = std::abs(z) < 1e-12 ? 1.0 : std::sin(x) / x;
+        const double r = z / kSincHalfWidth;
+        const double win = std::cyl_bessel_i(0.0, beta * std::sqrt(std::max(0.0, 1.0 - r * r))) / i0;
+        t[i * 2 * kSincHalfWidth + j] = sinc * win;
+      }
+    }
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace
+
 Vector6d CumulativeImu::at(double t_s) const {
   if (t_.size() < 2) return Vector6d::Zero();
   if (t_s <= t_.front()) return cum_.front() + (t_s - t_.front()) * slope_.front();
   if (t_s >= t_.back()) return cum_.back() + (t_s - t_.back()) * slope_.back();
   const std::size_t k = segment(t_s);
   const double L = t_[k + 1] - t_[k];
+  if (k >= kSincHalfWidth - 1 && k + kSincHalfWidth < t_.size() &&
+      irregular_[k + kSincHalfWidth] == irregular_[k + 1 - kSincHalfWidth]) {
+    // Uniform neighbourhood: band-limited interpolation of the integral's departure from the
+    // chord through nodes k and k + 1 (Kaiser-windowed sinc over 32 nodes). Cubic Hermite loses
+    // 0.4 % of a 15-Hz and 17 % of a 30-Hz component of a 0.05-s bin mean shifted by 14 ms at
+    // 100 Hz; this keeps both below 3e-4 (road and engine vibration reach 40 Hz).
+    const double u = (t_s - t_[k]) / L;
+    const Vector6d chord = cum_[k + 1] - cum_[k];
+    Vector6d out = cum_[k] + u * chord;
+    const std::vector<double>& table = sincTable();
+    const double pos = u * kSincTable;
+    const int i = std::min(static_cast<int>(pos), kSincTable - 1);
+    const double f = pos - i;
+    const double* w0 = &table[i * 2 * kSincHalfWidth];
+    const double* w1 = w0 + 2 * kSincHalfWidth;
+    for (int j = 0; j < 2 * kSincHalfWidth; ++j) {
+      const int m = j + 1 - kSincHalfWidth;
+      if (m == 0 || m == 1) continue;  // the chord's own nodes: zero departure
+      const Vector6d d = cum_[k + m] - cum_[k] - m * chord;
+      out += ((1.0 - f) * w0[j] + f * w1[j]) * d;
+    }
+    return out;
+  }
   const double s = (t_s - t_[k]) / L, s2 = s * s, s3 = s2 * s;
   return (2.0 * s3 - 3.0 * s2 + 1.0) * cum_[k] + (s3 - 2.0 * s2 + s) * L * slope_[k] +
          (-2.0 * s3 + 3.0 * s2) * cum_[k + 1] + (s3 - s2) * L * slope_[k + 1];
