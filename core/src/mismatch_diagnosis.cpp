@@ -88,8 +88,12 @@ Effect effectFromTerm(const CandidateTerm& term, const TermFit& tf, int n_bins) 
   } else if (nm == "g_sensitivity") {
     e.parameters.push_back(vecParam("G", tf, 0, 9));
   } else if (nm == "scale_asymmetry") {
-    e.parameters.push_back(vecParam("k_pos", tf, 0, 3));
-    e.parameters.push_back(vecParam("k_neg", tf, 3, 3));
+    // The residual's d |x|: gains +d for positive and -d for negative inputs.
+    EffectParameter kp = vecParam("k_pos", tf, 0, 3), kn = kp;
+    kn.key = "k_neg";
+    for (double& v : kn.values) v = -v;
+    e.parameters.push_back(kp);
+    e.parameters.push_back(kn);
   } else if (nm == "scale_nonlinearity") {
     e.parameters.push_back(vecParam("k2", tf, 0, 3));
   } else if (nm == "temperature_bias") {
@@ -711,36 +715,48 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   // and, when cross-validation picks degree 2, fits it as c2 x^2, which in the field covers part
   // of k_a; the residual then shows only what SG#2 lacks (17 % of k_pos - k_neg on the concealed
   // scale_asymmetry case). The reported k_pos / k_neg are the sensor's own gains per sign: the
-  // same model fitted to tested minus reference, y - x, plus that sensor's non-orthogonality
-  // (the lab's cross-axis terms are in y - x, not in r), with that fit's covariance (field noise
-  // only: the lab is not used). The part missing from the simulation, which SG#3 grafts, is
-  // reported as k_pos_missing / k_neg_missing.
+  // same model fitted to tested minus reference, y - x, plus that sensor's scale factor and
+  // non-orthogonality (the lab's terms are in y - x, not in r): k = k_scale +- d, with the
+  // fit's uncertainties (field noise only: the lab is not used). The part missing from the
+  // simulation, which SG#3 grafts, is reported as k_pos_missing / k_neg_missing.
   {
     std::vector<int> claimed_terms;
     for (const TermFit& tf : sel.selected)
       if (tf.claimed) claimed_terms.push_back(tf.term);
     for (Effect& e : out.effects) {
       if (e.name != "scale_asymmetry") continue;
-      int t_asym = -1, t_nonorth = -1;
+      int t_asym = -1, t_nonorth = -1, t_scale = -1;
       for (std::size_t t = 0; t < terms.size(); ++t) {
-        if (terms[t].name == "scale_asymmetry" && terms[t].sensor == e.sensor) t_asym = static_cast<int>(t);
-        if (terms[t].name == "non_orthogonality" && terms[t].sensor == e.sensor)
-          t_nonorth = static_cast<int>(t);
+        if (terms[t].sensor != e.sensor) continue;
+        if (terms[t].name == "scale_asymmetry") t_asym = static_cast<int>(t);
+        if (terms[t].name == "non_orthogonality") t_nonorth = static_cast<int>(t);
+        if (terms[t].name == "scale_factor") t_scale = static_cast<int>(t);
       }
       std::vector<int> model = claimed_terms;
-      if (t_nonorth >= 0 && std::find(model.begin(), model.end(), t_nonorth) == model.end())
-        model.push_back(t_nonorth);
+      for (int t : {t_nonorth, t_scale})
+        if (t >= 0 && std::find(model.begin(), model.end(), t) == model.end()) model.push_back(t);
       Eigen::MatrixXd y_minus_x(n, kMismatchChannels);
       y_minus_x << y.omega_rad_s - x.omega_rad_s, y.f_m_s2 - x.f_m_s2;
       zeroMaskedRows(out.masked_bins, &y_minus_x);
       const SelectionResult own = fitTerms(y_minus_x, terms, model, opt.selection);
+      const TermFit* fit_asym = nullptr;
+      const TermFit* fit_scale = nullptr;
       for (const TermFit& tf : own.selected) {
-        if (tf.term != t_asym) continue;
-        const Effect sensor = effectFromTerm(terms[t_asym], tf, n);
+        if (tf.term == t_asym) fit_asym = &tf;
+        if (tf.term == t_scale) fit_scale = &tf;
+      }
+      if (fit_asym && fit_scale) {
+        EffectParameter kp = e.parameters[0], kn = e.parameters[1];
+        for (int a = 0; a < 3; ++a) {
+          const double d = fit_asym->theta(a), k = fit_scale->theta(a);
+          kp.values[a] = k + d;
+          kn.values[a] = k - d;
+          kp.sigma[a] = kn.sigma[a] = std::hypot(fit_asym->sigma(a), fit_scale->sigma(a));
+        }
         EffectParameter missing_pos = e.parameters[0], missing_neg = e.parameters[1];
         missing_pos.key = "k_pos_missing";
         missing_neg.key = "k_neg_missing";
-        e.parameters = {sensor.parameters[0], sensor.parameters[1], missing_pos, missing_neg};
+        e.parameters = {kp, kn, missing_pos, missing_neg};
         e.explanation += " (k_pos / k_neg: the sensor's own gains per sign, fitted on tested minus "
                          "reference; *_missing: the part the simulation lacks)";
       }

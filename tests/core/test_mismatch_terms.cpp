@@ -81,6 +81,27 @@ TEST(MismatchGrid, BinsOfDifferentRatesAgree) {
   EXPECT_GT(g.count, 1100);
 }
 
+// Road and engine vibration reaches 40 Hz: a bin mean of a record shifted by a fraction of a
+// sample keeps a 15-35 Hz component to 1e-3 of its amplitude (band-limited interpolation of the
+// cumulative integral; the cubic Hermite curve alone lost 0.4 % at 15 Hz and 17 % at 30 Hz).
+TEST(MismatchGrid, ShiftedBinMeansFollowVibration) {
+  for (double f_hz : {15.0, 25.0, 35.0}) {
+    Motion m;
+    for (int c = 0; c < 6; ++c) m.waves[c].push_back({1.0, 2.0 * M_PI * f_hz, 0.4 * c});
+    const ImuSeries imu = sampleMotion(m, 100.0, 30.0);
+    const GridSpec g = commonGrid(imu, imu, 0.05, 1.0);
+    const double shift = 0.0137;  // bin (a, b] of x(t + shift)
+    const BinnedImu b = binImu(imu, g, shift);
+    double max_err = 0.0;
+    for (int i = 0; i < g.count; ++i) {
+      const Vector6d exact = (m.integral(g.binStart(i + 1) + shift - 1000.0) -
+                              m.integral(g.binStart(i) + shift - 1000.0)) / g.bin_s;
+      max_err = std::max(max_err, (b.row(i) - exact).cwiseAbs().maxCoeff());
+    }
+    EXPECT_LT(max_err, 1e-3) << f_hz << " Hz";
+  }
+}
+
 TEST(MismatchTimeOffset, RecoveredAcrossSampleRates) {
   const Motion m = carMotion(2);
   const ImuSeries ref = sampleMotion(m, 100.0, 120.0);
@@ -247,8 +268,8 @@ INSTANTIATE_TEST_SUITE_P(
         Injection{"non_orthogonality:gyro", {2e-2, -1e-2, 5e-3, 3e-3, -4e-3, 2e-3}},
         Injection{"non_orthogonality:accel", {3e-3, -2e-3, 4e-3, 3e-3, -2e-3, 2e-3}},
         Injection{"g_sensitivity:gyro", G9()},
-        Injection{"scale_asymmetry:gyro", {3e-2, -2e-2, 2e-2, -2e-2, 3e-2, -1e-2}},
-        Injection{"scale_asymmetry:accel", {2e-2, 1e-2, 0.0, -1e-2, -2e-2, 2e-3}},
+        Injection{"scale_asymmetry:gyro", {3e-2, -2e-2, 2e-2}},
+        Injection{"scale_asymmetry:accel", {2e-2, 1e-2, -1e-2}},
         Injection{"scale_nonlinearity:gyro", {0.5, -0.5, 0.1}},
         Injection{"scale_nonlinearity:accel", {2e-3, -2e-3, 1e-3}},
         Injection{"temperature_bias:gyro", {1e-4, -2e-4, 1e-4}},
