@@ -80,11 +80,9 @@ struct DiagnoseOptions {
   double bin_s = 0.05;       // averaging bin (s)
   double margin_s = 1.0;     // dropped at both ends of the overlap (room for the time shift)
   // A cross-correlation time offset larger than this is taken out of the real record's tags
-  // before binning (the joint fit shifts the other terms only to first order, and the chord
-  // regressor of the time offset is exact only at its pivot: at 20-40 Hz road vibration a 0.1-ms
-  // miss of a 17-ms pivot left a residual that a scale factor took at delta_bic 100-480); the
-  // reported time_offset adds the fitted remainder.
-  double realign_offset_s = 5e-4;
+  // before binning (the joint fit shifts the other terms only to first order); the reported
+  // time_offset adds the fitted remainder.
+  double realign_offset_s = 0.1;
   TimeOffsetOptions time_offset;
   CandidateLibraryOptions library;
   SelectionOptions selection;
