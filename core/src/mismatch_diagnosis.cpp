@@ -550,8 +550,9 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     ri.omega_dot_rad_s2 = wdot.omega_dot_rad_s2;
     out.notes.push_back(fmt::format(
         "lever_arm regressor: angular acceleration from edge rates over {:.1f}/{:.1f}/{:.1f} ms "
-        "windows (x/y/z; the shortest whose reference noise, {:.2g}/{:.2g}/{:.2g} rad/s per "
-        "sample, is <= 1 % of the regressor's variance: {:.2g}/{:.2g}/{:.2g} %)",
+        "windows (x/y/z; shorter than the bin only while the reference's white noise, estimated "
+        "{:.2g}/{:.2g}/{:.2g} rad/s per sample from its quietest 1-s blocks, stays <= 1 % of the "
+        "regressor's variance; share at the chosen window {:.2g}/{:.2g}/{:.2g} %)",
         1e3 * wdot.window_s(0), 1e3 * wdot.window_s(1), 1e3 * wdot.window_s(2),
         wdot.rate_noise_sd_rad_s(0), wdot.rate_noise_sd_rad_s(1), wdot.rate_noise_sd_rad_s(2),
         100 * wdot.noise_fraction(0), 100 * wdot.noise_fraction(1), 100 * wdot.noise_fraction(2)));
