@@ -313,11 +313,7 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
 
 Eigen::Vector3d sampleRateNoiseSd(const ImuSeries& imu) {
   if (imu.size() < 3) throw std::invalid_argument("sampleRateNoiseSd: fewer than 3 samples");
-  std::vector<double> dts;
-  dts.reserve(imu.size());
-  for (const ImuSample& s : imu) dts.push_back(s.dt_s);
-  std::nth_element(dts.begin(), dts.begin() + dts.size() / 2, dts.end());
-  const double dt = dts[dts.size() / 2];
+  const double dt = medianSampleInterval(imu);
   const std::size_t block = std::max<std::size_t>(8, static_cast<std::size_t>(std::lround(1.0 / dt)));
   std::vector<double> per_block[3];
   Eigen::Vector3d acc = Eigen::Vector3d::Zero();
@@ -359,11 +355,7 @@ AngularAccelerationBins angularAccelerationPerBin(const ImuSeries& imu, const Gr
   // variables), so the window is halved from h only while that share stays small.
   const CumulativeImu cum(imu);
   const double h = grid.bin_s;
-  std::vector<double> dts;
-  dts.reserve(imu.size());
-  for (const ImuSample& s : imu) dts.push_back(s.dt_s);
-  std::nth_element(dts.begin(), dts.begin() + dts.size() / 2, dts.end());
-  const double dt = dts[dts.size() / 2];
+  const double dt = medianSampleInterval(imu);
   const Eigen::Vector3d sigma = imu.size() >= 3 ? sampleRateNoiseSd(imu) : Eigen::Vector3d::Zero();
 
   const auto regressor = [&](double w) {

@@ -213,15 +213,20 @@ BinnedImu binImu(const ImuSeries& imu, const GridSpec& grid, double time_shift_s
   return out;
 }
 
-std::vector<char> binsOverlappingGaps(const ImuSeries& imu, const GridSpec& grid,
-                                      double gap_factor) {
-  std::vector<char> mask(std::max(0, grid.count), 0);
-  if (imu.size() < 3 || grid.count <= 0) return mask;
+double medianSampleInterval(const ImuSeries& imu) {
+  if (imu.empty()) return 0.0;
   std::vector<double> dt;
   dt.reserve(imu.size());
   for (const ImuSample& s : imu) dt.push_back(s.dt_s);
   std::nth_element(dt.begin(), dt.begin() + dt.size() / 2, dt.end());
-  const double limit = gap_factor * dt[dt.size() / 2];
+  return dt[dt.size() / 2];
+}
+
+std::vector<char> binsOverlappingGaps(const ImuSeries& imu, const GridSpec& grid,
+                                      double gap_factor) {
+  std::vector<char> mask(std::max(0, grid.count), 0);
+  if (imu.size() < 3 || grid.count <= 0) return mask;
+  const double limit = gap_factor * medianSampleInterval(imu);
   for (const ImuSample& s : imu) {
     if (!(s.dt_s > limit)) continue;
     const double a = (s.t_s - s.dt_s - grid.t_begin_s) / grid.bin_s;

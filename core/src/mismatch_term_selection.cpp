@@ -57,6 +57,14 @@ ColumnMap mapColumns(const std::vector<CandidateTerm>& terms) {
   return m;
 }
 
+// Row i (from rb) of z prewhitened by AR(1) rho and scaled by w; the first row keeps the
+// stationary variance (sqrt(1 - rho^2)).
+double whitenedRow(const Eigen::VectorXd& z, int rb, int i, double rho, double w) {
+  const int t = rb + i;
+  return i == 0 ? w * std::sqrt(std::max(0.0, 1.0 - rho * rho)) * z(t)
+                : w * (z(t) - rho * z(t - 1));
+}
+
 GramSet accumulate(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
                    const ColumnMap& map, const Eigen::Matrix<double, 6, 1>& rho,
                    const Eigen::Matrix<double, 6, 1>& weight, int rb, int re, int folds) {
@@ -78,16 +86,10 @@ GramSet accumulate(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& t
     const int m = static_cast<int>(idx.size());
     Eigen::MatrixXd X(len, m);
     Eigen::VectorXd y(len);
-    const double p = rho(c), w = weight(c), first = std::sqrt(std::max(0.0, 1.0 - p * p));
+    const Eigen::VectorXd rc = r.col(c);
     for (int i = 0; i < len; ++i) {
-      const int t = rb + i;
-      if (i == 0) {
-        y(i) = w * first * r(t, c);
-        for (int j = 0; j < m; ++j) X(i, j) = w * first * (*src[j])(t);
-      } else {
-        y(i) = w * (r(t, c) - p * r(t - 1, c));
-        for (int j = 0; j < m; ++j) X(i, j) = w * ((*src[j])(t) - p * (*src[j])(t - 1));
-      }
+      y(i) = whitenedRow(rc, rb, i, rho(c), weight(c));
+      for (int j = 0; j < m; ++j) X(i, j) = whitenedRow(*src[j], rb, i, rho(c), weight(c));
     }
     for (int f = 0; f < folds; ++f) {
       const int a = static_cast<int>(static_cast<long>(len) * f / folds);
@@ -379,15 +381,11 @@ class Selector {
             }
         const int m = static_cast<int>(src.size());
         Eigen::MatrixXd Xy(len, m + 1);
-        const double p = rho_(c), w = 1.0 / sigma_(c), first = std::sqrt(std::max(0.0, 1.0 - p * p));
-        const auto row = [&](const Eigen::VectorXd& z, int i) {
-          const int t = rb_ + i;
-          return i == 0 ? w * first * z(t) : w * (z(t) - p * z(t - 1));
-        };
+        const double w = 1.0 / sigma_(c);
         const Eigen::VectorXd rc = r_.col(c);
         for (int i = 0; i < len; ++i) {
-          for (int k = 0; k < m; ++k) Xy(i, k) = row(*src[k], i);
-          Xy(i, m) = row(rc, i);
+          for (int k = 0; k < m; ++k) Xy(i, k) = whitenedRow(*src[k], rb_, i, rho_(c), w);
+          Xy(i, m) = whitenedRow(rc, rb_, i, rho_(c), w);
         }
         for (const Eigen::MatrixXd& D : haarCoefficients(Xy)) cl.gram.push_back(D.transpose() * D);
       }

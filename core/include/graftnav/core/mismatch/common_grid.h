@@ -62,6 +62,9 @@ struct GridSpec {
 // Throws std::invalid_argument when bin_s <= 0 or the overlap holds fewer than 10 bins.
 GridSpec commonGrid(const ImuSeries& a, const ImuSeries& b, double bin_s, double margin_s = 0.0);
 
+// Median of the records' sample intervals dt_s (0 for an empty record).
+double medianSampleInterval(const ImuSeries& imu);
+
 // Bins of `grid` (1 = affected) that overlap a sampling gap of `imu`: a sample whose interval
 // dt_s exceeds gap_factor x the median interval (lost samples: the sample after the gap carries
 // only its own increment, so a bin's mean rate there is wrong), widened by one bin on each side
