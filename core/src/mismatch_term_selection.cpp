@@ -524,18 +524,12 @@ class Selector {
     return model;
   }
 
+  // The model without t. A term t replaced (excludes) is not brought back: it is an alternative
+  // explanation, which forward selection offers again after any drop. Restoring it here made
+  // backward elimination cycle between two alternatives of equal evidence, each failing against
+  // the other.
   std::vector<int> withoutTerm(std::vector<int> model, int t) const {
     model.erase(std::remove(model.begin(), model.end(), t), model.end());
-    for (const std::string& ex : terms_[t].excludes)
-      for (std::size_t k = 0; k < terms_.size(); ++k)
-        if (terms_[k].key() == ex) {
-          bool conflict = false;
-          for (int m : model)
-            for (const std::string& e2 : terms_[m].excludes) conflict |= e2 == ex;
-          if (!conflict && std::find(model.begin(), model.end(), static_cast<int>(k)) == model.end())
-            model.push_back(static_cast<int>(k));
-        }
-    std::sort(model.begin(), model.end());
     return model;
   }
 

@@ -430,6 +430,42 @@ TEST(MismatchSelection, FastTermSigmaIsCalibratedUnderBiasWander) {
   EXPECT_GT(rms_white, 2.0 * rms_gls) << "the wander should matter on this motion";
 }
 
+// Two terms that replace each other (as the gyro's two vibration regressors do) and explain the
+// residual equally well: backward elimination dropped one, which brought the other back, which
+// failed in turn, for ever (a scale_asymmetry / scale_nonlinearity pair tried this way hung
+// diagnose). The stepwise search must stop.
+TEST(MismatchSelection, MutuallyExclusiveTermsOfEqualEvidenceDoNotCycle) {
+  const int n = 4000;
+  StandardNormalSampler rng(77);
+  Eigen::VectorXd a(n), b(n);
+  for (int i = 0; i < n; ++i) a(i) = std::sin(0.01 * i) + 0.3 * rng.next();
+  b = a;  // identical evidence: each fails against the other by less than min_delta_bic
+  std::vector<CandidateTerm> terms(3);
+  terms[0].name = "constant_bias";
+  terms[0].sensor = "both";
+  terms[0].nuisance = true;
+  for (int c = 0; c < 6; ++c) {
+    RegressorColumn col;
+    col.channel[c] = Eigen::VectorXd::Ones(n);
+    terms[0].columns.push_back(col);
+  }
+  for (int k = 1; k <= 2; ++k) {
+    terms[k].name = "vibration_rectification";
+    terms[k].sensor = "gyro";
+    terms[k].regressor = k == 1 ? "a" : "b";
+    terms[k].excludes = {std::string("vibration_rectification:gyro:") + (k == 1 ? "b" : "a")};
+    RegressorColumn col;
+    col.channel[0] = k == 1 ? a : b;
+    terms[k].columns.push_back(col);
+  }
+  Eigen::MatrixXd r = 0.05 * ar1Noise(n, 0.0, 78);
+  r.col(0) += 0.02 * a;
+  const SelectionResult sel = selectTerms(r, terms);
+  int chosen = 0;
+  for (const TermFit& tf : sel.selected) chosen += tf.term == 1 || tf.term == 2;
+  EXPECT_EQ(chosen, 1) << ::testing::PrintToString(sel.log);  // present, named once
+}
+
 // A term's slow-noise inflation is measured against the model it is tested in: once a
 // temperature warm-up is claimed, its ramp is no longer "slow noise". Before, the warm-up stayed
 // in the slow-noise residual, raised the gyro c_slow ~10-fold and cost a g-sensitivity (whose

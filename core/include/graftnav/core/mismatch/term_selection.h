@@ -21,8 +21,10 @@
 //    spans it (e.g. G f_z with f_z ~ -g next to the constant bias: s ~ 2e-3 N), whose RSS drop
 //    is shrunk by s / (1 + s) alike. For a term with equally informative columns orthogonal to
 //    the base this is BIC's RSS_w / c drop minus p ln(N / c). The term's RSS drop is further
-//    divided by its slow-noise inflation (below). A term that replaces another (excludes) is
-//    compared on the terms the two models share.
+//    divided by its slow-noise inflation (below). In forward selection a term that replaces
+//    another (excludes) is compared on the terms the two models share; in backward elimination
+//    and in the reported evidence a term is measured against the model without it (the
+//    alternative it replaced is not restored: forward selection offers it again after a drop).
 // 3. Time-blocked cross-validation. K contiguous folds of bins; each fold is predicted by the
 //    fit on the others; CV = sum of whitened squared prediction errors;
 //    cv_gain = (CV_without - CV_with) / CV_without.
