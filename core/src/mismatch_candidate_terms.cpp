@@ -379,13 +379,18 @@ AngularAccelerationBins angularAccelerationPerBin(const ImuSeries& imu, const Gr
   r.rate_noise_sd_rad_s = sigma;
   r.omega_dot_rad_s2 = regressor(h);
   r.window_s.setConstant(h);
+  // A window shorter than a sample averages no further: the interpolated white noise keeps about
+  // its per-sample variance, so the bound stops falling at w = dt.
   const auto noiseFraction = [&](const Eigen::MatrixX3d& z, double w, int a) {
     const double var = (z.col(a).array() - z.col(a).mean()).square().mean();
-    const double noise = 2.0 * (25.0 / 18.0) * sigma(a) * sigma(a) * dt / (w * h * h);
+    const double noise = 2.0 * (25.0 / 18.0) * sigma(a) * sigma(a) * dt / (std::max(w, dt) * h * h);
     return var > 0.0 ? noise / var : 1.0;
   };
   for (int a = 0; a < 3; ++a) r.noise_fraction(a) = noiseFraction(r.omega_dot_rad_s2, h, a);
-  for (double w = 0.5 * h; w >= dt * (1.0 - 1e-9); w *= 0.5) {
+  // Down to a quarter sample: on a uniform record the cumulative integral is band limited between
+  // samples (common_grid.h), so sub-sample windows follow vibration up to near Nyquist (gain
+  // error 0.03 % at 40 Hz of a 100-Hz record for w = dt / 4, 15 % for w = 1.25 dt).
+  for (double w = 0.5 * h; w >= 0.25 * dt * (1.0 - 1e-9); w *= 0.5) {
     const Eigen::MatrixX3d z = regressor(w);
     for (int a = 0; a < 3; ++a) {
       const double frac = noiseFraction(z, w, a);
