@@ -57,24 +57,34 @@ void IdealImuOptions::validate() const {
     throw std::invalid_argument("IdealImuOptions: quadrature_nodes must be in [1, 64], got " +
                                 std::to_string(quadrature_nodes));
   }
+  if (!lever_arm_b_m.allFinite()) {
+    throw std::invalid_argument("IdealImuOptions: lever_arm_b_m must be finite");
+  }
 }
 
 ImuSample idealImuSample(const Trajectory& trj, double t0_s, double t1_s,
-                         const GaussLegendreRule& rule) {
+                         const GaussLegendreRule& rule, const Eigen::Vector3d& lever_arm_b_m) {
   const double half = 0.5 * (t1_s - t0_s);
   const double mid = 0.5 * (t1_s + t0_s);
+  const bool arm = (lever_arm_b_m.array() != 0.0).any();
   Eigen::Vector3d dth = Eigen::Vector3d::Zero();
   Eigen::Vector3d dv = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < rule.nodes.size(); ++i) {
     const BodyRates r = bodyRates(trj.at(mid + half * rule.nodes[i]));
     dth += rule.weights[i] * r.omega_ib_b;
     dv += rule.weights[i] * r.f_b;
+    if (arm) dv += rule.weights[i] * r.omega_ib_b.cross(r.omega_ib_b.cross(lever_arm_b_m));
   }
   ImuSample s;
   s.t_s = t1_s;
   s.dt_s = t1_s - t0_s;
   s.dtheta_rad = half * dth;
   s.dvel_m_s = half * dv;
+  if (arm) {
+    const Eigen::Vector3d omega0 = bodyRates(trj.at(t0_s)).omega_ib_b;
+    const Eigen::Vector3d omega1 = bodyRates(trj.at(t1_s)).omega_ib_b;
+    s.dvel_m_s += (omega1 - omega0).cross(lever_arm_b_m);
+  }
   return s;
 }
 
@@ -94,7 +104,7 @@ ImuSeries simulateIdealImu(const Trajectory& trj, double t_begin_s, double t_end
   double t_prev = t_begin_s;
   for (long k = 1; k <= n; ++k) {
     const double t = t_begin_s + static_cast<double>(k) / opt.rate_hz;
-    out.push_back(idealImuSample(trj, t_prev, t, rule));
+    out.push_back(idealImuSample(trj, t_prev, t, rule, opt.lever_arm_b_m));
     t_prev = t;
     if (progress && k % step == 0) progress(static_cast<double>(k) / n);
   }

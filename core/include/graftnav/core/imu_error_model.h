@@ -16,6 +16,10 @@
 //       cumulative increment, interpolated by cubic Hermite segments through the exact cumulative
 //       values with the node rates above as slopes (integrals are preserved: the outputs
 //       telescope); beyond the ends the end rate is held. Temperature is interpolated linearly.
+//    1 and 3 work on an increment series, so they are exact only for motion that is smooth over a
+//    few samples; near Nyquist (road vibration) the node rates lose gain. The case simulator
+//    therefore integrates a tested IMU's lever arm and time offset from the trajectory itself
+//    (IdealImuOptions::lever_arm_b_m, shifted intervals) and leaves only 2 to this step.
 //  B. Sensor (per sample, ImuErrorGenerator; no heap allocation per sample), with x_g = dtheta/dt,
 //     x_a = dv/dt the mean inputs after geometry and T the sample temperature:
 //    4. vibration regressors updated from x_a (or x_g).

@@ -21,12 +21,20 @@ GaussLegendreRule gaussLegendreRule(int n);
 struct IdealImuOptions {
   double rate_hz = 200.0;     // output rate; sample k ends at t_begin + k / rate_hz
   int quadrature_nodes = 6;   // Gauss-Legendre nodes per interval (exact for degree 2n-1)
+  // Where the sensor sits relative to the trajectory's point, body frame (m): a rigid-body point
+  // at r feels f_b + omega_dot x r + omega x (omega x r) (omega = omega_ib_b; the gravity
+  // gradient over r is left out).
+  Eigen::Vector3d lever_arm_b_m = Eigen::Vector3d::Zero();
   void validate() const;      // throws std::invalid_argument naming the bad field
 };
 
-// The increment over (t0_s, t1_s].
+// The increment over (t0_s, t1_s] of a sensor at lever_arm_b_m from the trajectory's point. The
+// lever arm's velocity increment is exact: (omega(t1) - omega(t0)) x r from the instantaneous
+// rates at the ends, plus the quadrature of omega x (omega x r), so road vibration near Nyquist
+// keeps its full tangential term (an increment series' interpolated node rates lose most of it).
 ImuSample idealImuSample(const Trajectory& trj, double t0_s, double t1_s,
-                         const GaussLegendreRule& rule);
+                         const GaussLegendreRule& rule,
+                         const Eigen::Vector3d& lever_arm_b_m = Eigen::Vector3d::Zero());
 
 // All samples ending at t_begin + k / rate, k = 1 .. floor((t_end - t_begin) rate).
 // progress (optional) is called with the fraction done about every 1 %.
