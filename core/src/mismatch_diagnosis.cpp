@@ -537,7 +537,6 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   }
 
   RegressorInputs ri;
-  ri.reference = x;
   ri.time_offset_column = timeOffsetRegressor(in.reference, grid, pivot);
   ri.tested_temperature_degC = y.temperature_degC;
   if (s.temperature_degC.allFinite()) {
@@ -545,9 +544,22 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     out.notes.push_back("the simulation carries a temperature history: temperature_bias is fitted "
                         "on tested minus simulated temperature");
   }
-  {
-    const AngularAccelerationBins wdot = angularAccelerationPerBin(in.reference, grid);
+  // The motion regressors (every term built from the reference signal) from the reference as
+  // the tested IMU moved, x(t - pv) at the time_offset pivot pv: road vibration decorrelates
+  // within milliseconds (a 3.9-ms offset left a lever arm 6 % short at 23 sigma when they were
+  // built at t), and the joint fit shifts them by tau - pv only.
+  const auto motionRegressorsAt = [&](double pv) {
+    GridSpec shifted = grid;
+    shifted.t_begin_s -= pv;
+    ri.reference = pv == 0.0 ? x : binImu(in.reference, grid, -pv);
+    const AngularAccelerationBins wdot = angularAccelerationPerBin(in.reference, shifted);
     ri.omega_dot_rad_s2 = wdot.omega_dot_rad_s2;
+    ri.vibration_f_hp_sq = vibrationLevelPerBin(in.reference, shifted, "specific_force_hp_sq");
+    ri.vibration_w_hp_sq = vibrationLevelPerBin(in.reference, shifted, "angular_rate_hp_sq");
+    return wdot;
+  };
+  {
+    const AngularAccelerationBins wdot = motionRegressorsAt(pivot);
     out.notes.push_back(fmt::format(
         "lever_arm regressor: angular acceleration from edge rates over {:.1f}/{:.1f}/{:.1f} ms "
         "windows (x/y/z; shorter than the bin only while the reference's white noise, estimated "
@@ -557,8 +569,6 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         wdot.rate_noise_sd_rad_s(0), wdot.rate_noise_sd_rad_s(1), wdot.rate_noise_sd_rad_s(2),
         100 * wdot.noise_fraction(0), 100 * wdot.noise_fraction(1), 100 * wdot.noise_fraction(2)));
   }
-  ri.vibration_f_hp_sq = vibrationLevelPerBin(in.reference, grid, "specific_force_hp_sq");
-  ri.vibration_w_hp_sq = vibrationLevelPerBin(in.reference, grid, "angular_rate_hp_sq");
   if (in.initial_state && in.reference_is_simulated) {
     ri.C_bn = attitudeAlongGrid(x, *in.initial_state, in.attitude);
     ri.omega_ie_n = earth::omega_ie_n(in.initial_state->pos.lat_rad);
@@ -579,13 +589,16 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     pass_notes.clear();
     joint_model.resize(0, 0);
     ri.time_offset_column = timeOffsetRegressor(in.reference, grid, pv);
+    motionRegressorsAt(pv);
     terms = buildCandidateLibrary(ri, opt.library);
     zeroMaskedRows(out.masked_bins, &terms);
     sel = selectTerms(r, terms, opt.selection);
     {
-      // Second pass: the tested IMU's signal is shifted as a whole, so the time-offset regressor is
-      // the chord of the modelled tested signal x + (other selected terms), not of x alone; a
-      // lever arm or misalignment would otherwise bias tau by their share of the signal.
+      // Second pass, at pivot 0 only (the derivative regressor): the tested IMU's signal is
+      // shifted as a whole, so the time-offset regressor is the derivative of the modelled tested
+      // signal x + (other selected terms), not of x alone; a lever arm or misalignment would
+      // otherwise bias tau by their share of the signal. At a pivot pv != 0 the other terms are
+      // already built at t - pv, which is exact there.
       int to_idx = -1;
       for (std::size_t t = 0; t < terms.size(); ++t)
         if (terms[t].name == "time_offset") to_idx = static_cast<int>(t);
@@ -599,7 +612,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
           has_other = true;
         }
       }
-      if (has_to && has_other) {
+      if (has_to && has_other && pv == 0.0) {
         for (int i = 0; i < n; ++i) {
           const int a = std::max(0, i - 1), b = std::min(n - 1, i + 1);
           ri.time_offset_column.row(i) -= (C.row(b) - C.row(a)) / ((b - a) * grid.bin_s);
@@ -623,7 +636,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         if (terms[tf.term].name == "time_offset") to_idx = tf.term;
       if (to_idx >= 0) {
         const JointFitResult jf =
-            jointFitWithTimeOffset(r, in.reference, grid, terms, sel, to_idx, opt.joint_fit);
+            jointFitWithTimeOffset(r, in.reference, grid, terms, sel, to_idx, pv, opt.joint_fit);
         sel.log.push_back(jf.summary);
         if (jf.converged) {
           sel.nuisance = jf.nuisance;

@@ -48,6 +48,7 @@ struct JointData {
   GridSpec grid;
   Eigen::MatrixXd X;           // n x 6 unshifted reference bin means
   Eigen::MatrixXd K, dK;       // n x 6 fixed-term contribution and its derivative
+  double pivot = 0.0;          // the regressors' own shift: theirs in the model is tau - pivot
   std::array<std::vector<ColumnRef>, kMismatchChannels> cols;
   Eigen::Matrix<double, 6, 1> rho, w;
   int P = 0;
@@ -59,15 +60,16 @@ struct JointData {
     const Vector6d xs = (cum->at(b - tau) - cum->at(a - tau)) / h;
     Vector6d dxs;
     if (de_dtau) dxs = -(cum->rateAt(b - tau) - cum->rateAt(a - tau)) / h;
+    const double dtau = tau - pivot;
     for (int c = 0; c < kMismatchChannels; ++c) {
-      double m = xs(c) - X(i, c) + K(i, c) - tau * dK(i, c);
+      double m = xs(c) - X(i, c) + K(i, c) - dtau * dK(i, c);
       double dm_dtau = de_dtau ? dxs(c) - dK(i, c) : 0.0;
       if (de_dth) std::fill(de_dth + c * P, de_dth + (c + 1) * P, 0.0);
       for (const ColumnRef& col : cols[c]) {
         const double u = (*col.u)(i), du = col.du(i);
-        m += theta[col.param] * (u - tau * du);
+        m += theta[col.param] * (u - dtau * du);
         dm_dtau -= theta[col.param] * du;
-        if (de_dth) de_dth[c * P + col.param] = -(u - tau * du);
+        if (de_dth) de_dth[c * P + col.param] = -(u - dtau * du);
       }
       e[c] = (*r)(i, c) - m;
       if (de_dtau) de_dtau[c] = -dm_dtau;
@@ -135,7 +137,7 @@ class ChunkCost final : public ceres::CostFunction {
 JointFitResult jointFitWithTimeOffset(const Eigen::MatrixXd& residual, const ImuSeries& reference,
                                       const GridSpec& grid, const std::vector<CandidateTerm>& terms,
                                       const SelectionResult& linear, int time_offset_term,
-                                      const JointFitOptions& options) {
+                                      double regressor_pivot_s, const JointFitOptions& options) {
   options.validate();
   const int n = grid.count;
   if (residual.rows() != n || residual.cols() != kMismatchChannels)
@@ -157,6 +159,7 @@ JointFitResult jointFitWithTimeOffset(const Eigen::MatrixXd& residual, const Imu
   d.r = &residual;
   d.cum = &cum;
   d.grid = grid;
+  d.pivot = regressor_pivot_s;
   d.rho = linear.rho;
   for (int c = 0; c < kMismatchChannels; ++c) d.w(c) = 1.0 / linear.sigma(c);
   d.X.resize(n, kMismatchChannels);

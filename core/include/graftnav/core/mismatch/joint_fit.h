@@ -11,6 +11,8 @@
 //   u_j     the regressor columns of the other model terms (nuisance included), so the shift of
 //           their contribution is modelled to first order (u' = central difference per bin);
 //   K       the contribution of fixed terms (coefficient 1), shifted the same way.
+// When the regressors were built from the reference already shifted by a pivot p (x(t - p), as
+// diagnose does), their first-order shift is (tau - p) instead of tau: u_j - (tau - p) u_j'.
 // The residual e is AR(1)-whitened per channel with the linear fit's rho_c and sigma_c (the same
 // prewhitening as the selection), and the parameter covariance comes from ceres::Covariance
 // (dense SVD, rank-revealing), multiplied by the selection's AR(1) inflation c and each term's
@@ -53,11 +55,13 @@ struct JointFitResult {
 // Fits `linear`'s model (nuisance + selected terms) with the time offset of term
 // `time_offset_term` (index into `terms`) as a non-linear parameter. `residual` is n x 6 on
 // `grid` (real minus simulated), `reference` the reference IMU record. Evidence (delta_bic,
-// cv_gain, claimed) is copied from `linear`. Throws std::invalid_argument when the sizes do not
-// match or the time_offset term is not in `linear.selected`.
+// cv_gain, claimed) is copied from `linear`. `regressor_pivot_s`: the shift p the other terms'
+// regressors were built at (0 when from the unshifted reference). Throws std::invalid_argument
+// when the sizes do not match or the time_offset term is not in `linear.selected`.
 JointFitResult jointFitWithTimeOffset(const Eigen::MatrixXd& residual, const ImuSeries& reference,
                                       const GridSpec& grid, const std::vector<CandidateTerm>& terms,
                                       const SelectionResult& linear, int time_offset_term,
+                                      double regressor_pivot_s = 0.0,
                                       const JointFitOptions& options = {});
 
 }  // namespace graftnav
