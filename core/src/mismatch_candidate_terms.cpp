@@ -138,6 +138,28 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
           if (i != j) t.columns.push_back(singleChannel(s * 3 + i, u.col(j)));
       terms.push_back(std::move(t));
     }
+    if (s == 1) {
+      // The gauge of the selection's last step (term_selection.h, step 4): both full
+      // non-orthogonalities together span a rotation common to both triads, which is the
+      // mounting's; re-expressed with a mounting_misalignment, the accelerometer triad keeps
+      // its symmetric cross-axis part, N_ij = N_ji (it defines the body frame) and the gyro's
+      // full N the rotation of the gyro triad relative to it. Never selected on its own.
+      CandidateTerm t;
+      t.name = "non_orthogonality";
+      t.sensor = sensor;
+      t.regressor = "symmetric";
+      t.gauge_only = true;
+      t.explanation = "the accelerometer axes are not perpendicular: symmetric cross-axis "
+                      "coupling (the rotation common to both triads is the mounting's)";
+      for (int i = 0; i < 3; ++i)
+        for (int j = i + 1; j < 3; ++j) {
+          RegressorColumn col;
+          col.channel[s * 3 + i] = u.col(j);
+          col.channel[s * 3 + j] = u.col(i);
+          t.columns.push_back(col);
+        }
+      terms.push_back(std::move(t));
+    }
     {
       CandidateTerm t;
       // One parameter per axis, the half-difference d of the gains per sign (output = input +

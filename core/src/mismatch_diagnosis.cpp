@@ -76,14 +76,17 @@ Effect effectFromTerm(const CandidateTerm& term, const TermFit& tf, int n_bins) 
     p.key = "N";
     p.values.assign(9, 0.0);
     p.sigma.assign(9, 0.0);
+    const bool symmetric = term.regressor == "symmetric";  // one parameter per pair, N_ij = N_ji
     int k = 0;
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        if (i != j) {
-          p.values[i * 3 + j] = tf.theta(k);
-          p.sigma[i * 3 + j] = tf.sigma(k);
-          ++k;
+      for (int j = 0; j < 3; ++j) {
+        if (i == j || (symmetric && j < i)) continue;
+        for (const int idx : {i * 3 + j, symmetric ? j * 3 + i : i * 3 + j}) {
+          p.values[idx] = tf.theta(k);
+          p.sigma[idx] = tf.sigma(k);
         }
+        ++k;
+      }
     e.parameters.push_back(p);
   } else if (nm == "g_sensitivity") {
     e.parameters.push_back(vecParam("G", tf, 0, 9));
@@ -774,7 +777,8 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
       for (std::size_t t = 0; t < terms.size(); ++t) {
         if (terms[t].sensor != e.sensor) continue;
         if (terms[t].name == "scale_asymmetry") t_asym = static_cast<int>(t);
-        if (terms[t].name == "non_orthogonality") t_nonorth = static_cast<int>(t);
+        if (terms[t].name == "non_orthogonality" && terms[t].regressor.empty())
+          t_nonorth = static_cast<int>(t);
         if (terms[t].name == "scale_factor") t_scale = static_cast<int>(t);
       }
       std::vector<int> model = claimed_terms;

@@ -208,7 +208,7 @@ class Selector {
     // Noise model from the largest model: all candidates, one of each exclusive group.
     std::vector<int> full = {0};
     for (std::size_t t = 1; t < terms.size(); ++t) {
-      if (terms[t].fixed) continue;
+      if (terms[t].fixed || terms[t].gauge_only) continue;
       full = withTerm(full, static_cast<int>(t));
     }
     Eigen::Matrix<double, 6, 1> w0, zero = Eigen::Matrix<double, 6, 1>::Zero();
@@ -488,6 +488,28 @@ class Selector {
     return out;
   }
 
+  // Step 4's gauge. The antisymmetric parts of the two full non-orthogonalities span a rotation
+  // common to both triads, which mounting_misalignment spans as well: with all three in a model
+  // the split is arbitrary, and with both N the misalignment fails its own test (no evidence
+  // left) and is dropped, so one physical rotation was named as two cross-axis matrices
+  // depending on the order of selection (wid_car_trial07; the CRN misalignment case). A final
+  // model with both full N is re-expressed as mounting_misalignment + gyro N + the
+  // accelerometer's symmetric N: the same span and fit, evidence measured per name.
+  std::vector<int> gaugeFixed(std::vector<int> model, std::vector<std::string>* log) const {
+    const int ng = indexOf("non_orthogonality:gyro"), na = indexOf("non_orthogonality:accel"),
+              na_sym = indexOf("non_orthogonality:accel:symmetric"),
+              rot = indexOf("mounting_misalignment:both");
+    const auto has = [&](int t) { return std::find(model.begin(), model.end(), t) != model.end(); };
+    if (ng < 0 || na < 0 || na_sym < 0 || rot < 0 || !has(ng) || !has(na)) return model;
+    model.erase(std::remove(model.begin(), model.end(), na), model.end());
+    if (!has(rot)) model.push_back(rot);
+    model.push_back(na_sym);
+    std::sort(model.begin(), model.end());
+    log->push_back("gauge: both non_orthogonality terms re-expressed as mounting_misalignment + "
+                   "non_orthogonality:gyro + non_orthogonality:accel:symmetric (same fit)");
+    return model;
+  }
+
   int indexOf(const std::string& key) const {
     for (std::size_t k = 0; k < terms_.size(); ++k)
       if (terms_[k].key() == key) return static_cast<int>(k);
@@ -757,7 +779,9 @@ class Selector {
     }
     for (std::size_t t = 1; t < terms_.size(); ++t) {
       const int ti = static_cast<int>(t);
-      if (std::find(model.begin(), model.end(), ti) != model.end() || terms_[t].fixed) continue;
+      if (std::find(model.begin(), model.end(), ti) != model.end() || terms_[t].fixed ||
+          terms_[t].gauge_only)
+        continue;
       res.limits.push_back({ti, detectionLimit(model, ti)});
     }
     // Parameters are whitened-scale free: the columns and residual were divided by the same
@@ -838,7 +862,9 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<C
       double best_bic = 0.0, best_cv = 0.0;
       std::vector<int> best_trial;
       for (std::size_t t = 1; t < terms.size(); ++t) {
-        if (std::find(model.begin(), model.end(), static_cast<int>(t)) != model.end()) continue;
+        if (terms[t].gauge_only ||
+            std::find(model.begin(), model.end(), static_cast<int>(t)) != model.end())
+          continue;
         const std::vector<int> base_model = sel.baseFor(model, static_cast<int>(t));
         const Selector::Score base =
             base_model == model ? model_score : sel.score(base_model);
@@ -880,6 +906,7 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<C
     }
     if (!dropped || !visited.insert(model).second) break;
   }
+  model = sel.gaugeFixed(model, &log);
   SelectionResult res = sel.result(model);
   res.log = std::move(log);
   return res;

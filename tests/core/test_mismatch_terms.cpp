@@ -583,5 +583,43 @@ TEST(MismatchSelection, GSensitivityNextToMisalignmentOnCarMotion) {
   EXPECT_EQ(other, 0) << log;
 }
 
+// A mounting rotation next to cross-axis errors of both triads (the accelerometer's symmetric,
+// as the accelerometer triad defines the body frame). Both full non-orthogonalities together
+// span the rotation, so once both were in, the misalignment had no evidence left and was
+// dropped: one physical rotation came back as two cross-axis matrices (wid_car_trial07). The
+// gauge step names it as the rotation again, with the accelerometer's symmetric part.
+TEST(MismatchSelection, RotationNextToBothNonOrthogonalitiesKeepsItsName) {
+  const Motion m = carMotion(9);
+  const RegressorInputs in = syntheticInputs(m, 600.0, 0.0);
+  const std::vector<CandidateTerm> terms = buildCandidateLibrary(in);
+  const int n = in.reference.size();
+  const int mis = findTerm(terms, "mounting_misalignment:both");
+  const int ng = findTerm(terms, "non_orthogonality:gyro");
+  const int na = findTerm(terms, "non_orthogonality:accel");
+  ASSERT_GE(mis, 0);
+  ASSERT_GE(ng, 0);
+  ASSERT_GE(na, 0);
+  const Eigen::Vector3d phi(0.02, -0.03, 0.05);
+  Eigen::VectorXd Ng(6), Na(6);  // off-diagonal elements in row order (01, 02, 10, 12, 20, 21)
+  Ng << 4e-3, -3e-3, 1e-3, 5e-3, -2e-3, 3e-3;
+  Na << 6e-3, -4e-3, 6e-3, 3e-3, -4e-3, 3e-3;  // symmetric: N_ij = N_ji
+  const Eigen::MatrixXd r = termContribution(terms[mis], phi, n) + termContribution(terms[ng], Ng, n) +
+                            termContribution(terms[na], Na, n) + ar1Noise(n, 0.5, 31);
+  const SelectionResult sel = selectTerms(r, terms);
+  const TermFit* rot = nullptr;
+  const TermFit* acc = nullptr;
+  for (const TermFit& tf : sel.selected) {
+    if (tf.term == mis) rot = &tf;
+    if (terms[tf.term].name == "non_orthogonality" && terms[tf.term].sensor == "accel") acc = &tf;
+  }
+  ASSERT_NE(rot, nullptr) << ::testing::PrintToString(sel.log);
+  EXPECT_TRUE(rot->claimed);
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(rot->theta(a), phi(a), 3.5 * rot->sigma(a)) << "axis " << a;
+  ASSERT_NE(acc, nullptr) << ::testing::PrintToString(sel.log);
+  EXPECT_EQ(terms[acc->term].regressor, "symmetric");
+  const double sym[3] = {Na(0), Na(1), Na(3)};  // pairs 01, 02, 12
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(acc->theta(k), sym[k], 3.5 * acc->sigma(k)) << "pair " << k;
+}
+
 }  // namespace
 }  // namespace graftnav

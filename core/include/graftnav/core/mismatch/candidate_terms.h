@@ -47,11 +47,15 @@ struct RegressorColumn {
 struct CandidateTerm {
   std::string name;         // diagnosis.json effect name ("constant_bias" for the nuisance)
   std::string sensor;       // "gyro" | "accel" | "both"
-  std::string regressor;    // vibration_rectification: regressor name; else empty
+  std::string regressor;    // vibration_rectification: regressor name; the accelerometer's
+                            // symmetric non_orthogonality: "symmetric"; else empty
   std::string explanation;  // plain-language physics
   std::vector<RegressorColumn> columns;
   bool nuisance = false;    // always in the model, never claimed
   bool fixed = false;       // coefficients fixed at 1 (earth_rotation_omitted)
+  // Never selected on its own: only the selection's gauge step puts it in a final model (the
+  // symmetric accelerometer non_orthogonality; term_selection.h, step 4).
+  bool gauge_only = false;
   std::vector<std::string> excludes;  // keys of terms this one replaces when added
   // Keys of terms that must be in the model when this one is tested (its evidence is measured
   // against the model with them): the near-constant earth/gravity regressors must beat a

@@ -46,7 +46,10 @@
 // 4. Forward selection adds, while any exists, the term with the largest delta_bic among those
 //    with delta_bic > min_delta_bic and cv_gain > min_cv_gain; backward elimination then drops
 //    terms that no longer pass; after a drop, forward and backward run again (a term the dropped
-//    one masked may now pass) until nothing is dropped or a model repeats. A term is claimed
+//    one masked may now pass) until nothing is dropped or a model repeats. Gauge: a final model
+//    with both full non_orthogonality terms (whose antisymmetric parts span a rotation common
+//    to both triads, as mounting_misalignment does) is re-expressed as mounting_misalignment +
+//    the gyro's N + the accelerometer's symmetric N (gauge_only; same fit). A term is claimed
 //    only if it passes both tests in the final model.
 // Everything works on Gram matrices accumulated once per fold, so each trial fit costs a small
 // dense solve, independent of the record length.
