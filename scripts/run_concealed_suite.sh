@@ -232,7 +232,8 @@ def limit_ratio(j, key, pkey, truth):
             continue
         lim = d["limit"]
         if pkey == "k_pos-k_neg":
-            lim = lim.get("k_pos")
+            # The finder states the limit as the gains per sign +-d; the truth is their difference.
+            lim = [2.0 * v for v in as_list(lim.get("k_pos", []))] or None
         elif pkey.startswith("coeff@"):
             lim = lim.get("coeff")
         else:
