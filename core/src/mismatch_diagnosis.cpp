@@ -551,7 +551,11 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   // the tested IMU moved, x(t - pv) at the time_offset pivot pv: road vibration decorrelates
   // within milliseconds (a 3.9-ms offset left a lever arm 6 % short at 23 sigma when they were
   // built at t), and the joint fit shifts them by tau - pv only.
+  double motion_pivot = kNaN;  // the pivot ri's motion regressors were last built at
   const auto motionRegressorsAt = [&](double pv) {
+    if (pv == motion_pivot) return;
+    const bool first = std::isnan(motion_pivot);
+    motion_pivot = pv;
     GridSpec shifted = grid;
     shifted.t_begin_s -= pv;
     ri.reference = pv == 0.0 ? x : binImu(in.reference, grid, -pv);
@@ -559,10 +563,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     ri.omega_dot_rad_s2 = wdot.omega_dot_rad_s2;
     ri.vibration_f_hp_sq = vibrationLevelPerBin(in.reference, shifted, "specific_force_hp_sq");
     ri.vibration_w_hp_sq = vibrationLevelPerBin(in.reference, shifted, "angular_rate_hp_sq");
-    return wdot;
-  };
-  {
-    const AngularAccelerationBins wdot = motionRegressorsAt(pivot);
+    if (!first) return;  // the windows do not depend on the pivot
     out.notes.push_back(fmt::format(
         "lever_arm regressor: angular acceleration from edge rates over {:.1f}/{:.1f}/{:.1f} ms "
         "windows (x/y/z; shorter than the bin only while the reference's white noise, estimated "
@@ -571,7 +572,8 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         1e3 * wdot.window_s(0), 1e3 * wdot.window_s(1), 1e3 * wdot.window_s(2),
         wdot.rate_noise_sd_rad_s(0), wdot.rate_noise_sd_rad_s(1), wdot.rate_noise_sd_rad_s(2),
         100 * wdot.noise_fraction(0), 100 * wdot.noise_fraction(1), 100 * wdot.noise_fraction(2)));
-  }
+  };
+  motionRegressorsAt(pivot);
   if (in.initial_state && in.reference_is_simulated) {
     ri.C_bn = attitudeAlongGrid(x, *in.initial_state, in.attitude);
     ri.omega_ie_n = earth::omega_ie_n(in.initial_state->pos.lat_rad);
