@@ -7,6 +7,7 @@ import csv
 import json
 import os
 import sys
+import textwrap
 
 import matplotlib
 
@@ -54,7 +55,7 @@ def main(out_dir):
             i = CH.index(s["channel"]) if s["channel"] in CH else None
             if i is not None:
                 axes[i].axvspan(s["t_start"] - t0, s["t_end"] - t0, color="orange", alpha=0.15)
-    fig.suptitle(title, fontsize=10)
+    fig.suptitle(textwrap.fill(title, 110), fontsize=10)  # many effects: wrap, do not clip
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, "diagnosis_residual.png"), dpi=110)
     plt.close(fig)
