@@ -303,6 +303,8 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
           t.sensor == "gyro" ? in.lab_gyro_noise : in.lab_accel_noise;
       const std::optional<Eigen::Matrix3d>& Msig =
           t.sensor == "gyro" ? in.lab_gyro_M_sigma : in.lab_accel_M_sigma;
+      const std::optional<double>& ref_scale_sigma =
+          t.sensor == "gyro" ? in.reference_gyro_scale_sigma : in.reference_accel_scale_sigma;
       if ((t.name == "scale_factor" || t.name == "non_orthogonality") && Msig) {
         const Effect e = effectFromTerm(t, tf, grid.count);
         const EffectParameter& q = e.parameters[0];
@@ -324,14 +326,20 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
           double lab_sigma = (*Msig)(i, j);
           if (t.name == "non_orthogonality" && shared_rotation)
             lab_sigma = std::hypot(lab_sigma, labRotationSigma(other_Msig, 3 - i - j));
+          if (t.name == "scale_factor" && ref_scale_sigma)
+            lab_sigma = std::hypot(lab_sigma, *ref_scale_sigma);
           const double lim = 3.0 * std::hypot(q.sigma[k], lab_sigma);
           beyond |= std::abs(q.values[k]) > lim;
         }
         if (!beyond) {
           gated = true;
+          const bool with_ref = t.name == "scale_factor" && ref_scale_sigma;
           notes->push_back(fmt::format(
-              "{} {} fitted but within 3 sigma of the lab calibration's own uncertainty: not "
-              "claimed (calibration error, not missing physics)", t.sensor, t.name));
+              "{} {} fitted but within 3 sigma of the lab calibration's own uncertainty{}: not "
+              "claimed (calibration error, not missing physics)", t.sensor, t.name,
+              with_ref ? fmt::format(" and the reference IMU's scale uncertainty ({:.3g} ppm, "
+                                     "its profile)", 1e6 * *ref_scale_sigma)
+                       : ""));
           continue;
         }
       }

@@ -67,6 +67,13 @@ struct DiagnosisInputs {
   // lab sigma^2): a smaller one is the lab calibration's own error, not missing physics.
   std::optional<Eigen::Matrix3d> lab_gyro_M_sigma;
   std::optional<Eigen::Matrix3d> lab_accel_M_sigma;
+  // 1-sigma scale-factor uncertainty of the reference IMU (its profile in case.yaml, a
+  // fraction). The simulation is built on the reference signal, so it carries the reference's own
+  // scale error; with a lab calibration a scale_factor is claimed only beyond 3 x sqrt(fit sigma^2
+  // + lab sigma^2 + this^2) (under common random numbers a navigation-grade reference's 26 ppm
+  // was claimed on a null case).
+  std::optional<double> reference_gyro_scale_sigma;
+  std::optional<double> reference_accel_scale_sigma;
   // The lab polynomial's quadratic term. When given, scale_nonlinearity reports the sensor's own
   // k2 (the lab's c2 plus the missing part the residual shows, k2_missing) and is claimed only
   // if that is non-zero beyond 3 sigma: a residual quadratic that only cancels SG#2's c2 (e.g. a
