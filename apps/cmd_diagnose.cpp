@@ -234,6 +234,8 @@ void registerDiagnose(CLI::App& app) {
       in.simulation_kind = "SG#2 (lab calibration + grafting)";
       in.lab_gyro_M_sigma = report.result.gyro.M_sigma;
       in.lab_accel_M_sigma = report.result.accel.M_sigma;
+      in.lab_gyro_M = report.result.gyro.M;
+      in.lab_accel_M = report.result.accel.M;
       if (cfg.reference_imu && cfg.reference_imu->gyro_scale_std > 0.0)
         in.reference_gyro_scale_sigma = cfg.reference_imu->gyro_scale_std;
       if (cfg.reference_imu && cfg.reference_imu->accel_scale_std > 0.0)

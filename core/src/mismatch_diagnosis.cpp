@@ -547,8 +547,22 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     zeroMaskedRows(out.masked_bins, &r0);
   }
 
+  // What the time offset shifts: the reference as the tested IMU's lab-calibrated response sees
+  // it, M x (DiagnosisInputs::lab_gyro_M); the reference itself without a lab calibration.
+  ImuSeries responded;
+  if (in.lab_gyro_M || in.lab_accel_M) {
+    responded = in.reference;
+    const Eigen::Matrix3d Mg = in.lab_gyro_M.value_or(Eigen::Matrix3d::Identity());
+    const Eigen::Matrix3d Ma = in.lab_accel_M.value_or(Eigen::Matrix3d::Identity());
+    for (ImuSample& smp : responded) {
+      smp.dtheta_rad = Mg * smp.dtheta_rad;
+      smp.dvel_m_s = Ma * smp.dvel_m_s;
+    }
+  }
+  const ImuSeries& shifted_signal = responded.empty() ? in.reference : responded;
+
   RegressorInputs ri;
-  ri.time_offset_column = timeOffsetRegressor(in.reference, grid, pivot);
+  ri.time_offset_column = timeOffsetRegressor(shifted_signal, grid, pivot);
   ri.tested_temperature_degC = y.temperature_degC;
   if (s.temperature_degC.allFinite()) {
     ri.simulated_temperature_degC = s.temperature_degC;
@@ -601,7 +615,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   const auto explainAt = [&](double pv) {
     pass_notes.clear();
     joint_model.resize(0, 0);
-    ri.time_offset_column = timeOffsetRegressor(in.reference, grid, pv);
+    ri.time_offset_column = timeOffsetRegressor(shifted_signal, grid, pv);
     motionRegressorsAt(pv);
     terms = buildCandidateLibrary(ri, opt.library);
     zeroMaskedRows(out.masked_bins, &terms);
@@ -649,7 +663,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         if (terms[tf.term].name == "time_offset") to_idx = tf.term;
       if (to_idx >= 0) {
         const JointFitResult jf =
-            jointFitWithTimeOffset(r, in.reference, grid, terms, sel, to_idx, pv, opt.joint_fit);
+            jointFitWithTimeOffset(r, shifted_signal, grid, terms, sel, to_idx, pv, opt.joint_fit);
         sel.log.push_back(jf.summary);
         if (jf.converged) {
           sel.nuisance = jf.nuisance;

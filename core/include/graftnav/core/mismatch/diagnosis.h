@@ -67,6 +67,12 @@ struct DiagnosisInputs {
   // lab sigma^2): a smaller one is the lab calibration's own error, not missing physics.
   std::optional<Eigen::Matrix3d> lab_gyro_M_sigma;
   std::optional<Eigen::Matrix3d> lab_accel_M_sigma;
+  // The lab calibration matrices M (scale and cross-axis of the tested IMU). The tested IMU
+  // applies them to the motion it measured at t - tau, so the time offset's signal in the
+  // residual is M (x(t - tau) - x(t)), not x(t - tau) - x(t); with a MEMS scale of 1e-3 the
+  // difference is invisible with independent noise but not under common random numbers.
+  std::optional<Eigen::Matrix3d> lab_gyro_M;
+  std::optional<Eigen::Matrix3d> lab_accel_M;
   // 1-sigma scale-factor uncertainty of the reference IMU (its profile in case.yaml, a
   // fraction). The simulation is built on the reference signal, so it carries the reference's own
   // scale error; with a lab calibration a scale_factor is claimed only beyond 3 x sqrt(fit sigma^2
