@@ -81,9 +81,11 @@ Effect effectFromTerm(const CandidateTerm& term, const TermFit& tf, int n_bins) 
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) {
         if (i == j || (symmetric && j < i)) continue;
-        for (const int idx : {i * 3 + j, symmetric ? j * 3 + i : i * 3 + j}) {
-          p.values[idx] = tf.theta(k);
-          p.sigma[idx] = tf.sigma(k);
+        p.values[i * 3 + j] = tf.theta(k);
+        p.sigma[i * 3 + j] = tf.sigma(k);
+        if (symmetric) {
+          p.values[j * 3 + i] = tf.theta(k);
+          p.sigma[j * 3 + i] = tf.sigma(k);
         }
         ++k;
       }
