@@ -321,6 +321,8 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
               return terms[o.term].name == "mounting_misalignment";
             });
         bool beyond = false;
+        double worst_ratio = 0.0;  // largest |value| / limit, for the note
+        std::size_t worst_k = 0;
         for (std::size_t k = 0; k < q.values.size(); ++k) {
           const int i = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) / 3;
           const int j = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) % 3;
@@ -332,16 +334,22 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
             lab_sigma = std::hypot(lab_sigma, *ref_scale_sigma);
           const double lim = 3.0 * std::hypot(q.sigma[k], lab_sigma);
           beyond |= std::abs(q.values[k]) > lim;
+          if (std::abs(q.values[k]) / lim > worst_ratio) {
+            worst_ratio = std::abs(q.values[k]) / lim;
+            worst_k = k;
+          }
         }
         if (!beyond) {
           gated = true;
           const bool with_ref = t.name == "scale_factor" && ref_scale_sigma;
           notes->push_back(fmt::format(
               "{} {} fitted but within 3 sigma of the lab calibration's own uncertainty{}: not "
-              "claimed (calibration error, not missing physics)", t.sensor, t.name,
+              "claimed (calibration error, not missing physics; largest element {}[{}] = {:.3g}, "
+              "{:.2f} x its limit)", t.sensor, t.name,
               with_ref ? fmt::format(" and the reference IMU's scale uncertainty ({:.3g} ppm, "
                                      "its profile)", 1e6 * *ref_scale_sigma)
-                       : ""));
+                       : "",
+              q.key, worst_k, q.values[worst_k], worst_ratio));
           continue;
         }
       }

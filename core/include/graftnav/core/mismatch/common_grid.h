@@ -27,8 +27,8 @@ class CumulativeImu {
   bool hasTemperature() const { return has_temperature_; }
   // Integral from beginTime_s() to t_s; outside the record the end rates are held. Between the
   // sample boundaries (where it equals the summed increments exactly) it is band limited where
-  // the 32 surrounding samples are uniform (Kaiser-windowed sinc on the departure from the
-  // chord: vibration up to 0.8 x Nyquist keeps its gain to ~3e-4), else a cubic Hermite curve
+  // the 64 surrounding samples are uniform (Kaiser-windowed sinc on the departure from the
+  // chord: 0.3 Hz to 0.84 x Nyquist keep their gain to 1e-5), else a cubic Hermite curve
   // whose node slopes are the 5-point derivative of the cumulative values. A piecewise linear
   // integral (rate constant within a sample) shifts a signal by a fraction of a sample with a
   // low-pass error that the finder read as a scale factor (~0.3 % at 3 Hz, 4 ms); the Hermite
