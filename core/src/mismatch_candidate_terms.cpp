@@ -249,6 +249,12 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
     terms.push_back(std::move(t));
   }
 
+  // Slope of the tested accelerometer's lab-calibrated response at each bin's specific force.
+  const auto accelSlope = [&](int i) {
+    Eigen::Matrix3d J = in.accel_response_M;
+    for (int a = 0; a < 3; ++a) J(a, a) += 2.0 * in.accel_response_c2(a) * x.f_m_s2(i, a);
+    return J;
+  };
   {  // lever_arm: accel rows.
     Eigen::MatrixX3d wdot(n, 3);
     if (in.omega_dot_rad_s2.rows() == n) {
@@ -271,7 +277,7 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
       for (int i = 0; i < n; ++i) {
         const Eigen::Vector3d w = x.omega_rad_s.row(i).transpose();
         const Eigen::Vector3d wd = wdot.row(i).transpose();
-        v.row(i) = (wd.cross(e) + w.cross(w.cross(e))).transpose();
+        v.row(i) = (accelSlope(i) * (wd.cross(e) + w.cross(w.cross(e)))).transpose();
       }
       for (int a = 0; a < 3; ++a) col.channel[3 + a] = v.col(a);
       t.columns.push_back(col);
@@ -290,7 +296,7 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
       const Eigen::Vector3d e = Eigen::Vector3d::Unit(j);
       for (int i = 0; i < n; ++i) {
         vg.row(i) = x.omega_rad_s.row(i).cross(e.transpose());
-        va.row(i) = x.f_m_s2.row(i).cross(e.transpose());
+        va.row(i) = (accelSlope(i) * x.f_m_s2.row(i).cross(e.transpose()).transpose()).transpose();
       }
       for (int a = 0; a < 3; ++a) {
         col.channel[a] = vg.col(a);

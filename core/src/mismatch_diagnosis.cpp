@@ -581,6 +581,8 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   const ImuSeries& shifted_signal = responded.empty() ? in.reference : responded;
 
   RegressorInputs ri;
+  if (in.lab_accel_M) ri.accel_response_M = *in.lab_accel_M;
+  if (in.lab_accel_quadratic) ri.accel_response_c2 = in.lab_accel_quadratic->c2;
   ri.time_offset_column = timeOffsetRegressor(shifted_signal, grid, pivot);
   ri.tested_temperature_degC = y.temperature_degC;
   if (s.temperature_degC.allFinite()) {

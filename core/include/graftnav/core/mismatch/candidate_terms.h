@@ -81,6 +81,13 @@ struct RegressorInputs {
   Eigen::MatrixX3d omega_dot_rad_s2;
   Eigen::VectorXd vibration_f_hp_sq;    // n, specific_force_hp_sq level, or empty
   Eigen::VectorXd vibration_w_hp_sq;    // n, angular_rate_hp_sq level, or empty
+  // The tested IMU's accelerometer response as the lab calibrated it,
+  // y_i = c0 + c1 x_i + c2_i x_i^2 + sum_j M_ij x_j: a motion signal the reference does not carry
+  // (lever-arm acceleration, a mounting rotation's f x phi) reaches the tested output through its
+  // slope J = M + diag(2 c2 f) at the bin's specific force. With f_z ~ -g a c2_z of 8e-4 per
+  // m/s^2 scales the lever arm's z acceleration by -1.6 %. Identity / zero: no lab calibration.
+  Eigen::Matrix3d accel_response_M = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d accel_response_c2 = Eigen::Vector3d::Zero();
   std::vector<Eigen::Matrix3d> C_bn;    // n attitudes (nav to body) or empty: no earth/gravity terms
   Eigen::Vector3d omega_ie_n = Eigen::Vector3d::Zero();  // Earth rate in n (rad/s)
 };
