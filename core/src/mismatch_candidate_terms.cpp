@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -178,6 +179,13 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
       CandidateTerm t;
       t.name = "scale_nonlinearity";
       t.sensor = sensor;
+      // Marginality: the quadratic is tested, and fitted, with the linear term of the same
+      // sensor in the model. Without it x^2 stands in for a gain wherever the input keeps one
+      // sign around a large mean (f_z ~ -g: x^2 = -2 g x - g^2 + (x + g)^2), and under common
+      // random numbers an accelerometer k2 was claimed on the null case after backward
+      // elimination had dropped the scale factor it was imitating.
+      t.requires_terms = {"scale_factor:" + sensor};
+      t.paid_requires = true;
       t.explanation = "the " + sensor + " input-output line bends: output = input + k2 input^2";
       for (int a = 0; a < 3; ++a)
         t.columns.push_back(singleChannel(s * 3 + a, u.col(a).array().square().matrix()));
@@ -285,26 +293,68 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
     terms.push_back(std::move(t));
   }
 
-  {  // mounting_misalignment: omega x phi and f x phi.
+  {  // mounting_misalignment: the tested output C_tb(phi) x, C_tb = exp(-[phi x]), linearized at
+     // the pivot phi0: C_tb(phi0) x + D0 (phi - phi0), D0 = [(C_tb(phi0) x) x] Jr(phi0) (x omega
+     // x phi at phi0 = 0). The columns are D0; a non-zero pivot adds the fixed remainder
+     // (C_tb(phi0) - I) x - D0 phi0 as a part of the term, so theta stays the rotation vector and
+     // the model is exact to first order about phi0 (a 4-deg rotation's second order is a
+     // -0.4 % "scale factor" and 0.2 % "cross-axis" terms under the first-order model).
+    const Eigen::Vector3d& phi0 = in.mounting_rotation_pivot_rad;
+    const bool pivoted = phi0.squaredNorm() > 0.0;
+    const Eigen::Matrix3d C0 = dcmFromRotationVector(phi0).transpose();
+    const Eigen::Matrix3d Jr0 = rightJacobianSO3(phi0);
+    std::array<Eigen::MatrixX3d, 3> vg, va;  // per column j: n x 3 (gyro rows, accel rows)
+    Eigen::MatrixX3d rg(n, 3), ra(n, 3);     // the remainder (pivoted only)
+    for (int j = 0; j < 3; ++j) {
+      vg[j].resize(n, 3);
+      va[j].resize(n, 3);
+    }
+    for (int i = 0; i < n; ++i) {
+      const Eigen::Vector3d w = x.omega_rad_s.row(i).transpose();
+      const Eigen::Vector3d f = x.f_m_s2.row(i).transpose();
+      const Eigen::Matrix3d Dg = skew(C0 * w) * Jr0;
+      const Eigen::Matrix3d J = accelSlope(i);
+      const Eigen::Matrix3d Da = J * skew(C0 * f) * Jr0;
+      for (int j = 0; j < 3; ++j) {
+        vg[j].row(i) = Dg.col(j).transpose();
+        va[j].row(i) = Da.col(j).transpose();
+      }
+      if (pivoted) {
+        rg.row(i) = (C0 * w - w - Dg * phi0).transpose();
+        ra.row(i) = (J * (C0 * f - f) - Da * phi0).transpose();
+      }
+    }
     CandidateTerm t;
     t.name = "mounting_misalignment";
     t.sensor = "both";
     t.explanation = "the tested IMU is mounted slightly rotated relative to the reference IMU";
     for (int j = 0; j < 3; ++j) {
       RegressorColumn col;
-      Eigen::MatrixX3d vg(n, 3), va(n, 3);
-      const Eigen::Vector3d e = Eigen::Vector3d::Unit(j);
-      for (int i = 0; i < n; ++i) {
-        vg.row(i) = x.omega_rad_s.row(i).cross(e.transpose());
-        va.row(i) = (accelSlope(i) * x.f_m_s2.row(i).cross(e.transpose()).transpose()).transpose();
-      }
       for (int a = 0; a < 3; ++a) {
-        col.channel[a] = vg.col(a);
-        col.channel[3 + a] = va.col(a);
+        col.channel[a] = vg[j].col(a);
+        col.channel[3 + a] = va[j].col(a);
       }
       t.columns.push_back(col);
     }
-    terms.push_back(std::move(t));
+    if (pivoted) {
+      CandidateTerm rem;
+      rem.name = "mounting_rotation_remainder";
+      rem.sensor = "both";
+      rem.fixed = true;
+      rem.part_of = t.key();
+      rem.explanation = "the mounting rotation's departure from its linearization at the pivot";
+      RegressorColumn col;
+      for (int a = 0; a < 3; ++a) {
+        col.channel[a] = rg.col(a);
+        col.channel[3 + a] = ra.col(a);
+      }
+      rem.columns.push_back(col);
+      t.requires_terms = {rem.key()};
+      terms.push_back(std::move(t));
+      terms.push_back(std::move(rem));
+    } else {
+      terms.push_back(std::move(t));
+    }
   }
 
   if (static_cast<int>(in.C_bn.size()) == n) {

@@ -209,7 +209,7 @@ class Selector {
     std::vector<int> full = {0};
     for (std::size_t t = 1; t < terms.size(); ++t) {
       if (terms[t].fixed || terms[t].gauge_only) continue;
-      full = withTerm(full, static_cast<int>(t));
+      full = withTerm(baseFor(full, static_cast<int>(t)), static_cast<int>(t));
     }
     Eigen::Matrix<double, 6, 1> w0, zero = Eigen::Matrix<double, 6, 1>::Zero();
     for (int c = 0; c < kMismatchChannels; ++c) {
@@ -502,7 +502,7 @@ class Selector {
     const auto has = [&](int t) { return std::find(model.begin(), model.end(), t) != model.end(); };
     if (ng < 0 || na < 0 || na_sym < 0 || rot < 0 || !has(ng) || !has(na)) return model;
     model.erase(std::remove(model.begin(), model.end(), na), model.end());
-    if (!has(rot)) model.push_back(rot);
+    if (!has(rot)) model = withTerm(baseFor(model, rot), rot);
     model.push_back(na_sym);
     std::sort(model.begin(), model.end());
     log->push_back("gauge: both non_orthogonality terms re-expressed as mounting_misalignment + "
@@ -550,8 +550,25 @@ class Selector {
   // explanation, which forward selection offers again after any drop. Restoring it here made
   // backward elimination cycle between two alternatives of equal evidence, each failing against
   // the other.
+  // The parts of t (part_of) leave with it.
   std::vector<int> withoutTerm(std::vector<int> model, int t) const {
-    model.erase(std::remove(model.begin(), model.end(), t), model.end());
+    model.erase(std::remove_if(model.begin(), model.end(),
+                               [&](int m) { return m == t || terms_[m].part_of == terms_[t].key(); }),
+                model.end());
+    return model;
+  }
+
+  // A model without the parts whose term is not in it (e.g. after a gate took the term out).
+  std::vector<int> withoutOrphanParts(std::vector<int> model) const {
+    const std::vector<int> in = model;
+    model.erase(std::remove_if(model.begin(), model.end(),
+                               [&](int m) {
+                                 if (terms_[m].part_of.empty()) return false;
+                                 return std::none_of(in.begin(), in.end(), [&](int o) {
+                                   return terms_[o].key() == terms_[m].part_of;
+                                 });
+                               }),
+                model.end());
     return model;
   }
 
@@ -773,7 +790,7 @@ class Selector {
         res.nuisance = tf;
       } else {
         evidence(model, t, &tf.delta_bic, &tf.cv_gain);
-        tf.claimed = passes(tf.delta_bic, tf.cv_gain);
+        tf.claimed = terms_[t].part_of.empty() && passes(tf.delta_bic, tf.cv_gain);
         res.selected.push_back(tf);
       }
     }
@@ -862,7 +879,7 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<C
       double best_bic = 0.0, best_cv = 0.0;
       std::vector<int> best_trial;
       for (std::size_t t = 1; t < terms.size(); ++t) {
-        if (terms[t].gauge_only ||
+        if (terms[t].gauge_only || !terms[t].part_of.empty() ||
             std::find(model.begin(), model.end(), static_cast<int>(t)) != model.end())
           continue;
         const std::vector<int> base_model = sel.baseFor(model, static_cast<int>(t));
@@ -871,8 +888,12 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<C
         const std::vector<int> trial = sel.withTerm(base_model, static_cast<int>(t));
         if (trial == base_model) continue;
         const Selector::Score s = sel.score(trial);
-        const double dbic = sel.deltaBic(base_model, trial, static_cast<int>(t));
-        const double cvg = base.cv > 0.0 ? (base.cv - s.cv) / base.cv : 0.0;
+        // A term whose required terms are hierarchy (paid_requires) is measured together with
+        // them against the model; others (earth/gravity) against the model with them.
+        const bool joint = terms[t].paid_requires;
+        const double dbic = sel.deltaBic(joint ? model : base_model, trial, static_cast<int>(t));
+        const Selector::Score& ref = joint ? model_score : base;
+        const double cvg = ref.cv > 0.0 ? (ref.cv - s.cv) / ref.cv : 0.0;
         if (sel.passes(dbic, cvg) && (best < 0 || dbic > best_bic)) {
           best = static_cast<int>(t);
           best_bic = dbic;
@@ -922,8 +943,9 @@ SelectionResult fitTerms(const Eigen::MatrixXd& residual, const std::vector<Cand
   for (int t : term_indices) {
     if (t <= 0 || t >= static_cast<int>(terms.size()))
       throw std::invalid_argument("fitTerms: term index " + std::to_string(t) + " out of range");
-    model = sel.withTerm(model, t);
+    model = sel.withTerm(sel.baseFor(model, t), t);  // with the terms t requires
   }
+  model = sel.withoutOrphanParts(model);
   return sel.result(model);
 }
 

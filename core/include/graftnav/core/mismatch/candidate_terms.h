@@ -58,9 +58,19 @@ struct CandidateTerm {
   bool gauge_only = false;
   std::vector<std::string> excludes;  // keys of terms this one replaces when added
   // Keys of terms that must be in the model when this one is tested (its evidence is measured
-  // against the model with them): the near-constant earth/gravity regressors must beat a
-  // wandering bias before they are believed.
+  // against the model with them) and that stay in it while this one does (a companion that fails
+  // its own test is fitted but not claimed): the near-constant earth/gravity regressors must beat
+  // a wandering bias before they are believed, and a quadratic is measured beyond the linear
+  // term of its sensor (scale_nonlinearity requires scale_factor).
   std::vector<std::string> requires_terms;
+  // How a forward step measures this term when its required terms are not in the model yet:
+  // false, against the model with them (the earth/gravity terms must beat a wander that is
+  // there anyway); true, together with them against the model (hierarchy: a quadratic enters
+  // with its linear term and pays for both).
+  bool paid_requires = false;
+  // Key of the term this fixed one completes (mounting_rotation_remainder: the rotation's
+  // remainder at its pivot): in a model only with that term, never selected or claimed alone.
+  std::string part_of;
   double knot_spacing_s = 0.0;        // bias_instability only
   double t_ref_degC = 0.0;            // temperature terms only
   std::string key() const { return name + ":" + sensor + (regressor.empty() ? "" : ":" + regressor); }
@@ -88,6 +98,11 @@ struct RegressorInputs {
   // m/s^2 scales the lever arm's z acceleration by -1.6 %. Identity / zero: no lab calibration.
   Eigen::Matrix3d accel_response_M = Eigen::Matrix3d::Identity();
   Eigen::Vector3d accel_response_c2 = Eigen::Vector3d::Zero();
+  // The rotation vector (rad) mounting_misalignment is linearized at. Zero: the first-order
+  // columns x x phi. Non-zero (diagnose sets the rotation of a first pass): the columns are the
+  // exact rotation's Jacobian there and a fixed part, mounting_rotation_remainder, carries the
+  // rest, so a rotation of several degrees is not left with second-order "scale" terms.
+  Eigen::Vector3d mounting_rotation_pivot_rad = Eigen::Vector3d::Zero();
   std::vector<Eigen::Matrix3d> C_bn;    // n attitudes (nav to body) or empty: no earth/gravity terms
   Eigen::Vector3d omega_ie_n = Eigen::Vector3d::Zero();  // Earth rate in n (rad/s)
 };

@@ -84,7 +84,9 @@ struct DiagnosisInputs {
   // k2 (the lab's c2 plus the missing part the residual shows, k2_missing) and is claimed only
   // if that is non-zero beyond 3 sigma: a residual quadratic that only cancels SG#2's c2 (e.g. a
   // scale asymmetry folded into c2 on the rate table) is the simulation's artefact, modelled in
-  // SG#3 but not a non-linearity of the sensor.
+  // SG#3 but not a non-linearity of the sensor. Nor is it claimed when k2_missing is within
+  // 3 x sqrt(fit sigma^2 + c2_sigma^2) on every axis: the lab's c2 is off by no more than its own
+  // uncertainty (calibration error, as for scale_factor; modelled in SG#3).
   std::optional<LabQuadratic> lab_gyro_quadratic;
   std::optional<LabQuadratic> lab_accel_quadratic;
 };

@@ -117,7 +117,8 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<C
                             const SelectionOptions& options = {}, int row_begin = 0,
                             int row_end = -1);
 
-// Fits a given set of terms (plus the nuisance) without selection; evidence is filled in too.
+// Fits a given set of terms (plus the nuisance and the terms they require) without selection;
+// evidence is filled in too.
 SelectionResult fitTerms(const Eigen::MatrixXd& residual, const std::vector<CandidateTerm>& terms,
                          const std::vector<int>& term_indices, const SelectionOptions& options = {},
                          int row_begin = 0, int row_end = -1);
