@@ -720,6 +720,15 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     return tau;
   };
   std::vector<std::string> repeat_notes;  // the passes below (explainAt clears pass_notes)
+  // Runs the explanation again (at the current pivots), keeping the earlier selection log.
+  const auto explainAgain = [&](const std::string& why) {
+    std::vector<std::string> log = sel.log;
+    explainAt(pivot);
+    log.push_back(why);
+    log.insert(log.end(), sel.log.begin(), sel.log.end());
+    sel.log = std::move(log);
+    repeat_notes.push_back(why);
+  };
   double tau_joint = explainAt(pivot);
   // The chord regressor is exact only at its pivot: with road vibration (20-40 Hz) a pivot
   // 0.1 ms from the offset leaves a residual that terms like scale_factor take up (three random
@@ -730,12 +739,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         "selection repeated with the time_offset pivot at the joint fit's tau ({:.6f} s, "
         "{:.6f} s before)", tau_joint, pivot);
     pivot = tau_joint;
-    std::vector<std::string> first_log = sel.log;
-    explainAt(pivot);
-    first_log.push_back(moved);
-    first_log.insert(first_log.end(), sel.log.begin(), sel.log.end());
-    sel.log = first_log;
-    repeat_notes.push_back(moved);
+    explainAgain(moved);
   }
   // A mounting rotation of phi rad leaves second-order terms of |phi|^2 / 2 under the library's
   // first-order columns (a gyro "scale factor" of -0.4 % at 4 deg; -11 ppm on x for the concealed
@@ -756,12 +760,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         "selection repeated with mounting_misalignment linearized at the fitted rotation [{:.5f} "
         "{:.5f} {:.5f}] rad (its second order, up to {:.2g}, is then modelled)", phi(0), phi(1),
         phi(2), 0.5 * phi.squaredNorm());
-    std::vector<std::string> first_log = sel.log;
-    explainAt(pivot);
-    first_log.push_back(moved);
-    first_log.insert(first_log.end(), sel.log.begin(), sel.log.end());
-    sel.log = first_log;
-    repeat_notes.push_back(moved);
+    explainAgain(moved);
   }
   out.notes.insert(out.notes.end(), pass_notes.begin(), pass_notes.end());
   out.notes.insert(out.notes.end(), repeat_notes.begin(), repeat_notes.end());
