@@ -209,7 +209,7 @@ class Selector {
     std::vector<int> full = {0};
     for (std::size_t t = 1; t < terms.size(); ++t) {
       if (terms[t].fixed || terms[t].gauge_only) continue;
-      full = withTerm(baseFor(full, static_cast<int>(t)), static_cast<int>(t));
+      full = withRequired(full, static_cast<int>(t));
     }
     Eigen::Matrix<double, 6, 1> w0, zero = Eigen::Matrix<double, 6, 1>::Zero();
     for (int c = 0; c < kMismatchChannels; ++c) {
@@ -502,7 +502,7 @@ class Selector {
     const auto has = [&](int t) { return std::find(model.begin(), model.end(), t) != model.end(); };
     if (ng < 0 || na < 0 || na_sym < 0 || rot < 0 || !has(ng) || !has(na)) return model;
     model.erase(std::remove(model.begin(), model.end(), na), model.end());
-    if (!has(rot)) model = withTerm(baseFor(model, rot), rot);
+    if (!has(rot)) model = withRequired(model, rot);
     model.push_back(na_sym);
     std::sort(model.begin(), model.end());
     log->push_back("gauge: both non_orthogonality terms re-expressed as mounting_misalignment + "
@@ -524,6 +524,11 @@ class Selector {
       if (k >= 0) base = withTerm(base, k);
     }
     return base;
+  }
+
+  // The model with t and the terms t requires.
+  std::vector<int> withRequired(const std::vector<int>& model, int t) const {
+    return withTerm(baseFor(model, t), t);
   }
 
   bool requiredByOthers(const std::vector<int>& model, int t) const {
@@ -943,7 +948,7 @@ SelectionResult fitTerms(const Eigen::MatrixXd& residual, const std::vector<Cand
   for (int t : term_indices) {
     if (t <= 0 || t >= static_cast<int>(terms.size()))
       throw std::invalid_argument("fitTerms: term index " + std::to_string(t) + " out of range");
-    model = sel.withTerm(sel.baseFor(model, t), t);  // with the terms t requires
+    model = sel.withRequired(model, t);
   }
   model = sel.withoutOrphanParts(model);
   return sel.result(model);
