@@ -181,16 +181,16 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
     }
   }
   const std::vector<LabSession> lab = simulateLabSessions(lab_options);
-  ImuSeries lab_all;
-  std::vector<std::size_t> lab_sizes;
+  std::vector<ImuSeries> lab_ideal;
+  lab_ideal.reserve(lab.size());
   for (const LabSession& l : lab) {
-    const ImuSeries with_t = withTemperature(
+    lab_ideal.push_back(withTemperature(
         l.ideal, config.temperature ? std::optional<SimTemperature>(config.temperature->lab())
-                                    : std::nullopt);
-    lab_all.insert(lab_all.end(), with_t.begin(), with_t.end());
-    lab_sizes.push_back(with_t.size());
+                                    : std::nullopt));
   }
   // Lab: the same sensor without the field-mounting geometry (relative to the reference IMU).
+  // One noise stream through the sessions in order; each session is its own record (the pose
+  // change between two files is not vibration: ImuErrorGenerator::startRecord).
   uint64_t lab_noise_seed = deriveStreamSeed(seed, 100);
   if (config.lab_common_random_numbers) {
     if (lab.empty() || lab.front().relative_path != "lab/static.txt" ||
@@ -200,15 +200,10 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
     }
     lab_noise_seed = tested_noise_seed;
   }
-  const ImuSeries lab_meas =
-      applyErrors(lab_all, labErrorModel(tested_model), lab_noise_seed);
-  std::size_t offset = 0;
-  for (std::size_t i = 0; i < lab.size(); ++i) {
-    const ImuSeries one(lab_meas.begin() + static_cast<std::ptrdiff_t>(offset),
-                        lab_meas.begin() + static_cast<std::ptrdiff_t>(offset + lab_sizes[i]));
-    offset += lab_sizes[i];
-    writeImu((fs::path(case_dir) / lab[i].relative_path).string(), one);
-  }
+  const std::vector<ImuSeries> lab_meas =
+      applyErrorsToRecords(lab_ideal, labErrorModel(tested_model), lab_noise_seed);
+  for (std::size_t i = 0; i < lab.size(); ++i)
+    writeImu((fs::path(case_dir) / lab[i].relative_path).string(), lab_meas[i]);
   sum.lab_files = lab.size();
 
   say("case.yaml");

@@ -607,10 +607,28 @@ ImuSample ImuErrorGenerator::apply(const ImuSample& in) {
   return out;
 }
 
+void ImuErrorGenerator::startRecord() {
+  gyro_vib_.reset();
+  accel_vib_.reset();
+}
+
 ImuSeries applyErrors(const ImuSeries& ideal, const ImuErrorModel& model, uint64_t seed) {
   ImuSeries out = model.hasGeometry() ? applyGeometry(ideal, model) : ideal;
   ImuErrorGenerator gen(model, seed);
   for (ImuSample& s : out) s = gen.apply(s);
+  return out;
+}
+
+std::vector<ImuSeries> applyErrorsToRecords(const std::vector<ImuSeries>& ideal_records,
+                                            const ImuErrorModel& model, uint64_t seed) {
+  ImuErrorGenerator gen(model, seed);
+  std::vector<ImuSeries> out;
+  out.reserve(ideal_records.size());
+  for (const ImuSeries& rec : ideal_records) {
+    out.push_back(model.hasGeometry() ? applyGeometry(rec, model) : rec);
+    gen.startRecord();
+    for (ImuSample& s : out.back()) s = gen.apply(s);
+  }
   return out;
 }
 

@@ -645,6 +645,43 @@ TEST(ImuErrorModel, SameSeedSameOutputDifferentSeedDifferentOutput) {
   for (size_t k = 0; k < in.size(); ++k) ASSERT_EQ(gen.apply(in[k]).dtheta_rad, a[k].dtheta_rad);
 }
 
+TEST(ImuErrorModel, VibrationRegressorRestartsAtEachRecordNoiseStreamRunsOn) {
+  // Two static lab records, gravity on z then on x. Concatenated, the pose change is a 9.8 m/s^2
+  // step into the high-pass: a rectified bias of ~coeff g^2 in the second record's first seconds
+  // that no vibration caused. As separate records, a static pose has no rectified bias at all.
+  const double dt = 0.005;
+  ImuErrorModel m;
+  m.accel.vibration_rectification.coeff = Vector3d(1e-2, -8e-3, 5e-3);
+  const ImuSeries z_up = constantSeries(2000, dt, Vector3d::Zero(), Vector3d(0, 0, 9.8));
+  const ImuSeries x_up = constantSeries(2000, dt, Vector3d::Zero(), Vector3d(9.8, 0, 0));
+  ImuSeries joined = z_up;
+  joined.insert(joined.end(), x_up.begin(), x_up.end());
+  const ImuSeries concatenated = applyErrors(joined, m, 3);
+  double transient = 0.0;
+  for (size_t k = z_up.size(); k < joined.size(); ++k)
+    transient = std::max(transient, (concatenated[k].dvel_m_s - joined[k].dvel_m_s).norm() / dt);
+  EXPECT_GT(transient, 0.1);  // what the simulator's lab files carried before records
+  const std::vector<ImuSeries> records = applyErrorsToRecords({z_up, x_up}, m, 3);
+  ASSERT_EQ(records.size(), 2u);
+  for (int r = 0; r < 2; ++r) {
+    const ImuSeries& in = r == 0 ? z_up : x_up;
+    ASSERT_EQ(records[r].size(), in.size());
+    for (size_t k = 0; k < in.size(); ++k)
+      EXPECT_LT((records[r][k].dvel_m_s - in[k].dvel_m_s).norm() / dt, 1e-12);
+  }
+  // Noise, bias processes and quantization run on through the records exactly as through the
+  // concatenation (CRN cases share the lab's first record with the field noise stream).
+  ImuErrorModel noisy = noisyModel();
+  noisy.accel.quantization.step.setConstant(2e-5);
+  const ImuSeries whole = applyErrors(joined, noisy, 11);
+  const std::vector<ImuSeries> parts = applyErrorsToRecords({z_up, x_up}, noisy, 11);
+  for (size_t k = 0; k < joined.size(); ++k) {
+    const ImuSample& p = k < z_up.size() ? parts[0][k] : parts[1][k - z_up.size()];
+    ASSERT_EQ(p.dtheta_rad, whole[k].dtheta_rad);
+    ASSERT_EQ(p.dvel_m_s, whole[k].dvel_m_s);
+  }
+}
+
 TEST(ImuErrorModel, SwitchingOneTermLeavesTheOtherRealizationsUnchanged) {
   const ImuSeries in = constantSeries(500, 0.01, kOmega, kF);
   ImuErrorModel only_gyro;

@@ -149,6 +149,12 @@ class ImuErrorGenerator {
   // temperature.
   ImuSample apply(const ImuSample& tested_true);
 
+  // A new record begins (a separate lab file: the sensor is set in a pose and settles before it
+  // is logged). The vibration_rectification regressors restart from the record's first sample,
+  // so the jump of the input between two records' poses is not taken for vibration; the noise
+  // processes and the quantization remainder carry on (one sensor, one noise stream).
+  void startRecord();
+
   const ImuErrorModel& model() const { return model_; }
   // Current stochastic bias states (for tests and truth output).
   Eigen::Vector3d gyroStochasticBias() const { return gyro_gm_.state() + gyro_rw_; }
@@ -169,5 +175,11 @@ class ImuErrorGenerator {
 
 // The whole chain: applyGeometry then ImuErrorGenerator over every sample.
 ImuSeries applyErrors(const ImuSeries& ideal, const ImuErrorModel& model, uint64_t seed);
+
+// The same chain over separate records of one sensor (lab sessions, in order): geometry per
+// record, one ImuErrorGenerator whose noise streams run on from record to record (as
+// applyErrors over the concatenation), startRecord() at the start of each.
+std::vector<ImuSeries> applyErrorsToRecords(const std::vector<ImuSeries>& ideal_records,
+                                            const ImuErrorModel& model, uint64_t seed);
 
 }  // namespace graftnav
