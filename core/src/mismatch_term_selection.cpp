@@ -323,6 +323,12 @@ class Selector {
     // Per term: the factor its evidence's data term is divided by and its covariance multiplied
     // by on top of c: 1 under GLS, the block-mean factor for a slow term (white fit).
     std::vector<double> term_inflation;
+    // The same normal equations per CV fold (step 3), each fold's rows Haar transformed on their
+    // own and weighted by the same 1 / c_j, so cross-validation measures prediction errors in the
+    // metric the terms are fitted and tested in.
+    std::vector<Eigen::MatrixXd> G_fold;
+    std::vector<Eigen::VectorXd> b_fold;
+    std::vector<double> yy_fold;
   };
 
   bool isSlow(int t) const {
@@ -365,6 +371,8 @@ class Selector {
   struct ChannelLevels {
     std::vector<int> idx;                // global column indices
     std::vector<Eigen::MatrixXd> gram;   // per Haar level, (m + 1) x (m + 1), y last
+    // Per CV fold (the folds of accumulate), its rows transformed on their own, per level.
+    std::vector<std::vector<Eigen::MatrixXd>> fold_gram;
   };
   const std::array<ChannelLevels, kMismatchChannels>& levelGrams() const {
     if (!level_grams_) {
@@ -388,6 +396,14 @@ class Selector {
           Xy(i, m) = whitenedRow(rc, rb_, i, rho_(c), w);
         }
         for (const Eigen::MatrixXd& D : haarCoefficients(Xy)) cl.gram.push_back(D.transpose() * D);
+        const int folds = static_cast<int>(gram_.G.size());
+        cl.fold_gram.resize(folds);
+        for (int f = 0; f < folds; ++f) {
+          const int a = static_cast<int>(static_cast<long>(len) * f / folds);
+          const int b = static_cast<int>(static_cast<long>(len) * (f + 1) / folds);
+          for (const Eigen::MatrixXd& D : haarCoefficients(Xy.middleRows(a, b - a)))
+            cl.fold_gram[f].push_back(D.transpose() * D);
+        }
       }
     }
     return *level_grams_;
@@ -421,6 +437,9 @@ class Selector {
     out.G = gram_.G_all;
     out.b = gram_.b_all;
     out.yy = gram_.yy_all;
+    out.G_fold = gram_.G;
+    out.b_fold = gram_.b;
+    out.yy_fold = gram_.yy;
     out.term_inflation.assign(terms_.size(), 1.0);
     const int m = opt_.slow_block_bins;
     const int len = re_ - rb_;
@@ -454,6 +473,9 @@ class Selector {
     out.G = gram_.G_all;
     out.b = gram_.b_all;
     out.yy = gram_.yy_all;
+    out.G_fold = gram_.G;
+    out.b_fold = gram_.b;
+    out.yy_fold = gram_.yy;
     out.term_inflation.assign(terms_.size(), 1.0);
     const int m = opt_.slow_block_bins;
     const int len = re_ - rb_;
@@ -469,21 +491,33 @@ class Selector {
     out.G = Eigen::MatrixXd::Zero(P, P);
     out.b = Eigen::VectorXd::Zero(P);
     out.yy = 0.0;
+    const int folds = static_cast<int>(gram_.G.size());
+    out.G_fold.assign(folds, Eigen::MatrixXd::Zero(P, P));
+    out.b_fold.assign(folds, Eigen::VectorXd::Zero(P));
+    out.yy_fold.assign(folds, 0.0);
+    // Adds the level grams of one channel, level j weighted by 1 / c_j.
+    const auto addLevels = [](const ChannelLevels& cl, const std::vector<Eigen::MatrixXd>& grams,
+                              const ScaleNoiseModel& model, Eigen::MatrixXd* G, Eigen::VectorXd* b,
+                              double* yy) {
+      const int k = static_cast<int>(cl.idx.size());
+      for (std::size_t j = 0; j < grams.size(); ++j) {
+        const double w = 1.0 / model.at(static_cast<int>(j) + 1);
+        const Eigen::MatrixXd& g = grams[j];
+        for (int a = 0; a < k; ++a) {
+          (*b)(cl.idx[a]) += w * g(a, k);
+          for (int bb = 0; bb < k; ++bb) (*G)(cl.idx[a], cl.idx[bb]) += w * g(a, bb);
+        }
+        *yy += w * g(k, k);
+      }
+    };
     for (int c = 0; c < kMismatchChannels; ++c) {
       const ScaleNoiseModel model =
           fitScaleNoise(haarEnergies(e.col(c)), inflation_, report_level + 1);
       out.slow_inflation(c) = model.at(report_level);
       const ChannelLevels& cl = lg[c];
-      const int k = static_cast<int>(cl.idx.size());
-      for (std::size_t j = 0; j < cl.gram.size(); ++j) {
-        const double w = 1.0 / model.at(static_cast<int>(j) + 1);
-        const Eigen::MatrixXd& g = cl.gram[j];
-        for (int a = 0; a < k; ++a) {
-          out.b(cl.idx[a]) += w * g(a, k);
-          for (int bb = 0; bb < k; ++bb) out.G(cl.idx[a], cl.idx[bb]) += w * g(a, bb);
-        }
-        out.yy += w * g(k, k);
-      }
+      addLevels(cl, cl.gram, model, &out.G, &out.b, &out.yy);
+      for (int f = 0; f < folds; ++f)
+        addLevels(cl, cl.fold_gram[f], model, &out.G_fold[f], &out.b_fold[f], &out.yy_fold[f]);
     }
     return out;
   }
@@ -576,11 +610,6 @@ class Selector {
                 model.end());
     return model;
   }
-
-  struct Score {
-    double cv = 0.0;
-    double rss = 0.0;
-  };
 
   // Evidence of going from `without` to `with` for term t: twice the log Bayes factor of the
   // two models (header, step 2). With a term that replaces another (excludes) the models are not
@@ -729,26 +758,43 @@ class Selector {
   const SlowNoise& slowNoiseFor(int t, const std::vector<int>& base) const {
     return isSlow(t) ? slowNoise({}, true) : slowNoise(base);
   }
-  Score score(const std::vector<int>& model) const {
+  // Blocked CV error of `model` in the metric of the noise `sn` (the slow noise the term under
+  // test is measured against: GLS per fold for a fast term, white for a slow one).
+  double cvError(const std::vector<int>& model, const SlowNoise& sn) const {
+    const auto key = std::make_pair(&sn, model);
+    const auto it = cv_cache_.find(key);
+    if (it != cv_cache_.end()) return it->second;
     std::vector<int> S, F;
     modelColumns(model, terms_, map_, &S, &F);
-    const ModelFit fit = solve(gram_.G_all, gram_.b_all, gram_.yy_all, S, F, false);
-    Score s;
-    s.rss = fit.rss;
+    Eigen::MatrixXd G_sum = Eigen::MatrixXd::Zero(map_.total, map_.total);
+    Eigen::VectorXd b_sum = Eigen::VectorXd::Zero(map_.total);
+    double yy_sum = 0.0;
     for (int f = 0; f < opt_.folds; ++f) {
-      const ModelFit tr = solve(gram_.G_all - gram_.G[f], gram_.b_all - gram_.b[f],
-                                gram_.yy_all - gram_.yy[f], S, F, false);
-      s.cv += foldError(tr, gram_.G[f], gram_.b[f], gram_.yy[f]);
+      G_sum += sn.G_fold[f];
+      b_sum += sn.b_fold[f];
+      yy_sum += sn.yy_fold[f];
     }
-    return s;
+    double cv = 0.0;
+    for (int f = 0; f < opt_.folds; ++f) {
+      const ModelFit tr = solve(G_sum - sn.G_fold[f], b_sum - sn.b_fold[f],
+                                yy_sum - sn.yy_fold[f], S, F, false);
+      cv += foldError(tr, sn.G_fold[f], sn.b_fold[f], sn.yy_fold[f]);
+    }
+    cv_cache_.emplace(key, cv);
+    return cv;
+  }
+
+  // Relative CV improvement of `with` over `without` for term t, in t's noise metric.
+  double cvGain(const std::vector<int>& without, const std::vector<int>& with, int t) const {
+    const SlowNoise& sn = slowNoiseFor(t, without);
+    const double ref = cvError(without, sn);
+    return ref > 0.0 ? (ref - cvError(with, sn)) / ref : 0.0;
   }
 
   void evidence(const std::vector<int>& model, int t, double* delta_bic, double* cv_gain) const {
-    const Score with = score(model);
     const std::vector<int> base = withoutTerm(model, t);
-    const Score without = score(base);
     *delta_bic = deltaBic(base, model, t);
-    *cv_gain = without.cv > 0.0 ? (without.cv - with.cv) / without.cv : 0.0;
+    *cv_gain = cvGain(base, model, t);
   }
 
   bool passes(double delta_bic, double cv_gain) const {
@@ -839,7 +885,8 @@ class Selector {
   int rb_ = 0, re_ = 0;
   std::vector<int> full_;  // the largest model (noise model)
   std::vector<double> prior_variance_;  // per term, whitened units (priorVariances)
-  mutable std::map<std::vector<int>, SlowNoise> slow_cache_;
+  mutable std::map<std::vector<int>, SlowNoise> slow_cache_;  // SlowNoise addresses are stable
+  mutable std::map<std::pair<const SlowNoise*, std::vector<int>>, double> cv_cache_;
   mutable std::unique_ptr<std::array<ChannelLevels, kMismatchChannels>> level_grams_;
 };
 
@@ -879,7 +926,6 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<C
   int steps = 0;
   for (;;) {
     for (; steps < options.max_terms; ++steps) {
-      const Selector::Score model_score = sel.score(model);
       int best = -1;
       double best_bic = 0.0, best_cv = 0.0;
       std::vector<int> best_trial;
@@ -888,17 +934,13 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<C
             std::find(model.begin(), model.end(), static_cast<int>(t)) != model.end())
           continue;
         const std::vector<int> base_model = sel.baseFor(model, static_cast<int>(t));
-        const Selector::Score base =
-            base_model == model ? model_score : sel.score(base_model);
         const std::vector<int> trial = sel.withTerm(base_model, static_cast<int>(t));
         if (trial == base_model) continue;
-        const Selector::Score s = sel.score(trial);
         // A term whose required terms are hierarchy (paid_requires) is measured together with
         // them against the model; others (earth/gravity) against the model with them.
-        const bool joint = terms[t].paid_requires;
-        const double dbic = sel.deltaBic(joint ? model : base_model, trial, static_cast<int>(t));
-        const Selector::Score& ref = joint ? model_score : base;
-        const double cvg = ref.cv > 0.0 ? (ref.cv - s.cv) / ref.cv : 0.0;
+        const std::vector<int>& ref = terms[t].paid_requires ? model : base_model;
+        const double dbic = sel.deltaBic(ref, trial, static_cast<int>(t));
+        const double cvg = sel.cvGain(ref, trial, static_cast<int>(t));
         if (sel.passes(dbic, cvg) && (best < 0 || dbic > best_bic)) {
           best = static_cast<int>(t);
           best_bic = dbic;

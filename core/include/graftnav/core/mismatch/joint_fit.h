@@ -17,7 +17,9 @@
 // prewhitening as the selection), and the parameter covariance comes from ceres::Covariance
 // (dense SVD, rank-revealing), multiplied by the selection's AR(1) inflation c and each term's
 // slow-noise factor (TermFit::inflation_factor) exactly as the linear covariance is.
-// The linear solution initialises the solver.
+// The linear solution initialises the solver. diagnose reports the joint fit's tau; once the
+// selection ran at that tau as its pivot (where the linear model is exact), the other terms keep
+// the selection's GLS estimates, which weigh slow noise per time scale as this fit does not.
 
 #include <Eigen/Core>
 #include <string>

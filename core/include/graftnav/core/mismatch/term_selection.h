@@ -26,8 +26,11 @@
 //    and in the reported evidence a term is measured against the model without it (the
 //    alternative it replaced is not restored: forward selection offers it again after a drop).
 // 3. Time-blocked cross-validation. K contiguous folds of bins; each fold is predicted by the
-//    fit on the others; CV = sum of whitened squared prediction errors;
-//    cv_gain = (CV_without - CV_with) / CV_without.
+//    fit on the others; CV = sum of squared prediction errors in the metric the term is tested
+//    in (below: a fast term's GLS, each fold's rows Haar transformed on their own and level j
+//    weighted by 1 / c_j; a slow term's white rows); cv_gain = (CV_without - CV_with) / CV_without.
+//    In the AR(1) metric alone a fold's error is dominated by the bias wander of its minutes, and
+//    a speed-driven vibration level at 3 x its detection limit (delta_bic 414) failed CV.
 //    Slow noise: AR(1) misses noise correlated over minutes (a bias random process whose field
 //    and lab realizations differ). Per channel, the whitened residual of the full model without
 //    the slow candidates is split into Haar levels and its variance per level is smoothed by
