@@ -170,6 +170,12 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
       // function) on random cases with an asymmetry 1.4-3x its detection limit.
       t.name = "scale_asymmetry";
       t.sensor = sensor;
+      // Marginality, as for scale_nonlinearity: where the input keeps one sign (f_z ~ -g) |x| is
+      // -x, a gain; measured without the scale factor the term claimed that gain past the scale
+      // factor's lab gate (random_11_15: an accelerometer quadratic's slope at -g, 7 sigma on
+      // k_neg z, named as an asymmetry).
+      t.requires_terms = {"scale_factor:" + sensor};
+      t.paid_requires = true;
       t.explanation = "the " + sensor + " gain differs for positive and negative inputs";
       for (int a = 0; a < 3; ++a)
         t.columns.push_back(singleChannel(s * 3 + a, u.col(a).cwiseAbs()));
