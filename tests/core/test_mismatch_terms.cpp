@@ -526,6 +526,34 @@ TEST(MismatchSelection, DetectionLimitSeparatesFoundFromMissed) {
 namespace graftnav {
 namespace {
 
+// Adds to each channel c of r a stationary Gauss-Markov wander of 1-sigma sd(c) and correlation
+// time tau_s (bins of bin_s); channels with sd 0 are skipped without drawing.
+void addGaussMarkovWander(Eigen::MatrixXd* r, const Eigen::Matrix<double, 6, 1>& sd, double bin_s,
+                          double tau_s, uint64_t seed) {
+  StandardNormalSampler rng(seed);
+  const double phi = std::exp(-bin_s / tau_s);
+  for (int c = 0; c < 6; ++c) {
+    if (sd(c) == 0.0) continue;
+    double b = rng.next();
+    for (int i = 0; i < r->rows(); ++i) {
+      b = phi * b + std::sqrt(1.0 - phi * phi) * rng.next();
+      (*r)(i, c) += sd(c) * b;
+    }
+  }
+}
+
+// Car motion with minutes-long parts: a slow speed-up and slow-down along and across.
+Motion slowDriveMotion() {
+  Motion m = carMotion(13);
+  m.waves[3].push_back({1.0, 2.0 * M_PI / 1100.0, 0.3});
+  m.waves[4].push_back({0.8, 2.0 * M_PI / 700.0, 1.1});
+  return m;
+}
+
+// A 3-mg wander on the accelerometer channels only.
+const Eigen::Matrix<double, 6, 1> kAccelWander =
+    (Eigen::Matrix<double, 6, 1>() << 0.0, 0.0, 0.0, 3e-2, 3e-2, 3e-2).finished();
+
 // A slowly wandering bias difference (two Gauss-Markov realizations, tau 20 min) on top of the
 // white noise: without the slow-noise inflation, a temperature ramp regressor soaks it up and is
 // claimed at hundreds of BIC units; with it, the slow candidates stay unclaimed on most records.
@@ -540,16 +568,9 @@ TEST(MismatchSelection, SlowBiasWanderIsNotClaimedAsTemperature) {
   std::string log;
   for (uint64_t seed = 300; seed < 310; ++seed) {
     Eigen::MatrixXd r = ar1Noise(n, 0.3, seed);
-    StandardNormalSampler rng(seed + 1000);
-    const double scale[6] = {3e-4, 3e-4, 3e-4, 1e-2, 1e-2, 1e-2};  // wander 1-sigma per channel
-    const double phi = std::exp(-in.reference.grid.bin_s / 1200.0);
-    for (int c = 0; c < 6; ++c) {
-      double b = rng.next();
-      for (int i = 0; i < n; ++i) {
-        b = phi * b + std::sqrt(1.0 - phi * phi) * rng.next();
-        r(i, c) += scale[c] * b;
-      }
-    }
+    Eigen::Matrix<double, 6, 1> sd;  // wander 1-sigma per channel
+    sd << 3e-4, 3e-4, 3e-4, 1e-2, 1e-2, 1e-2;
+    addGaussMarkovWander(&r, sd, in.reference.grid.bin_s, 1200.0, seed + 1000);
     const SelectionResult sel = selectTerms(r, terms, opt);
     for (const TermFit& tf : sel.selected)
       if (tf.claimed && terms[tf.term].name.rfind("temperature", 0) == 0) {
@@ -565,10 +586,7 @@ TEST(MismatchSelection, SlowBiasWanderIsNotClaimedAsTemperature) {
 // RMS (its errors are ~5x larger and its sigma does not know the wander). The accelerometer scale factor's f_x / f_y columns follow the drive's acceleration
 // pattern, here with minutes-long parts.
 TEST(MismatchSelection, FastTermSigmaIsCalibratedUnderBiasWander) {
-  Motion m = carMotion(13);
-  m.waves[3].push_back({1.0, 2.0 * M_PI / 1100.0, 0.3});  // a slow speed-up and slow-down
-  m.waves[4].push_back({0.8, 2.0 * M_PI / 700.0, 1.1});
-  const RegressorInputs in = syntheticInputs(m, 900.0, 0.0);
+  const RegressorInputs in = syntheticInputs(slowDriveMotion(), 900.0, 0.0);
   const std::vector<CandidateTerm> terms = buildCandidateLibrary(in);
   const int n = in.reference.size();
   SelectionOptions opt;
@@ -582,15 +600,7 @@ TEST(MismatchSelection, FastTermSigmaIsCalibratedUnderBiasWander) {
   int count = 0;
   for (uint64_t seed = 700; seed < 720; ++seed) {
     Eigen::MatrixXd r = ar1Noise(n, 0.3, seed) + termContribution(terms[t], k, n);
-    StandardNormalSampler rng(seed + 5000);
-    const double phi = std::exp(-in.reference.grid.bin_s / 1200.0);
-    for (int c = 3; c < 6; ++c) {
-      double b = rng.next();
-      for (int i = 0; i < n; ++i) {
-        b = phi * b + std::sqrt(1.0 - phi * phi) * rng.next();
-        r(i, c) += 3e-2 * b;
-      }
-    }
+    addGaussMarkovWander(&r, kAccelWander, in.reference.grid.bin_s, 1200.0, seed + 5000);
     const TermFit gls = fitTerms(r, terms, {t}, opt).selected.at(0);
     const TermFit wls = fitTerms(r, terms, {t}, white).selected.at(0);
     for (int a = 0; a < 2; ++a) {
@@ -613,10 +623,7 @@ TEST(MismatchSelection, FastTermSigmaIsCalibratedUnderBiasWander) {
 // each fold's rows Haar-weighted like the fit, it is claimed in 10 of 10 records (6 of 10 with the
 // AR(1) metric); on the wander alone nothing is.
 TEST(MismatchSelection, CrossValidationInTheGlsMetricUnderBiasWander) {
-  Motion m = carMotion(13);
-  m.waves[3].push_back({1.0, 2.0 * M_PI / 1100.0, 0.3});
-  m.waves[4].push_back({0.8, 2.0 * M_PI / 700.0, 1.1});
-  const RegressorInputs in = syntheticInputs(m, 900.0, 0.0);
+  const RegressorInputs in = syntheticInputs(slowDriveMotion(), 900.0, 0.0);
   const std::vector<CandidateTerm> terms = buildCandidateLibrary(in);
   const int n = in.reference.size();
   SelectionOptions opt;
@@ -625,15 +632,7 @@ TEST(MismatchSelection, CrossValidationInTheGlsMetricUnderBiasWander) {
   ASSERT_GE(t, 0);
   const auto wander = [&](uint64_t seed) {
     Eigen::MatrixXd r = ar1Noise(n, 0.3, seed);
-    StandardNormalSampler rng(seed + 5000);
-    const double phi = std::exp(-in.reference.grid.bin_s / 1200.0);
-    for (int c = 3; c < 6; ++c) {
-      double b = rng.next();
-      for (int i = 0; i < n; ++i) {
-        b = phi * b + std::sqrt(1.0 - phi * phi) * rng.next();
-        r(i, c) += 3e-2 * b;
-      }
-    }
+    addGaussMarkovWander(&r, kAccelWander, in.reference.grid.bin_s, 1200.0, seed + 5000);
     return r;
   };
   double limit = 0.0;
