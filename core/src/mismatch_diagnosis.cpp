@@ -715,10 +715,10 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
           // its time scales; the joint fit whitens AR(1) only. A speed-driven vibration level
           // next to a 1-ms offset came out 5-16 sigma off from the joint fit (within 2 sigma
           // from the linear one). So the time offset is the joint fit's, the rest stays linear.
+          const auto joint_to = std::find_if(jf.terms.begin(), jf.terms.end(),
+                                             [&](const TermFit& f) { return f.term == to_idx; });
           for (TermFit& tf : sel.selected)
-            if (tf.term == to_idx)
-              for (const TermFit& jt : jf.terms)
-                if (jt.term == to_idx) tf = jt;
+            if (tf.term == to_idx && joint_to != jf.terms.end()) tf = *joint_to;
           tau = jf.tau_s;
           pass_notes.push_back(jf.summary + "; at the pivot: the other terms keep their GLS fit");
         } else if (jf.converged) {

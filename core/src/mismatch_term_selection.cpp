@@ -65,6 +65,12 @@ double whitenedRow(const Eigen::VectorXd& z, int rb, int i, double rho, double w
                 : w * (z(t) - rho * z(t - 1));
 }
 
+// First row of CV fold f of `folds` contiguous folds over `len` rows (fold f is
+// [foldStart(f), foldStart(f + 1))): the one partition the white and the GLS fold grams share.
+int foldStart(int len, int f, int folds) {
+  return static_cast<int>(static_cast<long>(len) * f / folds);
+}
+
 GramSet accumulate(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
                    const ColumnMap& map, const Eigen::Matrix<double, 6, 1>& rho,
                    const Eigen::Matrix<double, 6, 1>& weight, int rb, int re, int folds) {
@@ -92,8 +98,7 @@ GramSet accumulate(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& t
       for (int j = 0; j < m; ++j) X(i, j) = whitenedRow(*src[j], rb, i, rho(c), weight(c));
     }
     for (int f = 0; f < folds; ++f) {
-      const int a = static_cast<int>(static_cast<long>(len) * f / folds);
-      const int b = static_cast<int>(static_cast<long>(len) * (f + 1) / folds);
+      const int a = foldStart(len, f, folds), b = foldStart(len, f + 1, folds);
       const auto Xf = X.middleRows(a, b - a);
       const auto yf = y.segment(a, b - a);
       const Eigen::MatrixXd Gf = Xf.transpose() * Xf;
@@ -399,8 +404,7 @@ class Selector {
         const int folds = static_cast<int>(gram_.G.size());
         cl.fold_gram.resize(folds);
         for (int f = 0; f < folds; ++f) {
-          const int a = static_cast<int>(static_cast<long>(len) * f / folds);
-          const int b = static_cast<int>(static_cast<long>(len) * (f + 1) / folds);
+          const int a = foldStart(len, f, folds), b = foldStart(len, f + 1, folds);
           for (const Eigen::MatrixXd& D : haarCoefficients(Xy.middleRows(a, b - a)))
             cl.fold_gram[f].push_back(D.transpose() * D);
         }
