@@ -65,7 +65,8 @@ std::string vec(const Eigen::Vector3d& v, double scale, const char* f) {
                      fmt::format(fmt::runtime(f), v[1] * scale), fmt::format(fmt::runtime(f), v[2] * scale));
 }
 
-void writeSensorSection(std::ofstream& md, const char* title, const SensorCalibration& s, bool gyro) {
+void writeSensorSection(std::ofstream& md, const char* title, const SensorCalibration& s, bool gyro,
+                        const Eigen::Vector3d& pose_drift, double drift_window_s, double drift_separation_s) {
   const double bs = gyro ? units::kRadToDeg * 3600.0 : 1.0 / units::kMilliGToMPerSec2;
   const char* bu = gyro ? "deg/h" : "mg";
   md << "### " << title << " (" << s.method << ")\n\n";
@@ -83,7 +84,10 @@ void writeSensorSection(std::ofstream& md, const char* title, const SensorCalibr
        << vec(s.allan.rate_random_walk, 1.0, "{:.3e}") << (gyro ? " rad/s/sqrt(s)" : " m/s^2/sqrt(s)") << "\n\n";
   }
   if (s.has_fit) {
-    md << "Fitting functions (Eq. 21, SI, lowest order first; degree by cross-validation):\n\n";
+    md << "Fitting functions (Eq. 21, SI, lowest order first; degree by backward chi-square/F test at 1 %):\n\n";
+    md << "Point sigmas include a pose-to-pose drift of " << vec(pose_drift, bs, "{:.3f}") << " " << bu
+       << fmt::format(" (static record, {:.0f}-s windows {:.0f} s apart; 0 when unknown)\n\n", drift_window_s,
+                      drift_separation_s);
     md << "| axis | degree | coefficients | 1-sigma | CV rms | points |\n|---|---|---|---|---|---|\n";
     for (int a = 0; a < 3; ++a) {
       const PolynomialFit& f = s.fit[a];
@@ -112,17 +116,18 @@ void writeAllanCsv(const std::string& path, const AllanCurve& c, const AllanFit&
   }
 }
 
-void writeFitCsv(const std::string& path, const std::vector<LinearObservation>& obs, const SensorCalibration& s) {
+void writeFitCsv(const std::string& path, const std::vector<LinearObservation>& obs, const SensorCalibration& s,
+                 const Eigen::Vector3d& pose_drift) {
   std::ofstream o(path);
-  o << "axis,x_true,y_measured_own_axis,sigma,fit,linear_M\n";
+  o << "axis,x_true,y_measured_own_axis,sigma,sigma_with_drift,fit,linear_M\n";
   for (int a = 0; a < 3; ++a)
     for (const auto& ob : obs) {
       double y = ob.measured[a];
       for (int j = 0; j < 3; ++j)
         if (j != a) y -= s.M(a, j) * ob.true_value[j];
       const double fit = s.has_fit ? s.fit[a].evaluate(ob.true_value[a]) : y;
-      o << fmt::format("{},{:.10e},{:.10e},{:.4e},{:.10e},{:.10e}\n", a, ob.true_value[a], y, ob.sigma[a], fit,
-                       s.M(a, a) * ob.true_value[a] + s.bias[a]);
+      o << fmt::format("{},{:.10e},{:.10e},{:.4e},{:.4e},{:.10e},{:.10e}\n", a, ob.true_value[a], y, ob.sigma[a],
+                       std::hypot(ob.sigma[a], pose_drift[a]), fit, s.M(a, a) * ob.true_value[a] + s.bias[a]);
     }
 }
 
@@ -140,8 +145,8 @@ void runLab(const CalibArgs& a) {
     writeAllanCsv(a.out + "/allan_gyro.csv", rep.gyro_allan, rep.gyro_allan_fit);
     writeAllanCsv(a.out + "/allan_accel.csv", rep.accel_allan, rep.accel_allan_fit);
   }
-  if (rep.has_accel) writeFitCsv(a.out + "/fit_accel.csv", rep.accel_obs, rep.result.accel);
-  if (rep.has_gyro_lsq) writeFitCsv(a.out + "/fit_gyro.csv", rep.gyro_obs, rep.result.gyro);
+  if (rep.has_accel) writeFitCsv(a.out + "/fit_accel.csv", rep.accel_obs, rep.result.accel, rep.accel_pose_drift);
+  if (rep.has_gyro_lsq) writeFitCsv(a.out + "/fit_gyro.csv", rep.gyro_obs, rep.result.gyro, rep.gyro_pose_drift);
   if (!rep.norm_checks.empty()) {
     std::ofstream o(a.out + "/pose_norms.csv");
     o << "pose,raw_norm,calibrated_norm,gravity\n";
@@ -164,8 +169,10 @@ void runLab(const CalibArgs& a) {
      << data.rate_runs.size() << ", static record " << (data.has_static ? "yes" : "no") << ".\n\n";
   for (const auto& n : rep.notes) md << "- note: " << n << "\n";
   md << "\n## Results (calibration.yaml)\n\n";
-  writeSensorSection(md, "Accelerometer", rep.result.accel, false);
-  writeSensorSection(md, "Gyro", rep.result.gyro, true);
+  writeSensorSection(md, "Accelerometer", rep.result.accel, false, rep.accel_pose_drift, rep.pose_drift_window_s,
+                     rep.pose_drift_separation_s);
+  writeSensorSection(md, "Gyro", rep.result.gyro, true, rep.gyro_pose_drift, rep.pose_drift_window_s,
+                     rep.pose_drift_separation_s);
   md << "## Checks\n\n";
   if (rep.has_accel) {
     md << fmt::format("- six-position LS: chi2 {:.3g}, dof {}, covariance scale {:.3g}, residual rms {:.3e} m/s^2\n",
@@ -257,8 +264,8 @@ void runMultiPosition(const CalibArgs& a) {
   md << fmt::format("- distinct attitudes: {}\n", r.distinct_attitudes);
   for (const auto& n : r.notes) md << "- note: " << n << "\n";
   md << "\n";
-  writeSensorSection(md, "Accelerometer", res.accel, false);
-  writeSensorSection(md, "Gyro", res.gyro, true);
+  writeSensorSection(md, "Accelerometer", res.accel, false, Eigen::Vector3d::Zero(), 0.0, 0.0);
+  writeSensorSection(md, "Gyro", res.gyro, true, Eigen::Vector3d::Zero(), 0.0, 0.0);
   {
     std::ofstream o2(a.out + "/static_intervals.csv");
     o2 << "index,t_begin_s,t_end_s,samples\n";

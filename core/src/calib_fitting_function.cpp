@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "graftnav/core/calibration/fitting_function.h"
+#include "graftnav/core/distributions.h"
 
 namespace graftnav {
 namespace {
@@ -72,6 +73,16 @@ void checkPoints(const std::vector<FitPoint>& pts, const std::string& name) {
       throw std::invalid_argument("fitPolynomial: " + name + ": a point is not finite or has sigma <= 0");
 }
 
+// p-value of the top coefficient of degree d: the chi-square drop it buys against chi2(1) when the
+// residuals scatter no more than the point sigmas say (reduced chi-square <= 1), otherwise the
+// nested F-test, which scales by the scatter left at degree d.
+double degreeStepPValue(double chi2_lower, double chi2_d, int dof) {
+  const double drop = std::max(0.0, chi2_lower - chi2_d);
+  const double reduced = chi2_d / dof;
+  if (reduced <= 1.0) return std::erfc(std::sqrt(0.5 * drop));
+  return fisherUpperTail(drop / reduced, 1.0, dof);
+}
+
 }  // namespace
 
 void PolynomialFitOptions::validate() const {
@@ -80,8 +91,9 @@ void PolynomialFitOptions::validate() const {
                                 " must be in [1, 4]");
   if (folds < 2)
     throw std::invalid_argument("PolynomialFitOptions: folds = " + std::to_string(folds) + " must be >= 2");
-  if (!(cv_tolerance >= 0.0))
-    throw std::invalid_argument("PolynomialFitOptions: cv_tolerance must be >= 0");
+  if (!(degree_alpha > 0.0 && degree_alpha < 1.0))
+    throw std::invalid_argument("PolynomialFitOptions: degree_alpha = " + std::to_string(degree_alpha) +
+                                " must be in (0, 1)");
 }
 
 PolynomialFit fitPolynomial(const std::vector<FitPoint>& pts, int degree) {
@@ -105,74 +117,58 @@ PolynomialFit fitPolynomial(const std::vector<FitPoint>& pts, int degree) {
   return f;
 }
 
-PolynomialFit fitPolynomialCV(const std::vector<FitPoint>& pts_in, const PolynomialFitOptions& opt,
-                              const std::string& name) {
+PolynomialFit fitPolynomialSelectDegree(const std::vector<FitPoint>& pts_in,
+                                        const PolynomialFitOptions& opt, const std::string& name) {
   opt.validate();
   checkPoints(pts_in, name);
   if (pts_in.size() < 3 || distinctX(pts_in) < 2)
-    throw std::invalid_argument("fitPolynomialCV: " + name + ": need >= 3 points with >= 2 distinct x, got " +
+    throw std::invalid_argument("fitPolynomialSelectDegree: " + name +
+                                ": need >= 3 points with >= 2 distinct x, got " +
                                 std::to_string(pts_in.size()) + " points");
   std::vector<FitPoint> pts = pts_in;
   std::stable_sort(pts.begin(), pts.end(), [](const FitPoint& a, const FitPoint& b) { return a.x < b.x; });
   const int n = static_cast<int>(pts.size());
-  // Few points: leave-one-out (k-fold with 2-point folds can leave a training set without spread).
-  const int folds = n <= 2 * opt.folds ? n : opt.folds;
-  std::vector<std::vector<FitPoint>> train(folds), test(folds);
-  for (int i = 0; i < n; ++i)
-    for (int f = 0; f < folds; ++f) (i % folds == f ? test[f] : train[f]).push_back(pts[i]);
   // Candidate degrees: at most min(max_degree, points - 2, distinct x - 2), i.e. at least one
-  // spare support value, so the polynomial never just interpolates the cluster means. All
-  // candidates are scored on the same folds: those whose training set can fit the largest
-  // candidate; when these cover less than half of the points the largest candidate is dropped.
-  const double range = xRange(pts);
-  int max_deg = std::max(1, std::min(opt.max_degree, std::min(n - 2, distinctX(pts) - 2)));
-  std::vector<int> use;
-  for (; max_deg >= 1; --max_deg) {
-    use.clear();
-    int covered = 0;
-    for (int f = 0; f < folds; ++f)
-      if (distinctX(train[f], range) >= max_deg + 1 && static_cast<int>(train[f].size()) >= max_deg + 2) {
-        use.push_back(f);
-        covered += static_cast<int>(test[f].size());
-      }
-    if (covered * 2 >= n || max_deg == 1) break;
+  // spare support value, so the polynomial never just interpolates the cluster means.
+  const int max_deg = std::max(1, std::min(opt.max_degree, std::min(n - 2, distinctX(pts) - 2)));
+  // Backward elimination: the top coefficient of degree d stays when the drop in weighted
+  // chi-square it buys is significant at `degree_alpha` (degreeStepPValue).
+  int chosen = max_deg;
+  std::vector<double> chi2(max_deg + 1, 0.0);
+  for (int d = 1; d <= max_deg; ++d) chi2[d] = solve(pts, d).chi2;
+  for (; chosen > 1; --chosen) {
+    const int dof = n - chosen - 1;
+    if (degreeStepPValue(chi2[chosen - 1], chi2[chosen], dof) < opt.degree_alpha) break;
   }
-  std::vector<double> score(max_deg + 1, INFINITY), mse(max_deg + 1, NAN);
-  for (int d = 1; d <= max_deg; ++d) {
-    double s = 0.0, m = 0.0;
-    int cnt = 0;
-    for (int f : use) {
-      const WeightedLsq w = solve(train[f], d);
-      for (const auto& q : test[f]) {
-        double y = 0.0, v = 1.0;
-        for (int k = 0; k <= d; ++k, v *= q.x) y += w.coeffs[k] * v;
-        s += std::pow((q.y - y) / q.sigma, 2);
-        m += std::pow(q.y - y, 2);
-        ++cnt;
-      }
-    }
-    if (cnt > 0) {
-      score[d] = s / cnt;
-      mse[d] = m / cnt;
-    }
-  }
-  double best = INFINITY;
-  for (int d = 1; d <= max_deg; ++d) best = std::min(best, score[d]);
-  int chosen = 1;
-  for (int d = 1; d <= max_deg; ++d)
-    if (std::isfinite(score[d]) && score[d] <= best * (1.0 + opt.cv_tolerance)) {
-      chosen = d;
-      break;
-    }
   PolynomialFit fit = fitPolynomial(pts, chosen);
-  fit.cv_rms = std::sqrt(mse[chosen]);  // NaN when no fold could validate (e.g. 2 distinct x)
+  // Cross-validated prediction RMS of the chosen degree, reported only (NaN when no fold's
+  // training set can fit it). Points sorted by x and dealt to the folds in turn; leave-one-out
+  // with few points (2-point folds can leave a training set without spread).
+  const int folds = n <= 2 * opt.folds ? n : opt.folds;
+  const double range = xRange(pts);
+  double ss = 0.0;
+  int cnt = 0;
+  for (int f = 0; f < folds; ++f) {
+    std::vector<FitPoint> train, test;
+    for (int i = 0; i < n; ++i) (i % folds == f ? test : train).push_back(pts[i]);
+    if (distinctX(train, range) < chosen + 1 || static_cast<int>(train.size()) < chosen + 2) continue;
+    const WeightedLsq w = solve(train, chosen);
+    for (const auto& q : test) {
+      double y = 0.0, v = 1.0;
+      for (int k = 0; k <= chosen; ++k, v *= q.x) y += w.coeffs[k] * v;
+      ss += std::pow(q.y - y, 2);
+      ++cnt;
+    }
+  }
+  fit.cv_rms = cnt > 0 ? std::sqrt(ss / cnt) : NAN;
   return fit;
 }
 
 std::array<PolynomialFit, 3> fitAxisPolynomials(const std::vector<LinearObservation>& obs,
                                                 const Eigen::Matrix3d& M,
                                                 const PolynomialFitOptions& options,
-                                                const std::string& sensor) {
+                                                const std::string& sensor,
+                                                const Eigen::Vector3d& pose_drift_sigma) {
   std::array<PolynomialFit, 3> out;
   const char* axes[3] = {"x", "y", "z"};
   for (int i = 0; i < 3; ++i) {
@@ -181,9 +177,9 @@ std::array<PolynomialFit, 3> fitAxisPolynomials(const std::vector<LinearObservat
       double y = o.measured[i];
       for (int j = 0; j < 3; ++j)
         if (j != i) y -= M(i, j) * o.true_value[j];
-      pts.push_back({o.true_value[i], y, o.sigma[i]});
+      pts.push_back({o.true_value[i], y, std::hypot(o.sigma[i], pose_drift_sigma[i])});
     }
-    out[i] = fitPolynomialCV(pts, options, sensor + "." + axes[i]);
+    out[i] = fitPolynomialSelectDegree(pts, options, sensor + "." + axes[i]);
   }
   return out;
 }

@@ -110,6 +110,20 @@ TEST(Evaluation, ChiSquareQuantilesMatchTables) {
   EXPECT_NEAR(chiSquareQuantile(0.025, 900), 818.0, 1.5);
 }
 
+TEST(Distributions, FisherUpperTailMatchesTables) {
+  // Critical values from F tables: P(F > f_crit) = alpha.
+  EXPECT_NEAR(fisherUpperTail(21.198, 1, 4), 0.01, 2e-5);
+  EXPECT_NEAR(fisherUpperTail(4.9646, 1, 10), 0.05, 2e-5);
+  EXPECT_NEAR(fisherUpperTail(3.0984, 3, 20), 0.05, 2e-5);
+  EXPECT_NEAR(fisherUpperTail(4052.2, 1, 1), 0.01, 2e-5);
+  // F(1, nu) = t_nu^2, and F(2, 2) has the closed form 1 / (1 + f).
+  EXPECT_NEAR(fisherUpperTail(1.96 * 1.96, 1, 1e6), 0.05, 1e-4);
+  EXPECT_NEAR(fisherUpperTail(3.0, 2, 2), 0.25, 1e-12);
+  EXPECT_EQ(fisherUpperTail(0.0, 1, 4), 1.0);
+  EXPECT_EQ(fisherUpperTail(INFINITY, 1, 4), 0.0);
+  EXPECT_THROW(fisherUpperTail(1.0, 0.0, 4), std::invalid_argument);
+}
+
 TEST(Evaluation, InterpolationIsLinearAndSlerps) {
   NavSeries s(2);
   s[0].t_s = 0;

@@ -8,6 +8,7 @@
 #include <limits>
 #include <vector>
 
+#include "graftnav/core/distributions.h"
 #include "graftnav/core/nav_solution.h"
 #include "graftnav/core/outage_schedule.h"
 #include "graftnav/core/types.h"
@@ -83,10 +84,5 @@ Evaluation evaluateSolution(const NavSolution& solution, const NavSeries& refere
 
 // Position error of `sol` relative to `ref` in the local NED frame of `ref` (m), first order.
 Eigen::Vector3d positionErrorNed(const Geodetic& sol, const Geodetic& ref);
-
-// Quantile of the chi-square distribution (bisection on the regularized incomplete gamma).
-double chiSquareQuantile(double probability, double dof);
-// Quantile of the standard normal distribution.
-double normalQuantile(double probability);
 
 }  // namespace graftnav

@@ -1,21 +1,27 @@
 #pragma once
 // Real-time fitting functions (seed Eq. 21): per axis a polynomial y = p(x) from the theoretical
-// output x to the measured output y, coefficients lowest order first, degree chosen by k-fold
-// cross-validation (not fixed).
+// output x to the measured output y, coefficients lowest order first, degree chosen by a test of
+// significance (not fixed).
 //
 // Points: for axis i every lab observation (pose or rate run) gives x = true_i and
 // y = measured_i - sum_{j != i} M_ij true_j, i.e. the cross-axis part carried by the calibration
 // matrix M is removed first (the grafting step adds it back from M), so p_i sees only its own
 // axis. Fit: weighted least squares (weights 1/sigma^2); coefficient covariance
 // (X^T W X)^-1 times max(1, reduced chi-square).
-// Cross-validation: points sorted by x and dealt to `folds` folds in turn (deterministic;
-// leave-one-out when there are at most 2 * folds points); score = mean squared whitened
-// prediction error, every candidate degree on the same folds (those whose training set can fit
-// the largest candidate); the chosen degree is the lowest whose score is within
-// (1 + cv_tolerance) of the best. Candidate degrees go up to min(max_degree, points - 2,
-// distinct x - 2): one spare support value, so six-position data (x = -g, 0, +g) gets a line, a
-// rate table with several rates can get up to a cubic (x values closer than 1e-3 of the range
-// count as one). cv_rms is NaN when no fold can be validated.
+// Point sigmas: the pose's sigma-of-mean (white noise) and, in quadrature, the drift of a pose
+// mean against the session's other poses (pose_drift.h) when the lab has a static record.
+// Degree: candidates go up to min(max_degree, points - 2, distinct x - 2): one spare support
+// value, so six-position data (x = -g, 0, +g) gets a line, a tilt pose adds a quadratic, a rate
+// table with several rates can get up to a cubic (x values closer than 1e-3 of the range count as
+// one). From the largest candidate down, the top coefficient of degree d is dropped while the
+// chi-square drop it buys, chi2_{d-1} - chi2_d, is not significant at degree_alpha: against
+// chi2(1) when the residuals scatter no more than the sigmas say (chi2_d / (n - d - 1) <= 1),
+// otherwise by the nested F-test F = (chi2_{d-1} - chi2_d) / (chi2_d / (n - d - 1)), which scales
+// by the scatter the sigmas leave out. Leave-one-out cross-validation, used before, missed a
+// 2.4-mg accelerometer quadratic (docs/calibration.md): with one point at each end of the range,
+// leaving it out makes every quadratic an extrapolation.
+// cv_rms: k-fold (leave-one-out for at most 2 * folds points) prediction RMS of the chosen degree,
+// reported only; NaN when no fold's training set can fit it.
 
 #include <array>
 #include <string>
@@ -32,23 +38,25 @@ struct FitPoint {
 
 struct PolynomialFitOptions {
   int max_degree = 3;       // <= 4
-  int folds = 5;            // k of k-fold; capped at the number of points (leave-one-out)
-  double cv_tolerance = 0.05;
+  int folds = 5;            // k of k-fold for cv_rms; leave-one-out for at most 2 * folds points
+  double degree_alpha = 0.01;  // false-alarm probability of each degree step (0, 1)
   void validate() const;    // throws std::invalid_argument naming the field
 };
 
 // Weighted polynomial fit of a fixed degree (no cross-validation).
 PolynomialFit fitPolynomial(const std::vector<FitPoint>& points, int degree);
 
-// Cross-validated degree. Throws std::invalid_argument (naming `name`) with fewer than 3 points or
-// fewer than 2 distinct x values.
-PolynomialFit fitPolynomialCV(const std::vector<FitPoint>& points, const PolynomialFitOptions& options,
-                              const std::string& name);
+// Degree by the backward F-test (above). Throws std::invalid_argument (naming `name`) with fewer
+// than 3 points or fewer than 2 distinct x values.
+PolynomialFit fitPolynomialSelectDegree(const std::vector<FitPoint>& points,
+                                        const PolynomialFitOptions& options, const std::string& name);
 
-// Builds the per-axis points from observations and M (see above) and fits each axis.
-std::array<PolynomialFit, 3> fitAxisPolynomials(const std::vector<LinearObservation>& obs,
-                                                const Eigen::Matrix3d& M,
-                                                const PolynomialFitOptions& options,
-                                                const std::string& sensor_name);
+// Builds the per-axis points from observations and M (see above) and fits each axis;
+// pose_drift_sigma (per axis, the unit of the observations) is added to every point's sigma in
+// quadrature.
+std::array<PolynomialFit, 3> fitAxisPolynomials(
+    const std::vector<LinearObservation>& obs, const Eigen::Matrix3d& M,
+    const PolynomialFitOptions& options, const std::string& sensor_name,
+    const Eigen::Vector3d& pose_drift_sigma = Eigen::Vector3d::Zero());
 
 }  // namespace graftnav

@@ -50,6 +50,10 @@ struct LabCalibrationReport {
   TurnTableEstimate eq10;
   bool has_basic = false;
   BasicErrorExtraction basic;
+  // Pose-to-pose drift added to the fitting-function points (pose_drift.h; zero when unknown).
+  double pose_drift_window_s = 0.0, pose_drift_separation_s = 0.0;
+  Eigen::Vector3d accel_pose_drift = Eigen::Vector3d::Zero();  // m/s^2
+  Eigen::Vector3d gyro_pose_drift = Eigen::Vector3d::Zero();   // rad/s
   bool has_allan = false;
   AllanCurve gyro_allan, accel_allan;
   AllanFit gyro_allan_fit, accel_allan_fit;
