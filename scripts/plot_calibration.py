@@ -27,13 +27,15 @@ def plot_fit(path_csv, path_png, gyro):
     unit = "deg/s" if gyro else "m/s^2"
     fig, axes = plt.subplots(2, 3, figsize=(11, 6), sharex="col")
     for a in range(3):
-        pts = sorted((float(q["x_true"]), float(q["y_measured_own_axis"]), float(q["fit"]), float(q["linear_M"]))
+        pts = sorted((float(q["x_true"]), float(q["y_measured_own_axis"]), float(q["fit"]), float(q["linear_M"]),
+                      float(q.get("sigma_with_drift") or q["sigma"]))
                      for q in r if int(q["axis"]) == a)
         x = [p[0] * xs_scale for p in pts]
         axes[0][a].plot(x, [p[1] * xs_scale for p in pts], "o", ms=4, label="measured (cross-axis removed)")
         axes[0][a].plot(x, [p[2] * xs_scale for p in pts], "-", label="fitting function")
         axes[0][a].set_title(f"{'gyro' if gyro else 'accel'} {'xyz'[a]}")
-        axes[1][a].plot(x, [(p[1] - p[2]) * xs_scale for p in pts], "o", ms=4, label="meas - fit")
+        axes[1][a].errorbar(x, [(p[1] - p[2]) * xs_scale for p in pts], yerr=[p[4] * xs_scale for p in pts],
+                            fmt="o", ms=4, capsize=2, label="meas - fit (1 sigma incl. pose drift)")
         axes[1][a].plot(x, [(p[1] - p[3]) * xs_scale for p in pts], "x", ms=4, label="meas - (M_ii x + b)")
         axes[1][a].set_xlabel(f"theoretical ({unit})")
         axes[1][a].grid(True, alpha=0.3)
