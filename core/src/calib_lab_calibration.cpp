@@ -21,8 +21,10 @@ void estimatePoseDrift(const LabData& s, LabCalibrationReport& rep) {
   if (s.six_position.empty()) return;
   std::vector<double> durations;
   double span_s = 0.0;
-  for (const auto& p : s.six_position) durations.push_back(p.stats.duration_s);
-  for (const auto& p : s.six_position) span_s += p.stats.duration_s;
+  for (const auto& p : s.six_position) {
+    durations.push_back(p.stats.duration_s);
+    span_s += p.stats.duration_s;
+  }
   for (const auto& p : s.tilts) span_s += p.stats.duration_s;
   std::nth_element(durations.begin(), durations.begin() + durations.size() / 2, durations.end());
   rep.pose_drift_window_s = durations[durations.size() / 2];
