@@ -66,7 +66,7 @@ std::string vec(const Eigen::Vector3d& v, double scale, const char* f) {
 }
 
 void writeSensorSection(std::ofstream& md, const char* title, const SensorCalibration& s, bool gyro,
-                        const Eigen::Vector3d& pose_drift, double drift_window_s, double drift_separation_s) {
+                        const PoseDriftEstimate& pose_drift, double drift_window_s, double drift_separation_s) {
   const double bs = gyro ? units::kRadToDeg * 3600.0 : 1.0 / units::kMilliGToMPerSec2;
   const char* bu = gyro ? "deg/h" : "mg";
   md << "### " << title << " (" << s.method << ")\n\n";
@@ -85,9 +85,10 @@ void writeSensorSection(std::ofstream& md, const char* title, const SensorCalibr
   }
   if (s.has_fit) {
     md << "Fitting functions (Eq. 21, SI, lowest order first; degree by backward chi-square/F test at 1 %):\n\n";
-    md << "Point sigmas include a pose-to-pose drift of " << vec(pose_drift, bs, "{:.3f}") << " " << bu
-       << fmt::format(" (static record, {:.0f}-s windows {:.0f} s apart; 0 when unknown)\n\n", drift_window_s,
-                      drift_separation_s);
+    md << "Point sigmas include a pose-to-pose drift of " << vec(pose_drift.sigma, bs, "{:.3f}") << " " << bu
+       << fmt::format(" (static record, {:.0f}-s windows {:.0f} s apart, RMS over the axes; 0 when unknown), "
+                      "its square known to {:.1f} degrees of freedom (the degree test's F reference)\n\n",
+                      drift_window_s, drift_separation_s, pose_drift.dof[0]);
     md << "| axis | degree | coefficients | 1-sigma | CV rms | points |\n|---|---|---|---|---|---|\n";
     for (int a = 0; a < 3; ++a) {
       const PolynomialFit& f = s.fit[a];
@@ -117,7 +118,7 @@ void writeAllanCsv(const std::string& path, const AllanCurve& c, const AllanFit&
 }
 
 void writeFitCsv(const std::string& path, const std::vector<LinearObservation>& obs, const SensorCalibration& s,
-                 const Eigen::Vector3d& pose_drift) {
+                 const PoseDriftEstimate& pose_drift) {
   std::ofstream o(path);
   o << "axis,x_true,y_measured_own_axis,sigma,sigma_with_drift,fit,linear_M\n";
   for (int a = 0; a < 3; ++a)
@@ -127,7 +128,7 @@ void writeFitCsv(const std::string& path, const std::vector<LinearObservation>& 
         if (j != a) y -= s.M(a, j) * ob.true_value[j];
       const double fit = s.has_fit ? s.fit[a].evaluate(ob.true_value[a]) : y;
       o << fmt::format("{},{:.10e},{:.10e},{:.4e},{:.4e},{:.10e},{:.10e}\n", a, ob.true_value[a], y, ob.sigma[a],
-                       std::hypot(ob.sigma[a], pose_drift[a]), fit, s.M(a, a) * ob.true_value[a] + s.bias[a]);
+                       std::hypot(ob.sigma[a], pose_drift.sigma[a]), fit, s.M(a, a) * ob.true_value[a] + s.bias[a]);
     }
 }
 
@@ -264,8 +265,8 @@ void runMultiPosition(const CalibArgs& a) {
   md << fmt::format("- distinct attitudes: {}\n", r.distinct_attitudes);
   for (const auto& n : r.notes) md << "- note: " << n << "\n";
   md << "\n";
-  writeSensorSection(md, "Accelerometer", res.accel, false, Eigen::Vector3d::Zero(), 0.0, 0.0);
-  writeSensorSection(md, "Gyro", res.gyro, true, Eigen::Vector3d::Zero(), 0.0, 0.0);
+  writeSensorSection(md, "Accelerometer", res.accel, false, PoseDriftEstimate{}, 0.0, 0.0);
+  writeSensorSection(md, "Gyro", res.gyro, true, PoseDriftEstimate{}, 0.0, 0.0);
   {
     std::ofstream o2(a.out + "/static_intervals.csv");
     o2 << "index,t_begin_s,t_end_s,samples\n";

@@ -69,18 +69,21 @@ WeightedLsq solve(const std::vector<FitPoint>& pts, int degree) {
 
 void checkPoints(const std::vector<FitPoint>& pts, const std::string& name) {
   for (const auto& q : pts)
-    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !(q.sigma > 0.0))
-      throw std::invalid_argument("fitPolynomial: " + name + ": a point is not finite or has sigma <= 0");
+    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !(q.sigma > 0.0) || !(q.sigma_dof > 0.0))
+      throw std::invalid_argument("fitPolynomial: " + name +
+                                  ": a point is not finite or has sigma <= 0 or sigma_dof <= 0");
 }
 
 // p-value of the top coefficient of degree d: the chi-square drop it buys against chi2(1) when the
-// residuals scatter no more than the point sigmas say (reduced chi-square <= 1), otherwise the
-// nested F-test, which scales by the scatter left at degree d.
-double degreeStepPValue(double chi2_lower, double chi2_d, int dof) {
+// residuals scatter no more than the point sigmas say (reduced chi-square <= 1) and the sigmas are
+// known, against F(1, sigma_dof + dof) when their scale is estimated to sigma_dof degrees of
+// freedom; otherwise the nested F-test, which scales by the scatter left at degree d.
+double degreeStepPValue(double chi2_lower, double chi2_d, int dof, double sigma_dof) {
   const double drop = std::max(0.0, chi2_lower - chi2_d);
   const double reduced = chi2_d / dof;
-  if (reduced <= 1.0) return std::erfc(std::sqrt(0.5 * drop));
-  return fisherUpperTail(drop / reduced, 1.0, dof);
+  if (reduced > 1.0) return fisherUpperTail(drop / reduced, 1.0, dof);
+  if (std::isfinite(sigma_dof)) return fisherUpperTail(drop, 1.0, sigma_dof + dof);
+  return std::erfc(std::sqrt(0.5 * drop));
 }
 
 }  // namespace
@@ -134,11 +137,13 @@ PolynomialFit fitPolynomialSelectDegree(const std::vector<FitPoint>& pts_in,
   // Backward elimination: the top coefficient of degree d stays when the drop in weighted
   // chi-square it buys is significant at `degree_alpha` (degreeStepPValue).
   int chosen = max_deg;
+  double sigma_dof = INFINITY;
+  for (const auto& q : pts) sigma_dof = std::min(sigma_dof, q.sigma_dof);
   std::vector<double> chi2(max_deg + 1, 0.0);
   for (int d = 1; d <= max_deg; ++d) chi2[d] = solve(pts, d).chi2;
   for (; chosen > 1; --chosen) {
     const int dof = n - chosen - 1;
-    if (degreeStepPValue(chi2[chosen - 1], chi2[chosen], dof) < opt.degree_alpha) break;
+    if (degreeStepPValue(chi2[chosen - 1], chi2[chosen], dof, sigma_dof) < opt.degree_alpha) break;
   }
   PolynomialFit fit = fitPolynomial(pts, chosen);
   // Cross-validated prediction RMS of the chosen degree, reported only (NaN when no fold's
@@ -168,7 +173,7 @@ std::array<PolynomialFit, 3> fitAxisPolynomials(const std::vector<LinearObservat
                                                 const Eigen::Matrix3d& M,
                                                 const PolynomialFitOptions& options,
                                                 const std::string& sensor,
-                                                const Eigen::Vector3d& pose_drift_sigma) {
+                                                const PoseDriftEstimate& pose_drift) {
   std::array<PolynomialFit, 3> out;
   const char* axes[3] = {"x", "y", "z"};
   for (int i = 0; i < 3; ++i) {
@@ -177,7 +182,12 @@ std::array<PolynomialFit, 3> fitAxisPolynomials(const std::vector<LinearObservat
       double y = o.measured[i];
       for (int j = 0; j < 3; ++j)
         if (j != i) y -= M(i, j) * o.true_value[j];
-      pts.push_back({o.true_value[i], y, std::hypot(o.sigma[i], pose_drift_sigma[i])});
+      const double drift2 = pose_drift.sigma[i] * pose_drift.sigma[i];
+      const double var = o.sigma[i] * o.sigma[i] + drift2;
+      const double dof = drift2 > 0.0 && std::isfinite(pose_drift.dof[i])
+                             ? var * var / (drift2 * drift2 / pose_drift.dof[i])
+                             : INFINITY;
+      pts.push_back({o.true_value[i], y, std::sqrt(var), dof});
     }
     out[i] = fitPolynomialSelectDegree(pts, options, sensor + "." + axes[i]);
   }

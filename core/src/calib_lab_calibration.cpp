@@ -34,18 +34,19 @@ void estimatePoseDrift(const LabData& s, LabCalibrationReport& rep) {
     return;
   }
   try {
-    rep.accel_pose_drift = poseDriftSigma(rep.basic.error, false, rep.pose_drift_window_s,
-                                          rep.pose_drift_separation_s);
-    rep.gyro_pose_drift = poseDriftSigma(rep.basic.error, true, rep.pose_drift_window_s,
-                                         rep.pose_drift_separation_s);
+    rep.accel_pose_drift = measurePoseDrift(rep.basic.error, false, rep.pose_drift_window_s,
+                                            rep.pose_drift_separation_s);
+    rep.gyro_pose_drift = measurePoseDrift(rep.basic.error, true, rep.pose_drift_window_s,
+                                           rep.pose_drift_separation_s);
   } catch (const std::invalid_argument& e) {
     rep.notes.push_back(std::string("no pose drift for the fitting functions: ") + e.what());
   }
   // A 600-s record gives each axis about a dozen window pairs one span apart, so one axis's
   // estimate can come out at half its drift (CRN null run 9301: z 0.11 mg against x, y 0.24 mg,
-  // and a false z quadratic). The three axes of one sensor share its technology: use their RMS.
-  for (Eigen::Vector3d* d : {&rep.accel_pose_drift, &rep.gyro_pose_drift})
-    d->setConstant(std::sqrt(d->squaredNorm() / 3.0));
+  // and a false z quadratic). The three axes of one sensor share its technology: use their RMS,
+  // known to about 3 x 3.85 degrees of freedom (pose_drift.h), which the degree test carries.
+  rep.accel_pose_drift = pooledOverAxes(rep.accel_pose_drift);
+  rep.gyro_pose_drift = pooledOverAxes(rep.gyro_pose_drift);
 }
 
 }  // namespace

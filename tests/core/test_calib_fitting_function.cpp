@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "graftnav/core/calibration/calibration_io.h"
@@ -130,31 +132,120 @@ TEST(CalibFittingFunction, LabQuadraticUnderPoseDriftFoundAndDriftNotTakenForCur
   EXPECT_GE(null_white, trials * 35 / 1000);
 }
 
-TEST(PoseDrift, RecoversRandomWalkBetweenWindowsAndIgnoresWhiteNoise) {
-  // Static record 3600 s at 100 Hz: white noise on every axis, random walks K = [1, 3, 0] e-4.
-  // Window means T = 30 s, dT = 90 s apart: D = K^2 (dT - T / 3) / 2.
-  const double dt = 0.01, white = 0.02;
-  const Eigen::Vector3d K(1e-4, 3e-4, 0.0);
-  std::mt19937_64 rng(7);
+// Static error record of `duration_s` at `rate_hz`: white noise per sample and a random walk
+// K [m/s^2/sqrt(s)] per axis.
+ImuSeries staticRecord(double duration_s, double rate_hz, double white, const Eigen::Vector3d& K,
+                       std::mt19937_64& rng) {
+  const double dt = 1.0 / rate_hz;
   std::normal_distribution<double> n01(0.0, 1.0);
-  ImuSeries e(360000);
+  ImuSeries e(static_cast<std::size_t>(std::lround(duration_s * rate_hz)));
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   for (std::size_t k = 0; k < e.size(); ++k) {
-    for (int a = 0; a < 3; ++a) b[a] += K[a] * std::sqrt(dt) * n01(rng);
     Eigen::Vector3d f;
-    for (int a = 0; a < 3; ++a) f[a] = b[a] + white * n01(rng);
+    for (int a = 0; a < 3; ++a) {
+      b[a] += K[a] * std::sqrt(dt) * n01(rng);
+      f[a] = b[a] + white * n01(rng);
+    }
     e[k].t_s = (k + 1) * dt;
     e[k].dt_s = dt;
     e[k].dvel_m_s = f * dt;
     e[k].dtheta_rad = 1e-3 * f * dt;
   }
-  const Eigen::Vector3d s = poseDriftSigma(e, false, 30.0, 90.0);
+  return e;
+}
+
+TEST(PoseDrift, RecoversRandomWalkBetweenWindowsAndIgnoresWhiteNoise) {
+  // Static record 3600 s at 100 Hz: white noise on every axis, random walks K = [1, 3, 0] e-4.
+  // Window means T = 30 s, dT = 90 s apart: D = K^2 (dT - T / 3) / 2.
+  const Eigen::Vector3d K(1e-4, 3e-4, 0.0);
+  std::mt19937_64 rng(7);
+  const ImuSeries e = staticRecord(3600.0, 100.0, 0.02, K, rng);
+  const PoseDriftEstimate d = measurePoseDrift(e, false, 30.0, 90.0);
   for (int a = 0; a < 2; ++a)
-    EXPECT_NEAR(s[a], K[a] * std::sqrt(0.5 * (90.0 - 10.0)), 0.2 * K[a] * std::sqrt(40.0)) << "axis " << a;
-  EXPECT_LT(s[2], 0.3 * 1e-4 * std::sqrt(40.0));  // white noise alone: (nearly) no drift
-  EXPECT_NEAR(poseDriftSigma(e, true, 30.0, 90.0)[1], 1e-3 * s[1], 1e-12);
-  EXPECT_THROW(poseDriftSigma(ImuSeries(e.begin(), e.begin() + 10000), false, 30.0, 90.0), std::invalid_argument);
-  EXPECT_THROW(poseDriftSigma(e, false, 0.0, 90.0), std::invalid_argument);
+    EXPECT_NEAR(d.sigma[a], K[a] * std::sqrt(0.5 * (90.0 - 10.0)), 0.2 * K[a] * std::sqrt(40.0)) << "axis " << a;
+  EXPECT_LT(d.sigma[2], 0.3 * 1e-4 * std::sqrt(40.0));  // white noise alone: (nearly) no drift
+  EXPECT_NEAR(measurePoseDrift(e, true, 30.0, 90.0).sigma[1], 1e-3 * d.sigma[1], 1e-12);
+  EXPECT_THROW(measurePoseDrift(ImuSeries(e.begin(), e.begin() + 10000), false, 30.0, 90.0), std::invalid_argument);
+  EXPECT_THROW(measurePoseDrift(e, false, 0.0, 90.0), std::invalid_argument);
+}
+
+TEST(PoseDrift, DegreesOfFreedomMatchTheSpreadOfTheEstimate) {
+  // A lab's 600-s static record, 30-s windows 190 s apart (m = 6, 14 overlapping pairs): the
+  // spread of sigma^2 over repeated records, as Satterthwaite's 2 mean^2 / var, against the
+  // dof the estimator states (pose_drift.h; 3.85 for a pure random walk), and the pooled dof.
+  const Eigen::Vector3d K = Eigen::Vector3d::Constant(2.3e-4);
+  std::mt19937_64 rng(11);
+  const int trials = 300;
+  double s1 = 0.0, s2 = 0.0, dof_sum = 0.0, pooled_dof_sum = 0.0;
+  for (int k = 0; k < trials; ++k) {
+    const PoseDriftEstimate d = measurePoseDrift(staticRecord(600.0, 50.0, 1e-2, K, rng), false, 30.0, 190.0);
+    for (int a = 0; a < 3; ++a) {
+      const double v = d.sigma[a] * d.sigma[a];
+      s1 += v;
+      s2 += v * v;
+      dof_sum += std::isfinite(d.dof[a]) ? d.dof[a] : 0.0;
+    }
+    pooled_dof_sum += pooledOverAxes(d).dof[0];
+  }
+  const double n = 3.0 * trials, mean = s1 / n, var = s2 / n - mean * mean;
+  const double empirical_dof = 2.0 * mean * mean / var, stated_dof = dof_sum / n;
+  EXPECT_NEAR(stated_dof, empirical_dof, 0.25 * empirical_dof) << "stated " << stated_dof;
+  EXPECT_GT(stated_dof, 2.5);
+  EXPECT_LT(stated_dof, 6.0);
+  // Pooled: three times an axis's for equal axes; less when the axes' estimates differ.
+  std::printf("sigma^2 dof: stated %.2f, empirical %.2f; pooled over 3 axes %.2f\n", stated_dof, empirical_dof,
+              pooled_dof_sum / trials);
+  EXPECT_GT(pooled_dof_sum / trials, 2.0 * stated_dof);
+  EXPECT_LE(pooled_dof_sum / trials, 3.0 * stated_dof);
+
+  PoseDriftEstimate two;
+  two.sigma = Eigen::Vector3d(1.0, 1.0, 0.0);
+  two.dof = Eigen::Vector3d(4.0, 4.0, INFINITY);
+  const PoseDriftEstimate p = pooledOverAxes(two);
+  EXPECT_NEAR(p.sigma[2], std::sqrt(2.0 / 3.0), 1e-12);
+  EXPECT_NEAR(p.dof[1], 8.0, 1e-12);  // (1 + 1)^2 / (1/4 + 1/4)
+  EXPECT_TRUE(std::isinf(pooledOverAxes(PoseDriftEstimate{}).dof[0]));
+}
+
+TEST(CalibFittingFunction, DriftEstimatedFromAShortStaticRecordCarriesItsDofIntoTheDegreeTest) {
+  // The CRN failure (docs/calibration.md): the drift in the point sigmas is itself estimated from
+  // a 600-s record, so in some labs it comes out at half its size and the drift passes for
+  // curvature. Per trial: a static record gives the pooled drift (measurePoseDrift,
+  // pooledOverAxes); three independent sessions (one per axis) go through fitAxisPolynomials with
+  // that estimate, once with its dof (F reference) and once as if it were known.
+  const double K = 2.3e-4, white = 1.8e-4;
+  std::mt19937_64 rng(20261125);
+  const int trials = 400;
+  int null_dof = 0, null_known = 0, found = 0;
+  const auto sessions = [&](double k2) {
+    std::array<DriftingSession, 3> s = {driftingSession(k2, K, 1.0, rng), driftingSession(k2, K, 1.0, rng),
+                                        driftingSession(k2, K, 1.0, rng)};
+    std::vector<LinearObservation> obs;
+    for (std::size_t i = 0; i < s[0].points.size(); ++i) {
+      const Eigen::Vector3d x = Eigen::Vector3d::Constant(s[0].points[i].x);
+      const Eigen::Vector3d y(s[0].points[i].y, s[1].points[i].y, s[2].points[i].y);
+      obs.push_back({"pose", x, y, Eigen::Vector3d::Constant(i == 6 ? white * std::sqrt(3.0) : white)});
+    }
+    return obs;
+  };
+  for (int k = 0; k < trials; ++k) {
+    const PoseDriftEstimate est = pooledOverAxes(
+        measurePoseDrift(staticRecord(600.0, 50.0, 1e-2, Eigen::Vector3d::Constant(K), rng), false, 30.0, 190.0));
+    PoseDriftEstimate as_known = est;
+    as_known.dof.setConstant(INFINITY);
+    const auto null_obs = sessions(0.0);
+    for (const auto& f : fitAxisPolynomials(null_obs, Eigen::Matrix3d::Identity(), {}, "accel", est))
+      null_dof += f.degree > 1;
+    for (const auto& f : fitAxisPolynomials(null_obs, Eigen::Matrix3d::Identity(), {}, "accel", as_known))
+      null_known += f.degree > 1;
+    for (const auto& f : fitAxisPolynomials(sessions(2.5e-4), Eigen::Matrix3d::Identity(), {}, "accel", est))
+      found += f.degree == 2;
+  }
+  std::printf("null axes with degree > 1: %d/%d with the dof, %d/%d as if known; k2 2.5e-4 found %d/%d\n",
+              null_dof, 3 * trials, null_known, 3 * trials, found, 3 * trials);
+  EXPECT_LE(null_dof, 3 * trials * 2 / 100);
+  EXPECT_GT(null_known, null_dof);  // as if known: 2.5 %, the CRN failure
+  EXPECT_GE(found, 3 * trials * 97 / 100);
 }
 
 TEST(CalibFittingFunction, BadInputs) {

@@ -10,13 +10,17 @@
 // (X^T W X)^-1 times max(1, reduced chi-square).
 // Point sigmas: the pose's sigma-of-mean (white noise) and, in quadrature, the drift of a pose
 // mean against the session's other poses (pose_drift.h) when the lab has a static record.
+// Point sigmas with an estimated part: FitPoint::sigma_dof; fitAxisPolynomials gives each point
+// (s^2 + d^2)^2 / (d^4 / dof_d) for white sigma s and drift d known to dof_d.
 // Degree: candidates go up to min(max_degree, points - 2, distinct x - 2): one spare support
 // value, so six-position data (x = -g, 0, +g) gets a line, a tilt pose adds a quadratic, a rate
 // table with several rates can get up to a cubic (x values closer than 1e-3 of the range count as
 // one). From the largest candidate down, the top coefficient of degree d is dropped while the
 // chi-square drop it buys, chi2_{d-1} - chi2_d, is not significant at degree_alpha: against
-// chi2(1) when the residuals scatter no more than the sigmas say (chi2_d / (n - d - 1) <= 1),
-// otherwise by the nested F-test F = (chi2_{d-1} - chi2_d) / (chi2_d / (n - d - 1)), which scales
+// chi2(1) when the residuals scatter no more than the sigmas say (chi2_d / (n - d - 1) <= 1) and
+// the sigmas are known; against F(1, nu + n - d - 1) when they are estimated (nu the smallest
+// sigma_dof: the sigmas' scale is then known to nu degrees of freedom from its estimate and
+// n - d - 1 from the residuals, which do not exceed it), otherwise by the nested F-test F = (chi2_{d-1} - chi2_d) / (chi2_d / (n - d - 1)), which scales
 // by the scatter the sigmas leave out. Leave-one-out cross-validation, used before, missed a
 // 2.4-mg accelerometer quadratic (docs/calibration.md): with one point at each end of the range,
 // leaving it out makes every quadratic an extrapolation.
@@ -24,16 +28,19 @@
 // reported only; NaN when no fold's training set can fit it.
 
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "graftnav/core/calibration/calibration_result.h"
+#include "graftnav/core/calibration/pose_drift.h"
 #include "graftnav/core/calibration/six_position.h"
 
 namespace graftnav {
 
 struct FitPoint {
   double x = 0.0, y = 0.0, sigma = 1.0;
+  double sigma_dof = INFINITY;  // degrees of freedom of sigma^2 when it is estimated (Satterthwaite)
 };
 
 struct PolynomialFitOptions {
@@ -52,11 +59,12 @@ PolynomialFit fitPolynomialSelectDegree(const std::vector<FitPoint>& points,
                                         const PolynomialFitOptions& options, const std::string& name);
 
 // Builds the per-axis points from observations and M (see above) and fits each axis;
-// pose_drift_sigma (per axis, the unit of the observations) is added to every point's sigma in
-// quadrature.
-std::array<PolynomialFit, 3> fitAxisPolynomials(
-    const std::vector<LinearObservation>& obs, const Eigen::Matrix3d& M,
-    const PolynomialFitOptions& options, const std::string& sensor_name,
-    const Eigen::Vector3d& pose_drift_sigma = Eigen::Vector3d::Zero());
+// pose_drift.sigma (per axis, the unit of the observations) is added to every point's sigma in
+// quadrature, with its degrees of freedom carried into sigma_dof.
+std::array<PolynomialFit, 3> fitAxisPolynomials(const std::vector<LinearObservation>& obs,
+                                                const Eigen::Matrix3d& M,
+                                                const PolynomialFitOptions& options,
+                                                const std::string& sensor_name,
+                                                const PoseDriftEstimate& pose_drift = {});
 
 }  // namespace graftnav

@@ -52,8 +52,8 @@ struct LabCalibrationReport {
   BasicErrorExtraction basic;
   // Pose-to-pose drift added to the fitting-function points (pose_drift.h; zero when unknown).
   double pose_drift_window_s = 0.0, pose_drift_separation_s = 0.0;
-  Eigen::Vector3d accel_pose_drift = Eigen::Vector3d::Zero();  // m/s^2
-  Eigen::Vector3d gyro_pose_drift = Eigen::Vector3d::Zero();   // rad/s
+  PoseDriftEstimate accel_pose_drift;  // m/s^2, pooled over the axes
+  PoseDriftEstimate gyro_pose_drift;   // rad/s, pooled over the axes
   bool has_allan = false;
   AllanCurve gyro_allan, accel_allan;
   AllanFit gyro_allan_fit, accel_allan_fit;
