@@ -176,6 +176,9 @@ std::array<PolynomialFit, 3> fitAxisPolynomials(const std::vector<LinearObservat
                                                 const PoseDriftEstimate& pose_drift) {
   std::array<PolynomialFit, 3> out;
   const char* axes[3] = {"x", "y", "z"};
+  options.validate();
+  PolynomialFitOptions per_axis = options;
+  per_axis.degree_alpha = 1.0 - std::pow(1.0 - options.degree_alpha, 1.0 / 3.0);
   for (int i = 0; i < 3; ++i) {
     std::vector<FitPoint> pts;
     for (const auto& o : obs) {
@@ -189,7 +192,7 @@ std::array<PolynomialFit, 3> fitAxisPolynomials(const std::vector<LinearObservat
                              : INFINITY;
       pts.push_back({o.true_value[i], y, std::sqrt(var), dof});
     }
-    out[i] = fitPolynomialSelectDegree(pts, options, sensor + "." + axes[i]);
+    out[i] = fitPolynomialSelectDegree(pts, per_axis, sensor + "." + axes[i]);
   }
   return out;
 }

@@ -46,7 +46,10 @@ struct FitPoint {
 struct PolynomialFitOptions {
   int max_degree = 3;       // <= 4
   int folds = 5;            // k of k-fold for cv_rms; leave-one-out for at most 2 * folds points
-  double degree_alpha = 0.01;  // false-alarm probability of each degree step (0, 1)
+  // False-alarm probability of a degree step, in (0, 1): of one axis in fitPolynomialSelectDegree,
+  // of the sensor (any of its three axes, Sidak 1 - (1 - alpha)^(1/3) per axis) in
+  // fitAxisPolynomials.
+  double degree_alpha = 0.01;
   void validate() const;    // throws std::invalid_argument naming the field
 };
 
@@ -60,7 +63,10 @@ PolynomialFit fitPolynomialSelectDegree(const std::vector<FitPoint>& points,
 
 // Builds the per-axis points from observations and M (see above) and fits each axis;
 // pose_drift.sigma (per axis, the unit of the observations) is added to every point's sigma in
-// quadrature, with its degrees of freedom carried into sigma_dof.
+// quadrature, with its degrees of freedom carried into sigma_dof. degree_alpha holds for the
+// sensor: a false curvature on any axis becomes a difference between SG#2 and the real IMU (at
+// 1 % per axis, 2 of 75 common-random-numbers runs had a lab-made accel quadratic claimed by the
+// mismatch finder as a scale factor; docs/calibration.md).
 std::array<PolynomialFit, 3> fitAxisPolynomials(const std::vector<LinearObservation>& obs,
                                                 const Eigen::Matrix3d& M,
                                                 const PolynomialFitOptions& options,
