@@ -67,7 +67,7 @@ std::string vec(const Eigen::Vector3d& v, double scale, const char* f) {
 
 void writeSensorSection(std::ofstream& md, const char* title, const SensorCalibration& s, bool gyro,
                         const PoseDriftEstimate& pose_drift, double drift_window_s, double drift_separation_s,
-                        double degree_alpha) {
+                        const PolynomialFitOptions& poly) {
   const double bs = gyro ? units::kRadToDeg * 3600.0 : 1.0 / units::kMilliGToMPerSec2;
   const char* bu = gyro ? "deg/h" : "mg";
   md << "### " << title << " (" << s.method << ")\n\n";
@@ -87,7 +87,7 @@ void writeSensorSection(std::ofstream& md, const char* title, const SensorCalibr
   if (s.has_fit) {
     md << fmt::format("Fitting functions (Eq. 21, SI, lowest order first; degree by backward chi-square/F test at "
                       "{:g} % for the sensor, {:.2g} % per axis):\n\n",
-                      100.0 * degree_alpha, 100.0 * (1.0 - std::pow(1.0 - degree_alpha, 1.0 / 3.0)));
+                      100.0 * poly.degree_alpha, 100.0 * poly.perAxisAlpha());
     md << "Point sigmas include a pose-to-pose drift of " << vec(pose_drift.sigma, bs, "{:.3f}") << " " << bu
        << fmt::format(" (static record, {:.0f}-s windows {:.0f} s apart, RMS over the axes; 0 when unknown), "
                       "its square known to {:.1f} degrees of freedom (the degree test's F reference)\n\n",
@@ -174,9 +174,9 @@ void runLab(const CalibArgs& a) {
   for (const auto& n : rep.notes) md << "- note: " << n << "\n";
   md << "\n## Results (calibration.yaml)\n\n";
   writeSensorSection(md, "Accelerometer", rep.result.accel, false, rep.accel_pose_drift, rep.pose_drift_window_s,
-                     rep.pose_drift_separation_s, co.poly.degree_alpha);
+                     rep.pose_drift_separation_s, co.poly);
   writeSensorSection(md, "Gyro", rep.result.gyro, true, rep.gyro_pose_drift, rep.pose_drift_window_s,
-                     rep.pose_drift_separation_s, co.poly.degree_alpha);
+                     rep.pose_drift_separation_s, co.poly);
   md << "## Checks\n\n";
   if (rep.has_accel) {
     md << fmt::format("- six-position LS: chi2 {:.3g}, dof {}, covariance scale {:.3g}, residual rms {:.3e} m/s^2\n",
@@ -269,9 +269,9 @@ void runMultiPosition(const CalibArgs& a) {
   for (const auto& n : r.notes) md << "- note: " << n << "\n";
   md << "\n";
   writeSensorSection(md, "Accelerometer", res.accel, false, PoseDriftEstimate{}, 0.0, 0.0,
-                     PolynomialFitOptions{}.degree_alpha);
+                     PolynomialFitOptions{});
   writeSensorSection(md, "Gyro", res.gyro, true, PoseDriftEstimate{}, 0.0, 0.0,
-                     PolynomialFitOptions{}.degree_alpha);
+                     PolynomialFitOptions{});
   {
     std::ofstream o2(a.out + "/static_intervals.csv");
     o2 << "index,t_begin_s,t_end_s,samples\n";

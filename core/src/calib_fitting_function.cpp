@@ -178,7 +178,7 @@ std::array<PolynomialFit, 3> fitAxisPolynomials(const std::vector<LinearObservat
   const char* axes[3] = {"x", "y", "z"};
   options.validate();
   PolynomialFitOptions per_axis = options;
-  per_axis.degree_alpha = 1.0 - std::pow(1.0 - options.degree_alpha, 1.0 / 3.0);
+  per_axis.degree_alpha = options.perAxisAlpha();
   for (int i = 0; i < 3; ++i) {
     std::vector<FitPoint> pts;
     for (const auto& o : obs) {

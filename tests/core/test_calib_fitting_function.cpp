@@ -263,6 +263,7 @@ TEST(CalibFittingFunction, DegreeAlphaHoldsForTheSensorNotEachAxis) {
   int any_sensor = 0, any_per_axis = 0;
   PolynomialFitOptions per_axis_1pct;
   per_axis_1pct.degree_alpha = 1.0 - std::pow(0.99, 3.0);
+  ASSERT_NEAR(per_axis_1pct.perAxisAlpha(), 0.01, 1e-12);
   for (int k = 0; k < labs; ++k) {
     std::vector<LinearObservation> obs;
     for (double x : xs)

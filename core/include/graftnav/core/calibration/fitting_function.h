@@ -20,8 +20,9 @@
 // chi2(1) when the residuals scatter no more than the sigmas say (chi2_d / (n - d - 1) <= 1) and
 // the sigmas are known; against F(1, nu + n - d - 1) when they are estimated (nu the smallest
 // sigma_dof: the sigmas' scale is then known to nu degrees of freedom from its estimate and
-// n - d - 1 from the residuals, which do not exceed it), otherwise by the nested F-test F = (chi2_{d-1} - chi2_d) / (chi2_d / (n - d - 1)), which scales
-// by the scatter the sigmas leave out. Leave-one-out cross-validation, used before, missed a
+// n - d - 1 from the residuals, which do not exceed it); otherwise by the nested F-test
+// F = (chi2_{d-1} - chi2_d) / (chi2_d / (n - d - 1)), which scales by the scatter the sigmas
+// leave out. Leave-one-out cross-validation, used before, missed a
 // 2.4-mg accelerometer quadratic (docs/calibration.md): with one point at each end of the range,
 // leaving it out makes every quadratic an extrapolation.
 // cv_rms: k-fold (leave-one-out for at most 2 * folds points) prediction RMS of the chosen degree,
@@ -51,6 +52,7 @@ struct PolynomialFitOptions {
   // fitAxisPolynomials.
   double degree_alpha = 0.01;
   void validate() const;    // throws std::invalid_argument naming the field
+  double perAxisAlpha() const { return 1.0 - std::pow(1.0 - degree_alpha, 1.0 / 3.0); }
 };
 
 // Weighted polynomial fit of a fixed degree (no cross-validation).
