@@ -244,6 +244,15 @@ def limit_ratio(j, key, pkey, truth):
         return f", truth/limit {max(r):.2g}" if r else ""
     return ""
 
+def in_simulation(j):
+    """Effects the diagnosis lists as already in the simulation (the lab's quadratic in SG#2)."""
+    return {(e["name"], e["sensor"]): e for e in j.get("modelled_in_simulation", [])}
+
+def lab_text(e, pkey, truth):
+    est, sig = param(e, pkey)
+    return "lab " + "/".join(f"{a:.3g}" + (f"+-{s:.2g}" if s != float("inf") else "") for a, s in zip(est, sig)) + \
+        ", injected " + fmt3(truth)
+
 def single_table():
     rows = []
     for path in cfg_paths:
@@ -254,9 +263,13 @@ def single_table():
             rows.append(f"| {name} | (diagnose failed, see {name}.diagnose.log) | | | | | |")
             continue
         found = {(e["name"], e["sensor"]): e for e in j["effects"]}
+        lab = in_simulation(j)
         errs = []
         for key, (pkey, truth) in inj.items():
             e = found.get(key)
+            if e is None and key in lab:
+                errs.append(f"{label(key)}: not claimed, in SG#2 from the lab ({lab_text(lab[key], pkey, truth)})")
+                continue
             if e is None:
                 errs.append(f"{label(key)}: not found" + limit_ratio(j, key, pkey, truth))
                 continue
@@ -332,6 +345,7 @@ def mc_tables():
                 continue
             fit = j.get("fit", {})
             runs.append({"found": {(e["name"], e["sensor"]): e for e in j["effects"]},
+                         "lab": in_simulation(j),
                          "err": fit.get("err"), "db": fit.get("diff_before"), "da": fit.get("diff_after")})
         n = len(runs)
         if n == 0:
@@ -340,7 +354,8 @@ def mc_tables():
         det, errs = [], []
         for key, (pkey, truth) in inj.items():
             hits = [r["found"][key] for r in runs if key in r["found"]]
-            det.append(f"{label(key)} {len(hits)}/{n}")
+            n_lab = sum(1 for r in runs if key not in r["found"] and key in r["lab"])
+            det.append(f"{label(key)} {len(hits)}/{n}" + (f" (+{n_lab} in SG#2 from the lab)" if n_lab else ""))
             zs, rels, within = [], [], 0
             for e in hits:
                 pe = param_error(e, pkey, truth)

@@ -488,6 +488,39 @@ void maskSamplingGaps(std::initializer_list<const ImuSeries*> records, const Gri
       out->masked_spans.size(), spans, out->masked_spans.size() > 5 ? ", ..." : ""));
 }
 
+// DiagnosisResult::in_simulation: the lab's quadratic per sensor, when some axis has one.
+std::vector<Effect> labModelledTerms(const DiagnosisInputs& in) {
+  std::vector<Effect> out;
+  for (const auto& [sensor, quad] : {std::make_pair("gyro", &in.lab_gyro_quadratic),
+                                     std::make_pair("accel", &in.lab_accel_quadratic)}) {
+    if (!quad->has_value() || (*quad)->c2.isZero()) continue;
+    const LabQuadratic& q = **quad;
+    EffectParameter k2;
+    k2.key = "k2";
+    std::string axes;
+    for (int a = 0; a < 3; ++a) {
+      k2.values.push_back(q.c2(a));
+      k2.sigma.push_back(q.c2(a) != 0.0 ? q.c2_sigma(a) : NAN);
+      if (q.c2(a) != 0.0)
+        axes += fmt::format("{}{} {:.3g} +- {:.2g}", axes.empty() ? "" : ", ", "xyz"[a], q.c2(a),
+                            q.c2_sigma(a));
+    }
+    Effect e;
+    e.name = "scale_nonlinearity";
+    e.sensor = sensor;
+    e.parameters.push_back(k2);
+    e.evidence_method = "lab_degree_test";
+    e.explanation = fmt::format(
+        "the lab calibration's fitting function (seed Eq. 21) took a quadratic on {} ({}): the "
+        "tested {} bends, and SG#2 already grafts it, so the field residual does not show it "
+        "(a scale asymmetry looks the same on the lab's -g/0/+g poses)",
+        axes.find(',') == std::string::npos ? "one axis" : "these axes", axes,
+        std::string(sensor) == "gyro" ? "gyro" : "accelerometer");
+    out.push_back(e);
+  }
+  return out;
+}
+
 }  // namespace
 
 DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& opt);
@@ -1027,6 +1060,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   // add an arbitrary bias.
   out.sg3 = addBinnedContribution(in.simulated, grid,
                                   out.model.rowwise() - out.model.colwise().mean());
+  out.in_simulation = labModelledTerms(in);
   return out;
 }
 

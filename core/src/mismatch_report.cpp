@@ -1,6 +1,7 @@
 #include <cmath>
 #include <fstream>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -38,6 +39,25 @@ json statsJson(const DriftStats& s, bool fraction) {
               {"heading_deg", num(s.heading_rad * k)}};
 }
 
+// An effect's parameters and their 1-sigma, keyed as issue 7 item 5 names them.
+std::pair<json, json> parametersJson(const Effect& e) {
+  json p = json::object(), u = json::object();
+  for (const EffectParameter& q : e.parameters) {
+    if (!q.text.empty()) {
+      p[q.key] = q.text;
+      continue;
+    }
+    if (q.scalar) {
+      p[q.key] = num(q.values[0]);
+      u[q.key] = num(q.sigma[0]);
+    } else {
+      p[q.key] = numList(q.values);
+      u[q.key] = numList(q.sigma);
+    }
+  }
+  return {p, u};
+}
+
 std::string fmtVec(const std::vector<double>& v) {
   std::string s = "[";
   for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + fmt::format("{:.4g}", v[i]);
@@ -58,20 +78,7 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
   for (const LocatedSpan& s : r.located) j["located"].push_back(spanJson(s));
   j["effects"] = json::array();
   for (const Effect& e : r.effects) {
-    json p = json::object(), u = json::object();
-    for (const EffectParameter& q : e.parameters) {
-      if (!q.text.empty()) {
-        p[q.key] = q.text;
-        continue;
-      }
-      if (q.scalar) {
-        p[q.key] = num(q.values[0]);
-        u[q.key] = num(q.sigma[0]);
-      } else {
-        p[q.key] = numList(q.values);
-        u[q.key] = numList(q.sigma);
-      }
-    }
+    const auto [p, u] = parametersJson(e);
     j["effects"].push_back(json{{"name", e.name},
                                 {"sensor", e.sensor},
                                 {"parameters", p},
@@ -80,6 +87,16 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
                                               {"cv_gain", num(e.cv_gain)},
                                               {"method", e.evidence_method}}},
                                 {"explanation", e.explanation}});
+  }
+  j["modelled_in_simulation"] = json::array();
+  for (const Effect& e : r.in_simulation) {
+    const auto [p, u] = parametersJson(e);
+    j["modelled_in_simulation"].push_back(json{{"name", e.name},
+                                               {"sensor", e.sensor},
+                                               {"parameters", p},
+                                               {"uncertainty", u},
+                                               {"evidence", {{"method", e.evidence_method}}},
+                                               {"explanation", e.explanation}});
   }
   j["unexplained"] = json::array();
   for (const LocatedSpan& s : r.unexplained) j["unexplained"].push_back(spanJson(s));
@@ -169,6 +186,11 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparis
   if (r.effects.empty()) m += "| (none) | | | | | |\n";
   m += "\n";
   for (const Effect& e : r.effects) m += "- **" + e.name + "** (" + e.sensor + "): " + e.explanation + "\n";
+  if (!r.in_simulation.empty()) {
+    m += "\n## Already in the simulation (measured in the lab, grafted into SG#2; not claimed)\n\n";
+    for (const Effect& e : r.in_simulation)
+      m += "- **" + e.name + "** (" + e.sensor + "): " + e.explanation + "\n";
+  }
   m += "\n## Signal residual RMS per channel (gyro deg/s x/y/z; accel m/s^2 x/y/z)\n\n"
        "| | gyro | accel |\n|---|---|---|\n";
   m += fmt::format("| raw (real - simulated) | {} | {} |\n", fmt3(r.rms_raw.gyro, d), fmt3(r.rms_raw.accel, 1));

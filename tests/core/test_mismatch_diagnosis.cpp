@@ -320,6 +320,21 @@ TEST(MismatchDiagnosis, ScaleNonlinearityReportsTheSensorsOwnQuadratic) {
   p.in.lab_gyro_quadratic = lab;
   const DiagnosisResult artefact = diagnose(p.in);
   EXPECT_EQ(k2Of(artefact, "k2"), nullptr) << diagnosisMarkdown(artefact);
+  // The lab's quadratic is reported as already in the simulation, not as an effect.
+  EXPECT_TRUE(plain.in_simulation.empty());
+  ASSERT_EQ(artefact.in_simulation.size(), 1u);
+  const Effect& lab_term = artefact.in_simulation[0];
+  EXPECT_EQ(lab_term.name, "scale_nonlinearity");
+  EXPECT_EQ(lab_term.sensor, "gyro");
+  ASSERT_EQ(lab_term.parameters.size(), 1u);
+  EXPECT_EQ(lab_term.parameters[0].values[2], c2);
+  EXPECT_EQ(lab_term.parameters[0].sigma[2], c2 / 50.0);
+  EXPECT_TRUE(std::isnan(lab_term.parameters[0].sigma[0]));  // a line on x: no k2 estimated
+  const nlohmann::json lab_json = nlohmann::json::parse(diagnosisJson(artefact)).at("modelled_in_simulation");
+  ASSERT_EQ(lab_json.size(), 1u);
+  EXPECT_EQ(lab_json[0].at("parameters").at("k2")[2].get<double>(), c2);
+  EXPECT_TRUE(lab_json[0].at("uncertainty").at("k2")[0].is_null());
+  EXPECT_NE(diagnosisMarkdown(artefact).find("Already in the simulation"), std::string::npos);
   // 0.92 on this seed: the quadratic is ~40 % of the per-bin noise.
   EXPECT_LT(artefact.rms_after.gyro(2), 0.96 * artefact.rms_before.gyro(2))
       << "the artefact stays in the model (SG#3)\n" << diagnosisMarkdown(artefact);

@@ -144,6 +144,11 @@ struct DiagnosisResult {
   TimeOffsetEstimate time_offset_xcorr;
   std::vector<LocatedSpan> located;       // residual before modelling
   std::vector<Effect> effects;            // claimed
+  // Physics of the tested IMU that the simulation already carries beyond the linear model: the
+  // lab fitting function's quadratic (scale_nonlinearity, k2 = c2 per axis, 1-sigma NaN on axes
+  // fitted with a line), which SG#2 grafts, so the field residual cannot show it (evidence_method
+  // "lab_degree_test"). Not claimed: it is not missing from the simulation.
+  std::vector<Effect> in_simulation;
   // Every candidate left out of the final model, its parameters holding the detection limit
   // (each parameter alone, the others zero; about 50 % detection; term_selection.h TermLimit).
   std::vector<Effect> detection_limits;
