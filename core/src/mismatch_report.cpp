@@ -39,8 +39,8 @@ json statsJson(const DriftStats& s, bool fraction) {
               {"heading_deg", num(s.heading_rad * k)}};
 }
 
-// An effect's parameters and their 1-sigma, keyed as issue 7 item 5 names them.
-std::pair<json, json> parametersJson(const Effect& e) {
+// An effect as issue 7 item 5 writes it: parameters and their 1-sigma keyed alike.
+json effectJson(const Effect& e, json evidence) {
   json p = json::object(), u = json::object();
   for (const EffectParameter& q : e.parameters) {
     if (!q.text.empty()) {
@@ -55,7 +55,12 @@ std::pair<json, json> parametersJson(const Effect& e) {
       u[q.key] = numList(q.sigma);
     }
   }
-  return {p, u};
+  return json{{"name", e.name},
+              {"sensor", e.sensor},
+              {"parameters", p},
+              {"uncertainty", u},
+              {"evidence", std::move(evidence)},
+              {"explanation", e.explanation}};
 }
 
 std::string fmtVec(const std::vector<double>& v) {
@@ -77,27 +82,13 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
   j["located"] = json::array();
   for (const LocatedSpan& s : r.located) j["located"].push_back(spanJson(s));
   j["effects"] = json::array();
-  for (const Effect& e : r.effects) {
-    const auto [p, u] = parametersJson(e);
-    j["effects"].push_back(json{{"name", e.name},
-                                {"sensor", e.sensor},
-                                {"parameters", p},
-                                {"uncertainty", u},
-                                {"evidence", {{"delta_bic", num(e.delta_bic)},
-                                              {"cv_gain", num(e.cv_gain)},
-                                              {"method", e.evidence_method}}},
-                                {"explanation", e.explanation}});
-  }
+  for (const Effect& e : r.effects)
+    j["effects"].push_back(effectJson(e, {{"delta_bic", num(e.delta_bic)},
+                                          {"cv_gain", num(e.cv_gain)},
+                                          {"method", e.evidence_method}}));
   j["modelled_in_simulation"] = json::array();
-  for (const Effect& e : r.in_simulation) {
-    const auto [p, u] = parametersJson(e);
-    j["modelled_in_simulation"].push_back(json{{"name", e.name},
-                                               {"sensor", e.sensor},
-                                               {"parameters", p},
-                                               {"uncertainty", u},
-                                               {"evidence", {{"method", e.evidence_method}}},
-                                               {"explanation", e.explanation}});
-  }
+  for (const Effect& e : r.in_simulation)
+    j["modelled_in_simulation"].push_back(effectJson(e, {{"method", e.evidence_method}}));
   j["unexplained"] = json::array();
   for (const LocatedSpan& s : r.unexplained) j["unexplained"].push_back(spanJson(s));
   j["detection_limits"] = json::array();
