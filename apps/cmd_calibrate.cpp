@@ -89,9 +89,13 @@ void writeSensorSection(std::ofstream& md, const char* title, const SensorCalibr
                       "{:g} % for the sensor, {:.2g} % per axis):\n\n",
                       100.0 * poly.degree_alpha, 100.0 * poly.perAxisAlpha());
     md << "Point sigmas include a pose-to-pose drift of " << vec(pose_drift.sigma, bs, "{:.3f}") << " " << bu
-       << fmt::format(" (static record, {:.0f}-s windows {:.0f} s apart, RMS over the axes; 0 when unknown), "
-                      "its square known to {:.1f} degrees of freedom (the degree test's F reference)\n\n",
-                      drift_window_s, drift_separation_s, pose_drift.dof[0]);
+       << fmt::format(" (static record, {:.0f}-s windows {:.0f} s apart, RMS over the axes; 0 when unknown)",
+                      drift_window_s, drift_separation_s)
+       << (std::isfinite(pose_drift.dof[0])
+               ? fmt::format(", its square estimated to {:.1f} degrees of freedom (the degree test's F "
+                             "reference adds them to the residuals')\n\n",
+                             pose_drift.dof[0])
+               : std::string("\n\n"));
     md << "| axis | degree | coefficients | 1-sigma | CV rms | points |\n|---|---|---|---|---|---|\n";
     for (int a = 0; a < 3; ++a) {
       const PolynomialFit& f = s.fit[a];

@@ -1,5 +1,6 @@
 #include "graftnav/core/calibration/pose_drift.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>

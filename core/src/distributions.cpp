@@ -142,6 +142,9 @@ double fisherUpperTail(double f, double dof1, double dof2) {
                                 std::to_string(dof1) + ", " + std::to_string(dof2));
   }
   if (!(f > 0.0)) return 1.0;
+  // dof1 F tends to chi2(dof1) as dof2 grows; beyond 1e7 the incomplete beta's argument
+  // dof2 / (dof2 + dof1 f) rounds towards 1 and its tail loses its digits.
+  if (dof2 > 1e7) return std::isinf(f) ? 0.0 : 1.0 - regularizedGammaP(0.5 * dof1, 0.5 * dof1 * f);
   return regularizedBeta(0.5 * dof2, 0.5 * dof1, dof2 / (dof2 + dof1 * f));
 }
 

@@ -488,12 +488,16 @@ void maskSamplingGaps(std::initializer_list<const ImuSeries*> records, const Gri
       out->masked_spans.size(), spans, out->masked_spans.size() > 5 ? ", ..." : ""));
 }
 
-// DiagnosisResult::in_simulation: the lab's quadratic per sensor, when some axis has one.
-std::vector<Effect> labModelledTerms(const DiagnosisInputs& in) {
+// DiagnosisResult::in_simulation: the lab's quadratic per sensor, when some axis has one, except
+// for the sensors in `not_listed`: a claimed scale_nonlinearity already reports the sensor's own
+// k2 (lab c2 included), and a residual that cancels the lab's c2 says it is not the sensor's.
+std::vector<Effect> labModelledTerms(const DiagnosisInputs& in,
+                                     const std::vector<std::string>& not_listed) {
   std::vector<Effect> out;
   for (const auto& [sensor, quad] : {std::make_pair("gyro", &in.lab_gyro_quadratic),
                                      std::make_pair("accel", &in.lab_accel_quadratic)}) {
-    if (!quad->has_value() || (*quad)->c2.isZero()) continue;
+    if (!quad->has_value() || ((*quad)->c2.array() == 0.0).all()) continue;
+    if (std::find(not_listed.begin(), not_listed.end(), sensor) != not_listed.end()) continue;
     const LabQuadratic& q = **quad;
     EffectParameter k2;
     k2.key = "k2";
@@ -828,6 +832,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   out.located = locateResidual(r, grid, out.regimes, opt.locate, &noise_ms);
   out.selection = sel;
   bool time_offset_claimed = false;
+  std::vector<std::string> lab_quadratic_not_listed;  // labModelledTerms
   for (const TermFit& tf : sel.selected) {
     if (!tf.claimed) continue;
     Effect e = effectFromTerm(terms[tf.term], tf, n);
@@ -855,6 +860,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
           "artefact, not a non-linearity of the sensor)", e.sensor, e.parameters[1].values[0],
           e.parameters[1].values[1], e.parameters[1].values[2], lab_q->c2(0), lab_q->c2(1),
           lab_q->c2(2), own.values[0], own.values[1], own.values[2]));
+      lab_quadratic_not_listed.push_back(e.sensor);
       continue;
     }
     if (e.name == "scale_nonlinearity" && lab_q) {
@@ -882,6 +888,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         continue;
       }
     }
+    if (e.name == "scale_nonlinearity") lab_quadratic_not_listed.push_back(e.sensor);
     out.effects.push_back(e);
   }
   // Candidates left out: the size each of their parameters alone would need to be claimed over
@@ -1060,7 +1067,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   // add an arbitrary bias.
   out.sg3 = addBinnedContribution(in.simulated, grid,
                                   out.model.rowwise() - out.model.colwise().mean());
-  out.in_simulation = labModelledTerms(in);
+  out.in_simulation = labModelledTerms(in, lab_quadratic_not_listed);
   return out;
 }
 

@@ -58,6 +58,11 @@ TEST(CalibFittingFunction, LinearDataGetsDegreeOneAndCubicGetsThree) {
   const auto cub = samplePoly({0.0, 1.0, 0.0, 5e-3}, rateGrid(), 1e-5, 9);
   const PolynomialFit f = fitPolynomialSelectDegree(cub, PolynomialFitOptions{}, "cub");
   EXPECT_EQ(f.degree, 3);
+  // Sigmas "estimated" to 1e20 degrees of freedom are known: the same degree (the F tail's
+  // incomplete beta is not asked for such nu).
+  auto cub_nu = cub;
+  for (auto& p : cub_nu) p.sigma_dof = 1e20;
+  EXPECT_EQ(fitPolynomialSelectDegree(cub_nu, PolynomialFitOptions{}, "cub nu").degree, 3);
   EXPECT_NEAR(f.evaluate(2.0), 2.0 + 5e-3 * 8.0, 1e-4);
 }
 

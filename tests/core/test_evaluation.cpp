@@ -119,6 +119,11 @@ TEST(Distributions, FisherUpperTailMatchesTables) {
   // F(1, nu) = t_nu^2, and F(2, 2) has the closed form 1 / (1 + f).
   EXPECT_NEAR(fisherUpperTail(1.96 * 1.96, 1, 1e6), 0.05, 1e-4);
   EXPECT_NEAR(fisherUpperTail(3.0, 2, 2), 0.25, 1e-12);
+  // Huge dof2 (a sigma "estimated" to 1e20 degrees of freedom): the chi-square limit, not the
+  // incomplete beta's rounding (which gave 1.0 at f = 10).
+  for (double nu : {1e8, 1e15, 1e20})
+    EXPECT_NEAR(fisherUpperTail(10.0, 1, nu), std::erfc(std::sqrt(5.0)), 1e-9) << nu;
+  EXPECT_NEAR(fisherUpperTail(10.0, 1, 1e6), std::erfc(std::sqrt(5.0)), 2e-5);
   EXPECT_EQ(fisherUpperTail(0.0, 1, 4), 1.0);
   EXPECT_EQ(fisherUpperTail(INFINITY, 1, 4), 0.0);
   EXPECT_THROW(fisherUpperTail(1.0, 0.0, 4), std::invalid_argument);

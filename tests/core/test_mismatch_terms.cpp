@@ -299,10 +299,14 @@ TEST_P(MismatchTermRecovery, RecoversInjectedParametersWithinStatedUncertainty) 
                                [&](const TermFit& f) { return f.term == t; });
   ASSERT_NE(it, fit.selected.end()) << inj.key;
   const TermFit& tf = *it;
-  for (const TermFit& f : fit.selected)
-    if (f.term != t) EXPECT_NE(std::find(terms[t].requires_terms.begin(), terms[t].requires_terms.end(),
-                                         terms[f.term].key()),
-                               terms[t].requires_terms.end()) << terms[f.term].key();
+  for (const TermFit& f : fit.selected) {
+    if (f.term != t) {
+      EXPECT_NE(std::find(terms[t].requires_terms.begin(), terms[t].requires_terms.end(),
+                          terms[f.term].key()),
+                terms[t].requires_terms.end())
+          << terms[f.term].key();
+    }
+  }
   if (!terms[t].fixed) {
     const Eigen::VectorXd err = tf.theta - theta;
     // Parameters without signal (e.g. k_pos of an axis whose input is never positive) come back
@@ -398,7 +402,9 @@ TEST(MismatchSelection, QuadraticIsMeasuredBeyondItsLinearTerm) {
   EXPECT_FALSE(nl->claimed) << "delta_bic " << nl->delta_bic;
   EXPECT_LT(nl->delta_bic, 6.0);
   for (int a = 0; a < 3; ++a) {
-    if (std::isfinite(nl->sigma(a))) EXPECT_LT(std::abs(nl->theta(a)), 3.5 * nl->sigma(a)) << a;
+    if (std::isfinite(nl->sigma(a))) {
+      EXPECT_LT(std::abs(nl->theta(a)), 3.5 * nl->sigma(a)) << a;
+    }
     EXPECT_LT(std::abs(sf->theta(a) - k(a)), 3.5 * sf->sigma(a)) << a;
   }
 

@@ -147,7 +147,9 @@ struct DiagnosisResult {
   // Physics of the tested IMU that the simulation already carries beyond the linear model: the
   // lab fitting function's quadratic (scale_nonlinearity, k2 = c2 per axis, 1-sigma NaN on axes
   // fitted with a line), which SG#2 grafts, so the field residual cannot show it (evidence_method
-  // "lab_degree_test"). Not claimed: it is not missing from the simulation.
+  // "lab_degree_test"). Not claimed: it is not missing from the simulation. Left out for a sensor
+  // whose scale_nonlinearity is claimed (its k2 includes the lab's c2) or whose residual cancels
+  // the lab's c2 (then not the sensor's; see the notes).
   std::vector<Effect> in_simulation;
   // Every candidate left out of the final model, its parameters holding the detection limit
   // (each parameter alone, the others zero; about 50 % detection; term_selection.h TermLimit).
