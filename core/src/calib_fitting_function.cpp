@@ -74,20 +74,18 @@ void checkPoints(const std::vector<FitPoint>& pts, const std::string& name) {
                                   ": a point is not finite or has sigma <= 0 or sigma_dof <= 0");
 }
 
-// p-value of the top coefficient of degree d: the chi-square drop it buys against chi2(1) when the
-// residuals scatter no more than the point sigmas say (reduced chi-square <= 1) and the sigmas are
-// known, against F(1, sigma_dof + dof) when their scale is estimated to sigma_dof degrees of
-// freedom (conservative: the drop is not rescaled by the residuals' smaller scatter, for which
-// F(1, sigma_dof + dof) is the exact reference of the pooled statistic); otherwise the nested
-// F-test, which scales by the scatter left at degree d.
+// p-value of the top coefficient of degree d: when the residuals scatter no more than the point
+// sigmas say (reduced chi-square <= 1), the chi-square drop it buys against F(1, sigma_dof + dof),
+// the sigmas' scale being estimated to sigma_dof degrees of freedom; for known sigmas
+// (sigma_dof infinite) that is chi2(1), fisherUpperTail's limit. Conservative: the drop is not
+// rescaled by the residuals' smaller scatter, for which F(1, sigma_dof + dof) is the exact
+// reference of the pooled statistic. Otherwise the nested F-test, which scales by the scatter
+// left at degree d.
 double degreeStepPValue(double chi2_lower, double chi2_d, int dof, double sigma_dof) {
   const double drop = std::max(0.0, chi2_lower - chi2_d);
   const double reduced = chi2_d / dof;
   if (reduced > 1.0) return fisherUpperTail(drop / reduced, 1.0, dof);
-  // Beyond 1e6 degrees of freedom F(1, nu) is chi2(1) to 1e-6, and the incomplete beta loses
-  // its precision (a drift estimate far below the white sigma gives such nu).
-  if (sigma_dof < 1e6) return fisherUpperTail(drop, 1.0, sigma_dof + dof);
-  return std::erfc(std::sqrt(0.5 * drop));
+  return fisherUpperTail(drop, 1.0, sigma_dof + dof);
 }
 
 }  // namespace

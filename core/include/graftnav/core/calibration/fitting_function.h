@@ -21,7 +21,7 @@
 // the sigmas are known; against F(1, nu + n - d - 1) when they are estimated (nu the smallest
 // sigma_dof: the sigmas' scale is then known to nu degrees of freedom from its estimate and
 // n - d - 1 from the residuals; the drop is not rescaled by the residuals' smaller scatter, which
-// keeps the test conservative; nu >= 1e6 counts as known); otherwise by the nested F-test
+// keeps the test conservative; nu > 1e7 counts as known); otherwise by the nested F-test
 // F = (chi2_{d-1} - chi2_d) / (chi2_d / (n - d - 1)), which scales by the scatter the sigmas
 // leave out. Leave-one-out cross-validation, used before, missed a
 // 2.4-mg accelerometer quadratic (docs/calibration.md): with one point at each end of the range,
