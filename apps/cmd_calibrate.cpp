@@ -182,10 +182,16 @@ void runLab(const CalibArgs& a) {
   writeSensorSection(md, "Gyro", rep.result.gyro, true, rep.gyro_pose_drift, rep.pose_drift_window_s,
                      rep.pose_drift_separation_s, co.poly);
   md << "## Checks\n\n";
+  // Own-axis powers fitted with M (six_position.h): the fitting functions' degrees.
+  const auto powers = [](const LinearModelFit& f) -> std::string {
+    if (f.axis_degree == std::array<int, 3>{1, 1, 1}) return "";
+    return fmt::format(", with the own-axis powers of the fitting functions (degrees {} {} {})",
+                       f.axis_degree[0], f.axis_degree[1], f.axis_degree[2]);
+  };
   if (rep.has_accel) {
-    md << fmt::format("- six-position LS: chi2 {:.3g}, dof {}, covariance scale {:.3g}, residual rms {:.3e} m/s^2\n",
+    md << fmt::format("- six-position LS: chi2 {:.3g}, dof {}, covariance scale {:.3g}, residual rms {:.3e} m/s^2{}\n",
                       rep.accel_fit.chi2, rep.accel_fit.dof, rep.accel_fit.covariance_scale,
-                      rep.accel_fit.residual_rms);
+                      rep.accel_fit.residual_rms, powers(rep.accel_fit));
     md << fmt::format("- Eq. 8 closed form minus Ceres: max |dM| {:.2e}, max |db| {:.2e} m/s^2\n",
                       (rep.accel_closed_form.leftCols<3>() - rep.result.accel.M).cwiseAbs().maxCoeff(),
                       (rep.accel_closed_form.col(3) - rep.result.accel.bias).cwiseAbs().maxCoeff());
@@ -203,8 +209,8 @@ void runLab(const CalibArgs& a) {
     md << fmt::format("- Eq. 10-11 (pos/neg turns, {} pairs) minus LS: max |dM| {:.2e}\n", rep.eq10.pairs_used,
                       (rep.eq10.M - rep.result.gyro.M).cwiseAbs().maxCoeff());
   if (rep.has_gyro_lsq)
-    md << fmt::format("- gyro LS: chi2 {:.3g}, dof {}, covariance scale {:.3g}\n", rep.gyro_fit.chi2,
-                      rep.gyro_fit.dof, rep.gyro_fit.covariance_scale);
+    md << fmt::format("- gyro LS: chi2 {:.3g}, dof {}, covariance scale {:.3g}{}\n", rep.gyro_fit.chi2,
+                      rep.gyro_fit.dof, rep.gyro_fit.covariance_scale, powers(rep.gyro_fit));
   if (rep.has_basic) {
     const auto& b = rep.basic;
     md << fmt::format("\n## Basic error signal (lab/static.txt, {:.1f} s)\n\n", b.duration_s);

@@ -49,6 +49,28 @@ void estimatePoseDrift(const LabData& s, LabCalibrationReport& rep) {
   rep.gyro_pose_drift = pooledOverAxes(rep.gyro_pose_drift);
 }
 
+// The fitting functions' degrees feed back into M: with an axis that bends, M and bias are
+// refitted with that axis's powers (fitLinearSensorModel's axis_degree), so the curvature does
+// not inflate M_sigma through the reduced chi-square; then the fitting functions are fitted again
+// on the new M, until the degrees repeat (at most three rounds).
+void refitWithAxisPowers(const std::vector<LinearObservation>& obs, const LabCalibrationOptions& opt,
+                         const std::string& sensor, const PoseDriftEstimate& drift,
+                         LinearModelFit* lin, std::array<PolynomialFit, 3>* poly,
+                         std::vector<std::string>* notes) {
+  for (int round = 0; round < 3; ++round) {
+    std::array<int, 3> degree;
+    for (int i = 0; i < 3; ++i) degree[i] = std::clamp((*poly)[i].degree, 1, 4);
+    if (degree == lin->axis_degree) return;
+    try {
+      *lin = fitLinearSensorModel(obs, opt.lsq, degree);
+    } catch (const std::runtime_error& e) {
+      notes->push_back(sensor + " M kept without the fitting functions' powers: " + e.what());
+      return;
+    }
+    *poly = fitAxisPolynomials(obs, lin->M, opt.poly, sensor, drift);
+  }
+}
+
 }  // namespace
 
 LabCalibrationReport calibrateLab(const LabData& s, const LabCalibrationOptions& opt) {
@@ -82,6 +104,15 @@ LabCalibrationReport calibrateLab(const LabData& s, const LabCalibrationOptions&
       A.col(k) << rep.accel_obs[k].true_value, 1.0;
     }
     rep.accel_closed_form = closedFormLinearModel(U, A);
+    try {
+      res.accel.fit = fitAxisPolynomials(rep.accel_obs, rep.accel_fit.M, opt.poly, "accel",
+                                         rep.accel_pose_drift);
+      refitWithAxisPowers(rep.accel_obs, opt, "accel", rep.accel_pose_drift, &rep.accel_fit,
+                          &res.accel.fit, &rep.notes);
+      res.accel.has_fit = true;
+    } catch (const std::invalid_argument& e) {
+      rep.notes.push_back(std::string("accel fitting functions skipped: ") + e.what());
+    }
     storeLinearFit(rep.accel_fit, "six_position_ceres", res.accel);
     rep.has_accel = true;
     double s0 = 0.0, s1 = 0.0;
@@ -96,12 +127,6 @@ LabCalibrationReport calibrateLab(const LabData& s, const LabCalibrationOptions&
     }
     rep.norm_rms_before = std::sqrt(s0 / accel_poses.size());
     rep.norm_rms_after = std::sqrt(s1 / accel_poses.size());
-    try {
-      res.accel.fit = fitAxisPolynomials(rep.accel_obs, res.accel.M, opt.poly, "accel", rep.accel_pose_drift);
-      res.accel.has_fit = true;
-    } catch (const std::invalid_argument& e) {
-      rep.notes.push_back(std::string("accel fitting functions skipped: ") + e.what());
-    }
   } else {
     res.accel.method = "none (no six-position data: M identity, bias 0, sigma 0)";
     rep.notes.push_back("no six-position data: accelerometer M not calibrated (identity written, sigma 0)");
@@ -133,14 +158,17 @@ LabCalibrationReport calibrateLab(const LabData& s, const LabCalibrationOptions&
     }
     rep.gyro_obs = gyroObservations(gyro_poses, s.rate_runs, lat, noise);
     rep.gyro_fit = fitLinearSensorModel(rep.gyro_obs, opt.lsq);
-    storeLinearFit(rep.gyro_fit, "rate_table_ceres", res.gyro);
-    rep.has_gyro_lsq = true;
     try {
-      res.gyro.fit = fitAxisPolynomials(rep.gyro_obs, res.gyro.M, opt.poly, "gyro", rep.gyro_pose_drift);
+      res.gyro.fit = fitAxisPolynomials(rep.gyro_obs, rep.gyro_fit.M, opt.poly, "gyro",
+                                        rep.gyro_pose_drift);
+      refitWithAxisPowers(rep.gyro_obs, opt, "gyro", rep.gyro_pose_drift, &rep.gyro_fit,
+                          &res.gyro.fit, &rep.notes);
       res.gyro.has_fit = true;
     } catch (const std::invalid_argument& e) {
       rep.notes.push_back(std::string("gyro fitting functions skipped: ") + e.what());
     }
+    storeLinearFit(rep.gyro_fit, "rate_table_ceres", res.gyro);
+    rep.has_gyro_lsq = true;
   } else if (rep.has_eq9) {
     res.gyro.bias = rep.eq9.bias;
     res.gyro.bias_sigma = rep.eq9.bias_sigma;

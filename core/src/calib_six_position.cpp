@@ -30,13 +30,47 @@ struct LinearModelResidual {
   Eigen::Vector3d true_value, measured, inv_sigma;
 };
 
+// The same with own-axis powers: p = [M row-major (9), b (3), a (9)], a[3 i + d - 2] the
+// coefficient of true_i^d (d = 2..4); the unused ones are held at 0 by a SubsetManifold.
+struct PowerModelResidual {
+  PowerModelResidual(const Eigen::Vector3d& t, const Eigen::Vector3d& m, const Eigen::Vector3d& s)
+      : true_value(t), measured(m), inv_sigma(s.cwiseInverse()) {}
+  template <typename T>
+  bool operator()(const T* p, T* r) const {
+    for (int i = 0; i < 3; ++i) {
+      T pred = p[9 + i];
+      for (int j = 0; j < 3; ++j) pred += p[3 * i + j] * true_value[j];
+      double x_pow = true_value[i];
+      for (int d = 2; d <= 4; ++d) {
+        x_pow *= true_value[i];
+        pred += p[12 + 3 * i + d - 2] * x_pow;
+      }
+      r[i] = (measured[i] - pred) * inv_sigma[i];
+    }
+    return true;
+  }
+  static ceres::CostFunction* Create(const LinearObservation& o, const Eigen::Vector3d& sigma) {
+    return new ceres::AutoDiffCostFunction<PowerModelResidual, 3, 21>(
+        new PowerModelResidual(o.true_value, o.measured, sigma));
+  }
+  Eigen::Vector3d true_value, measured, inv_sigma;
+};
+
 }  // namespace
 
 LinearModelFit fitLinearSensorModel(const std::vector<LinearObservation>& obs,
-                                    const LinearModelOptions& options) {
+                                    const LinearModelOptions& options,
+                                    const std::array<int, 3>& axis_degree) {
   if (obs.size() < 4)
     throw std::invalid_argument("fitLinearSensorModel: need at least 4 observations, got " +
                                 std::to_string(obs.size()));
+  int extra = 0;
+  for (int i = 0; i < 3; ++i) {
+    if (axis_degree[i] < 1 || axis_degree[i] > 4)
+      throw std::invalid_argument("fitLinearSensorModel: axis_degree[" + std::to_string(i) +
+                                  "] = " + std::to_string(axis_degree[i]) + " is outside 1..4");
+    extra += axis_degree[i] - 1;
+  }
   double scale = 0.0;
   for (const auto& o : obs) {
     if (!o.true_value.allFinite() || !o.measured.allFinite() || !o.sigma.allFinite())
@@ -64,7 +98,7 @@ LinearModelFit fitLinearSensorModel(const std::vector<LinearObservation>& obs,
         "fitLinearSensorModel: the true values of the observations [" + names +
         "] do not span three axes plus a constant: M and bias are not observable");
   }
-  double p[12];
+  double p[21] = {};
   const Eigen::Matrix<double, 3, 4> Mb0 = closedFormLinearModel(U, A);
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) p[3 * i + j] = Mb0(i, j);
@@ -72,8 +106,18 @@ LinearModelFit fitLinearSensorModel(const std::vector<LinearObservation>& obs,
   }
 
   ceres::Problem problem;
-  for (const auto& o : obs)
-    problem.AddResidualBlock(LinearModelResidual::Create(o, o.sigma.cwiseMax(floor)), nullptr, p);
+  for (const auto& o : obs) {
+    const Eigen::Vector3d s = o.sigma.cwiseMax(floor);
+    problem.AddResidualBlock(extra == 0 ? LinearModelResidual::Create(o, s)
+                                        : PowerModelResidual::Create(o, s),
+                             nullptr, p);
+  }
+  if (extra > 0) {
+    std::vector<int> fixed;
+    for (int i = 0; i < 3; ++i)
+      for (int d = axis_degree[i] + 1; d <= 4; ++d) fixed.push_back(12 + 3 * i + d - 2);
+    if (!fixed.empty()) problem.SetManifold(p, new ceres::SubsetManifold(21, fixed));
+  }
   ceres::Solver::Options so;
   so.linear_solver_type = ceres::DENSE_QR;
   so.max_num_iterations = 20;
@@ -89,9 +133,11 @@ LinearModelFit fitLinearSensorModel(const std::vector<LinearObservation>& obs,
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) fit.M(i, j) = p[3 * i + j];
     fit.bias[i] = p[9 + i];
+    for (int d = 2; d <= 4; ++d) fit.axis_powers(i, d - 2) = p[12 + 3 * i + d - 2];
   }
+  fit.axis_degree = axis_degree;
   fit.chi2 = 2.0 * summary.final_cost;
-  fit.dof = static_cast<int>(3 * obs.size()) - 12;
+  fit.dof = static_cast<int>(3 * obs.size()) - 12 - extra;
 
   ceres::Covariance::Options co;
   co.algorithm_type = ceres::DENSE_SVD;
@@ -99,9 +145,16 @@ LinearModelFit fitLinearSensorModel(const std::vector<LinearObservation>& obs,
   std::vector<std::pair<const double*, const double*>> blocks{{p, p}};
   if (!cov.Compute(blocks, &problem))
     throw std::runtime_error("fitLinearSensorModel: covariance is rank deficient");
-  double c[144];
-  cov.GetCovarianceBlock(p, p, c);
-  fit.covariance = Eigen::Map<Eigen::Matrix<double, 12, 12, Eigen::RowMajor>>(c);
+  if (extra == 0) {
+    double c[144];
+    cov.GetCovarianceBlock(p, p, c);
+    fit.covariance = Eigen::Map<Eigen::Matrix<double, 12, 12, Eigen::RowMajor>>(c);
+  } else {
+    double c[441];
+    cov.GetCovarianceBlock(p, p, c);
+    fit.covariance =
+        Eigen::Map<Eigen::Matrix<double, 21, 21, Eigen::RowMajor>>(c).topLeftCorner<12, 12>();
+  }
 
   double s2 = fit.dof > 0 ? fit.chi2 / fit.dof : 1.0;
   switch (options.scaling) {
@@ -116,7 +169,10 @@ LinearModelFit fitLinearSensorModel(const std::vector<LinearObservation>& obs,
   }
   double ss = 0.0;
   for (const auto& o : obs) {
-    const Eigen::Vector3d r = o.measured - fit.M * o.true_value - fit.bias;
+    Eigen::Vector3d r = o.measured - fit.M * o.true_value - fit.bias;
+    for (int i = 0; i < 3; ++i)
+      for (int d = 2; d <= axis_degree[i]; ++d)
+        r(i) -= fit.axis_powers(i, d - 2) * std::pow(o.true_value(i), d);
     fit.residuals.push_back(r);
     ss += r.squaredNorm();
   }

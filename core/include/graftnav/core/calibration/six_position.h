@@ -16,6 +16,7 @@
 // y_up [-90, 0, 0], y_down [+90, 0, 0], z_up [180, 0, 0], z_down [0, 0, 0].
 
 #include <Eigen/Core>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -42,22 +43,35 @@ struct LinearModelOptions {
 struct LinearModelFit {
   Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
   Eigen::Vector3d bias = Eigen::Vector3d::Zero();
+  // Own-axis powers fitted with M (fitLinearSensorModel's axis_degree): row i holds the
+  // coefficients of true_i^2, true_i^3, true_i^4 (zero beyond axis_degree[i]).
+  std::array<int, 3> axis_degree = {1, 1, 1};
+  Eigen::Matrix3d axis_powers = Eigen::Matrix3d::Zero();
   // Covariance of [M row-major (9), bias (3)], after scaling.
   Eigen::Matrix<double, 12, 12> covariance = Eigen::Matrix<double, 12, 12>::Zero();
   Eigen::Matrix3d M_sigma = Eigen::Matrix3d::Zero();
   Eigen::Vector3d bias_sigma = Eigen::Vector3d::Zero();
   double chi2 = 0.0;               // sum of squared whitened residuals
-  int dof = 0;                     // 3K - 12
+  int dof = 0;                     // 3K - 12 - (number of own-axis powers)
   double covariance_scale = 1.0;   // factor applied to the covariance
   double residual_rms = 0.0;       // RMS of the unwhitened residuals (units of `measured`)
-  std::vector<Eigen::Vector3d> residuals;  // measured - (M true + bias), per observation
+  std::vector<Eigen::Vector3d> residuals;  // measured - (M true + bias + powers), per observation
 };
 
 // Throws std::invalid_argument when fewer than 4 observations are given, a value is not finite or
-// a sigma < 0 (0 is floored, see LinearModelOptions), and std::runtime_error when the true values do not span 3-D (+ constant), i.e.
-// the covariance is rank deficient (names the observations).
+// a sigma < 0 (0 is floored, see LinearModelOptions), or an axis degree is outside 1..4, and
+// std::runtime_error when the true values do not span 3-D (+ constant), i.e. the covariance is
+// rank deficient (names the observations).
+// axis_degree: with axis_degree[i] = d > 1, measured_i also carries a_i2 true_i^2 + ... +
+// a_id true_i^d, fitted together with M and bias. A sensor whose fitting function (Eq. 21) bends
+// does not fit the linear model: on random_14_15 an accelerometer quadratic of 1.4e-3 per m/s^2
+// left a reduced chi-square of 1.6e5, which scaled M_sigma to 5e-3 (the lab measures M to
+// ~1e-4), so the mismatch finder's lab gates took a 0.24-deg mounting rotation and 0.3-0.7 %
+// scale asymmetries for calibration error. The covariance is that of M and bias with the powers
+// fitted alongside (they are not reported: the fitting functions carry the curvature).
 LinearModelFit fitLinearSensorModel(const std::vector<LinearObservation>& obs,
-                                    const LinearModelOptions& options = {});
+                                    const LinearModelOptions& options = {},
+                                    const std::array<int, 3>& axis_degree = {1, 1, 1});
 
 // Closed form of Eq. 8: [M | b] = U A^T (A A^T)^-1 with A = [true; 1] (4 x K), U measured (3 x K).
 Eigen::Matrix<double, 3, 4> closedFormLinearModel(const Eigen::Matrix<double, 3, Eigen::Dynamic>& U,
