@@ -365,6 +365,18 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
         calibration_gated->end())
       calibration_gated->push_back(term);
   };
+  // The reference's mean rate and specific force over the record (the drive's operating point).
+  Eigen::Vector3d mean_rate = Eigen::Vector3d::Zero(), mean_force = Eigen::Vector3d::Zero();
+  double duration_s = 0.0;
+  for (const ImuSample& smp : in.reference) {
+    mean_rate += smp.dtheta_rad;
+    mean_force += smp.dvel_m_s;
+    duration_s += smp.dt_s;
+  }
+  if (duration_s > 0.0) {
+    mean_rate /= duration_s;
+    mean_force /= duration_s;
+  }
   // Terms another selected term requires (scale_factor next to scale_nonlinearity) are not taken
   // out by a gate: they stay in the model, fitted but not claimed.
   std::vector<int> companions;
@@ -397,6 +409,9 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
           t.sensor == "gyro" ? in.lab_gyro_M_sigma : in.lab_accel_M_sigma;
       const std::optional<double>& ref_scale_sigma =
           t.sensor == "gyro" ? in.reference_gyro_scale_sigma : in.reference_accel_scale_sigma;
+      const std::optional<LabQuadratic>& quad =
+          t.sensor == "gyro" ? in.lab_gyro_quadratic : in.lab_accel_quadratic;
+      const Eigen::Vector3d& mean_input = t.sensor == "gyro" ? mean_rate : mean_force;
       if ((t.name == "scale_factor" || t.name == "non_orthogonality") && Msig) {
         const Effect e = effectFromTerm(t, tf, grid.count);
         const EffectParameter& q = e.parameters[0];
@@ -422,6 +437,11 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
             lab_sigma = std::hypot(lab_sigma, labRotationSigma(other_Msig, 3 - i - j));
           if (t.name == "scale_factor" && ref_scale_sigma)
             lab_sigma = std::hypot(lab_sigma, *ref_scale_sigma);
+          // SG#2's gain at the drive's mean input x0 is c1 + 2 c2 x0: the lab's c2 uncertainty
+          // is a gain uncertainty there (f_z ~ -g: 2 g sigma_c2; under common random numbers a
+          // c2_z 2 sigma off was claimed as a -6.3e-4 z scale factor, random_14_22).
+          if (t.name == "scale_factor" && quad)
+            lab_sigma = std::hypot(lab_sigma, 2.0 * std::abs(mean_input(i)) * quad->c2_sigma(i));
           const double lim = 3.0 * std::hypot(q.sigma[k], lab_sigma);
           beyond |= std::abs(q.values[k]) > lim;
           if (std::abs(q.values[k]) / lim > worst_ratio) {
@@ -431,10 +451,13 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
         }
         if (!beyond) {
           const bool with_ref = t.name == "scale_factor" && ref_scale_sigma;
+          const bool with_quad =
+              t.name == "scale_factor" && quad && (quad->c2_sigma.array() > 0.0).any();
           holdBack(tf, fmt::format(
-              "{} {} fitted but within 3 sigma of the lab calibration's own uncertainty{}: not "
+              "{} {} fitted but within 3 sigma of the lab calibration's own uncertainty{}{}: not "
               "claimed (calibration error, not missing physics; largest element {}[{}] = {:.3g}, "
               "{:.2f} x its limit)", t.sensor, t.name,
+              with_quad ? " (with its quadratic's at the drive's mean input)" : "",
               with_ref ? fmt::format(" and the reference IMU's scale uncertainty ({:.3g} ppm, "
                                      "its profile)", 1e6 * *ref_scale_sigma)
                        : "",

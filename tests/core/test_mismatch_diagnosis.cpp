@@ -518,6 +518,42 @@ TEST(MismatchDiagnosis, ScaleWithinTheReferenceImusOwnUncertaintyIsNotClaimed) {
   EXPECT_TRUE(claimsScale(2e-4));   // and beyond 3 sigma of 2e-4
 }
 
+// SG#2 grafts the lab's quadratic c2; at the drive's mean input x0 its gain is c1 + 2 c2 x0, so the
+// lab's c2 uncertainty is a gain uncertainty there (f_z ~ -g: 2 g sigma_c2). A c2_z 2 sigma off is
+// calibration error, not a z scale factor (under common random numbers random_14_22 and 13_15
+// claimed -6.3e-4 and -5.2e-4 once the lab's M_sigma no longer carried the curvature's misfit).
+TEST(MismatchDiagnosis, ScaleWithinTheLabQuadraticsUncertaintyAtTheMeanInputIsNotClaimed) {
+  const Motion m = carMotion(31);
+  const double T = 150.0, k2_z = 1e-4, c2_sigma = 1.5e-5;
+  ImuErrorModel noise;
+  noise.gyro.white_noise.density.setConstant(3e-5);
+  noise.accel.white_noise.density.setConstant(1e-4);
+  ImuErrorModel truth = noise, sg2 = noise;
+  truth.accel.scale_nonlinearity.k2 << 0.0, 0.0, k2_z;
+  sg2.accel.scale_nonlinearity.k2 << 0.0, 0.0, k2_z - 2.0 * c2_sigma;  // the lab's c2, 2 sigma off
+  DiagnosisInputs in;
+  in.case_name = "synthetic";
+  in.simulation_kind = "reference + the lab's quadratic (as SG#2)";
+  in.reference = sampleMotion(m, 100.0, T);
+  in.real = applyErrors(in.reference, truth, 61);
+  in.simulated = applyErrors(in.reference, sg2, 62);
+  in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  const auto claimsScale = [&](double sigma) {
+    LabQuadratic q;
+    q.c2 << 0.0, 0.0, k2_z - 2.0 * c2_sigma;
+    q.c2_sigma << 0.0, 0.0, sigma;
+    in.lab_accel_quadratic = q;
+    const DiagnosisResult r = diagnose(in);
+    for (const Effect& e : r.effects)
+      if ((e.name == "scale_factor" || e.name == "scale_nonlinearity") && e.sensor == "accel")
+        return true;
+    return false;
+  };
+  EXPECT_FALSE(claimsScale(c2_sigma));  // 2 g 2 sigma_c2: within 3 sigma of the lab's gain
+  EXPECT_TRUE(claimsScale(0.1 * c2_sigma)) << "the gain difference must show when the lab is sure";
+}
+
 // The tested IMU applies its scale and cross-axis matrix M to the motion it measured at t - tau,
 // and SG#2 applies the lab's M to x(t): the time offset's signal is M (x(t - tau) - x(t)). Shifting
 // the bare reference left (M - I)(x(t - tau) - x(t)) in the residual, which other terms took up
