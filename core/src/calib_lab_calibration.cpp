@@ -49,26 +49,34 @@ void estimatePoseDrift(const LabData& s, LabCalibrationReport& rep) {
   rep.gyro_pose_drift = pooledOverAxes(rep.gyro_pose_drift);
 }
 
-// The fitting functions' degrees feed back into M: with an axis that bends, M and bias are
-// refitted with that axis's powers (fitLinearSensorModel's axis_degree), so the curvature does
-// not inflate M_sigma through the reduced chi-square; then the fitting functions are fitted again
-// on the new M, until the degrees repeat (at most three rounds).
-void refitWithAxisPowers(const std::vector<LinearObservation>& obs, const LabCalibrationOptions& opt,
-                         const std::string& sensor, const PoseDriftEstimate& drift,
-                         LinearModelFit* lin, std::array<PolynomialFit, 3>* poly,
-                         std::vector<std::string>* notes) {
-  for (int round = 0; round < 3; ++round) {
-    std::array<int, 3> degree;
-    for (int i = 0; i < 3; ++i) degree[i] = std::clamp((*poly)[i].degree, 1, 4);
-    if (degree == lin->axis_degree) return;
-    try {
-      *lin = fitLinearSensorModel(obs, opt.lsq, degree);
-    } catch (const std::runtime_error& e) {
-      notes->push_back(sensor + " M kept without the fitting functions' powers: " + e.what());
-      return;
+// The fitting functions (Eq. 21) of one sensor and its M. The degrees feed back into M: with an
+// axis that bends, M and bias are refitted with that axis's powers (fitLinearSensorModel's
+// axis_degree), so the curvature does not inflate M_sigma through the reduced chi-square; then
+// the fitting functions are fitted again on the new M, until the degrees repeat (at most three
+// rounds). `lin` holds the linear fit on entry and the final one on return; `cal` gets both.
+void fitFunctionsAndM(const std::vector<LinearObservation>& obs, const LabCalibrationOptions& opt,
+                      const std::string& sensor, const PoseDriftEstimate& drift,
+                      const std::string& method, LinearModelFit* lin, SensorCalibration* cal,
+                      std::vector<std::string>* notes) {
+  try {
+    cal->fit = fitAxisPolynomials(obs, lin->M, opt.poly, sensor, drift);
+    cal->has_fit = true;
+    for (int round = 0; round < 3; ++round) {
+      std::array<int, 3> degree;
+      for (int i = 0; i < 3; ++i) degree[i] = std::clamp(cal->fit[i].degree, 1, 4);
+      if (degree == lin->axis_degree) break;
+      try {
+        *lin = fitLinearSensorModel(obs, opt.lsq, degree);
+      } catch (const std::runtime_error& e) {
+        notes->push_back(sensor + " M kept without the fitting functions' powers: " + e.what());
+        break;
+      }
+      cal->fit = fitAxisPolynomials(obs, lin->M, opt.poly, sensor, drift);
     }
-    *poly = fitAxisPolynomials(obs, lin->M, opt.poly, sensor, drift);
+  } catch (const std::invalid_argument& e) {
+    notes->push_back(sensor + " fitting functions skipped: " + e.what());
   }
+  storeLinearFit(*lin, method, *cal);
 }
 
 }  // namespace
@@ -104,16 +112,8 @@ LabCalibrationReport calibrateLab(const LabData& s, const LabCalibrationOptions&
       A.col(k) << rep.accel_obs[k].true_value, 1.0;
     }
     rep.accel_closed_form = closedFormLinearModel(U, A);
-    try {
-      res.accel.fit = fitAxisPolynomials(rep.accel_obs, rep.accel_fit.M, opt.poly, "accel",
-                                         rep.accel_pose_drift);
-      refitWithAxisPowers(rep.accel_obs, opt, "accel", rep.accel_pose_drift, &rep.accel_fit,
-                          &res.accel.fit, &rep.notes);
-      res.accel.has_fit = true;
-    } catch (const std::invalid_argument& e) {
-      rep.notes.push_back(std::string("accel fitting functions skipped: ") + e.what());
-    }
-    storeLinearFit(rep.accel_fit, "six_position_ceres", res.accel);
+    fitFunctionsAndM(rep.accel_obs, opt, "accel", rep.accel_pose_drift, "six_position_ceres",
+                     &rep.accel_fit, &res.accel, &rep.notes);
     rep.has_accel = true;
     double s0 = 0.0, s1 = 0.0;
     for (const auto& p : accel_poses) {
@@ -158,16 +158,8 @@ LabCalibrationReport calibrateLab(const LabData& s, const LabCalibrationOptions&
     }
     rep.gyro_obs = gyroObservations(gyro_poses, s.rate_runs, lat, noise);
     rep.gyro_fit = fitLinearSensorModel(rep.gyro_obs, opt.lsq);
-    try {
-      res.gyro.fit = fitAxisPolynomials(rep.gyro_obs, rep.gyro_fit.M, opt.poly, "gyro",
-                                        rep.gyro_pose_drift);
-      refitWithAxisPowers(rep.gyro_obs, opt, "gyro", rep.gyro_pose_drift, &rep.gyro_fit,
-                          &res.gyro.fit, &rep.notes);
-      res.gyro.has_fit = true;
-    } catch (const std::invalid_argument& e) {
-      rep.notes.push_back(std::string("gyro fitting functions skipped: ") + e.what());
-    }
-    storeLinearFit(rep.gyro_fit, "rate_table_ceres", res.gyro);
+    fitFunctionsAndM(rep.gyro_obs, opt, "gyro", rep.gyro_pose_drift, "rate_table_ceres",
+                     &rep.gyro_fit, &res.gyro, &rep.notes);
     rep.has_gyro_lsq = true;
   } else if (rep.has_eq9) {
     res.gyro.bias = rep.eq9.bias;

@@ -9,49 +9,33 @@
 namespace graftnav {
 namespace {
 
-// Whitened residual of one observation: (measured - M true - b) / sigma.
-// Parameters p = [M row-major (9), b (3)].
-struct LinearModelResidual {
-  LinearModelResidual(const Eigen::Vector3d& t, const Eigen::Vector3d& m, const Eigen::Vector3d& s)
+// Whitened residual of one observation: (measured - M true - b - powers) / sigma.
+// Parameters p = [M row-major (9), b (3)] and, with kPowers = 9, the own-axis powers
+// a[3 i + d - 2], the coefficient of true_i^d (d = 2..4; unused ones held at 0 by a
+// SubsetManifold). kPowers = 0 is the linear model of Eq. 3.
+template <int kPowers>
+struct SensorModelResidual {
+  SensorModelResidual(const Eigen::Vector3d& t, const Eigen::Vector3d& m, const Eigen::Vector3d& s)
       : true_value(t), measured(m), inv_sigma(s.cwiseInverse()) {}
   template <typename T>
   bool operator()(const T* p, T* r) const {
     for (int i = 0; i < 3; ++i) {
       T pred = p[9 + i];
       for (int j = 0; j < 3; ++j) pred += p[3 * i + j] * true_value[j];
-      r[i] = (measured[i] - pred) * inv_sigma[i];
-    }
-    return true;
-  }
-  static ceres::CostFunction* Create(const LinearObservation& o, const Eigen::Vector3d& sigma) {
-    return new ceres::AutoDiffCostFunction<LinearModelResidual, 3, 12>(
-        new LinearModelResidual(o.true_value, o.measured, sigma));
-  }
-  Eigen::Vector3d true_value, measured, inv_sigma;
-};
-
-// The same with own-axis powers: p = [M row-major (9), b (3), a (9)], a[3 i + d - 2] the
-// coefficient of true_i^d (d = 2..4); the unused ones are held at 0 by a SubsetManifold.
-struct PowerModelResidual {
-  PowerModelResidual(const Eigen::Vector3d& t, const Eigen::Vector3d& m, const Eigen::Vector3d& s)
-      : true_value(t), measured(m), inv_sigma(s.cwiseInverse()) {}
-  template <typename T>
-  bool operator()(const T* p, T* r) const {
-    for (int i = 0; i < 3; ++i) {
-      T pred = p[9 + i];
-      for (int j = 0; j < 3; ++j) pred += p[3 * i + j] * true_value[j];
-      double x_pow = true_value[i];
-      for (int d = 2; d <= 4; ++d) {
-        x_pow *= true_value[i];
-        pred += p[12 + 3 * i + d - 2] * x_pow;
+      if (kPowers > 0) {
+        double x_pow = true_value[i];
+        for (int d = 2; d <= 4; ++d) {
+          x_pow *= true_value[i];
+          pred += p[12 + 3 * i + d - 2] * x_pow;
+        }
       }
       r[i] = (measured[i] - pred) * inv_sigma[i];
     }
     return true;
   }
   static ceres::CostFunction* Create(const LinearObservation& o, const Eigen::Vector3d& sigma) {
-    return new ceres::AutoDiffCostFunction<PowerModelResidual, 3, 21>(
-        new PowerModelResidual(o.true_value, o.measured, sigma));
+    return new ceres::AutoDiffCostFunction<SensorModelResidual, 3, 12 + kPowers>(
+        new SensorModelResidual(o.true_value, o.measured, sigma));
   }
   Eigen::Vector3d true_value, measured, inv_sigma;
 };
@@ -108,8 +92,8 @@ LinearModelFit fitLinearSensorModel(const std::vector<LinearObservation>& obs,
   ceres::Problem problem;
   for (const auto& o : obs) {
     const Eigen::Vector3d s = o.sigma.cwiseMax(floor);
-    problem.AddResidualBlock(extra == 0 ? LinearModelResidual::Create(o, s)
-                                        : PowerModelResidual::Create(o, s),
+    problem.AddResidualBlock(extra == 0 ? SensorModelResidual<0>::Create(o, s)
+                                        : SensorModelResidual<9>::Create(o, s),
                              nullptr, p);
   }
   if (extra > 0) {

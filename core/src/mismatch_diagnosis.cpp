@@ -291,6 +291,15 @@ bool sensorsOwnQuadratic(const LabQuadratic& lab, Effect* e) {
   return beyond;
 }
 
+// fitTerms on `model`, keeping the selection log of `sel`.
+SelectionResult refitKeepingLog(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
+                                const std::vector<int>& model, const SelectionOptions& options,
+                                const SelectionResult& sel) {
+  SelectionResult out = fitTerms(r, terms, model, options);
+  out.log = sel.log;
+  return out;
+}
+
 // The gates below decide what is claimed; they do not take the lab's calibration error out of
 // the residual. Its signal (a scale or cross-axis error times the drive's rates and specific
 // force) is still there, and a claimed term fitted without it takes up the part its regressor
@@ -336,9 +345,7 @@ SelectionResult withCalibrationErrorFitted(const Eigen::MatrixXd& r,
     }
     if (!failed) break;
     // Without the failed terms; the companions the kept ones require come back unclaimed.
-    std::vector<std::string> log = sel.log;
-    sel = fitTerms(r, terms, kept, options);
-    sel.log = log;
+    sel = refitKeepingLog(r, terms, kept, options, sel);
     for (TermFit& tf : sel.selected)
       if (std::find(kept.begin(), kept.end(), tf.term) == kept.end()) tf.claimed = false;
     if (sel.selected.empty()) return sel;
@@ -525,9 +532,7 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
       keep.push_back(tf.term);
     }
     if (!gated) break;
-    std::vector<std::string> log = sel.log;
-    sel = fitTerms(r, terms, keep, options);
-    sel.log = log;
+    sel = refitKeepingLog(r, terms, keep, options, sel);
   }
   for (TermFit& tf : sel.selected)
     if (std::find(companions.begin(), companions.end(), tf.term) != companions.end())
