@@ -179,7 +179,33 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
       t.explanation = "the " + sensor + " gain differs for positive and negative inputs";
       for (int a = 0; a < 3; ++a)
         t.columns.push_back(singleChannel(s * 3 + a, u.col(a).cwiseAbs()));
-      terms.push_back(std::move(t));
+      const Eigen::Vector3d& c2 = s == 0 ? in.gyro_response_c2 : in.accel_response_c2;
+      if ((c2.array() != 0.0).any()) {
+        // The alternative that replaces SG#2's lab quadratic (header).
+        CandidateTerm part;
+        part.name = "lab_quadratic_replaced";
+        part.sensor = sensor;
+        part.fixed = true;
+        part.explanation = "SG#2's lab quadratic of the " + sensor +
+                           ", taken out where the asymmetry replaces it";
+        RegressorColumn col;
+        for (int a = 0; a < 3; ++a)
+          if (c2(a) != 0.0) col.channel[s * 3 + a] = -c2(a) * u.col(a).array().square().matrix();
+        part.columns.push_back(col);
+        CandidateTerm alt = t;
+        alt.regressor = "replaces_lab_quadratic";
+        alt.explanation += "; the lab's quadratic in SG#2 is this asymmetry as the lab saw it "
+                           "(SG#3 takes it out)";
+        part.part_of = alt.key();
+        alt.requires_terms.push_back(part.key());
+        alt.excludes = {t.key()};
+        t.excludes = {alt.key()};
+        terms.push_back(std::move(t));
+        terms.push_back(std::move(alt));
+        terms.push_back(std::move(part));
+      } else {
+        terms.push_back(std::move(t));
+      }
     }
     {
       CandidateTerm t;

@@ -728,6 +728,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   RegressorInputs ri;
   if (in.lab_accel_M) ri.accel_response_M = *in.lab_accel_M;
   if (in.lab_accel_quadratic) ri.accel_response_c2 = in.lab_accel_quadratic->c2;
+  if (in.lab_gyro_quadratic) ri.gyro_response_c2 = in.lab_gyro_quadratic->c2;
   ri.time_offset_column = timeOffsetRegressor(shifted_signal, grid, pivot);
   ri.tested_temperature_degC = y.temperature_degC;
   if (s.temperature_degC.allFinite()) {
@@ -977,6 +978,15 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
       }
     }
     if (e.name == "scale_nonlinearity") lab_quadratic_not_listed.push_back(e.sensor);
+    if (terms[tf.term].regressor == "replaces_lab_quadratic") {
+      // SG#3 takes SG#2's quadratic out: it is not in the simulation any more.
+      lab_quadratic_not_listed.push_back(e.sensor);
+      const Eigen::Vector3d& c2 = e.sensor == "gyro" ? ri.gyro_response_c2 : ri.accel_response_c2;
+      out.notes.push_back(fmt::format(
+          "{} scale_asymmetry replaces SG#2's lab quadratic c2 [{:.3g} {:.3g} {:.3g}]: the lab's "
+          "poses at +-g (rate-table turns of both signs) see an asymmetric gain d |x| as c2 x^2; "
+          "SG#3 grafts the asymmetry and takes c2 out", e.sensor, c2(0), c2(1), c2(2)));
+    }
     out.effects.push_back(e);
   }
   // Candidates left out: the size each of their parameters alone would need to be claimed over
@@ -1036,13 +1046,17 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
       int t_asym = -1, t_nonorth = -1, t_scale = -1;
       for (std::size_t t = 0; t < terms.size(); ++t) {
         if (terms[t].sensor != e.sensor) continue;
-        if (terms[t].name == "scale_asymmetry") t_asym = static_cast<int>(t);
+        // The plain |x| columns: y - x holds the sensor, not SG#2's quadratic.
+        if (terms[t].name == "scale_asymmetry" && terms[t].regressor.empty())
+          t_asym = static_cast<int>(t);
         if (terms[t].name == "non_orthogonality" && terms[t].regressor.empty())
           t_nonorth = static_cast<int>(t);
         if (terms[t].name == "scale_factor") t_scale = static_cast<int>(t);
       }
-      std::vector<int> model = claimed_terms;
-      for (int t : {t_nonorth, t_scale})
+      std::vector<int> model;
+      for (int t : claimed_terms)  // the alternative replacing SG#2's quadratic: its plain columns
+        if (terms[t].regressor != "replaces_lab_quadratic") model.push_back(t);
+      for (int t : {t_asym, t_nonorth, t_scale})
         if (t >= 0 && std::find(model.begin(), model.end(), t) == model.end()) model.push_back(t);
       Eigen::MatrixXd y_minus_x(n, kMismatchChannels);
       y_minus_x << y.omega_rad_s - x.omega_rad_s, y.f_m_s2 - x.f_m_s2;

@@ -577,9 +577,11 @@ class Selector {
   }
 
   std::vector<int> withTerm(std::vector<int> model, int t) const {
-    for (const std::string& ex : terms_[t].excludes)
+    for (const std::string& ex : terms_[t].excludes)  // with its parts
       model.erase(std::remove_if(model.begin(), model.end(),
-                                 [&](int m) { return terms_[m].key() == ex; }),
+                                 [&](int m) {
+                                   return terms_[m].key() == ex || terms_[m].part_of == ex;
+                                 }),
                   model.end());
     for (int m : model)  // a term that excludes t keeps t out
       for (const std::string& ex : terms_[m].excludes)

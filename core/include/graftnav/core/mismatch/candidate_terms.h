@@ -21,6 +21,14 @@
 //  time_offset (both)      r = tau u(t), u = -dx/dt or the chord (x(t - tau0) - x(t)) / tau0
 //  lever_arm (accel)       r = omega_dot x r_m + omega x (omega x r_m)
 //  mounting_misalignment   r_gyro = omega x phi, r_accel = f x phi  (C_tb = I - [phi x])
+//  scale_asymmetry, replacing the lab quadratic (regressor "replaces_lab_quadratic"; only when
+//                          SG#2 grafts a lab c2 on the sensor): r_i = d_i |x_i| plus the fixed
+//                          part lab_quadratic_replaced, -c2_i x_i^2. The lab's +-g poses (the
+//                          rate table's +-turns) see an asymmetric gain d |x| as c2 x^2 with
+//                          c2 ~ d / g, so SG#2 carries a quadratic the sensor does not have; on the
+//                          field's small inputs the plain |x| column took up -c2 x^2 and the lab's
+//                          c2 was then claimed as the sensor's non-linearity (CRN random_14_26).
+//                          The two asymmetry terms exclude each other.
 //  vibration_rectification r_i = c_i v(t), v the VibrationRegressor level of the reference
 //  earth_rotation_omitted  r_gyro = C_bn omega_ie_n, coefficient fixed at 1 (no free parameter)
 //  gravity_model (accel)   r = -C_bn [0, 0, 1] dg   (dg = true minus simulated gravity, m/s^2)
@@ -98,6 +106,9 @@ struct RegressorInputs {
   // m/s^2 scales the lever arm's z acceleration by -1.6 %. Identity / zero: no lab calibration.
   Eigen::Matrix3d accel_response_M = Eigen::Matrix3d::Identity();
   Eigen::Vector3d accel_response_c2 = Eigen::Vector3d::Zero();
+  // The gyro's lab c2 (SG#2's quadratic per axis; zero: none). With accel_response_c2 it also
+  // gives scale_asymmetry its alternative that replaces the lab quadratic (below).
+  Eigen::Vector3d gyro_response_c2 = Eigen::Vector3d::Zero();
   // The rotation vector (rad) mounting_misalignment is linearized at. Zero: the first-order
   // columns x x phi. Non-zero (diagnose sets the rotation of a first pass): the columns are the
   // exact rotation's Jacobian there and a fixed part, mounting_rotation_remainder, carries the
