@@ -120,6 +120,12 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
   for (int s = 0; s < 2; ++s) {
     const Eigen::MatrixX3d u = inputOf(x, s);
     const std::string sensor = kSensorName[s];
+    // The even functions per sample, bin-averaged (RegressorInputs::even_powers), else of the
+    // bin means.
+    const Eigen::MatrixX3d& abs_given = s == 0 ? in.even_powers.abs_omega_rad_s : in.even_powers.abs_f_m_s2;
+    const Eigen::MatrixX3d& sq_given = s == 0 ? in.even_powers.sq_omega : in.even_powers.sq_f;
+    const Eigen::MatrixX3d u_abs = abs_given.rows() == n ? abs_given : u.cwiseAbs().eval();
+    const Eigen::MatrixX3d u_sq = sq_given.rows() == n ? sq_given : u.cwiseAbs2().eval();
     {
       CandidateTerm t;
       t.name = "scale_factor";
@@ -177,8 +183,7 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
       t.requires_terms = {"scale_factor:" + sensor};
       t.paid_requires = true;
       t.explanation = "the " + sensor + " gain differs for positive and negative inputs";
-      for (int a = 0; a < 3; ++a)
-        t.columns.push_back(singleChannel(s * 3 + a, u.col(a).cwiseAbs()));
+      for (int a = 0; a < 3; ++a) t.columns.push_back(singleChannel(s * 3 + a, u_abs.col(a)));
       const Eigen::Vector3d& c2 = s == 0 ? in.gyro_response_c2 : in.accel_response_c2;
       if ((c2.array() != 0.0).any()) {
         // The alternative that replaces SG#2's lab quadratic (header).
@@ -190,7 +195,7 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
                            ", taken out where the asymmetry replaces it";
         RegressorColumn col;
         for (int a = 0; a < 3; ++a)
-          if (c2(a) != 0.0) col.channel[s * 3 + a] = -c2(a) * u.col(a).array().square().matrix();
+          if (c2(a) != 0.0) col.channel[s * 3 + a] = -c2(a) * u_sq.col(a);
         part.columns.push_back(col);
         CandidateTerm alt = t;
         alt.regressor = "replaces_lab_quadratic";
@@ -219,8 +224,7 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
       t.requires_terms = {"scale_factor:" + sensor};
       t.paid_requires = true;
       t.explanation = "the " + sensor + " input-output line bends: output = input + k2 input^2";
-      for (int a = 0; a < 3; ++a)
-        t.columns.push_back(singleChannel(s * 3 + a, u.col(a).array().square().matrix()));
+      for (int a = 0; a < 3; ++a) t.columns.push_back(singleChannel(s * 3 + a, u_sq.col(a)));
       terms.push_back(std::move(t));
     }
     const Eigen::VectorXd& T = in.tested_temperature_degC;

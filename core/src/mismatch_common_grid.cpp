@@ -218,6 +218,21 @@ BinnedImu binImu(const ImuSeries& imu, const GridSpec& grid, double time_shift_s
   return out;
 }
 
+EvenPowerBins binEvenPowers(const ImuSeries& imu, const GridSpec& grid, double time_shift_s) {
+  ImuSeries abs_in = imu, sq_in = imu;
+  for (std::size_t k = 0; k < imu.size(); ++k) {
+    const double dt = imu[k].dt_s;
+    if (!(dt > 0.0)) continue;
+    const Eigen::Vector3d w = imu[k].dtheta_rad / dt, f = imu[k].dvel_m_s / dt;
+    abs_in[k].dtheta_rad = w.cwiseAbs() * dt;
+    abs_in[k].dvel_m_s = f.cwiseAbs() * dt;
+    sq_in[k].dtheta_rad = w.cwiseAbs2() * dt;
+    sq_in[k].dvel_m_s = f.cwiseAbs2() * dt;
+  }
+  const BinnedImu a = binImu(abs_in, grid, time_shift_s), q = binImu(sq_in, grid, time_shift_s);
+  return {a.omega_rad_s, a.f_m_s2, q.omega_rad_s, q.f_m_s2};
+}
+
 double medianSampleInterval(const ImuSeries& imu) {
   if (imu.empty()) return 0.0;
   std::vector<double> dt;

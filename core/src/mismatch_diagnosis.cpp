@@ -748,6 +748,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     GridSpec shifted = grid;
     shifted.t_begin_s -= pv;
     ri.reference = pv == 0.0 ? x : binImu(in.reference, grid, -pv);
+    ri.even_powers = binEvenPowers(in.reference, grid, -pv);
     const AngularAccelerationBins wdot = angularAccelerationPerBin(in.reference, shifted);
     ri.omega_dot_rad_s2 = wdot.omega_dot_rad_s2;
     ri.vibration_f_hp_sq = vibrationLevelPerBin(in.reference, shifted, "specific_force_hp_sq");

@@ -97,6 +97,10 @@ struct RegressorInputs {
   // it the lever arm uses central differences of the bin means, which attenuate road
   // oscillations of a few Hz (~10 % at 2.5 Hz with 0.05-s bins) and so overstate r_m.
   Eigen::MatrixX3d omega_dot_rad_s2;
+  // Optional (binEvenPowers, on the grid and shift of `reference`): bin means of |x| and x^2
+  // per sample, the inputs of scale_asymmetry and scale_nonlinearity (empty: |bin mean| and
+  // bin mean^2, exact without within-bin vibration).
+  EvenPowerBins even_powers;
   Eigen::VectorXd vibration_f_hp_sq;    // n, specific_force_hp_sq level, or empty
   Eigen::VectorXd vibration_w_hp_sq;    // n, angular_rate_hp_sq level, or empty
   // The tested IMU's accelerometer response as the lab calibrated it,

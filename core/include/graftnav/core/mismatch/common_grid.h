@@ -93,4 +93,15 @@ struct BinnedImu {
 // (a, b] of the grid (true time) takes the record's integral over tags (a + shift, b + shift].
 BinnedImu binImu(const ImuSeries& imu, const GridSpec& grid, double time_shift_s = 0.0);
 
+// Bin means (as binImu, same grid and shift) of even functions of each sample's input, per axis:
+// |x| and x^2 of the rates and of the specific force. A sensor bends its input sample by sample:
+// under road vibration the bin mean of |x| is not |bin mean| (for a vibration of amplitude A
+// about a small x0 it is ~ 2 A / pi + x0^2 / (pi A)), so regressors built from the bin means
+// showed an asymmetry partly as a quadratic, and a quadratic partly as vibration rectification.
+struct EvenPowerBins {
+  Eigen::MatrixX3d abs_omega_rad_s, abs_f_m_s2;  // mean |x| per bin
+  Eigen::MatrixX3d sq_omega, sq_f;               // mean x^2 per bin ((rad/s)^2, (m/s^2)^2)
+};
+EvenPowerBins binEvenPowers(const ImuSeries& imu, const GridSpec& grid, double time_shift_s = 0.0);
+
 }  // namespace graftnav
