@@ -40,6 +40,9 @@ const double kNaN = std::numeric_limits<double>::quiet_NaN();
 // A time_offset pivot within this of the joint fit's tau is its own pivot (the linear model is
 // exact there); farther, the selection runs again around the joint fit's tau.
 constexpr double kPivotToleranceS = 1e-5;
+// A claimed scale factor whose largest element is below this many times the reference IMU's
+// stated scale uncertainty is explained as possibly the reference's own gain error.
+constexpr double kReferenceScaleShareLimit = 5.0;
 
 std::vector<double> toVec(const Eigen::VectorXd& v, int a, int n) {
   std::vector<double> out(n);
@@ -1085,6 +1088,26 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
                          "reference; *_missing: the part the simulation lacks)";
       }
     }
+  }
+  // The simulation is built on the reference signal, so it carries the reference IMU's own gain
+  // error, which the real tested IMU does not: a claimed scale factor of a few times the
+  // reference's stated scale uncertainty may be partly or wholly the reference's (its sign
+  // reversed). The gate (a) allows 3 sigma of it; the reader is told how many sigma the claim is.
+  for (Effect& e : out.effects) {
+    if (e.name != "scale_factor") continue;
+    const std::optional<double>& ref_sigma =
+        e.sensor == "gyro" ? in.reference_gyro_scale_sigma : in.reference_accel_scale_sigma;
+    if (!ref_sigma || !(*ref_sigma > 0.0)) continue;
+    const std::vector<double>& k = e.parameters[0].values;
+    const double k_max = std::abs(*std::max_element(
+        k.begin(), k.end(), [](double a, double b) { return std::abs(a) < std::abs(b); }));
+    const double ratio = k_max / *ref_sigma;
+    if (ratio >= kReferenceScaleShareLimit) continue;
+    e.explanation += fmt::format(
+        "; the largest |k| is {:.1f} x the reference IMU's stated scale uncertainty ({:.3g} ppm "
+        "1-sigma, its profile): the simulation inherits the reference's own gain error, so this "
+        "may be partly the reference's (sign reversed), not the tested IMU's",
+        ratio, 1e6 * *ref_sigma);
   }
   out.nuisance_bias = sel.nuisance.theta.head<6>();
   if (sel.nuisance.theta.size() == 12) out.nuisance_drift = 2.0 * sel.nuisance.theta.segment<6>(6);
