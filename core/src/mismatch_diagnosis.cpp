@@ -294,46 +294,6 @@ bool sensorsOwnQuadratic(const LabQuadratic& lab, Effect* e) {
   return beyond;
 }
 
-// The largest |value| / limit over the elements of a fitted scale_factor or non_orthogonality
-// term `q` (its first parameter) and that element. The limit is 3 x sqrt(fit sigma^2 + the lab's
-// budget): the sensor's lab M_sigma, for a scale factor with the reference IMU's stated scale
-// uncertainty and the lab quadratic's gain uncertainty at the drive's mean input x0 (SG#2's gain
-// there is c1 + 2 c2 x0; f_z ~ -g: 2 g sigma_c2; under common random numbers a c2_z 2 sigma off
-// was claimed as a -6.3e-4 z scale factor, random_14_22), for cross-axis terms next to a mounting
-// rotation with the other sensor's lab rotation uncertainty about the complementary axis (the
-// rotation is shared by both sensors and fitted mostly from the better-determined one, so it
-// carries that sensor's lab rotation error, which this sensor's cross-axis terms take up).
-struct LabBudgetRatio {
-  double ratio = 0.0;
-  std::size_t element = 0;
-};
-LabBudgetRatio labBudgetRatio(const CandidateTerm& t, const EffectParameter& q,
-                              const DiagnosisInputs& in, bool shared_rotation,
-                              const Eigen::Vector3d& mean_input) {
-  const bool gyro = t.sensor == "gyro";
-  const Eigen::Matrix3d& Msig = gyro ? *in.lab_gyro_M_sigma : *in.lab_accel_M_sigma;
-  const std::optional<Eigen::Matrix3d>& other_Msig = gyro ? in.lab_accel_M_sigma : in.lab_gyro_M_sigma;
-  const std::optional<double>& ref_scale_sigma =
-      gyro ? in.reference_gyro_scale_sigma : in.reference_accel_scale_sigma;
-  const std::optional<LabQuadratic>& quad = gyro ? in.lab_gyro_quadratic : in.lab_accel_quadratic;
-  const bool scale = t.name == "scale_factor";
-  LabBudgetRatio worst;
-  for (std::size_t k = 0; k < q.values.size(); ++k) {
-    const int i = scale ? static_cast<int>(k) : static_cast<int>(k) / 3;
-    const int j = scale ? static_cast<int>(k) : static_cast<int>(k) % 3;
-    if (!scale && i == j) continue;
-    double lab_sigma = Msig(i, j);
-    if (!scale && shared_rotation)
-      lab_sigma = std::hypot(lab_sigma, labRotationSigma(other_Msig, 3 - i - j));
-    if (scale && ref_scale_sigma) lab_sigma = std::hypot(lab_sigma, *ref_scale_sigma);
-    if (scale && quad)
-      lab_sigma = std::hypot(lab_sigma, 2.0 * std::abs(mean_input(i)) * quad->c2_sigma(i));
-    const double ratio = std::abs(q.values[k]) / (3.0 * std::hypot(q.sigma[k], lab_sigma));
-    if (ratio > worst.ratio) worst = {ratio, k};
-  }
-  return worst;
-}
-
 // fitTerms on `model`, keeping the selection log of `sel`.
 SelectionResult refitKeepingLog(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
                                 const std::vector<int>& model, const SelectionOptions& options,
@@ -401,63 +361,6 @@ SelectionResult withCalibrationErrorFitted(const Eigen::MatrixXd& r,
   return sel;
 }
 
-// Lab calibration error the selection never picked is in the residual as well, and a claimed term
-// whose regressor overlaps it takes it up: under common random numbers random_13_12 claimed a
-// g-sensitivity G_xy, G_yy of -2e-6 rad/s per m/s^2, which on the car's lateral force f_y ~ v
-// omega_z is the lab's gyro cross-axis error M_xz, M_yz (-1.4e-5 and -1.3e-5, 1.4 x the lab's
-// sigma) that no non_orthogonality term was selected for. Each scale_factor and
-// non_orthogonality term of a sensor with a lab M_sigma that is not in the model is fitted next
-// to it; when every element lies within the lab's budget (labBudgetRatio), it joins the gated
-// calibration error, next to which withCalibrationErrorFitted refits the claimed terms. Not the
-// cross-axis terms next to a mounting rotation: with both triads' cross-axis terms free the
-// rotation has no data of its own (a 3-dim null space).
-void probeUnselectedCalibrationError(const Eigen::MatrixXd& r,
-                                     const std::vector<CandidateTerm>& terms,
-                                     const DiagnosisInputs& in, const SelectionOptions& options,
-                                     const SelectionResult& sel, const Eigen::Vector3d& mean_rate,
-                                     const Eigen::Vector3d& mean_force, int n_bins,
-                                     std::vector<int>* calibration_gated,
-                                     std::vector<std::string>* notes) {
-  std::vector<int> model;
-  bool any_claimed = false, rotation = false;
-  for (const TermFit& tf : sel.selected) {
-    model.push_back(tf.term);
-    any_claimed |= tf.claimed;
-    rotation |= terms[tf.term].name == "mounting_misalignment";
-  }
-  if (!any_claimed) return;
-  for (std::size_t t = 0; t < terms.size(); ++t) {
-    const CandidateTerm& c = terms[t];
-    const bool gyro = c.sensor == "gyro";
-    if (!(c.name == "scale_factor" || c.name == "non_orthogonality") || !c.regressor.empty())
-      continue;
-    if (!(gyro ? in.lab_gyro_M_sigma : in.lab_accel_M_sigma)) continue;
-    if (c.name == "non_orthogonality" && rotation) continue;
-    const int term = static_cast<int>(t);
-    if (std::find(model.begin(), model.end(), term) != model.end() ||
-        std::find(calibration_gated->begin(), calibration_gated->end(), term) !=
-            calibration_gated->end())
-      continue;
-    std::vector<int> probe = model;
-    for (int g : *calibration_gated)
-      if (std::find(probe.begin(), probe.end(), g) == probe.end()) probe.push_back(g);
-    probe.push_back(term);
-    const SelectionResult fit = fitTerms(r, terms, probe, options);
-    const auto it = std::find_if(fit.selected.begin(), fit.selected.end(),
-                                 [&](const TermFit& f) { return f.term == term; });
-    if (it == fit.selected.end()) continue;
-    const Effect e = effectFromTerm(c, *it, n_bins);
-    const LabBudgetRatio worst =
-        labBudgetRatio(c, e.parameters[0], in, false, gyro ? mean_rate : mean_force);
-    if (!(worst.ratio <= 1.0)) continue;
-    calibration_gated->push_back(term);
-    notes->push_back(fmt::format(
-        "{} (not selected) fitted next to the model lies within the lab calibration's budget "
-        "(largest element {:.2f} x its limit): held in the fit as lab calibration error",
-        c.key(), worst.ratio));
-  }
-}
-
 // Gates against claiming what the lab calibration's own uncertainty explains (docs/mismatch.md,
 // Method, gates a, b, d). A gated term leaves the model, the rest is refitted, and the gates run
 // again on the refit (a term fitted to compensate the gated one, e.g. a gyro non-orthogonality
@@ -522,14 +425,40 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
       if ((t.name == "scale_factor" || t.name == "non_orthogonality") && Msig) {
         const Effect e = effectFromTerm(t, tf, grid.count);
         const EffectParameter& q = e.parameters[0];
+        // With a mounting rotation in the model, that rotation is shared by both sensors and
+        // fitted mostly from the better-determined one, so it carries that sensor's lab rotation
+        // error; this sensor's cross-axis terms then take up the difference. Their lab budget
+        // adds the other sensor's rotation uncertainty about the complementary axis.
+        const std::optional<Eigen::Matrix3d>& other_Msig =
+            t.sensor == "gyro" ? in.lab_accel_M_sigma : in.lab_gyro_M_sigma;
         const bool shared_rotation =
             std::any_of(sel.selected.begin(), sel.selected.end(), [&](const TermFit& o) {
               return terms[o.term].name == "mounting_misalignment";
             });
-        const LabBudgetRatio worst = labBudgetRatio(t, q, in, shared_rotation, mean_input);
-        const std::size_t worst_k = worst.element;
-        const double worst_ratio = worst.ratio;
-        const bool beyond = worst_ratio > 1.0;
+        bool beyond = false;
+        double worst_ratio = 0.0;  // largest |value| / limit, for the note
+        std::size_t worst_k = 0;
+        for (std::size_t k = 0; k < q.values.size(); ++k) {
+          const int i = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) / 3;
+          const int j = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) % 3;
+          if (t.name == "non_orthogonality" && i == j) continue;
+          double lab_sigma = (*Msig)(i, j);
+          if (t.name == "non_orthogonality" && shared_rotation)
+            lab_sigma = std::hypot(lab_sigma, labRotationSigma(other_Msig, 3 - i - j));
+          if (t.name == "scale_factor" && ref_scale_sigma)
+            lab_sigma = std::hypot(lab_sigma, *ref_scale_sigma);
+          // SG#2's gain at the drive's mean input x0 is c1 + 2 c2 x0: the lab's c2 uncertainty
+          // is a gain uncertainty there (f_z ~ -g: 2 g sigma_c2; under common random numbers a
+          // c2_z 2 sigma off was claimed as a -6.3e-4 z scale factor, random_14_22).
+          if (t.name == "scale_factor" && quad)
+            lab_sigma = std::hypot(lab_sigma, 2.0 * std::abs(mean_input(i)) * quad->c2_sigma(i));
+          const double lim = 3.0 * std::hypot(q.sigma[k], lab_sigma);
+          beyond |= std::abs(q.values[k]) > lim;
+          if (std::abs(q.values[k]) / lim > worst_ratio) {
+            worst_ratio = std::abs(q.values[k]) / lim;
+            worst_k = k;
+          }
+        }
         if (!beyond) {
           const bool with_ref = t.name == "scale_factor" && ref_scale_sigma;
           const bool with_quad =
@@ -611,8 +540,6 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
   for (TermFit& tf : sel.selected)
     if (std::find(companions.begin(), companions.end(), tf.term) != companions.end())
       tf.claimed = false;
-  probeUnselectedCalibrationError(r, terms, in, options, sel, mean_rate, mean_force, grid.count,
-                                  calibration_gated, notes);
   return withCalibrationErrorFitted(r, terms, options, std::move(sel), *calibration_gated, notes);
 }
 
