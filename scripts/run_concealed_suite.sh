@@ -87,8 +87,9 @@ run_one() {
     echo "diagnose failed: $case_dir.diagnose.log" >&2
   # The simulator's record of every error it drew (the reference IMU's too), for the scorer; kept
   # when the case directory is deleted.
-  [ -d "$diag_dir" ] && cp "$case_dir/simulation.yaml" "$diag_dir/simulation.yaml" 2>/dev/null
-  return 0
+  if [ -f "$case_dir/simulation.yaml" ] && [ -d "$diag_dir" ]; then
+    cp "$case_dir/simulation.yaml" "$diag_dir/simulation.yaml" || true
+  fi
 }
 
 # Waits until fewer than $njobs background runs are going.
