@@ -91,6 +91,28 @@ Pair makePair(const ImuErrorModel& extra, uint64_t seed) {
   return p;
 }
 
+// White noise only (densities in rad/s/sqrt(Hz) and m/s^2/sqrt(Hz)).
+ImuErrorModel whiteNoise(double gyro_density, double accel_density) {
+  ImuErrorModel m;
+  m.gyro.white_noise.density.setConstant(gyro_density);
+  m.accel.white_noise.density.setConstant(accel_density);
+  return m;
+}
+
+// A simulation that applies `simulated_model` to `reference` (as SG#2 grafts the lab's terms)
+// against a real tested IMU with `real_model` on the same motion; noise streams seed, seed + 1.
+DiagnosisInputs graftedInputs(const ImuSeries& reference, const ImuErrorModel& real_model,
+                              const ImuErrorModel& simulated_model, uint64_t seed,
+                              const std::string& simulation_kind) {
+  DiagnosisInputs in;
+  in.case_name = "synthetic";
+  in.simulation_kind = simulation_kind;
+  in.reference = reference;
+  in.real = applyErrors(reference, real_model, seed);
+  in.simulated = applyErrors(reference, simulated_model, seed + 1);
+  return in;
+}
+
 const Effect* findEffect(const DiagnosisResult& r, const std::string& name) {
   for (const Effect& e : r.effects)
     if (e.name == name) return &e;
@@ -245,9 +267,7 @@ TEST(MismatchDiagnosis, AccelAsymmetryReplacesTheLabQuadraticItWasSeenAs) {
   const Motion m = carMotion(37);
   const double T = 150.0, g = 9.79;
   const Eigen::Vector3d k_pos(6e-3, -5e-3, 0.0);
-  ImuErrorModel noise;
-  noise.gyro.white_noise.density.setConstant(3e-5);
-  noise.accel.white_noise.density.setConstant(1e-5);
+  const ImuErrorModel noise = whiteNoise(3e-5, 1e-5);
   ImuErrorModel truth = noise;
   truth.accel.scale_asymmetry.k_pos = k_pos;
   truth.accel.scale_asymmetry.k_neg.setZero();
@@ -492,18 +512,12 @@ TEST(MismatchDiagnosis, RotationOfSeveralDegreesIsNotSplitIntoScaleAndCrossAxisT
 TEST(MismatchDiagnosis, CalibrationErrorWithinTheLabUncertaintyIsNotUnexplained) {
   const Motion m = carMotion(23);
   const double T = 150.0;
-  ImuErrorModel noise;
-  noise.gyro.white_noise.density.setConstant(3e-5);
-  noise.accel.white_noise.density.setConstant(3e-4);
+  const ImuErrorModel noise = whiteNoise(3e-5, 3e-4);
   ImuErrorModel truth = noise;  // the lab's calibration error of the accelerometer triad
   truth.accel.scale_factor.k << 2e-3, -2e-3, 1e-3;
   truth.accel.non_orthogonality.N << 0.0, 3e-3, -2e-3, 2e-3, 0.0, 3e-3, -3e-3, 1e-3, 0.0;
-  DiagnosisInputs in;
-  in.case_name = "synthetic";
-  in.simulation_kind = "reference + tested noise (as SG#2)";
-  in.reference = sampleMotion(m, 100.0, T);
-  in.real = applyErrors(in.reference, truth, 41);
-  in.simulated = applyErrors(in.reference, noise, 42);
+  DiagnosisInputs in = graftedInputs(sampleMotion(m, 100.0, T), truth, noise, 41,
+                                     "reference + tested noise (as SG#2)");
   const DiagnosisResult ungated = diagnose(in);
   ASSERT_FALSE(ungated.effects.empty()) << "the error must show when nothing gates it";
   in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-4);
@@ -524,20 +538,14 @@ TEST(MismatchDiagnosis, ClaimedTermIsFittedNextToTheGatedCalibrationError) {
   Motion m = carMotion(29);
   for (const auto& w : m.waves[2]) m.waves[4].push_back({10.0 * w[0], w[1], w[2]});
   const double T = 150.0;
-  ImuErrorModel noise;
-  noise.gyro.white_noise.density.setConstant(3e-5);
-  noise.accel.white_noise.density.setConstant(3e-4);
+  const ImuErrorModel noise = whiteNoise(3e-5, 3e-4);
   ImuErrorModel truth = noise;
   truth.gyro.scale_factor.k << 1.5e-3, -1.5e-3, 1.5e-3;  // calibration error, within the lab's
   truth.g_sensitivity.G.setZero();  // rad/s per m/s^2 (41 and -31 deg/h per m/s^2)
   truth.g_sensitivity.G(2, 1) = 2e-4;
   truth.g_sensitivity.G(0, 0) = -1.5e-4;
-  DiagnosisInputs in;
-  in.case_name = "synthetic";
-  in.simulation_kind = "reference + tested noise (as SG#2)";
-  in.reference = sampleMotion(m, 100.0, T);
-  in.real = applyErrors(in.reference, truth, 51);
-  in.simulated = applyErrors(in.reference, noise, 52);
+  DiagnosisInputs in = graftedInputs(sampleMotion(m, 100.0, T), truth, noise, 51,
+                                     "reference + tested noise (as SG#2)");
   in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(2e-3);  // 3 sigma = 6e-3: k is within
   in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-4);
   const DiagnosisResult r = diagnose(in);
@@ -598,18 +606,12 @@ TEST(MismatchDiagnosis, ScaleWithinTheReferenceImusOwnUncertaintyIsNotClaimed) {
 TEST(MismatchDiagnosis, ScaleWithinTheLabQuadraticsUncertaintyAtTheMeanInputIsNotClaimed) {
   const Motion m = carMotion(31);
   const double T = 150.0, k2_z = 1e-4, c2_sigma = 1.5e-5;
-  ImuErrorModel noise;
-  noise.gyro.white_noise.density.setConstant(3e-5);
-  noise.accel.white_noise.density.setConstant(1e-4);
+  const ImuErrorModel noise = whiteNoise(3e-5, 1e-4);
   ImuErrorModel truth = noise, sg2 = noise;
   truth.accel.scale_nonlinearity.k2 << 0.0, 0.0, k2_z;
   sg2.accel.scale_nonlinearity.k2 << 0.0, 0.0, k2_z - 2.0 * c2_sigma;  // the lab's c2, 2 sigma off
-  DiagnosisInputs in;
-  in.case_name = "synthetic";
-  in.simulation_kind = "reference + the lab's quadratic (as SG#2)";
-  in.reference = sampleMotion(m, 100.0, T);
-  in.real = applyErrors(in.reference, truth, 61);
-  in.simulated = applyErrors(in.reference, sg2, 62);
+  DiagnosisInputs in = graftedInputs(sampleMotion(m, 100.0, T), truth, sg2, 61,
+                                     "reference + the lab's quadratic (as SG#2)");
   in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   const auto claimsScale = [&](double sigma) {
@@ -638,9 +640,7 @@ TEST(MismatchDiagnosis, TimeOffsetShiftsTheLabCalibratedResponse) {
   ImuErrorModel sensor;  // the tested IMU's linear response, which the lab calibrates
   sensor.gyro.scale_factor.k << 0.02, -0.02, 0.02;
   sensor.gyro.non_orthogonality.N << 0.0, 0.01, -0.01, 0.01, 0.0, 0.01, -0.01, 0.01, 0.0;
-  ImuErrorModel noise;
-  noise.gyro.white_noise.density.setConstant(3e-5);
-  noise.accel.white_noise.density.setConstant(3e-4);
+  const ImuErrorModel noise = whiteNoise(3e-5, 3e-4);
   ImuErrorModel truth = sensor;  // the response applied to the motion measured at t - tau (exact)
   truth.gyro.white_noise = noise.gyro.white_noise;
   truth.accel.white_noise = noise.accel.white_noise;
@@ -730,19 +730,12 @@ TEST(MismatchDiagnosis, AsymmetryUnderVibrationIsMeasuredOnTheSamples) {
   car.accel_vibration_m_s2 = 0.6;
   const Eigen::Vector3d k_pos(6e-3, -5e-3, 0.0);
   const ImuSeries ideal = car.sample(0.0, Eigen::Vector3d::Zero());
-  ImuErrorModel noise;
-  noise.gyro.white_noise.density.setConstant(3e-5);
-  noise.accel.white_noise.density.setConstant(1e-4);
+  const ImuErrorModel noise = whiteNoise(3e-5, 1e-4);
   ImuErrorModel truth = noise, sg2 = noise;
   truth.accel.scale_asymmetry.k_pos = k_pos;
   truth.accel.scale_asymmetry.k_neg.setZero();
   sg2.accel.scale_factor.k = 0.5 * k_pos;  // the lab's line: the mean gain
-  DiagnosisInputs in;
-  in.case_name = "synthetic";
-  in.simulation_kind = "reference + the lab's line (as SG#2)";
-  in.reference = ideal;
-  in.real = applyErrors(ideal, truth, 81);
-  in.simulated = applyErrors(ideal, sg2, 82);
+  DiagnosisInputs in = graftedInputs(ideal, truth, sg2, 81, "reference + the lab's line (as SG#2)");
   in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   const DiagnosisResult r = diagnose(in);
