@@ -231,6 +231,8 @@ void registerDiagnose(CLI::App& app) {
       const GraftedCase g = graftCase(ref, report, go);
       in.simulated = g.sg2;
       attachLabTemperature(lab.static_imu, g.start_offset_s, &in.simulated);
+      in.graft_static_record_s = g.static_record_s;
+      in.graft_start_offset_s = g.start_offset_s;
       in.simulation_kind = "SG#2 (lab calibration + grafting)";
       in.lab_gyro_M_sigma = report.result.gyro.M_sigma;
       in.lab_accel_M_sigma = report.result.accel.M_sigma;

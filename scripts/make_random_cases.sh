@@ -5,15 +5,20 @@
 # finder's detection limits, random signs, a random piece of a random track, 100 or 200 Hz, a MEMS
 # or tactical tested IMU, road vibration or not. Cases 0 mod 7 carry no concealed effect (nulls).
 #
-# Usage: scripts/make_random_cases.sh N SEED OUT_DIR
+# Usage: scripts/make_random_cases.sh N SEED OUT_DIR [TESTED_PROFILE]
 # then:  scripts/run_concealed_suite.sh --config-dir OUT_DIR --jobs 2 RESULT_DIR build/graftnav
+# TESTED_PROFILE (a file name under configs/imu/, e.g. consumer_mems.yaml) replaces the drawn
+# tested IMU; every other draw of the seed stays the same, so the cases pair with the seed's own.
 set -euo pipefail
-[ $# -eq 3 ] || { sed -n '2,9p' "$0"; exit 2; }
-n="$1" seed="$2" out="$3"
+[ $# -eq 3 ] || [ $# -eq 4 ] || { sed -n '2,11p' "$0"; exit 2; }
+n="$1" seed="$2" out="$3" profile="${4:-}"
 repo="$(cd "$(dirname "$0")/.." && pwd)"
+if [ -n "$profile" ] && [ ! -f "$repo/configs/imu/$profile" ]; then
+  echo "make_random_cases.sh: no tested IMU profile $repo/configs/imu/$profile" >&2; exit 2
+fi
 tracks="$(cd "$repo/../shared/data/tracks" && pwd)"
 mkdir -p "$out"
-awk -v n="$n" -v seed="$seed" -v out="$out" -v repo="$repo" -v tracks="$tracks" '
+awk -v n="$n" -v seed="$seed" -v out="$out" -v repo="$repo" -v tracks="$tracks" -v profile="$profile" '
 function u(a, b) { return a + (b - a) * rand() }
 function lu(a, b) { return exp(u(log(a), log(b))) }          # log-uniform in [a, b]
 function sg() { return rand() < 0.5 ? -1 : 1 }
@@ -43,6 +48,7 @@ BEGIN {
     dur = int(u(600, 1200))
     start = int(u(60, (long ? 3300 : 1560) - dur))
     tested = rand() < 0.7 ? "pos1100_mems.yaml" : "pos310_tactical.yaml"
+    if (profile != "") tested = profile
     printf "# Random concealed-effect case (scripts/make_random_cases.sh %d %d): %s\n", n, seed, (k ? chosen : " none (null)") > f
     printf "name: %s\nseed: %d\ngnss_week: 2100\nimu_rate_hz: %d\nquadrature_nodes: 4\ntruth_rate_hz: 10\n", name, seed * 100 + c, (rand() < 0.5 ? 100 : 200) > f
     printf "trajectory:\n  track: %s/%s\n  start_offset_s: %d\n  duration_s: %d\n", tracks, track, start, dur > f

@@ -143,9 +143,23 @@ G0 = 9.80665
 MG = 1e-3 * G0
 STATS = ["horizontal_m", "vertical_m", "roll_deg", "pitch_deg", "heading_deg"]
 
+def numbers(node):
+    """A YAML node's numbers as floats: PyYAML reads 1e-06 (no decimal point, YAML 1.1) as a
+    string, which the simulator's YAML 1.2 parser reads as a number."""
+    if isinstance(node, dict):
+        return {k: numbers(v) for k, v in node.items()}
+    if isinstance(node, list):
+        return [numbers(v) for v in node]
+    if isinstance(node, str):
+        try:
+            return float(node)
+        except ValueError:
+            return node
+    return node
+
 def injected(cfg):
     """Injected effects {(name, sensor): (parameter key, true values)} in diagnosis.json's terms."""
-    t = cfg.get("tested_imu", {})
+    t = numbers(cfg.get("tested_imu", {}))
     eff = {}
     if "g_sensitivity_deg_h_per_g" in t:
         eff[("g_sensitivity", "gyro")] = ("G", [v * DEG_H / G0 for v in t["g_sensitivity_deg_h_per_g"]])

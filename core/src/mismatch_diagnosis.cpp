@@ -691,6 +691,13 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   if (opt.selection.slow_block_bins == 0 && opt.slow_block_s > 0.0)
     opt.selection.slow_block_bins =
         std::min(static_cast<int>(std::round(opt.slow_block_s / opt.bin_s)), n / 8);
+  opt.selection.bin_s = grid.bin_s;
+  if (in.graft_static_record_s > 0.0 && !in.simulated.empty()) {
+    // The tiling clock starts at the simulation's first interval (grafting.cpp).
+    const double t0 = in.simulated.front().t_s - in.simulated.front().dt_s;
+    opt.selection.replay_period_s = in.graft_static_record_s;
+    opt.selection.replay_start_s = in.graft_start_offset_s + (grid.t_begin_s - t0);
+  }
 
   // 3. Residual on the grid.
   const BinnedImu x = binImu(in.reference, grid);

@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -15,6 +16,7 @@
 
 #include "graftnav/core/mismatch/term_selection.h"
 
+#include "graftnav/core/mismatch/block_random_walk.h"
 #include "graftnav/core/mismatch/scale_noise.h"
 
 namespace graftnav {
@@ -27,6 +29,8 @@ void SelectionOptions::validate() const {
     throw std::invalid_argument("SelectionOptions: max_terms must be >= 0");
   if (!(max_rho > 0.0 && max_rho < 1.0))
     throw std::invalid_argument("SelectionOptions: max_rho must be in (0, 1)");
+  if (!(replay_period_s >= 0.0) || !(bin_s >= 0.0))
+    throw std::invalid_argument("SelectionOptions: replay_period_s and bin_s must be >= 0");
 }
 
 namespace {
@@ -435,7 +439,10 @@ class Selector {
   // squares and its evidence and covariance carry one factor, 1 + sum_c s_c (c_slow_c - 1): per
   // channel c_slow = block length x variance of the block means of the residual without any slow
   // term (1 for white noise; it holds whatever slow signal is there, the conservative side), s_c
-  // the share of the term's whitened regressor energy in block means on channel c.
+  // the share of the term's whitened regressor energy in block means on channel c. Or, when
+  // larger, the factor of a random walk of the block means whose intensity REML estimates with
+  // the term's own regressors as fixed effects (block_random_walk.h): the block factor treats
+  // the blocks as independent, and a random walk's projection onto a warm-up is ~8 x larger.
   SlowNoise blockMeanNoise() const {
     SlowNoise out;
     out.G = gram_.G_all;
@@ -454,20 +461,74 @@ class Selector {
       for (int b = 0; b < blocks; ++b) acc += m * std::pow(w.segment(b * m, m).mean(), 2);
       return acc;
     };
+    const auto blockMeans = [&](const Eigen::VectorXd& w) {
+      Eigen::VectorXd out_b(blocks);
+      for (int b = 0; b < blocks; ++b) out_b(b) = w.segment(b * m, m).mean();
+      return out_b;
+    };
     const Eigen::MatrixXd e = slowResidual({});
     for (int c = 0; c < kMismatchChannels; ++c)
       out.slow_inflation(c) = std::max(1.0, blockEnergy(e.col(c)) / blocks / inflation_);
+    // The two realizations' unit covariance: the field's walk, plus the lab's replayed one when
+    // the simulation is SG#2 (block b starts rb_ + b m bins into the grid).
+    Eigen::MatrixXd K = blockRandomWalkCovariance(blocks);
+    if (opt_.replay_period_s > 0.0 && opt_.bin_s > 0.0) {
+      ReplayTiling tiling;
+      tiling.period_s = opt_.replay_period_s;
+      tiling.block_s = m * opt_.bin_s;
+      tiling.start_s = opt_.replay_start_s + rb_ * opt_.bin_s;
+      K += replayedRandomWalkCovariance(blocks, tiling);
+    }
     for (std::size_t t = 0; t < terms_.size(); ++t) {
-      double num = 0.0, total = 0.0;
-      for (const RegressorColumn& col : terms_[t].columns)
-        for (int c = 0; c < kMismatchChannels; ++c) {
-          if (!col.actsOn(c)) continue;
-          const Eigen::VectorXd w = whitened(col.channel[c], c, rb_);
-          const double energy = w.squaredNorm();
-          num += std::min(blockEnergy(w), energy) * (out.slow_inflation(c) - 1.0);
-          total += energy;
+      double num = 0.0, num_walk = 0.0, total = 0.0;
+      std::optional<Eigen::MatrixXd> own_residual;
+      // Per sensor triad (gyro channels 0-2, accel 3-5): the term's whitened columns on each
+      // channel as block means, and that channel's residual block means.
+      for (int sensor = 0; sensor < 2; ++sensor) {
+        std::vector<std::vector<Eigen::VectorXd>> means(3);
+        for (int k = 0; k < 3; ++k) {
+          const int c = 3 * sensor + k;
+          for (const RegressorColumn& col : terms_[t].columns) {
+            if (!col.actsOn(c)) continue;
+            const Eigen::VectorXd w = whitened(col.channel[c], c, rb_);
+            const double energy = w.squaredNorm();
+            num += std::min(blockEnergy(w), energy) * (out.slow_inflation(3 * sensor + k) - 1.0);
+            total += energy;
+            means[k].push_back(blockMeans(w));
+          }
         }
-      out.term_inflation[t] = total > 0.0 ? 1.0 + num / total : 1.0;
+        if (!isSlow(static_cast<int>(t))) continue;
+        // One random walk per triad (its axes share one wander specification), its intensity
+        // by REML with this term's regressors as fixed effects on each channel, in the residual
+        // of the fast model fitted together with this term (fitted without it, the fast terms
+        // take up part of a real warm-up and leave a shape REML would call wander).
+        std::vector<Eigen::VectorXd> ys;
+        std::vector<Eigen::MatrixXd> Xs;
+        for (int k = 0; k < 3; ++k) {
+          if (means[k].empty()) continue;
+          if (!own_residual) own_residual = slowResidual({static_cast<int>(t)});
+          Eigen::MatrixXd X(blocks, static_cast<int>(means[k].size()) + 1);
+          X.col(0).setOnes();
+          for (std::size_t j = 0; j < means[k].size(); ++j)
+            X.col(static_cast<int>(j) + 1) = means[k][j];
+          ys.push_back(blockMeans(own_residual->col(3 * sensor + k)));
+          Xs.push_back(std::move(X));
+        }
+        if (ys.empty()) continue;
+        const double q = remlBlockRandomWalk(ys, Xs, inflation_ / m, K);
+        // var(u'e) - var(u'e | white) = m^2 q u_b' K u_b per column (u_b its block means).
+        for (int k = 0; k < 3; ++k)
+          for (const Eigen::VectorXd& u : means[k]) {
+            const Eigen::VectorXd d = u.array() - u.mean();
+            num_walk += static_cast<double>(m) * m * q * d.dot(K * d);
+          }
+      }
+      if (!(total > 0.0)) continue;
+      // The block-mean factor holds whatever slow signal is in the residual but treats the
+      // blocks as independent; the random walk's factor follows the wander onto the regressor's
+      // own time scales. The larger one is used.
+      const double f_block = 1.0 + num / total, f_walk = 1.0 + num_walk / total;
+      out.term_inflation[t] = std::max(f_block, f_walk);
     }
     return out;
   }

@@ -62,6 +62,11 @@ struct DiagnosisInputs {
   // fitted wander lies within it is not listed as unexplained (see WanderCheck).
   std::optional<LabNoiseFigures> lab_gyro_noise;
   std::optional<LabNoiseFigures> lab_accel_noise;
+  // SG#2 replays the lab's static record (its bias wander included) tiled forward and backward
+  // (GraftedCase): its length and the tiling time at the reference's first sample start. The
+  // slow terms' wander model then holds that replay next to the field's own walk. 0: none.
+  double graft_static_record_s = 0.0;
+  double graft_start_offset_s = 0.0;
   // 1-sigma of the lab calibration matrices M (calibration_result.h). When given, a scale_factor
   // or non_orthogonality term is claimed only if some element exceeds 3 x sqrt(fit sigma^2 +
   // lab sigma^2): a smaller one is the lab calibration's own error, not missing physics.

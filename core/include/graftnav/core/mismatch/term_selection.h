@@ -43,9 +43,16 @@
 //    residual (claimed physics is not noise). A slow term (temperature, bias wander,
 //    Earth/gravity) cannot be told from a wander on the coarse scales it shares with it: it is
 //    fitted by white least squares, and its RSS drop is divided, and its covariance multiplied,
-//    by 1 + sum_c s_c (c_slow_c - 1), c_slow_c = block length x variance of the block means of
-//    the whitened residual without any slow term (1 for white noise), s_c the share of its
-//    regressor energy in block means on channel c.
+//    by the larger of two factors: 1 + sum_c s_c (c_slow_c - 1), c_slow_c = block length x
+//    variance of the block means of the whitened residual without any slow term (1 for white
+//    noise), s_c the share of its regressor energy in block means on channel c; and the factor
+//    of a random walk of the block means (block_random_walk.h): one intensity q per sensor
+//    triad, estimated by REML on the residual of the fast model fitted with the term, the
+//    term's block-mean regressors as fixed effects, K the field walk's block covariance plus,
+//    for SG#2, that of the lab record's replay (replay_period_s):
+//    1 + sum m^2 q u_b' K u_b / u'u over its columns u (block means u_b, m bins per block).
+//    The first treats the blocks as independent and understated a bias wander's projection
+//    onto a warm-up about 8 x; the second follows the wander onto the regressor's time scales.
 // 4. Forward selection adds, while any exists, the term with the largest delta_bic among those
 //    with delta_bic > min_delta_bic and cv_gain > min_cv_gain; backward elimination then drops
 //    terms that no longer pass; after a drop, forward and backward run again (a term the dropped
@@ -74,6 +81,12 @@ struct SelectionOptions {
   double max_rho = 0.98;         // AR(1) coefficient clamp
   // Block length (bins) of the slow-noise check (see below); 0 = off. diagnose sets 60 s.
   int slow_block_bins = 0;
+  // The SG#2 replay of the lab's static record (block_random_walk.h), for the slow terms' random
+  // walk: the record length (0: no replay, e.g. reference + static bias), the tiling time at the
+  // start of residual row 0, and the residual's bin length.
+  double replay_period_s = 0.0;
+  double replay_start_s = 0.0;
+  double bin_s = 0.0;
   void validate() const;
 };
 
