@@ -629,6 +629,26 @@ TEST(MismatchDiagnosis, ScaleWithinTheLabQuadraticsUncertaintyAtTheMeanInputIsNo
   EXPECT_TRUE(claimsScale(0.1 * c2_sigma)) << "the gain difference must show when the lab is sure";
 }
 
+// A tested IMU with the response `sensor` whose tags are late by tau (the response applied to the
+// motion measured at t - tau, exact), SG#2 as that response applied to the reference, all with
+// white noise: seeds seed, seed + 1, seed + 2.
+DiagnosisInputs lateResponseInputs(const Motion& m, double T, double tau,
+                                   const ImuErrorModel& sensor, uint64_t seed) {
+  const ImuErrorModel noise = whiteNoise(3e-5, 3e-4);
+  ImuErrorModel truth = sensor;
+  truth.gyro.white_noise = noise.gyro.white_noise;
+  truth.accel.white_noise = noise.accel.white_noise;
+  const ImuSeries late = test::sampleIntegral([&](double t) { return m.integral(t - tau); }, 100.0,
+                                              T, 5000.0);
+  DiagnosisInputs in;
+  in.case_name = "synthetic";
+  in.simulation_kind = "lab response applied to the reference (as SG#2)";
+  in.reference = applyErrors(sampleMotion(m, 100.0, T), noise, seed);
+  in.real = applyErrors(late, truth, seed + 1);
+  in.simulated = applyErrors(in.reference, sensor, seed + 2);
+  return in;
+}
+
 // The tested IMU applies its scale and cross-axis matrix M to the motion it measured at t - tau,
 // and SG#2 applies the lab's M to x(t): the time offset's signal is M (x(t - tau) - x(t)). Shifting
 // the bare reference left (M - I)(x(t - tau) - x(t)) in the residual, which other terms took up
@@ -640,18 +660,7 @@ TEST(MismatchDiagnosis, TimeOffsetShiftsTheLabCalibratedResponse) {
   ImuErrorModel sensor;  // the tested IMU's linear response, which the lab calibrates
   sensor.gyro.scale_factor.k << 0.02, -0.02, 0.02;
   sensor.gyro.non_orthogonality.N << 0.0, 0.01, -0.01, 0.01, 0.0, 0.01, -0.01, 0.01, 0.0;
-  const ImuErrorModel noise = whiteNoise(3e-5, 3e-4);
-  ImuErrorModel truth = sensor;  // the response applied to the motion measured at t - tau (exact)
-  truth.gyro.white_noise = noise.gyro.white_noise;
-  truth.accel.white_noise = noise.accel.white_noise;
-  const ImuSeries late = test::sampleIntegral([&](double t) { return m.integral(t - tau); }, 100.0,
-                                              T, 5000.0);
-  DiagnosisInputs in;
-  in.case_name = "synthetic";
-  in.simulation_kind = "lab response applied to the reference (as SG#2)";
-  in.reference = applyErrors(sampleMotion(m, 100.0, T), noise, 31);
-  in.real = applyErrors(late, truth, 32);
-  in.simulated = applyErrors(in.reference, sensor, 33);
+  const DiagnosisInputs in = lateResponseInputs(m, T, tau, sensor, 31);
   const Eigen::Matrix3d M = Eigen::Matrix3d::Identity() +
                             sensor.gyro.non_orthogonality.N +
                             Eigen::Matrix3d(sensor.gyro.scale_factor.k.asDiagonal());
@@ -685,18 +694,7 @@ TEST(MismatchDiagnosis, TimeOffsetShiftsTheLabQuadratic) {
   const double T = 150.0, tau = 0.03;
   ImuErrorModel sensor;
   sensor.accel.scale_nonlinearity.k2 << 0.0, 0.0, 2e-3;
-  const ImuErrorModel noise = whiteNoise(3e-5, 3e-4);
-  ImuErrorModel truth = sensor;
-  truth.gyro.white_noise = noise.gyro.white_noise;
-  truth.accel.white_noise = noise.accel.white_noise;
-  const ImuSeries late = test::sampleIntegral([&](double t) { return m.integral(t - tau); }, 100.0,
-                                              T, 5000.0);
-  DiagnosisInputs in;
-  in.case_name = "synthetic";
-  in.simulation_kind = "lab response applied to the reference (as SG#2)";
-  in.reference = applyErrors(sampleMotion(m, 100.0, T), noise, 41);
-  in.real = applyErrors(late, truth, 42);
-  in.simulated = applyErrors(in.reference, sensor, 43);
+  DiagnosisInputs in = lateResponseInputs(m, T, tau, sensor, 41);
   in.lab_accel_M = Eigen::Matrix3d::Identity();
   LabQuadratic q;
   q.c2 = sensor.accel.scale_nonlinearity.k2;
