@@ -82,13 +82,17 @@ double remlBlockRandomWalk(const std::vector<Eigen::VectorXd>& y,
   };
   double best_q = 0.0;
   double best = deviance(0.0);
-  const int steps = 162;  // 1e-4 .. 1e5 x white_var, ratio 10^(9 / 162) ~ 1.137
-  for (int k = 0; k <= steps; ++k) {
-    const double q = white_var * std::pow(10.0, -4.0 + 9.0 * k / steps);
+  // From 1e-4 x white_var up by 10^(1 / 18) ~ 1.137 per step, through 1e5 x white_var and on while
+  // the deviance still falls (a wander far above the white noise, e.g. a quiet residual).
+  const double ratio = std::pow(10.0, 1.0 / 18.0);
+  double q = 1e-4 * white_var;
+  for (int k = 0; k < 1000; ++k, q *= ratio) {
     const double d = deviance(q);
     if (d < best) {
       best = d;
       best_q = q;
+    } else if (q > 1e5 * white_var) {
+      break;
     }
   }
   return best_q;

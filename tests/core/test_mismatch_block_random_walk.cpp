@@ -117,7 +117,7 @@ TEST(BlockRandomWalk, ReplayedRecordCovarianceFollowsTheFold) {
 TEST(BlockRandomWalk, RemlRecoversTheIntensityAndIgnoresFixedEffects) {
   const int blocks = 15, reps = 300;
   const double white_var = 1.0 / kBinsPerBlock;
-  for (double q_true : {0.05 * white_var, 2.0 * white_var, 40.0 * white_var}) {
+  for (double q_true : {0.05 * white_var, 2.0 * white_var, 40.0 * white_var, 1e6 * white_var}) {
     std::vector<double> est;
     StandardNormalSampler rng(11);
     for (int r = 0; r < reps; ++r) {

@@ -42,8 +42,8 @@ Eigen::MatrixXd replayedRandomWalkCovariance(int blocks, const ReplayTiling& til
 // REML estimate of q (per block, in the units of y squared) for series y[c] with fixed effects
 // X[c] (blocks x p, the constant included by the caller) sharing one intensity (the three axes of
 // one sensor triad, whose wander has one specification; the REML deviances add), white variance
-// white_var and unit covariance K. Maximized on a log grid of q / white_var from 1e-4 to 1e5 (and
-// q = 0), about 1.14 per step. Returns 0 when all together leave fewer than 3 residual degrees
+// white_var and unit covariance K. Maximized on a log grid of q / white_var from 1e-4 (and q = 0),
+// about 1.14 per step, to 1e5 and beyond while the fit still improves. Returns 0 when all together leave fewer than 3 residual degrees
 // of freedom, or an X is rank deficient or leaves none.
 double remlBlockRandomWalk(const std::vector<Eigen::VectorXd>& y,
                            const std::vector<Eigen::MatrixXd>& X, double white_var,
