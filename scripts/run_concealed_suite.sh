@@ -219,6 +219,11 @@ def reference_own(key, e, ref):
     pe = param_error(e, "k", [-v for v in ref[key[1]]])
     return pe is not None and (pe[0] <= 3.0 or (pe[1] is not None and pe[1] <= 0.2))
 
+def reference_own_claims(found, inj, diag_dir):
+    """The claims in `found` not injected that are the reference IMU's own scale error."""
+    ref = reference_scale(diag_dir)
+    return {k for k in found if k not in inj and reference_own(k, found[k], ref)}
+
 def as_list(v):
     return v if isinstance(v, list) else [v]
 
@@ -330,8 +335,7 @@ def single_table():
         rb, ra = fit["signal_rms_before"], fit["signal_rms_after"]
         sig_txt = (f"gyro {fmt3([x * 180 / math.pi for x in rb['gyro']])} -> {fmt3([x * 180 / math.pi for x in ra['gyro']])} deg/s; "
                    f"accel {fmt3(rb['accel'])} -> {fmt3(ra['accel'])} m/s^2")
-        ref = reference_scale(os.path.join(out, name + "_diag"))
-        own = [k for k in found if k not in inj and reference_own(k, found[k], ref)]
+        own = reference_own_claims(found, inj, os.path.join(out, name + "_diag"))
         false_claims = [k for k in found if k not in inj and k not in own]
         rows.append("| {} | {} | {} | {} | {} | {} | {} -> {} |".format(
             name,
@@ -392,9 +396,8 @@ def mc_tables():
                 continue
             fit = j.get("fit", {})
             found = {(e["name"], e["sensor"]): e for e in j["effects"]}
-            ref = reference_scale(os.path.dirname(jp))
             runs.append({"found": found,
-                         "own": {k for k in found if k not in inj and reference_own(k, found[k], ref)},
+                         "own": reference_own_claims(found, inj, os.path.dirname(jp)),
                          "lab": in_simulation(j),
                          "err": fit.get("err"), "db": fit.get("diff_before"), "da": fit.get("diff_after")})
         n = len(runs)

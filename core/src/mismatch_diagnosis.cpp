@@ -737,10 +737,13 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     const Eigen::Vector3d c2a =
         in.lab_accel_quadratic ? in.lab_accel_quadratic->c2 : Eigen::Vector3d::Zero();
     for (ImuSample& smp : responded) {
+      const Eigen::Vector3d dtheta = smp.dtheta_rad, dvel = smp.dvel_m_s;
+      smp.dtheta_rad = Mg * dtheta;
+      smp.dvel_m_s = Ma * dvel;
+      if (!(smp.dt_s > 0.0)) continue;  // no mean rate to bend (binImu skips such samples)
       // Increments: the quadratic acts on the sample's mean rate, times its length.
-      const Eigen::Vector3d w = smp.dtheta_rad / smp.dt_s, f = smp.dvel_m_s / smp.dt_s;
-      smp.dtheta_rad = Mg * smp.dtheta_rad + smp.dt_s * c2g.cwiseProduct(w.cwiseAbs2());
-      smp.dvel_m_s = Ma * smp.dvel_m_s + smp.dt_s * c2a.cwiseProduct(f.cwiseAbs2());
+      smp.dtheta_rad += smp.dt_s * c2g.cwiseProduct((dtheta / smp.dt_s).cwiseAbs2());
+      smp.dvel_m_s += smp.dt_s * c2a.cwiseProduct((dvel / smp.dt_s).cwiseAbs2());
     }
   }
   const ImuSeries& shifted_signal = responded.empty() ? in.reference : responded;
@@ -943,18 +946,23 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
                    terms[tf.term].regressor == "specific_force_hp_sq";
     }
     if (lever != nullptr && vibration && lever->theta.size() == 3 && lever->theta.allFinite()) {
+      const Eigen::Vector3d r = lever->theta;
       ImuErrorModel moved;
-      moved.lever_arm.r_m = lever->theta;
+      moved.lever_arm.r_m = r;
+      bool have_moved = true;
       try {
         at_tested_imu = applyGeometry(in.reference, moved);
+      } catch (const std::invalid_argument& e) {  // a reference with gaps cannot be moved
+        repeat_notes.push_back(std::string("vibration level left at the reference: ") + e.what());
+        have_moved = false;
+      }
+      if (have_moved) {
         vibrating_f = &at_tested_imu;
         motion_pivot = kNaN;  // rebuild the motion regressors with it
         explainAgain(fmt::format(
             "selection repeated with the vibration level of the reference's specific force moved "
             "to the tested IMU by the fitted lever arm [{:.4f} {:.4f} {:.4f}] m",
-            lever->theta(0), lever->theta(1), lever->theta(2)));
-      } catch (const std::invalid_argument& e) {  // a reference with gaps cannot be moved
-        repeat_notes.push_back(std::string("vibration level left at the reference: ") + e.what());
+            r(0), r(1), r(2)));
       }
     }
   }

@@ -456,19 +456,17 @@ class Selector {
     const int len = re_ - rb_;
     const int blocks = m > 1 ? len / m : 0;
     if (blocks < 4) return out;
-    const auto blockEnergy = [&](const Eigen::VectorXd& w) {
-      double acc = 0.0;
-      for (int b = 0; b < blocks; ++b) acc += m * std::pow(w.segment(b * m, m).mean(), 2);
-      return acc;
-    };
     const auto blockMeans = [&](const Eigen::VectorXd& w) {
       Eigen::VectorXd out_b(blocks);
       for (int b = 0; b < blocks; ++b) out_b(b) = w.segment(b * m, m).mean();
       return out_b;
     };
+    // The energy of w in its block means (m per block mean squared).
+    const auto blockEnergy = [&](const Eigen::VectorXd& means) { return m * means.squaredNorm(); };
     const Eigen::MatrixXd e = slowResidual({});
     for (int c = 0; c < kMismatchChannels; ++c)
-      out.slow_inflation(c) = std::max(1.0, blockEnergy(e.col(c)) / blocks / inflation_);
+      out.slow_inflation(c) =
+          std::max(1.0, blockEnergy(blockMeans(e.col(c))) / blocks / inflation_);
     // The two realizations' unit covariance: the field's walk, plus the lab's replayed one when
     // the simulation is SG#2 (block b starts rb_ + b m bins into the grid).
     Eigen::MatrixXd K = blockRandomWalkCovariance(blocks);
@@ -492,9 +490,9 @@ class Selector {
             if (!col.actsOn(c)) continue;
             const Eigen::VectorXd w = whitened(col.channel[c], c, rb_);
             const double energy = w.squaredNorm();
-            num += std::min(blockEnergy(w), energy) * (out.slow_inflation(3 * sensor + k) - 1.0);
-            total += energy;
             means[k].push_back(blockMeans(w));
+            num += std::min(blockEnergy(means[k].back()), energy) * (out.slow_inflation(c) - 1.0);
+            total += energy;
           }
         }
         if (!isSlow(static_cast<int>(t))) continue;
