@@ -61,6 +61,7 @@ DiagnoseOptions loadDiagnoseConfig(const std::string& path, std::vector<std::str
     else if (k == "knot_spacing_s") num(v, k, &o.library.knot_spacing_s);
     else if (k == "max_knots") { num(v, k, &d); o.library.max_knots = static_cast<int>(d); }
     else if (k == "min_delta_bic") num(v, k, &o.selection.min_delta_bic);
+    else if (k == "min_name_margin") num(v, k, &o.selection.min_name_margin);
     else if (k == "min_cv_gain") num(v, k, &o.selection.min_cv_gain);
     else if (k == "folds") { num(v, k, &d); o.selection.folds = static_cast<int>(d); }
     else if (k == "max_terms") { num(v, k, &d); o.selection.max_terms = static_cast<int>(d); }

@@ -183,6 +183,7 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
       t.requires_terms = {"scale_factor:" + sensor};
       t.paid_requires = true;
       t.explanation = "the " + sensor + " gain differs for positive and negative inputs";
+      t.shape_alternatives = {"scale_nonlinearity"};
       for (int a = 0; a < 3; ++a) t.columns.push_back(singleChannel(s * 3 + a, u_abs.col(a)));
       const Eigen::Vector3d& c2 = s == 0 ? in.gyro_response_c2 : in.accel_response_c2;
       if ((c2.array() != 0.0).any()) {
@@ -224,6 +225,7 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
       t.requires_terms = {"scale_factor:" + sensor};
       t.paid_requires = true;
       t.explanation = "the " + sensor + " input-output line bends: output = input + k2 input^2";
+      t.shape_alternatives = {"scale_asymmetry"};
       for (int a = 0; a < 3; ++a) t.columns.push_back(singleChannel(s * 3 + a, u_sq.col(a)));
       terms.push_back(std::move(t));
     }

@@ -86,6 +86,16 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
     j["effects"].push_back(effectJson(e, {{"delta_bic", num(e.delta_bic)},
                                           {"cv_gain", num(e.cv_gain)},
                                           {"method", e.evidence_method}}));
+  // Found and modelled in SG#3 under the better-fitting shape, not claimed (diagnosis.h).
+  j["ambiguous"] = json::array();
+  for (const AmbiguousEffect& a : r.ambiguous) {
+    json ja = effectJson(a.effect, {{"delta_bic", num(a.effect.delta_bic)},
+                                    {"cv_gain", num(a.effect.cv_gain)},
+                                    {"name_margin", num(a.name_margin)},
+                                    {"method", a.effect.evidence_method}});
+    ja["alternative"] = a.alternative;
+    j["ambiguous"].push_back(std::move(ja));
+  }
   j["modelled_in_simulation"] = json::array();
   for (const Effect& e : r.in_simulation)
     j["modelled_in_simulation"].push_back(effectJson(e, {{"method", e.evidence_method}}));
@@ -161,7 +171,8 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparis
                    r.time_offset_xcorr.reliable ? "reliable" : "not reliable");
   m += "## Effects found\n\n| effect | sensor | parameters (SI) | 1-sigma | delta_bic | cv_gain |\n"
        "|---|---|---|---|---|---|\n";
-  for (const Effect& e : r.effects) {
+  // Parameters and their 1-sigma of one effect, as two table cells.
+  const auto cells = [](const Effect& e) {
     std::string p, s;
     for (const EffectParameter& q : e.parameters) {
       if (!q.text.empty()) {
@@ -171,12 +182,26 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparis
       p += q.key + "=" + (q.scalar ? fmt::format("{:.4g}", q.values[0]) : fmtVec(q.values)) + " ";
       s += q.key + "=" + (q.scalar ? fmt::format("{:.2g}", q.sigma[0]) : fmtVec(q.sigma)) + " ";
     }
+    return std::make_pair(p, s);
+  };
+  for (const Effect& e : r.effects) {
+    const auto [p, s] = cells(e);
     m += fmt::format("| {} | {} | {} | {} | {:.1f} | {:.4f} |\n", e.name, e.sensor, p, s,
                      e.delta_bic, e.cv_gain);
   }
   if (r.effects.empty()) m += "| (none) | | | | | |\n";
   m += "\n";
   for (const Effect& e : r.effects) m += "- **" + e.name + "** (" + e.sensor + "): " + e.explanation + "\n";
+  if (!r.ambiguous.empty()) {
+    m += "\n## Found, shape not settled (modelled in SG#3, not claimed)\n\n"
+         "| fitted as | or | sensor | parameters (SI) | 1-sigma | delta_bic | name margin |\n"
+         "|---|---|---|---|---|---|---|\n";
+    for (const AmbiguousEffect& a : r.ambiguous) {
+      const auto [p, s] = cells(a.effect);
+      m += fmt::format("| {} | {} | {} | {} | {} | {:.1f} | {:.1f} |\n", a.effect.name,
+                       a.alternative, a.effect.sensor, p, s, a.effect.delta_bic, a.name_margin);
+    }
+  }
   if (!r.in_simulation.empty()) {
     m += "\n## Already in the simulation (measured in the lab, grafted into SG#2; not claimed)\n\n";
     for (const Effect& e : r.in_simulation)

@@ -31,6 +31,8 @@ void SelectionOptions::validate() const {
     throw std::invalid_argument("SelectionOptions: max_rho must be in (0, 1)");
   if (!(replay_period_s >= 0.0) || !(bin_s >= 0.0))
     throw std::invalid_argument("SelectionOptions: replay_period_s and bin_s must be >= 0");
+  if (!(min_name_margin >= 0.0))
+    throw std::invalid_argument("SelectionOptions: min_name_margin must be >= 0");
 }
 
 namespace {
@@ -866,6 +868,29 @@ class Selector {
     return delta_bic > opt_.min_delta_bic && cv_gain > opt_.min_cv_gain;
   }
 
+  // Step 5: the evidence of term t (in `model`) over its best shape alternative, the model with
+  // that alternative (and what it requires) in t's place, and the alternative's index (-1: none
+  // applies, e.g. both shapes are in the model and each was measured against the other).
+  std::pair<double, int> nameMargin(const std::vector<int>& model, int t) const {
+    std::pair<double, int> best{std::numeric_limits<double>::infinity(), -1};
+    const std::vector<std::string>& names = terms_[t].shape_alternatives;
+    if (names.empty()) return best;
+    const std::vector<int> without = withoutTerm(model, t);
+    for (std::size_t u = 1; u < terms_.size(); ++u) {
+      const CandidateTerm& cu = terms_[u];
+      const int ui = static_cast<int>(u);
+      if (cu.sensor != terms_[t].sensor || cu.nuisance || cu.fixed || cu.gauge_only ||
+          !cu.part_of.empty() || std::find(names.begin(), names.end(), cu.name) == names.end() ||
+          std::find(model.begin(), model.end(), ui) != model.end())
+        continue;
+      const std::vector<int> alternative = withRequired(without, ui);
+      if (alternative == without) continue;
+      const double margin = deltaBic(alternative, model, t);
+      if (margin < best.first) best = {margin, ui};
+    }
+    return best;
+  }
+
   SelectionResult result(const std::vector<int>& model) const {
     SelectionResult res;
     res.rho = rho_;
@@ -907,6 +932,15 @@ class Selector {
       } else {
         evidence(model, t, &tf.delta_bic, &tf.cv_gain);
         tf.claimed = terms_[t].part_of.empty() && passes(tf.delta_bic, tf.cv_gain);
+        if (tf.claimed) {
+          const auto [margin, alternative] = nameMargin(model, t);
+          if (alternative >= 0) {
+            tf.shape_alternative = terms_[alternative].key();
+            tf.name_margin = margin;
+            tf.name_ambiguous = margin < opt_.min_name_margin;
+            tf.claimed = !tf.name_ambiguous;
+          }
+        }
         res.selected.push_back(tf);
       }
     }

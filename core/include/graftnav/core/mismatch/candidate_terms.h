@@ -65,6 +65,10 @@ struct CandidateTerm {
   // symmetric accelerometer non_orthogonality; term_selection.h, step 4).
   bool gauge_only = false;
   std::vector<std::string> excludes;  // keys of terms this one replaces when added
+  // Names of other terms of the same sensor whose regressors are another shape of the same
+  // physics on this data (scale_asymmetry's |x| and scale_nonlinearity's x^2): a selected term
+  // is named only when it beats the best of them (term_selection.h, step 5).
+  std::vector<std::string> shape_alternatives;
   // Keys of terms that must be in the model when this one is tested (its evidence is measured
   // against the model with them) and that stay in it while this one does (a companion that fails
   // its own test is fitted but not claimed): the near-constant earth/gravity regressors must beat

@@ -137,6 +137,16 @@ struct Effect {
   std::string evidence_method = "bic+blocked_cv";  // or "value_lattice"
 };
 
+// A selected term whose shape the data do not settle (term_selection.h, step 5): modelled in SG#3
+// under the better-fitting name, not claimed. `effect` is that term as fitted; `alternative` the
+// other shape's name and `name_margin` the evidence of the fitted shape over it (2 ln Bayes
+// factor, below SelectionOptions::min_name_margin).
+struct AmbiguousEffect {
+  Effect effect;
+  std::string alternative;
+  double name_margin = 0.0;
+};
+
 struct ChannelRms {
   Eigen::Vector3d gyro = Eigen::Vector3d::Zero();   // rad/s
   Eigen::Vector3d accel = Eigen::Vector3d::Zero();  // m/s^2
@@ -149,6 +159,7 @@ struct DiagnosisResult {
   TimeOffsetEstimate time_offset_xcorr;
   std::vector<LocatedSpan> located;       // residual before modelling
   std::vector<Effect> effects;            // claimed
+  std::vector<AmbiguousEffect> ambiguous; // found, modelled, name not settled (not claimed)
   // Physics of the tested IMU that the simulation already carries beyond the linear model: the
   // lab fitting function's quadratic (scale_nonlinearity, k2 = c2 per axis, 1-sigma NaN on axes
   // fitted with a line), which SG#2 grafts, so the field residual cannot show it (evidence_method

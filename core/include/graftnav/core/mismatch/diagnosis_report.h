@@ -5,6 +5,8 @@
 // diagnosis.json: {"case", "located": [{channel, t_start, t_end, regime, excess_rms}],
 //   "effects": [{name, sensor, parameters, uncertainty, evidence: {delta_bic, cv_gain}, explanation}],
 //   "unexplained": [{channel, t_start, t_end, regime, excess_rms}],
+//   extra "ambiguous": [{as an effect, evidence also name_margin, "alternative": name}] (found and
+//   modelled in SG#3, shape not settled: not claimed), "modelled_in_simulation", ...
 //   "fit": {signal_rms_before: {gyro: [3], accel: [3]}, signal_rms_after, diff_before, diff_after}}
 // diff_* are S = {horizontal_m, vertical_m, roll_deg, pitch_deg, heading_deg} (fractions) when a
 // navigation comparison was run, else null. Non-finite numbers (unknown uncertainties) are null.

@@ -61,10 +61,19 @@
 //    to both triads, as mounting_misalignment does) is re-expressed as mounting_misalignment +
 //    the gyro's N + the accelerometer's symmetric N (gauge_only; same fit). A term is claimed
 //    only if it passes both tests in the final model.
+// 5. Names. Terms with declared shape alternatives (shape_alternatives: the even functions |x|
+//    of scale_asymmetry and x^2 of scale_nonlinearity, about 95 % correlated on car inputs once
+//    the gain is out) can pass both on one even signal. A selected term is named only when the
+//    final model's evidence over the same model with the term swapped for its best alternative
+//    is at least min_name_margin (the margin a term needs over its absence); otherwise the name
+//    is ambiguous (TermFit::name_ambiguous): kept in the model, not claimed. The margin carries
+//    the prior's penalties, which are not the same for the two shapes (docs/mismatch.md, Method
+//    3 (h)).
 // Everything works on Gram matrices accumulated once per fold, so each trial fit costs a small
 // dense solve, independent of the record length.
 
 #include <Eigen/Core>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -77,6 +86,7 @@ struct SelectionOptions {
   double min_delta_bic = 6.0;    // margin over the evidence penalty (step 2; see
                                  //   docs/mismatch.md for the false-alarm rate this gives)
   double min_cv_gain = 0.0;      // relative CV improvement required
+  double min_name_margin = 6.0;  // evidence a name needs over its shape alternative (step 5)
   int max_terms = 12;            // forward steps at most
   double max_rho = 0.98;         // AR(1) coefficient clamp
   // Block length (bins) of the slow-noise check (see below); 0 = off. diagnose sets 60 s.
@@ -103,6 +113,12 @@ struct TermFit {
   // False for a term kept only because a claimed term requires it (requires_terms) while it
   // fails its own test: it stays in the model but is not claimed.
   bool claimed = true;
+  // Step 5: the best shape alternative's key (empty: none) and the evidence of this term over it
+  // (2 ln Bayes factor of the final model over the model with the alternative in its place).
+  // Below min_name_margin the name is ambiguous: the term stays in the model, not claimed.
+  std::string shape_alternative;
+  double name_margin = std::numeric_limits<double>::infinity();
+  bool name_ambiguous = false;
 };
 
 // Detection limit of a candidate left out of the final model: per column, the value that column
