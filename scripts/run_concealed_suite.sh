@@ -302,6 +302,15 @@ def lab_text(e, pkey, truth):
     return "lab " + "/".join(f"{a:.3g}" + (f"+-{s:.2g}" if s != float("inf") else "") for a, s in zip(est, sig)) + \
         ", injected " + fmt3(truth)
 
+def ambiguous_text(j, key):
+    """An effect found but listed under 'ambiguous' (its shape not settled against another)."""
+    for a in j.get("ambiguous", []):
+        if key in ((a["name"], a["sensor"]), (a["alternative"], a["sensor"])):
+            return (f" (ambiguous: fitted as {a['name']}, or {a['alternative']}, "
+                    f"margin {a['evidence']['name_margin']:.1f})")
+    return ""
+
+
 def single_table():
     rows = []
     for path in cfg_paths:
@@ -320,7 +329,8 @@ def single_table():
                 errs.append(f"{label(key)}: not claimed, in SG#2 from the lab ({lab_text(lab[key], pkey, truth)})")
                 continue
             if e is None:
-                errs.append(f"{label(key)}: not found" + limit_ratio(j, key, pkey, truth))
+                errs.append(f"{label(key)}: not found" + limit_ratio(j, key, pkey, truth) +
+                            ambiguous_text(j, key))
                 continue
             pe = param_error(e, pkey, truth)
             if pe is None:
