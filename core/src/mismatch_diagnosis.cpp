@@ -1043,10 +1043,9 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     if (tf.name_ambiguous) {
       // Found and modelled in SG#3, but which of two shapes of the same physics (|x| or x^2) is
       // not settled: listed apart from the claims, with the alternative and the margin.
-      const std::string alternative =
-          tf.shape_alternative.substr(0, tf.shape_alternative.find(':'));
+      const std::string& alternative = terms[tf.shape_alternative].name;
       out.notes.push_back(fmt::format(
-          "{} {} (delta_bic {:.1f}): its shape is not settled, it fits better than {} by {:.1f} "
+          "{} {} (delta_bic {:.1f}): its shape is not settled, its evidence over {} is {:.1f} "
           "where a name needs {:.1f}; modelled in SG#3 as {}, not claimed (listed under "
           "'ambiguous')",
           e.sensor, e.name, tf.delta_bic, alternative, tf.name_margin,

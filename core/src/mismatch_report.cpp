@@ -86,7 +86,7 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
     j["effects"].push_back(effectJson(e, {{"delta_bic", num(e.delta_bic)},
                                           {"cv_gain", num(e.cv_gain)},
                                           {"method", e.evidence_method}}));
-  // Found and modelled in SG#3 under the better-fitting shape, not claimed (diagnosis.h).
+  // Found and modelled in SG#3 under the shape the selection chose, not claimed (diagnosis.h).
   j["ambiguous"] = json::array();
   for (const AmbiguousEffect& a : r.ambiguous) {
     json ja = effectJson(a.effect, {{"delta_bic", num(a.effect.delta_bic)},

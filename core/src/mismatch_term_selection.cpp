@@ -935,7 +935,7 @@ class Selector {
         if (tf.claimed) {
           const auto [margin, alternative] = nameMargin(model, t);
           if (alternative >= 0) {
-            tf.shape_alternative = terms_[alternative].key();
+            tf.shape_alternative = alternative;
             tf.name_margin = margin;
             tf.name_ambiguous = margin < opt_.min_name_margin;
             tf.claimed = !tf.name_ambiguous;

@@ -113,10 +113,11 @@ struct TermFit {
   // False for a term kept only because a claimed term requires it (requires_terms) while it
   // fails its own test: it stays in the model but is not claimed.
   bool claimed = true;
-  // Step 5: the best shape alternative's key (empty: none) and the evidence of this term over it
-  // (2 ln Bayes factor of the final model over the model with the alternative in its place).
-  // Below min_name_margin the name is ambiguous: the term stays in the model, not claimed.
-  std::string shape_alternative;
+  // Step 5: the best shape alternative (index into the candidate list; -1: none) and the
+  // evidence of this term over it (2 ln Bayes factor of the final model over the model with the
+  // alternative in its place). Below min_name_margin the name is ambiguous: the term stays in
+  // the model, not claimed.
+  int shape_alternative = -1;
   double name_margin = std::numeric_limits<double>::infinity();
   bool name_ambiguous = false;
 };
