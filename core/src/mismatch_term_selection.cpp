@@ -279,6 +279,7 @@ class Selector {
   // s_i = N / c on every direction, the BIC penalty ln(1 + N / c) per parameter.
   void priorVariances() {
     prior_variance_.assign(terms_.size(), 0.0);
+    column_prior_variance_.assign(map_.total, 0.0);
     const double n_eff = gram_.rows / inflation_;
     const Eigen::MatrixXd& G = gram_.G_all;
     std::vector<int> Sn, Fn;
@@ -303,8 +304,10 @@ class Selector {
       int live = 0;
       for (int i = 0; i < k; ++i) {
         if (!(d(i) > 1e-14 * dmax)) continue;  // a column without signal
-        trace += std::max(0.0, d(i) - proj(i, i));
+        const double net = std::max(0.0, d(i) - proj(i, i));
+        trace += net;
         ++live;
+        if (net > 0.0) column_prior_variance_[map_.start[t] + i] = n_eff / net;
       }
       if (trace > 0.0) prior_variance_[t] = n_eff * live / trace;
     }
@@ -681,14 +684,16 @@ class Selector {
   // Evidence of going from `without` to `with` for term t: twice the log Bayes factor of the
   // two models (header, step 2). With a term that replaces another (excludes) the models are not
   // nested; both are then measured against the terms they share.
-  double deltaBic(const std::vector<int>& without, const std::vector<int>& with, int t) const {
+  // `column_prior`: the added columns under their own priors (step 5's names).
+  double deltaBic(const std::vector<int>& without, const std::vector<int>& with, int t,
+                  bool column_prior = false) const {
     const SlowNoise& sn = slowNoiseFor(t, without);
     std::vector<int> common;
     std::set_intersection(without.begin(), without.end(), with.begin(), with.end(),
                           std::back_inserter(common));
     const double c = inflation_ * sn.term_inflation[t];
-    double e = evidenceOver(common, with, sn, c);
-    if (common != without) e -= evidenceOver(common, without, sn, c);
+    double e = evidenceOver(common, with, sn, c, column_prior);
+    if (common != without) e -= evidenceOver(common, without, sn, c, column_prior);
     return e;
   }
 
@@ -701,8 +706,10 @@ class Selector {
     Eigen::VectorXd sd;                  // prior standard deviation per added free column
   };
 
+  // `column_prior`: each added column under its own unit-information prior (step 5) instead of
+  // its term's isotropic one.
   AddedInformation addedInformation(const std::vector<int>& base, const std::vector<int>& model,
-                                    const SlowNoise& sn) const {
+                                    const SlowNoise& sn, bool column_prior = false) const {
     AddedInformation ai;
     std::vector<int> added;
     std::set_difference(model.begin(), model.end(), base.begin(), base.end(),
@@ -745,7 +752,7 @@ class Selector {
       for (int j = 0; j < map_.count[t]; ++j) {
         const int col = map_.start[t] + j;
         const int i = static_cast<int>(std::find(ai.Sa.begin(), ai.Sa.end(), col) - ai.Sa.begin());
-        ai.sd(i) = std::sqrt(prior_variance_[t]);
+        ai.sd(i) = std::sqrt(column_prior ? column_prior_variance_[col] : prior_variance_[t]);
       }
     }
     return ai;
@@ -768,8 +775,8 @@ class Selector {
   // both from the GLS normal equations of the slow noise `sn`. Added fixed terms contribute their
   // RSS drop divided by c, without a penalty.
   double evidenceOver(const std::vector<int>& base, const std::vector<int>& model,
-                      const SlowNoise& sn, double c) const {
-    const AddedInformation ai = addedInformation(base, model, sn);
+                      const SlowNoise& sn, double c, bool column_prior = false) const {
+    const AddedInformation ai = addedInformation(base, model, sn, column_prior);
     double gain = 0.0;
     if (!ai.Fa.empty())
       gain += (solve(sn.G, sn.b, sn.yy, ai.Sb, ai.Fb, false).rss -
@@ -869,8 +876,9 @@ class Selector {
   }
 
   // Step 5: the evidence of term t (in `model`) over its best shape alternative, the model with
-  // that alternative (and what it requires) in t's place, and the alternative's index (-1: none
-  // applies, e.g. both shapes are in the model and each was measured against the other).
+  // that alternative (and what it requires) in t's place, each added column under the
+  // unit-information prior of that column alone; and the alternative's index (-1: none applies,
+  // e.g. both shapes are in the model and each was measured against the other).
   std::pair<double, int> nameMargin(const std::vector<int>& model, int t) const {
     std::pair<double, int> best{std::numeric_limits<double>::infinity(), -1};
     const std::vector<std::string>& names = terms_[t].shape_alternatives;
@@ -885,7 +893,7 @@ class Selector {
         continue;
       const std::vector<int> alternative = withRequired(without, ui);
       if (alternative == without) continue;
-      const double margin = deltaBic(alternative, model, t);
+      const double margin = deltaBic(alternative, model, t, /*column_prior=*/true);
       if (margin < best.first) best = {margin, ui};
     }
     return best;
@@ -984,6 +992,8 @@ class Selector {
   int rb_ = 0, re_ = 0;
   std::vector<int> full_;  // the largest model (noise model)
   std::vector<double> prior_variance_;  // per term, whitened units (priorVariances)
+  // Per column: the unit-information prior of that column alone (priorVariances; step 5).
+  std::vector<double> column_prior_variance_;
   mutable std::map<std::vector<int>, SlowNoise> slow_cache_;  // SlowNoise addresses are stable
   mutable std::map<std::pair<const SlowNoise*, std::vector<int>>, double> cv_cache_;
   mutable std::unique_ptr<std::array<ChannelLevels, kMismatchChannels>> level_grams_;

@@ -314,34 +314,41 @@ TEST(MismatchDiagnosis, AccelAsymmetryReplacesTheLabQuadraticItWasSeenAs) {
 
 // |x| (scale_asymmetry) and x^2 (scale_nonlinearity) are two shapes of one even response; on
 // this motion the gyro z x^2 column holds nearly all of its term's trace, so the term-isotropic
-// prior charges x^2 about 8 less than |x| and an asymmetry near its limit was claimed as a
-// non-linearity (as on random_23_23). A name now needs min_name_margin of evidence over the
-// other shape.
+// prior charged x^2 about 8 less than |x| and an asymmetry near its limit was claimed as a
+// non-linearity (as on random_23_23). A name needs min_name_margin of evidence over the other
+// shape, measured with each column under its own prior: near the limit the margin leans to the
+// true shape (with the term prior it leaned to x^2: +2.8 for x^2 on seed 5).
 TEST(MismatchDiagnosis, EvenShapeIsNamedOnlyWithEvidenceOverTheOther) {
-  const auto run = [](double d, double k2) {
+  const auto run = [](double d, double k2, int seed) {
     ImuErrorModel extra;
     extra.gyro.scale_asymmetry.k_pos << 0.0, 0.0, d;
     extra.gyro.scale_asymmetry.k_neg << 0.0, 0.0, -d;
     extra.gyro.scale_nonlinearity.k2 << 0.0, 0.0, k2;
-    return diagnose(makePair(extra, 5).in);
+    return diagnose(makePair(extra, seed).in);
   };
-  // Near the limit: found and modelled, the shape not settled, nothing claimed.
-  const DiagnosisResult near = run(0.0015, 0.0);
-  EXPECT_EQ(findEffect(near, "scale_nonlinearity"), nullptr) << diagnosisMarkdown(near);
-  EXPECT_EQ(findEffect(near, "scale_asymmetry"), nullptr) << diagnosisMarkdown(near);
-  ASSERT_EQ(near.ambiguous.size(), 1u) << diagnosisMarkdown(near);
-  const AmbiguousEffect& a = near.ambiguous[0];
-  EXPECT_EQ(a.effect.sensor, "gyro");
-  EXPECT_TRUE((a.effect.name == "scale_nonlinearity" && a.alternative == "scale_asymmetry") ||
-              (a.effect.name == "scale_asymmetry" && a.alternative == "scale_nonlinearity"));
-  EXPECT_LT(a.name_margin, SelectionOptions{}.min_name_margin);
-  EXPECT_LT(near.rms_after.gyro(2), 0.99 * near.rms_before.gyro(2)) << "modelled in SG#3";
-  const nlohmann::json j = nlohmann::json::parse(diagnosisJson(near));
-  ASSERT_EQ(j["ambiguous"].size(), 1u);
-  EXPECT_EQ(j["ambiguous"][0]["alternative"], a.alternative);
-  EXPECT_TRUE(j["ambiguous"][0]["evidence"].contains("name_margin"));
+  // Near the limit: found and modelled, never named x^2; named |x| or left ambiguous with the
+  // margin on the side of |x|.
+  int ambiguous = 0;
+  for (int seed : {5, 6, 7}) {
+    const DiagnosisResult near = run(0.0015, 0.0, seed);
+    EXPECT_EQ(findEffect(near, "scale_nonlinearity"), nullptr) << diagnosisMarkdown(near);
+    EXPECT_LT(near.rms_after.gyro(2), 0.99 * near.rms_before.gyro(2)) << "modelled in SG#3";
+    if (findEffect(near, "scale_asymmetry") != nullptr) continue;
+    ASSERT_EQ(near.ambiguous.size(), 1u) << diagnosisMarkdown(near);
+    const AmbiguousEffect& a = near.ambiguous[0];
+    ++ambiguous;
+    EXPECT_EQ(a.effect.sensor, "gyro");
+    EXPECT_LT(a.name_margin, SelectionOptions{}.min_name_margin);
+    const double for_abs = a.effect.name == "scale_asymmetry" ? a.name_margin : -a.name_margin;
+    EXPECT_GT(for_abs, 0.0) << "seed " << seed << "\n" << diagnosisMarkdown(near);
+    const nlohmann::json j = nlohmann::json::parse(diagnosisJson(near));
+    ASSERT_EQ(j["ambiguous"].size(), 1u);
+    EXPECT_EQ(j["ambiguous"][0]["alternative"], a.alternative);
+    EXPECT_TRUE(j["ambiguous"][0]["evidence"].contains("name_margin"));
+  }
+  EXPECT_GE(ambiguous, 1) << "0.0015 is meant to sit where the shape is not settled";
   // Each shape named when it fits clearly better.
-  const DiagnosisResult asym = run(0.002, 0.0), quad = run(0.0, 0.005);
+  const DiagnosisResult asym = run(0.002, 0.0, 5), quad = run(0.0, 0.005, 5);
   EXPECT_NE(findEffect(asym, "scale_asymmetry"), nullptr) << diagnosisMarkdown(asym);
   EXPECT_EQ(findEffect(asym, "scale_nonlinearity"), nullptr) << diagnosisMarkdown(asym);
   EXPECT_TRUE(asym.ambiguous.empty()) << diagnosisMarkdown(asym);

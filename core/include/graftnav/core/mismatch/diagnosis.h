@@ -140,7 +140,8 @@ struct Effect {
 // A selected term whose shape the data do not settle (term_selection.h, step 5): modelled in SG#3
 // under the name the selection chose, not claimed. `effect` is that term as fitted; `alternative` the
 // other shape's name and `name_margin` the evidence of the fitted shape over it (2 ln Bayes
-// factor, below SelectionOptions::min_name_margin).
+// factor, below SelectionOptions::min_name_margin; negative when the other shape is the better
+// one, by less than the margin: the term stays as forward selection chose it).
 struct AmbiguousEffect {
   Effect effect;
   std::string alternative;

@@ -66,9 +66,12 @@
 //    the gain is out) can pass both on one even signal. A selected term is named only when the
 //    final model's evidence over the same model with the term swapped for its best alternative
 //    is at least min_name_margin (the margin a term needs over its absence); otherwise the name
-//    is ambiguous (TermFit::name_ambiguous): kept in the model, not claimed. The margin carries
-//    the prior's penalties, which are not the same for the two shapes (docs/mismatch.md, Method
-//    3 (h)).
+//    is ambiguous (TermFit::name_ambiguous): kept in the model, not claimed. In this comparison
+//    each column of the two shapes has the unit-information prior of that column alone
+//    (n_eff / its information net of the nuisance), so both pay about ln(n_eff) for every axis
+//    the rest of the model leaves informative. The term-isotropic prior of step 2 let a term whose columns differ in scale
+//    (x^2 with gyro z or f_z ~ -g dominant) pay little for its small columns: about 8 units in
+//    favour of x^2 on car motion (docs/mismatch.md, Method 3 (h)).
 // Everything works on Gram matrices accumulated once per fold, so each trial fit costs a small
 // dense solve, independent of the record length.
 
@@ -115,8 +118,8 @@ struct TermFit {
   bool claimed = true;
   // Step 5: the best shape alternative (index into the candidate list; -1: none) and the
   // evidence of this term over it (2 ln Bayes factor of the final model over the model with the
-  // alternative in its place). Below min_name_margin the name is ambiguous: the term stays in
-  // the model, not claimed.
+  // alternative in its place, each column of the two under its own unit-information prior).
+  // Below min_name_margin the name is ambiguous: the term stays in the model, not claimed.
   int shape_alternative = -1;
   double name_margin = std::numeric_limits<double>::infinity();
   bool name_ambiguous = false;
