@@ -437,6 +437,25 @@ class Selector {
     return w;
   }
 
+  // The AR(1)-whitened normal equations as they are (no slow-noise weighting, factors 1).
+  SlowNoise whiteNoise() const {
+    SlowNoise out;
+    out.G = gram_.G_all;
+    out.b = gram_.b_all;
+    out.yy = gram_.yy_all;
+    out.G_fold = gram_.G;
+    out.b_fold = gram_.b;
+    out.yy_fold = gram_.yy;
+    out.term_inflation.assign(terms_.size(), 1.0);
+    return out;
+  }
+
+  // Whole slow-noise blocks in the fitted rows (0 when the check is off).
+  int slowBlocks() const {
+    const int m = opt_.slow_block_bins;
+    return m > 1 ? (re_ - rb_) / m : 0;
+  }
+
   // A slow term (temperature, bias wander, Earth/gravity) against the slow noise: a warm-up and a
   // bias wander share the coarse time scales, where the record holds only a few coefficients, so
   // neither a law fitted below them nor GLS weights can tell them apart (both left the gyro
@@ -449,17 +468,9 @@ class Selector {
   // the term's own regressors as fixed effects (block_random_walk.h): the block factor treats
   // the blocks as independent, and a random walk's projection onto a warm-up is ~8 x larger.
   SlowNoise blockMeanNoise() const {
-    SlowNoise out;
-    out.G = gram_.G_all;
-    out.b = gram_.b_all;
-    out.yy = gram_.yy_all;
-    out.G_fold = gram_.G;
-    out.b_fold = gram_.b;
-    out.yy_fold = gram_.yy;
-    out.term_inflation.assign(terms_.size(), 1.0);
+    SlowNoise out = whiteNoise();
     const int m = opt_.slow_block_bins;
-    const int len = re_ - rb_;
-    const int blocks = m > 1 ? len / m : 0;
+    const int blocks = slowBlocks();
     if (blocks < 4) return out;
     const auto blockMeans = [&](const Eigen::VectorXd& w) {
       Eigen::VectorXd out_b(blocks);
@@ -537,17 +548,9 @@ class Selector {
   }
 
   SlowNoise estimateSlowNoise(const std::vector<int>& slow_in_model) const {
-    SlowNoise out;
-    out.G = gram_.G_all;
-    out.b = gram_.b_all;
-    out.yy = gram_.yy_all;
-    out.G_fold = gram_.G;
-    out.b_fold = gram_.b;
-    out.yy_fold = gram_.yy;
-    out.term_inflation.assign(terms_.size(), 1.0);
+    SlowNoise out = whiteNoise();
     const int m = opt_.slow_block_bins;
-    const int len = re_ - rb_;
-    const int blocks = m > 1 ? len / m : 0;
+    const int blocks = slowBlocks();
     if (blocks < 4) return out;
     const Eigen::MatrixXd e = slowResidual(slow_in_model);
     // Per channel, the residual's noise per Haar scale, the law fitted on the levels up to twice
