@@ -609,24 +609,44 @@ TEST(MismatchSelection, SlowBiasWanderIsNotClaimedAsTemperature) {
   EXPECT_LE(claimed_temperature, 1) << log;
 }
 
+// The 15-min slow drive the slow-noise tests share: its candidate library, the selection
+// options with 60-s slow-noise blocks, and the index of the term under test (-1 if absent).
+struct SlowDrive {
+  RegressorInputs in;
+  std::vector<CandidateTerm> terms;
+  int n = 0;
+  double bin_s = 0.0;
+  SelectionOptions opt;
+  int t = -1;
+};
+
+SlowDrive slowDrive(const std::string& term_key) {
+  SlowDrive d;
+  d.in = syntheticInputs(slowDriveMotion(), 900.0, 0.0);
+  d.terms = buildCandidateLibrary(d.in);
+  d.n = d.in.reference.size();
+  d.bin_s = d.in.reference.grid.bin_s;
+  d.opt.slow_block_bins = static_cast<int>(60.0 / d.bin_s);
+  d.t = findTerm(d.terms, term_key);
+  return d;
+}
+
 // A fast term under a slow bias wander (Gauss-Markov, tau 20 min, ~3 mg): its GLS sigma is
 // calibrated (RMS err/sigma near 1 over seeds: 0.89), where the white fit is off by 8.8 sigma
 // RMS (its errors are ~5x larger and its sigma does not know the wander). The accelerometer scale factor's f_x / f_y columns follow the drive's acceleration
 // pattern, here with minutes-long parts.
 TEST(MismatchSelection, FastTermSigmaIsCalibratedUnderBiasWander) {
-  const RegressorInputs in = syntheticInputs(slowDriveMotion(), 900.0, 0.0);
-  const std::vector<CandidateTerm> terms = buildCandidateLibrary(in);
-  const int n = in.reference.size();
-  SelectionOptions opt;
-  opt.slow_block_bins = static_cast<int>(60.0 / in.reference.grid.bin_s);
+  const SlowDrive sd = slowDrive("scale_factor:accel");
+  ASSERT_GE(sd.t, 0);
+  const std::vector<CandidateTerm>& terms = sd.terms;
+  const int n = sd.n, t = sd.t;
+  SelectionOptions opt = sd.opt;
   SelectionOptions white = opt;
   white.slow_block_bins = 0;
-  const int t = findTerm(terms, "scale_factor:accel");
-  ASSERT_GE(t, 0);
   const Eigen::Vector3d k(2e-3, -1.5e-3, 0.0);
   const auto residual = [&](uint64_t seed) {
     Eigen::MatrixXd r = ar1Noise(n, 0.3, seed) + termContribution(terms[t], k, n);
-    addGaussMarkovWander(&r, kAccelWander, in.reference.grid.bin_s, 1200.0, seed + 5000);
+    addGaussMarkovWander(&r, kAccelWander, sd.bin_s, 1200.0, seed + 5000);
     return r;
   };
   const std::vector<double> rms =
@@ -642,17 +662,15 @@ TEST(MismatchSelection, FastTermSigmaIsCalibratedUnderBiasWander) {
 // [0.5, 1.6] (0.87). With the block-mean factor alone (60-s blocks taken as independent) it was 2.27:
 // the wander's projection onto the warm-up lives beyond one block (block_random_walk.h).
 TEST(MismatchSelection, SlowTermSigmaCoversTheBiasWander) {
-  const RegressorInputs in = syntheticInputs(slowDriveMotion(), 900.0, 0.0);
-  const std::vector<CandidateTerm> terms = buildCandidateLibrary(in);
-  const int n = in.reference.size();
-  SelectionOptions opt;
-  opt.slow_block_bins = static_cast<int>(60.0 / in.reference.grid.bin_s);
-  const int t = findTerm(terms, "temperature_bias:accel");
-  ASSERT_GE(t, 0);
+  const SlowDrive sd = slowDrive("temperature_bias:accel");
+  ASSERT_GE(sd.t, 0);
+  const std::vector<CandidateTerm>& terms = sd.terms;
+  const int n = sd.n, t = sd.t;
+  SelectionOptions opt = sd.opt;
   const Eigen::Vector3d per_degC(2e-3, -1.5e-3, 2.5e-3);
   const auto residual = [&](uint64_t seed) {
     Eigen::MatrixXd r = ar1Noise(n, 0.3, seed) + termContribution(terms[t], per_degC, n);
-    addGaussMarkovWander(&r, kAccelWander, in.reference.grid.bin_s, 1200.0, seed + 7000);
+    addGaussMarkovWander(&r, kAccelWander, sd.bin_s, 1200.0, seed + 7000);
     return r;
   };
   const double rms = rmsErrOverSigma(terms, t, per_degC, 3, {opt}, 900, 920, residual).at(0);
@@ -666,18 +684,16 @@ TEST(MismatchSelection, SlowTermSigmaCoversTheBiasWander) {
 // walk over the whole record it overstates the noise on the warm-up a little (0.80, same
 // records).
 TEST(MismatchSelection, SlowTermSigmaWithTheLabRecordReplayed) {
-  const RegressorInputs in = syntheticInputs(slowDriveMotion(), 900.0, 0.0);
-  const std::vector<CandidateTerm> terms = buildCandidateLibrary(in);
-  const int n = in.reference.size();
-  const double bin_s = in.reference.grid.bin_s;
-  SelectionOptions opt;
-  opt.slow_block_bins = static_cast<int>(60.0 / bin_s);
+  const SlowDrive sd = slowDrive("temperature_bias:accel");
+  ASSERT_GE(sd.t, 0);
+  const std::vector<CandidateTerm>& terms = sd.terms;
+  const int n = sd.n, t = sd.t;
+  SelectionOptions opt = sd.opt;
+  const double bin_s = sd.bin_s;
   opt.bin_s = bin_s;
   SelectionOptions told = opt;
   told.replay_period_s = 600.0;
   told.replay_start_s = 0.0;
-  const int t = findTerm(terms, "temperature_bias:accel");
-  ASSERT_GE(t, 0);
   const Eigen::Vector3d per_degC(2e-3, -1.5e-3, 2.5e-3);
   const int record = static_cast<int>(told.replay_period_s / bin_s);
   const auto residual = [&](uint64_t seed) {
@@ -706,16 +722,14 @@ TEST(MismatchSelection, SlowTermSigmaWithTheLabRecordReplayed) {
 // each fold's rows Haar-weighted like the fit, it is claimed in 10 of 10 records (6 of 10 with the
 // AR(1) metric); on the wander alone nothing is.
 TEST(MismatchSelection, CrossValidationInTheGlsMetricUnderBiasWander) {
-  const RegressorInputs in = syntheticInputs(slowDriveMotion(), 900.0, 0.0);
-  const std::vector<CandidateTerm> terms = buildCandidateLibrary(in);
-  const int n = in.reference.size();
-  SelectionOptions opt;
-  opt.slow_block_bins = static_cast<int>(60.0 / in.reference.grid.bin_s);
-  const int t = findTerm(terms, "scale_factor:accel");
-  ASSERT_GE(t, 0);
+  const SlowDrive sd = slowDrive("scale_factor:accel");
+  ASSERT_GE(sd.t, 0);
+  const std::vector<CandidateTerm>& terms = sd.terms;
+  const int n = sd.n, t = sd.t;
+  SelectionOptions opt = sd.opt;
   const auto wander = [&](uint64_t seed) {
     Eigen::MatrixXd r = ar1Noise(n, 0.3, seed);
-    addGaussMarkovWander(&r, kAccelWander, in.reference.grid.bin_s, 1200.0, seed + 5000);
+    addGaussMarkovWander(&r, kAccelWander, sd.bin_s, 1200.0, seed + 5000);
     return r;
   };
   double limit = 0.0;
