@@ -177,8 +177,12 @@ def injected(cfg):
         kp, kn = t.get(sensor + "_scale_asymmetry_pos_ppm"), t.get(sensor + "_scale_asymmetry_neg_ppm")
         if kp or kn:
             kp, kn = kp or [0, 0, 0], kn or [0, 0, 0]
-            # The common part is the lab-calibrated scale; only k_pos - k_neg is concealed.
-            eff[("scale_asymmetry", sensor)] = ("k_pos-k_neg", [1e-6 * (a - b) for a, b in zip(kp, kn)])
+            # The mean gain (k_pos + k_neg) / 2 is the lab-calibrated scale, in the simulation;
+            # what is concealed, and what diagnose reports as k_pos / k_neg (gains relative to
+            # the simulation's), is +-(k_pos - k_neg) / 2 about it: compared element by element.
+            m = [0.5e-6 * (a + b) for a, b in zip(kp, kn)]
+            eff[("scale_asymmetry", sensor)] = (
+                "k_pos,k_neg", [1e-6 * a - c for a, c in zip(kp, m)] + [1e-6 * b - c for b, c in zip(kn, m)])
         unit = "_scale_nonlinearity_per_rad_s" if sensor == "gyro" else "_scale_nonlinearity_per_m_s2"
         if sensor + unit in t:
             eff[("scale_nonlinearity", sensor)] = ("k2", list(t[sensor + unit]))
@@ -228,13 +232,15 @@ def as_list(v):
     return v if isinstance(v, list) else [v]
 
 def param(e, pkey):
-    """Estimate and 1-sigma of a parameter; k_pos-k_neg is the asymmetry of scale_asymmetry;
-    coeff@REG is the vibration coefficient, None if the found regressor is another one."""
+    """Estimate and 1-sigma of a parameter; "a,b" are parameters a and b in one list (k_pos and
+    k_neg of scale_asymmetry); coeff@REG is the vibration coefficient, None if the found
+    regressor is another one."""
     p, u = e["parameters"], e["uncertainty"]
-    if pkey == "k_pos-k_neg":
-        est = [a - b for a, b in zip(p["k_pos"], p["k_neg"])]
-        sig = [math.hypot(a, b) if a is not None and b is not None else float("inf")
-               for a, b in zip(u["k_pos"], u["k_neg"])]
+    if "," in pkey:
+        est, sig = [], []
+        for k in pkey.split(","):
+            est += as_list(p[k])
+            sig += [s if s is not None else float("inf") for s in as_list(u[k])]
         return est, sig
     if pkey.startswith("coeff@"):
         if p.get("regressor") != pkey.split("@", 1)[1]:
@@ -280,16 +286,15 @@ def limit_ratio(j, key, pkey, truth):
         if (d["name"], d["sensor"]) != key:
             continue
         lim = d["limit"]
-        if pkey == "k_pos-k_neg":
-            # The finder states the limit as the gains per sign +-d; the truth is their difference.
-            lim = [2.0 * v for v in as_list(lim.get("k_pos", []))] or None
+        if "," in pkey:
+            lim = sum((as_list(lim.get(k, [])) for k in pkey.split(",")), []) or None
         elif pkey.startswith("coeff@"):
             lim = lim.get("coeff")
         else:
             lim = lim.get(pkey)
         if lim is None:
             return ""
-        r = [abs(t) / l for t, l in zip(truth, as_list(lim)) if l]
+        r = [abs(t) / abs(l) for t, l in zip(truth, as_list(lim)) if l]
         return f", truth/limit {max(r):.2g}" if r else ""
     return ""
 
