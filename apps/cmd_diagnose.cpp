@@ -252,11 +252,14 @@ void registerDiagnose(CLI::App& app) {
             std::make_pair(&report.result.accel, &in.lab_accel_quadratic)}) {
         if (!cal->has_fit) continue;
         LabQuadratic q;
-        for (int a = 0; a < 3; ++a)
+        for (int a = 0; a < 3; ++a) {
           if (cal->fit[a].degree >= 2 && cal->fit[a].coeffs.size() >= 3) {
             q.c2(a) = cal->fit[a].coeffs[2];
             q.c2_sigma(a) = cal->fit[a].coeffs_sigma.size() >= 3 ? cal->fit[a].coeffs_sigma[2] : 0.0;
           }
+          q.c2_tested(a) = cal->fit[a].c2_tested;
+          q.c2_tested_sigma(a) = cal->fit[a].c2_tested_sigma;
+        }
         *quad = q;
       }
     } else {

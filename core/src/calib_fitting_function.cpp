@@ -148,6 +148,11 @@ PolynomialFit fitPolynomialSelectDegree(const std::vector<FitPoint>& pts_in,
     if (degreeStepPValue(chi2[chosen - 1], chi2[chosen], dof, sigma_dof) < opt.degree_alpha) break;
   }
   PolynomialFit fit = fitPolynomial(pts, chosen);
+  if (max_deg >= 2) {
+    const PolynomialFit quadratic = chosen == 2 ? fit : fitPolynomial(pts, 2);
+    fit.c2_tested = quadratic.coeffs[2];
+    fit.c2_tested_sigma = quadratic.coeffs_sigma[2];
+  }
   // Cross-validated prediction RMS of the chosen degree, reported only (NaN when no fold's
   // training set can fit it). Points sorted by x and dealt to the folds in turn; leave-one-out
   // with few points (2-point folds can leave a training set without spread).

@@ -56,6 +56,10 @@ YAML::Node sensorNode(const SensorCalibration& s) {
       if (std::isfinite(s.fit[a].cv_rms)) f["cv_rms"] = s.fit[a].cv_rms;  // absent: not validated
       f["residual_rms"] = s.fit[a].residual_rms;
       f["n_points"] = s.fit[a].n_points;
+      if (std::isfinite(s.fit[a].c2_tested)) {  // absent: the points support no quadratic
+        f["c2_tested"] = s.fit[a].c2_tested;
+        f["c2_tested_sigma"] = s.fit[a].c2_tested_sigma;
+      }
       fit[kAxes[a]] = f;
     }
     n["fit"] = fit;
@@ -136,6 +140,11 @@ SensorCalibration readSensor(const YAML::Node& n, const std::string& path, const
       p.cv_rms = f["cv_rms"] ? finite(f["cv_rms"], path, key + ".cv_rms") : std::nan("");
       if (f["residual_rms"]) p.residual_rms = finite(f["residual_rms"], path, key + ".residual_rms");
       if (f["n_points"]) p.n_points = f["n_points"].as<int>();
+      if (f["c2_tested"]) {
+        p.c2_tested = finite(f["c2_tested"], path, key + ".c2_tested");
+        if (!f["c2_tested_sigma"]) fail(path, key + ".c2_tested_sigma", "missing (c2_tested is given)");
+        p.c2_tested_sigma = finite(f["c2_tested_sigma"], path, key + ".c2_tested_sigma");
+      }
     }
   }
   return s;

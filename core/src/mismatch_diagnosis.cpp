@@ -11,6 +11,7 @@
 #include "graftnav/core/earth.h"
 #include "graftnav/core/imu_error_model.h"
 #include "graftnav/core/mismatch/diagnosis.h"
+#include "graftnav/core/mismatch/gain_or_curvature.h"
 #include "graftnav/core/mismatch/joint_fit.h"
 #include "graftnav/core/nav_interp.h"
 #include "graftnav/core/rotation.h"
@@ -1195,6 +1196,26 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         "1-sigma, its profile): the simulation inherits the reference's own gain error, so this "
         "may be partly the reference's (sign reversed), not the tested IMU's",
         ratio, 1e6 * *ref_sigma);
+  }
+  {
+    // A gain on an axis whose input keeps one sign may be the lab's unfitted curvature
+    // (gain_or_curvature.h): the lab's degree-2 estimate decides the name.
+    std::array<Eigen::Vector3d, 2> mean, sd;
+    for (int s = 0; s < 2; ++s) {
+      const Eigen::MatrixX3d& u = s == 0 ? x.omega_rad_s : x.f_m_s2;
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sum2 = Eigen::Vector3d::Zero();
+      int count = 0;
+      for (Eigen::Index i = 0; i < u.rows(); ++i) {
+        if (out.masked_bins[i]) continue;
+        sum += u.row(i).transpose();
+        sum2 += u.row(i).transpose().cwiseAbs2();
+        ++count;
+      }
+      mean[s] = sum / std::max(count, 1);
+      sd[s] = (sum2 / std::max(count, 1) - mean[s].cwiseAbs2()).cwiseMax(0.0).cwiseSqrt();
+    }
+    nameOneSignedGains(in, mean, sd, opt.selection.min_name_margin, &out,
+                       &lab_quadratic_not_listed);
   }
   out.nuisance_bias = sel.nuisance.theta.head<6>();
   if (sel.nuisance.theta.size() == 12) out.nuisance_drift = 2.0 * sel.nuisance.theta.segment<6>(6);

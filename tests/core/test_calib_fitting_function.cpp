@@ -115,15 +115,21 @@ TEST(CalibFittingFunction, LabQuadraticUnderPoseDriftFoundAndDriftNotTakenForCur
   const double sigma = std::hypot(1.8e-4, drift);
   std::mt19937_64 rng(20261124);
   const int trials = 400;
-  int null_white = 0, null_drift = 0, found = 0, within = 0;
+  int null_white = 0, null_drift = 0, found = 0, within = 0, null_c2_within = 0, c2_within = 0;
   for (int k = 0; k < trials; ++k) {
     DriftingSession s = driftingSession(0.0, K, sigma, rng);
-    null_drift += fitPolynomialSelectDegree(s.points, PolynomialFitOptions{}, "null").degree > 1;
+    const PolynomialFit null_fit = fitPolynomialSelectDegree(s.points, PolynomialFitOptions{}, "null");
+    null_drift += null_fit.degree > 1;
+    // The degree-2 estimate the test weighed is reported with a line too, with a sigma that
+    // holds: the mismatch finder uses it as evidence (mismatch/gain_or_curvature.h).
+    null_c2_within += std::abs(null_fit.c2_tested) < 3.0 * null_fit.c2_tested_sigma;
     for (auto& p : s.points) p.sigma = 1.8e-4;  // white sigma-of-mean only
     null_white += fitPolynomialSelectDegree(s.points, PolynomialFitOptions{}, "null white").degree > 1;
     const DriftingSession q = driftingSession(2.5e-4, K, sigma, rng);
     const PolynomialFit f = fitPolynomialSelectDegree(q.points, PolynomialFitOptions{}, "quadratic");
+    c2_within += std::abs(f.c2_tested - 2.5e-4) < 3.0 * f.c2_tested_sigma;
     if (f.degree == 2) {
+      EXPECT_EQ(f.c2_tested, f.coeffs[2]);
       ++found;
       within += std::abs(f.coeffs[2] - 2.5e-4) < 3.0 * f.coeffs_sigma[2];
     }
@@ -135,6 +141,8 @@ TEST(CalibFittingFunction, LabQuadraticUnderPoseDriftFoundAndDriftNotTakenForCur
   // half-span drift gave 4.2 %: neighbouring poses share their drift, so the span is the scale).
   EXPECT_LE(null_drift, trials * 25 / 1000);
   EXPECT_GE(null_white, trials * 35 / 1000);
+  EXPECT_GE(null_c2_within, trials * 97 / 100);
+  EXPECT_GE(c2_within, trials * 97 / 100);
 }
 
 // Static error record of `duration_s` at `rate_hz`: white noise per sample and a random walk
@@ -326,6 +334,8 @@ CalibrationResult sampleResult() {
     r.gyro.fit[a].coeffs_sigma = {1e-6, 1e-5, 1e-4};
     r.gyro.fit[a].n_points = 14;
   }
+  r.gyro.fit[1].c2_tested = 2e-5;  // a line kept, its degree-2 estimate reported
+  r.gyro.fit[1].c2_tested_sigma = 1e-5;
   return r;
 }
 
@@ -345,6 +355,9 @@ TEST(CalibIo, YamlRoundTrip) {
   ASSERT_TRUE(q.gyro.has_fit);
   EXPECT_EQ(q.gyro.fit[2].degree, 2);
   EXPECT_NEAR(q.gyro.fit[2].coeffs[0], 2e-4, 1e-15);
+  EXPECT_NEAR(q.gyro.fit[1].c2_tested, 2e-5, 1e-18);
+  EXPECT_NEAR(q.gyro.fit[1].c2_tested_sigma, 1e-5, 1e-18);
+  EXPECT_TRUE(std::isnan(q.gyro.fit[0].c2_tested)) << "absent stays absent";
   EXPECT_EQ(q.gyro.method, "six_position_ceres");
 }
 

@@ -345,6 +345,53 @@ TEST(MismatchDiagnosis, AccelAsymmetryReplacesTheLabQuadraticItWasSeenAs) {
   for (const Effect& e : folded.in_simulation) EXPECT_NE(e.sensor, "accel");
 }
 
+// An accelerometer z curvature that the lab's degree test dropped (as on random_26_05) is, in
+// the field, a z gain at f_z ~ -g. The lab's degree-2 estimate names it: a curvature when it
+// agrees, a gain change when the lab saw none, not settled when the lab is too coarse to tell.
+TEST(MismatchDiagnosis, OneSignedGainIsNamedByTheLabsCurvatureEstimate) {
+  const ImuSeries reference = sampleMotion(carMotion(23), 100.0, 150.0);
+  // MEMS-like accelerometer noise: the field sees the slope at -g (k delta_f_z), not the
+  // curvature's own k2 delta_f_z^2 (with 10 x less noise it does, and names x^2 itself).
+  const ImuErrorModel noise = whiteNoise(3e-5, 1e-3);
+  const double k2 = -1e-4, g = 9.79;
+  const auto run = [&](bool curvature, double c2_tested, double c2_tested_sigma) {
+    ImuErrorModel real = noise;
+    if (curvature)
+      real.accel.scale_nonlinearity.k2 << 0.0, 0.0, k2;
+    else
+      real.accel.scale_factor.k << 0.0, 0.0, -2.0 * g * k2;  // the same slope at -g
+    DiagnosisInputs in = graftedInputs(reference, real, noise, 51,
+                                       "reference + the lab's line (as SG#2)");
+    in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+    in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+    LabQuadratic lab;  // lines on all axes; the degree-2 estimates the test dropped
+    lab.c2_tested << 0.0, 0.0, c2_tested;
+    lab.c2_tested_sigma << 2e-5, 2e-5, c2_tested_sigma;
+    in.lab_accel_quadratic = lab;
+    return diagnose(in);
+  };
+  const DiagnosisResult bent = run(true, 0.9 * k2, 2e-5);
+  const Effect* nl = findEffect(bent, "scale_nonlinearity");
+  ASSERT_NE(nl, nullptr) << diagnosisMarkdown(bent);
+  EXPECT_EQ(nl->sensor, "accel");
+  EXPECT_EQ(findEffect(bent, "scale_factor"), nullptr) << diagnosisMarkdown(bent);
+  EXPECT_NEAR(nl->parameters[0].values[2], k2, 3.0 * nl->parameters[0].sigma[2])
+      << diagnosisMarkdown(bent);
+  EXPECT_LT(nl->parameters[0].sigma[2], 0.2 * std::abs(k2));
+
+  const DiagnosisResult gain = run(false, 1e-6, 2e-5);
+  const Effect* sf = findEffect(gain, "scale_factor");
+  ASSERT_NE(sf, nullptr) << diagnosisMarkdown(gain);
+  EXPECT_NEAR(sf->parameters[0].values[2], -2.0 * g * k2, 3.0 * sf->parameters[0].sigma[2]);
+  EXPECT_EQ(findEffect(gain, "scale_nonlinearity"), nullptr) << diagnosisMarkdown(gain);
+
+  const DiagnosisResult coarse = run(true, 0.9 * k2, 3e-4);
+  EXPECT_EQ(findEffect(coarse, "scale_factor"), nullptr) << diagnosisMarkdown(coarse);
+  EXPECT_EQ(findEffect(coarse, "scale_nonlinearity"), nullptr) << diagnosisMarkdown(coarse);
+  ASSERT_EQ(coarse.ambiguous.size(), 1u) << diagnosisMarkdown(coarse);
+  EXPECT_EQ(coarse.ambiguous[0].alternative, "scale_nonlinearity");
+}
+
 // |x| (scale_asymmetry) and x^2 (scale_nonlinearity) are two shapes of one even response; on
 // this motion the gyro z x^2 column holds nearly all of its term's trace, so the term-isotropic
 // prior charged x^2 about 8 less than |x| and an asymmetry near its limit was claimed as a

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,13 @@ struct PolynomialFit {
   double cv_rms = 0.0;               // cross-validated RMS prediction error (NaN: not validated)
   double residual_rms = 0.0;         // RMS residual of the final fit on all points
   int n_points = 0;
+  // The degree-2 coefficient the degree test weighed, c2 of the fixed degree-2 fit, and its
+  // 1-sigma, also when the test kept a line (NaN: the points support no quadratic). A line
+  // means the curvature was not significant at degree_alpha, not that it is zero; the mismatch
+  // finder weighs this estimate when the field cannot tell a gain from a curvature
+  // (mismatch/gain_or_curvature.h).
+  double c2_tested = std::nan("");
+  double c2_tested_sigma = std::nan("");
   double evaluate(double x) const {
     double y = 0.0, p = 1.0;
     for (double c : coeffs) {

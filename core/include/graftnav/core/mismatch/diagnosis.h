@@ -14,6 +14,7 @@
 //   6. whatever the model leaves above noise is listed as unexplained, with where it lives.
 
 #include <Eigen/Core>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <utility>
@@ -36,6 +37,11 @@ namespace graftnav {
 struct LabQuadratic {
   Eigen::Vector3d c2 = Eigen::Vector3d::Zero();
   Eigen::Vector3d c2_sigma = Eigen::Vector3d::Zero();
+  // The degree-2 coefficient the lab's degree test weighed on every axis, kept or not
+  // (PolynomialFit::c2_tested; NaN: the points support no quadratic): evidence for naming a
+  // field gain on a one-signed axis a curvature (gain_or_curvature.h).
+  Eigen::Vector3d c2_tested = Eigen::Vector3d::Constant(std::nan(""));
+  Eigen::Vector3d c2_tested_sigma = Eigen::Vector3d::Constant(std::nan(""));
 };
 
 struct DiagnosisInputs {

@@ -89,7 +89,8 @@ struct SelectionOptions {
   double min_delta_bic = 6.0;    // margin over the evidence penalty (step 2; see
                                  //   docs/mismatch.md for the false-alarm rate this gives)
   double min_cv_gain = 0.0;      // relative CV improvement required
-  double min_name_margin = 6.0;  // evidence a name needs over its shape alternative (step 5)
+  double min_name_margin = 6.0;  // evidence a name needs over its shape alternative (step 5;
+                                 // also gain vs curvature on a one-signed axis, gain_or_curvature.h)
   int max_terms = 12;            // forward steps at most
   double max_rho = 0.98;         // AR(1) coefficient clamp
   // Block length (bins) of the slow-noise check (see below); 0 = off. diagnose sets 60 s.
