@@ -151,6 +151,18 @@ Effect effectFromTerm(const CandidateTerm& term, const TermFit& tf, int n_bins) 
 
 // RMS per channel over the rows of r that are not masked (masked[offset + i] != 0: a bin
 // overlapping a sampling gap).
+// Column means of r over its unmasked rows (zero when all are masked).
+Vector6d meanOf(const Eigen::MatrixXd& r, const std::vector<char>& masked) {
+  Vector6d sum = Vector6d::Zero();
+  int rows = 0;
+  for (Eigen::Index i = 0; i < r.rows(); ++i) {
+    if (masked[i]) continue;
+    sum += r.row(i).transpose();
+    ++rows;
+  }
+  return rows > 0 ? Vector6d(sum / rows) : sum;
+}
+
 ChannelRms rmsOf(const Eigen::MatrixXd& r, const std::vector<char>& masked, int offset = 0) {
   ChannelRms out;
   Vector6d sum = Vector6d::Zero();
@@ -1200,22 +1212,12 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   {
     // A gain on an axis whose input keeps one sign may be the lab's unfitted curvature
     // (gain_or_curvature.h): the lab's degree-2 estimate decides the name.
-    std::array<Eigen::Vector3d, 2> mean, sd;
-    for (int s = 0; s < 2; ++s) {
-      const Eigen::MatrixX3d& u = s == 0 ? x.omega_rad_s : x.f_m_s2;
-      Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sum2 = Eigen::Vector3d::Zero();
-      int count = 0;
-      for (Eigen::Index i = 0; i < u.rows(); ++i) {
-        if (out.masked_bins[i]) continue;
-        sum += u.row(i).transpose();
-        sum2 += u.row(i).transpose().cwiseAbs2();
-        ++count;
-      }
-      mean[s] = sum / std::max(count, 1);
-      sd[s] = (sum2 / std::max(count, 1) - mean[s].cwiseAbs2()).cwiseMax(0.0).cwiseSqrt();
-    }
-    nameOneSignedGains(in, mean, sd, opt.selection.min_name_margin, &out,
-                       &lab_quadratic_not_listed);
+    Eigen::MatrixXd inputs(n, kMismatchChannels);
+    inputs << x.omega_rad_s, x.f_m_s2;
+    const Vector6d mean = meanOf(inputs, out.masked_bins);
+    const ChannelRms sd = rmsOf(inputs.rowwise() - mean.transpose(), out.masked_bins);
+    nameOneSignedGains(in, {mean.head<3>(), mean.tail<3>()}, {sd.gyro, sd.accel},
+                       opt.selection.min_name_margin, &out, &lab_quadratic_not_listed);
   }
   out.nuisance_bias = sel.nuisance.theta.head<6>();
   if (sel.nuisance.theta.size() == 12) out.nuisance_drift = 2.0 * sel.nuisance.theta.segment<6>(6);

@@ -40,19 +40,19 @@ bool oneSignedInput(double mean, double sd, double min_ratio) {
 void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vector3d, 2>& input_mean,
                         const std::array<Eigen::Vector3d, 2>& input_sd, double min_margin,
                         DiagnosisResult* out, std::vector<std::string>* lab_quadratic_not_listed) {
+  // Sensors whose curvature the field named itself, read before the loop moves effects out.
+  std::vector<std::string> curvature_claimed;
+  for (const Effect& e : out->effects)
+    if (e.name == "scale_nonlinearity") curvature_claimed.push_back(e.sensor);
   std::vector<Effect> kept;
-  const auto claimed = [&](const std::string& name, const std::string& sensor) {
-    return std::any_of(out->effects.begin(), out->effects.end(), [&](const Effect& f) {
-      return f.name == name && f.sensor == sensor;
-    });
-  };
   for (Effect& e : out->effects) {
     const int s = e.sensor == "gyro" ? 0 : e.sensor == "accel" ? 1 : -1;
     const std::optional<LabQuadratic>& lab =
         s == 0 ? in.lab_gyro_quadratic : in.lab_accel_quadratic;
     // A curvature the field named itself is already claimed: the gain stays a gain.
     if (e.name != "scale_factor" || s < 0 || !lab || e.parameters.empty() ||
-        claimed("scale_nonlinearity", e.sensor)) {
+        std::find(curvature_claimed.begin(), curvature_claimed.end(), e.sensor) !=
+            curvature_claimed.end()) {
       kept.push_back(std::move(e));
       continue;
     }
