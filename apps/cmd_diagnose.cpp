@@ -259,6 +259,9 @@ void registerDiagnose(CLI::App& app) {
           }
           q.c2_tested(a) = cal->fit[a].c2_tested;
           q.c2_tested_sigma(a) = cal->fit[a].c2_tested_sigma;
+          q.slope_per_abs(a) = cal->fit[a].slope_per_abs;
+          q.slope_per_sq(a) = cal->fit[a].slope_per_sq;
+          q.c2_tested_per_abs(a) = cal->fit[a].c2_tested_per_abs;
         }
         *quad = q;
       }

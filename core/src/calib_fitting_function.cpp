@@ -153,6 +153,17 @@ PolynomialFit fitPolynomialSelectDegree(const std::vector<FitPoint>& pts_in,
     fit.c2_tested = quadratic.coeffs[2];
     fit.c2_tested_sigma = quadratic.coeffs_sigma[2];
   }
+  // The fit's response to the shapes it leaves out: the same solve with y = |x| and y = x^2.
+  std::vector<FitPoint> abs_pts = pts, sq_pts = pts;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    abs_pts[i].y = std::abs(pts[i].x);
+    sq_pts[i].y = pts[i].x * pts[i].x;
+  }
+  if (chosen <= 2) {
+    fit.slope_per_abs = solve(abs_pts, chosen).coeffs[1];
+    fit.slope_per_sq = chosen == 1 ? solve(sq_pts, 1).coeffs[1] : 0.0;
+  }
+  if (max_deg >= 2) fit.c2_tested_per_abs = solve(abs_pts, 2).coeffs[2];
   // Cross-validated prediction RMS of the chosen degree, reported only (NaN when no fold's
   // training set can fit it). Points sorted by x and dealt to the folds in turn; leave-one-out
   // with few points (2-point folds can leave a training set without spread).

@@ -60,6 +60,11 @@ YAML::Node sensorNode(const SensorCalibration& s) {
         f["c2_tested"] = s.fit[a].c2_tested;
         f["c2_tested_sigma"] = s.fit[a].c2_tested_sigma;
       }
+      // The fit's response to an asymmetry |x| and a curvature x^2 (absent: not computed).
+      for (const auto& [k, v] : {std::make_pair("slope_per_abs", s.fit[a].slope_per_abs),
+                                 std::make_pair("slope_per_sq", s.fit[a].slope_per_sq),
+                                 std::make_pair("c2_tested_per_abs", s.fit[a].c2_tested_per_abs)})
+        if (std::isfinite(v)) f[k] = v;
       fit[kAxes[a]] = f;
     }
     n["fit"] = fit;
@@ -145,6 +150,10 @@ SensorCalibration readSensor(const YAML::Node& n, const std::string& path, const
         if (!f["c2_tested_sigma"]) fail(path, key + ".c2_tested_sigma", "missing (c2_tested is given)");
         p.c2_tested_sigma = finite(f["c2_tested_sigma"], path, key + ".c2_tested_sigma");
       }
+      for (const auto& [k, v] : {std::make_pair("slope_per_abs", &p.slope_per_abs),
+                                 std::make_pair("slope_per_sq", &p.slope_per_sq),
+                                 std::make_pair("c2_tested_per_abs", &p.c2_tested_per_abs)})
+        if (f[k]) *v = finite(f[k], path, key + "." + k);
     }
   }
   return s;

@@ -1210,8 +1210,9 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         ratio, 1e6 * *ref_sigma);
   }
   {
-    // A gain on an axis whose input keeps one sign may be the lab's unfitted curvature
-    // (gain_or_curvature.h): the lab's degree-2 estimate decides the name.
+    // A gain on an axis whose input keeps one sign may be the lab's unfitted curvature or an
+    // asymmetry its poses folded into a quadratic (gain_or_curvature.h): the lab's degree-2
+    // coefficient decides the name, or says it cannot.
     Eigen::MatrixXd inputs(n, kMismatchChannels);
     inputs << x.omega_rad_s, x.f_m_s2;
     const Vector6d mean = meanOf(inputs, out.masked_bins);

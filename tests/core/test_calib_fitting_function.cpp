@@ -311,6 +311,46 @@ TEST(CalibFittingFunction, BadInputs) {
   EXPECT_THROW(o.validate(), std::invalid_argument);
 }
 
+// The fit's response to the shapes it leaves out (PolynomialFit::slope_per_abs, slope_per_sq,
+// c2_tested_per_abs): six-position poses (-g, 0 x 4, +g) see an asymmetric gain d |x| as the
+// quadratic d / g x^2 and leave the slope alone; a tilted pose makes the fold inexact, and the
+// responses then still predict what the fit does with an asymmetry it cannot model.
+TEST(CalibFittingFunction, ResponsesToAnAsymmetryAndACurvatureItLeavesOut) {
+  const double g = 9.79;
+  std::vector<FitPoint> six;
+  for (double x : {-g, 0.0, 0.0, 0.0, 0.0, g}) six.push_back({x, 0.0, 1e-4});
+  const double d = 3e-3;  // output = x + d |x|, one-sided gains 1 + 2d and 1 on the two signs
+  for (auto& p : six) p.y = p.x + d * std::abs(p.x);
+  const PolynomialFit line = fitPolynomialSelectDegree(six, PolynomialFitOptions{}, "six");
+  ASSERT_EQ(line.degree, 1);
+  EXPECT_NEAR(line.slope_per_abs, 0.0, 1e-12);
+  EXPECT_NEAR(line.slope_per_sq, 0.0, 1e-12);
+  EXPECT_TRUE(std::isnan(line.c2_tested_per_abs)) << "three support values: no quadratic";
+  // A tilted pose (x = -g cos 25 deg) supports a quadratic; the fold is then inexact and the
+  // fit's coefficients are what the responses predict, for the asymmetry and for a curvature.
+  std::vector<FitPoint> tilted = six;
+  tilted.push_back({-g * std::cos(25.0 * M_PI / 180.0), 0.0, 1e-4});
+  for (auto& p : tilted) p.y = p.x + d * std::abs(p.x);
+  PolynomialFitOptions keep_quadratic;
+  keep_quadratic.degree_alpha = 0.999;  // keep the quadratic whatever the points say
+  const PolynomialFit q = fitPolynomialSelectDegree(tilted, keep_quadratic, "tilted");
+  ASSERT_EQ(q.degree, 2);
+  EXPECT_NEAR(q.coeffs[1], 1.0 + d * q.slope_per_abs, 1e-12);
+  EXPECT_NEAR(q.coeffs[2], d * q.c2_tested_per_abs, 1e-12);
+  EXPECT_NEAR(q.c2_tested_per_abs, 1.0 / g, 0.2 / g) << "close to the six-position fold";
+  EXPECT_GT(std::abs(q.c2_tested_per_abs - 1.0 / g), 1e-4 / g) << "but not exactly it";
+  EXPECT_EQ(q.slope_per_sq, 0.0);
+  // A line on the tilted points (the default 1 % test on a pure curvature too small to keep):
+  // its slope moves by k2 * slope_per_sq under a curvature it does not model.
+  const double k2 = 1e-7;
+  for (auto& p : tilted) p.y = p.x + k2 * p.x * p.x;
+  const PolynomialFit l = fitPolynomialSelectDegree(tilted, PolynomialFitOptions{}, "tilted line");
+  ASSERT_EQ(l.degree, 1);
+  EXPECT_NEAR(l.coeffs[1], 1.0 + k2 * l.slope_per_sq, 1e-12);
+  EXPECT_GT(std::abs(l.slope_per_sq), 0.1) << "the tilted pose makes the points asymmetric";
+  EXPECT_NEAR(l.c2_tested, k2, 1e-12);
+}
+
 CalibrationResult sampleResult() {
   CalibrationResult r;
   r.case_name = "unit";
@@ -336,6 +376,9 @@ CalibrationResult sampleResult() {
   }
   r.gyro.fit[1].c2_tested = 2e-5;  // a line kept, its degree-2 estimate reported
   r.gyro.fit[1].c2_tested_sigma = 1e-5;
+  r.gyro.fit[1].slope_per_abs = -3e-3;
+  r.gyro.fit[1].slope_per_sq = 0.02;
+  r.gyro.fit[1].c2_tested_per_abs = 0.1;
   return r;
 }
 
@@ -358,6 +401,10 @@ TEST(CalibIo, YamlRoundTrip) {
   EXPECT_NEAR(q.gyro.fit[1].c2_tested, 2e-5, 1e-18);
   EXPECT_NEAR(q.gyro.fit[1].c2_tested_sigma, 1e-5, 1e-18);
   EXPECT_TRUE(std::isnan(q.gyro.fit[0].c2_tested)) << "absent stays absent";
+  EXPECT_NEAR(q.gyro.fit[1].slope_per_abs, -3e-3, 1e-18);
+  EXPECT_NEAR(q.gyro.fit[1].slope_per_sq, 0.02, 1e-17);
+  EXPECT_NEAR(q.gyro.fit[1].c2_tested_per_abs, 0.1, 1e-17);
+  EXPECT_TRUE(std::isnan(q.gyro.fit[0].slope_per_abs)) << "absent stays absent";
   EXPECT_EQ(q.gyro.method, "six_position_ceres");
 }
 

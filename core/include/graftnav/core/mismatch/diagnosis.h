@@ -42,6 +42,13 @@ struct LabQuadratic {
   // field gain on a one-signed axis a curvature (gain_or_curvature.h).
   Eigen::Vector3d c2_tested = Eigen::Vector3d::Constant(std::nan(""));
   Eigen::Vector3d c2_tested_sigma = Eigen::Vector3d::Constant(std::nan(""));
+  // The lab fit's response to an asymmetry d |x| (slope: d * slope_per_abs, c2_tested:
+  // d * c2_tested_per_abs) and to a curvature it did not fit (slope: k2 * slope_per_sq); see
+  // PolynomialFit. NaN slope_per_sq counts as 0 (symmetric poses); NaN asymmetry responses: an
+  // asymmetry is not weighed (gain_or_curvature.h).
+  Eigen::Vector3d slope_per_abs = Eigen::Vector3d::Constant(std::nan(""));
+  Eigen::Vector3d slope_per_sq = Eigen::Vector3d::Constant(std::nan(""));
+  Eigen::Vector3d c2_tested_per_abs = Eigen::Vector3d::Constant(std::nan(""));
 };
 
 struct DiagnosisInputs {
