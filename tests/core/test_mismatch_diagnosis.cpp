@@ -392,6 +392,68 @@ TEST(MismatchDiagnosis, OneSignedGainIsNamedByTheLabsCurvatureEstimate) {
   EXPECT_EQ(coarse.ambiguous[0].alternative, "scale_nonlinearity");
 }
 
+// A one-sided accelerometer z asymmetry the lab folded into the quadratic it kept (as on
+// random_23_13): SG#2 grafts the mean gain and c2 = d / g, and at f_z ~ -g the field's slope is
+// off by d, which was claimed as a z scale factor. Weighed with the lab's quadratic and its
+// responses (six-position poses: slope_per_abs 0, c2_tested_per_abs 1 / g), the asymmetry
+// explains both and is named; a real z curvature in the lab's quadratic with a gain change
+// between lab and field is not settled (a gain beside the curvature and an asymmetry beside a
+// curvature fit alike) and is not claimed.
+TEST(MismatchDiagnosis, OneSignedGainIsWeighedAgainstAnAsymmetryTheLabFolded) {
+  const ImuSeries reference = sampleMotion(carMotion(23), 100.0, 150.0);
+  const ImuErrorModel noise = whiteNoise(3e-5, 1e-3);
+  const double g = 9.79, k2_x = 1e-3;
+  const auto run = [&](bool asymmetry) {
+    ImuErrorModel real = noise, sg2 = noise;
+    real.accel.scale_nonlinearity.k2 << k2_x, 0.0, 0.0;
+    LabQuadratic lab;
+    lab.c2 << k2_x, 0.0, 0.0;
+    if (asymmetry) {
+      const double a = -6e-3;  // gain 1 + a on the positive side, 1 on the negative
+      real.accel.scale_asymmetry.k_pos << 0.0, 0.0, a;
+      real.accel.scale_asymmetry.k_neg.setZero();
+      sg2.accel.scale_factor.k << 0.0, 0.0, 0.5 * a;  // the lab's line: the mean gain
+      lab.c2(2) = 0.5 * a / g;                         // and its quadratic: d / g
+    } else {
+      real.accel.scale_nonlinearity.k2(2) = -2e-4;  // a real z curvature the lab measured
+      real.accel.scale_factor.k << 0.0, 0.0, 3e-3;  // and a gain change since
+      lab.c2(2) = -2e-4;
+    }
+    sg2.accel.scale_nonlinearity.k2 = lab.c2;
+    lab.c2_sigma << 1e-5, 0.0, 1e-5;
+    lab.c2_tested = lab.c2;
+    lab.c2_tested_sigma = Eigen::Vector3d::Constant(1e-5);
+    lab.slope_per_abs.setZero();
+    lab.slope_per_sq.setZero();
+    lab.c2_tested_per_abs.setConstant(1.0 / g);
+    DiagnosisInputs in = graftedInputs(reference, real, sg2, 53,
+                                       "reference + the lab's line and quadratic (as SG#2)");
+    in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+    in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+    in.lab_accel_quadratic = lab;
+    return diagnose(in);
+  };
+  const DiagnosisResult folded = run(true);
+  EXPECT_EQ(findEffect(folded, "scale_factor"), nullptr) << diagnosisMarkdown(folded);
+  const Effect* sa = findEffect(folded, "scale_asymmetry");
+  ASSERT_NE(sa, nullptr) << diagnosisMarkdown(folded);
+  EXPECT_EQ(sa->sensor, "accel");
+  // Gains per sign about the lab's mean gain: +-d on z, d = a / 2.
+  EXPECT_NEAR(sa->parameters[0].values[2], -3e-3, 3.0 * sa->parameters[0].sigma[2])
+      << diagnosisMarkdown(folded);
+  EXPECT_NEAR(sa->parameters[1].values[2], 3e-3, 3.0 * sa->parameters[1].sigma[2]);
+  EXPECT_LT(sa->parameters[0].sigma[2], 0.3 * 3e-3);
+
+  const DiagnosisResult gain = run(false);
+  EXPECT_EQ(findEffect(gain, "scale_factor"), nullptr) << diagnosisMarkdown(gain);
+  EXPECT_EQ(findEffect(gain, "scale_asymmetry"), nullptr) << diagnosisMarkdown(gain);
+  ASSERT_EQ(gain.ambiguous.size(), 1u) << diagnosisMarkdown(gain);
+  EXPECT_EQ(gain.ambiguous[0].effect.name, "scale_factor");
+  EXPECT_EQ(gain.ambiguous[0].alternative, "scale_asymmetry");
+  EXPECT_NEAR(gain.ambiguous[0].effect.parameters[0].values[2], 3e-3,
+              3.0 * gain.ambiguous[0].effect.parameters[0].sigma[2]);
+}
+
 // |x| (scale_asymmetry) and x^2 (scale_nonlinearity) are two shapes of one even response; on
 // this motion the gyro z x^2 column holds nearly all of its term's trace, so the term-isotropic
 // prior charged x^2 about 8 less than |x| and an asymmetry near its limit was claimed as a
