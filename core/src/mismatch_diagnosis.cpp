@@ -1134,8 +1134,12 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   // difference within 3 sigma or 20 %); now within 3 sigma on all.
   // The mean of the two gains is the lab's (its +-g poses and turns of both signs see it), so a
   // one-sided asymmetry (k_neg = 0) comes back as +-d about the lab's gain: only k_pos - k_neg
-  // is identifiable. Uncertainties: the fits' (field noise only: the lab is not used). The
-  // part missing from the simulation, which SG#3 grafts, is k_pos_missing / k_neg_missing.
+  // is identifiable. Uncertainties: the fits', and the gain they are measured about: the
+  // simulation's gain is the lab's estimate (M_sigma on the diagonal) built on the reference
+  // signal (its stated scale uncertainty), so k_missing holds those errors too, which the scale
+  // factor's gate allows for (random_22_02, consumer gyro: k_missing z -4.3e-4 +- 1.2e-4 with
+  // no gain missing made k_neg 4.3 sigma off the injected -d). The part missing from the
+  // simulation, which SG#3 grafts, is k_pos_missing / k_neg_missing (fit uncertainties).
   {
     std::vector<int> claimed_terms;
     for (const TermFit& tf : sel.selected)
@@ -1169,13 +1173,21 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         if (tf.term == t_scale) scale_missing = &tf;
       if (fit_asym) {
         EffectParameter kp = e.parameters[0], kn = e.parameters[1];
+        const std::optional<Eigen::Matrix3d>& lab_M_sigma =
+            e.sensor == "gyro" ? in.lab_gyro_M_sigma : in.lab_accel_M_sigma;
+        const std::optional<double>& ref_scale_sigma =
+            e.sensor == "gyro" ? in.reference_gyro_scale_sigma : in.reference_accel_scale_sigma;
         for (int a = 0; a < 3; ++a) {
           const double d = fit_asym->theta(a);
           const double k = scale_missing ? scale_missing->theta(a) : 0.0;
           const double k_sigma = scale_missing ? scale_missing->sigma(a) : 0.0;
+          const double gain_sigma = std::hypot(lab_M_sigma ? (*lab_M_sigma)(a, a) : 0.0,
+                                               ref_scale_sigma.value_or(0.0));
           kp.values[a] = k + d;
           kn.values[a] = k - d;
-          kp.sigma[a] = kn.sigma[a] = std::hypot(fit_asym->sigma(a), k_sigma);
+          kp.sigma[a] = kn.sigma[a] =
+              std::sqrt(std::pow(fit_asym->sigma(a), 2) + k_sigma * k_sigma +
+                        gain_sigma * gain_sigma);
         }
         EffectParameter missing_pos = e.parameters[0], missing_neg = e.parameters[1];
         missing_pos.key = "k_pos_missing";
@@ -1184,7 +1196,8 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         e.explanation += " (k_pos / k_neg: the sensor's gains per sign relative to the simulation's "
                          "linear gain, i.e. its own asymmetry +-d fitted on tested minus reference "
                          "plus the scale factor the simulation lacks; only k_pos - k_neg is "
-                         "identifiable, their mean is the lab's; *_missing: the part the "
+                         "identifiable, their mean is the lab's, and their uncertainty includes "
+                         "that of the lab's and the reference's gain; *_missing: the part the "
                          "simulation lacks)";
       }
     }

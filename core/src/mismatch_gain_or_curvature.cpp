@@ -201,9 +201,17 @@ void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vecto
       kept.push_back(std::move(e));
       continue;
     }
+    // The field slope is measured against SG#2's gain, the lab's estimate on the reference
+    // signal: their uncertainties are the slope's too (as in the scale factor's gate).
+    const std::optional<Eigen::Matrix3d>& lab_M_sigma =
+        s == 0 ? in.lab_gyro_M_sigma : in.lab_accel_M_sigma;
+    const std::optional<double>& ref_scale_sigma =
+        s == 0 ? in.reference_gyro_scale_sigma : in.reference_accel_scale_sigma;
     OneSignedSlopeInputs wi;
     wi.k = k.values[a];
-    wi.k_sigma = k.sigma[a];
+    wi.k_sigma = std::sqrt(k.sigma[a] * k.sigma[a] +
+                           std::pow(lab_M_sigma ? (*lab_M_sigma)(a, a) : 0.0, 2) +
+                           std::pow(ref_scale_sigma.value_or(0.0), 2));
     wi.x_mean = input_mean[s](a);
     wi.c2_lab = c2_lab;
     wi.c2_lab_sigma = c2_lab_sigma;
@@ -216,10 +224,10 @@ void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vecto
     std::string weighed = fmt::format(
         "on {} the input keeps one sign (mean {:.3g}, sd {:.2g}), where a gain, a curvature and "
         "an asymmetry are one column: the field's slope k_{} = {:.3g} +- {:.2g} against SG#2 "
-        "(which grafts {}) is weighed with the lab's degree-2 coefficient there, {:.3g} +- {:.2g} "
+        "(its gain uncertainty included; SG#2 grafts {}) is weighed with the lab's degree-2 coefficient there, {:.3g} +- {:.2g} "
         "({}); chi-square of one-parameter explanations: a gain change between lab and field "
         "{:.1f}, a curvature {:.1f} (k2 = {:.3g} +- {:.2g})",
-        axis, input_mean[s](a), input_sd[s](a), axis, k.values[a], k.sigma[a],
+        axis, input_mean[s](a), input_sd[s](a), axis, wi.k, wi.k_sigma,
         kept_quadratic ? fmt::format("the lab's quadratic, c2 = {:.3g}", lab->c2(a))
                        : std::string("the lab's line"),
         c2_lab, c2_lab_sigma,
