@@ -90,16 +90,22 @@ bool oneSignedInput(double mean, double sd, double min_ratio) {
 
 namespace {
 
-// The scale_factor effect `e` renamed scale_nonlinearity: the sensor's k2 with axis a from the
-// weighing (lab and field combined), the other axes the lab's.
-Effect curvatureEffect(const Effect& e, int a, const OneSignedSlope& w, double c2_simulated,
-                       const LabQuadratic& lab, const std::string& weighed) {
+// `e` under another name, with its sensor and evidence; parameters and explanation left empty.
+Effect renamed(const Effect& e, const std::string& name) {
   Effect c;
-  c.name = "scale_nonlinearity";
+  c.name = name;
   c.sensor = e.sensor;
   c.delta_bic = e.delta_bic;
   c.cv_gain = e.cv_gain;
   c.evidence_method = e.evidence_method;
+  return c;
+}
+
+// The scale_factor effect `e` renamed scale_nonlinearity: the sensor's k2 with axis a from the
+// weighing (lab and field combined), the other axes the lab's.
+Effect curvatureEffect(const Effect& e, int a, const OneSignedSlope& w, double c2_simulated,
+                       const LabQuadratic& lab, const std::string& weighed) {
+  Effect c = renamed(e, "scale_nonlinearity");
   EffectParameter k2, missing;
   k2.key = "k2";
   missing.key = "k2_missing";
@@ -133,12 +139,7 @@ Effect curvatureEffect(const Effect& e, int a, const OneSignedSlope& w, double c
 // The scale_factor effect `e` renamed scale_asymmetry: gains per sign +-d about the lab's on
 // axis a (the simulation lacks no gain there), the other axes undetermined.
 Effect asymmetryEffect(const Effect& e, int a, const OneSignedSlope& w, const std::string& weighed) {
-  Effect c;
-  c.name = "scale_asymmetry";
-  c.sensor = e.sensor;
-  c.delta_bic = e.delta_bic;
-  c.cv_gain = e.cv_gain;
-  c.evidence_method = e.evidence_method;
+  Effect c = renamed(e, "scale_asymmetry");
   EffectParameter kp, kn;
   kp.key = "k_pos";
   kn.key = "k_neg";

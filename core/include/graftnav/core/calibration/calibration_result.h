@@ -33,7 +33,8 @@ struct PolynomialFit {
   // How this fit moves under an input-output shape it leaves out, per unit of that shape's
   // coefficient, from the same points and weights (least squares is linear in y): an asymmetric
   // gain d |x| moves the slope c1 by d * slope_per_abs and the degree-2 estimate c2_tested by
-  // d * c2_tested_per_abs (poses at -g, 0, +g only: 0 and 1 / g); a curvature k2 x^2 moves the
+  // d * c2_tested_per_abs (poses at -g, 0, +g: slope 0; a tilted pose, which supports the
+  // quadratic, gives c2_tested_per_abs near 1 / g); a curvature k2 x^2 moves the
   // slope by k2 * slope_per_sq (0 when the fit has an x^2 term). NaN: not computed (a fit of
   // degree 3 or more, or no quadratic supported for c2_tested_per_abs). The mismatch finder uses
   // them to weigh a field gain on a one-signed axis against an asymmetry the lab folded into its
