@@ -149,8 +149,6 @@ Effect effectFromTerm(const CandidateTerm& term, const TermFit& tf, int n_bins) 
   return e;
 }
 
-// RMS per channel over the rows of r that are not masked (masked[offset + i] != 0: a bin
-// overlapping a sampling gap).
 // Column means of r over its unmasked rows (zero when all are masked).
 Vector6d meanOf(const Eigen::MatrixXd& r, const std::vector<char>& masked) {
   Vector6d sum = Vector6d::Zero();
@@ -163,6 +161,8 @@ Vector6d meanOf(const Eigen::MatrixXd& r, const std::vector<char>& masked) {
   return rows > 0 ? Vector6d(sum / rows) : sum;
 }
 
+// RMS per channel over the rows of r that are not masked (masked[offset + i] != 0: a bin
+// overlapping a sampling gap).
 ChannelRms rmsOf(const Eigen::MatrixXd& r, const std::vector<char>& masked, int offset = 0) {
   ChannelRms out;
   Vector6d sum = Vector6d::Zero();
@@ -1177,12 +1177,24 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
             e.sensor == "gyro" ? in.lab_gyro_M_sigma : in.lab_accel_M_sigma;
         const std::optional<double>& ref_scale_sigma =
             e.sensor == "gyro" ? in.reference_gyro_scale_sigma : in.reference_accel_scale_sigma;
+        // SG#2's gain at the drive's mean input x_m is c1 + 2 c2 x_m: with a lab quadratic its
+        // c2 uncertainty is a gain uncertainty there too (as in the gate; ~0 on two-signed axes).
+        const std::optional<LabQuadratic>& quad =
+            e.sensor == "gyro" ? in.lab_gyro_quadratic : in.lab_accel_quadratic;
+        Eigen::MatrixXd inputs(n, kMismatchChannels);
+        inputs << x.omega_rad_s, x.f_m_s2;
+        const Vector6d mean_inputs = meanOf(inputs, out.masked_bins);
+        const Eigen::Vector3d mean_input =
+            e.sensor == "gyro" ? mean_inputs.head<3>() : mean_inputs.tail<3>();
         for (int a = 0; a < 3; ++a) {
           const double d = fit_asym->theta(a);
           const double k = scale_missing ? scale_missing->theta(a) : 0.0;
           const double k_sigma = scale_missing ? scale_missing->sigma(a) : 0.0;
-          const double gain_sigma = std::hypot(lab_M_sigma ? (*lab_M_sigma)(a, a) : 0.0,
-                                               ref_scale_sigma.value_or(0.0));
+          const double c2_sigma = quad && quad->c2(a) != 0.0 ? quad->c2_sigma(a) : 0.0;
+          const double gain_sigma =
+              std::sqrt(std::pow(lab_M_sigma ? (*lab_M_sigma)(a, a) : 0.0, 2) +
+                        std::pow(ref_scale_sigma.value_or(0.0), 2) +
+                        std::pow(2.0 * mean_input(a) * c2_sigma, 2));
           kp.values[a] = k + d;
           kn.values[a] = k - d;
           kp.sigma[a] = kn.sigma[a] =
@@ -1193,8 +1205,8 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         missing_pos.key = "k_pos_missing";
         missing_neg.key = "k_neg_missing";
         e.parameters = {kp, kn, missing_pos, missing_neg};
-        e.explanation += " (k_pos / k_neg: the sensor's gains per sign relative to the simulation's "
-                         "linear gain, i.e. its own asymmetry +-d fitted on tested minus reference "
+        e.explanation += " (k_pos / k_neg: the sensor's gains per sign relative to the "
+                         "simulation's linear gain, i.e. its own asymmetry +-d fitted on tested minus reference "
                          "plus the scale factor the simulation lacks; only k_pos - k_neg is "
                          "identifiable, their mean is the lab's, and their uncertainty includes "
                          "that of the lab's and the reference's gain; *_missing: the part the "

@@ -50,18 +50,27 @@ OneSignedSlope weighOneSignedSlope(const OneSignedSlopeInputs& in) {
                                                        {w.chi2_curvature, SlopeCause::kCurvature}};
   if (std::isfinite(in.slope_per_abs) && std::isfinite(in.c2_per_abs) && in.c2_per_abs != 0.0) {
     const double Ad = (in.x_mean > 0.0 ? 1.0 : -1.0) - in.slope_per_abs;  // slope per unit d
-    const double D = Ad - Bk * in.c2_per_abs;
-    if (Ad != 0.0 && std::abs(D) > 1e-6 * (std::abs(Ad) + std::abs(Bk * in.c2_per_abs))) {
+    if (Ad != 0.0) {
       const Combined asym = combine(z1 / Ad, s1 / std::abs(Ad), z2 / in.c2_per_abs,
                                     s2 / std::abs(in.c2_per_abs));
       w.chi2_asymmetry = asym.chi2;
       ranked.push_back({w.chi2_asymmetry, SlopeCause::kAsymmetry});
-      // Two parameters, d and k2, from the two observations (exact).
-      w.d = (z1 - Bk * z2) / D;
-      w.d_sigma = std::sqrt(s1 * s1 + Bk * Bk * s2 * s2) / std::abs(D);
-      w.k2_beside_d = z2 - w.d * in.c2_per_abs;
-      const double a = 1.0 + in.c2_per_abs * Bk / D, b = in.c2_per_abs / D;
-      w.k2_beside_d_sigma = std::sqrt(a * a * s2 * s2 + b * b * s1 * s1);
+      w.d = asym.value;  // with no curvature beside it, unless the two-parameter fit exists
+      w.d_sigma = asym.sigma;
+      w.k2_beside_d = 0.0;
+      w.k2_beside_d_sigma = 0.0;
+      // Two parameters, d and k2, from the two observations (exact), unless d's column is
+      // proportional to k2's (D = 0: the curvature and the asymmetry are then one column for
+      // both lab and field, and their chi2 equal).
+      const double D = Ad - Bk * in.c2_per_abs;
+      if (std::abs(D) > 1e-6 * (std::abs(Ad) + std::abs(Bk * in.c2_per_abs))) {
+        w.d = (z1 - Bk * z2) / D;
+        w.d_sigma = std::sqrt(s1 * s1 + Bk * Bk * s2 * s2) / std::abs(D);
+        w.k2_beside_d = z2 - w.d * in.c2_per_abs;
+        const double a = 1.0 + in.c2_per_abs * Bk / D, b = in.c2_per_abs / D;
+        w.k2_beside_d_sigma = std::sqrt(a * a * s2 * s2 + b * b * s1 * s1);
+        w.d_with_curvature = true;
+      }
     }
   }
   std::sort(ranked.begin(), ranked.end(),
@@ -138,7 +147,8 @@ Effect curvatureEffect(const Effect& e, int a, const OneSignedSlope& w, double c
 
 // The scale_factor effect `e` renamed scale_asymmetry: gains per sign +-d about the lab's on
 // axis a (the simulation lacks no gain there), the other axes undetermined.
-Effect asymmetryEffect(const Effect& e, int a, const OneSignedSlope& w, const std::string& weighed) {
+Effect asymmetryEffect(const Effect& e, int a, const OneSignedSlope& w,
+                       const std::string& weighed) {
   Effect c = renamed(e, "scale_asymmetry");
   EffectParameter kp, kn;
   kp.key = "k_pos";
@@ -152,12 +162,16 @@ Effect asymmetryEffect(const Effect& e, int a, const OneSignedSlope& w, const st
   c.parameters = {kp, kn};
   c.explanation = fmt::format(
       "the {} gain differs for positive and negative inputs; {}. k_pos / k_neg: the gains per "
-      "sign about the lab's (+-d, d = {:.3g} +- {:.2g}, estimated with the sensor's own "
-      "curvature on {} left free: k2 = {:.3g} +- {:.2g}); the other axes are not determined by "
-      "this evidence. The lab's quadratic on {} in SG#2 is mostly this asymmetry as its poses "
-      "saw it; SG#3 models the field's slope at the mean input (the same column there)",
-      e.sensor == "gyro" ? "gyro" : "accelerometer", weighed, w.d, w.d_sigma, "xyz"[a],
-      w.k2_beside_d, w.k2_beside_d_sigma, "xyz"[a]);
+      "sign about the sensor's mean gain (+-d, d = {:.3g} +- {:.2g}, {}); the other axes are "
+      "not determined by this evidence. The lab's quadratic on {} in SG#2 is mostly this "
+      "asymmetry as its poses saw it; SG#3 models the field's slope at the mean input (the same "
+      "column there)",
+      e.sensor == "gyro" ? "gyro" : "accelerometer", weighed, w.d, w.d_sigma,
+      w.d_with_curvature
+          ? fmt::format("estimated with the sensor's own curvature on {} left free: k2 = {:.3g} "
+                        "+- {:.2g}", "xyz"[a], w.k2_beside_d, w.k2_beside_d_sigma)
+          : std::string("its column and the curvature's are one here: estimated without one"),
+      "xyz"[a]);
   return c;
 }
 
@@ -167,18 +181,19 @@ void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vecto
                         const std::array<Eigen::Vector3d, 2>& input_sd, double min_margin,
                         DiagnosisResult* out, std::vector<std::string>* lab_quadratic_not_listed) {
   // Sensors whose curvature the field named itself, read before the loop moves effects out.
-  std::vector<std::string> curvature_claimed;
+  // So are those whose asymmetry it named: a second one would count the fold twice.
+  std::vector<std::string> even_claimed;
   for (const Effect& e : out->effects)
-    if (e.name == "scale_nonlinearity") curvature_claimed.push_back(e.sensor);
+    if (e.name == "scale_nonlinearity" || e.name == "scale_asymmetry")
+      even_claimed.push_back(e.sensor);
   std::vector<Effect> kept;
   for (Effect& e : out->effects) {
     const int s = e.sensor == "gyro" ? 0 : e.sensor == "accel" ? 1 : -1;
     const std::optional<LabQuadratic>& lab =
         s == 0 ? in.lab_gyro_quadratic : in.lab_accel_quadratic;
-    // A curvature the field named itself is already claimed: the gain stays a gain.
+    // A curvature or an asymmetry the field named itself is already claimed: the gain stays.
     if (e.name != "scale_factor" || s < 0 || !lab || e.parameters.empty() ||
-        std::find(curvature_claimed.begin(), curvature_claimed.end(), e.sensor) !=
-            curvature_claimed.end()) {
+        std::find(even_claimed.begin(), even_claimed.end(), e.sensor) != even_claimed.end()) {
       kept.push_back(std::move(e));
       continue;
     }
@@ -217,7 +232,8 @@ void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vecto
     wi.c2_lab = c2_lab;
     wi.c2_lab_sigma = c2_lab_sigma;
     wi.c2_simulated = kept_quadratic ? lab->c2(a) : 0.0;
-    wi.slope_per_sq = kept_quadratic || !std::isfinite(lab->slope_per_sq(a)) ? 0.0 : lab->slope_per_sq(a);
+    wi.slope_per_sq =
+        kept_quadratic || !std::isfinite(lab->slope_per_sq(a)) ? 0.0 : lab->slope_per_sq(a);
     wi.slope_per_abs = lab->slope_per_abs(a);
     wi.c2_per_abs = lab->c2_tested_per_abs(a);
     const OneSignedSlope w = weighOneSignedSlope(wi);
@@ -225,7 +241,8 @@ void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vecto
     std::string weighed = fmt::format(
         "on {} the input keeps one sign (mean {:.3g}, sd {:.2g}), where a gain, a curvature and "
         "an asymmetry are one column: the field's slope k_{} = {:.3g} +- {:.2g} against SG#2 "
-        "(its gain uncertainty included; SG#2 grafts {}) is weighed with the lab's degree-2 coefficient there, {:.3g} +- {:.2g} "
+        "(its gain uncertainty included; SG#2 grafts {}) is weighed with the lab's degree-2 "
+        "coefficient there, {:.3g} +- {:.2g} "
         "({}); chi-square of one-parameter explanations: a gain change between lab and field "
         "{:.1f}, a curvature {:.1f} (k2 = {:.3g} +- {:.2g})",
         axis, input_mean[s](a), input_sd[s](a), axis, wi.k, wi.k_sigma,
@@ -243,10 +260,12 @@ void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vecto
     if (w.best == SlopeCause::kUnsettled) {
       // No single cause fits: a gain change beside the lab's curvature and an asymmetry beside a
       // curvature are exact two-parameter fits alike.
-      e.explanation += "; " + weighed +
-                       ": none fits alone (chi-square > 9); a gain change with the lab's "
-                       "curvature and an asymmetry with a curvature beside it fit alike: not "
-                       "settled";
+      e.explanation += "; " + weighed + ": none fits alone (chi-square > 9); " +
+                       (std::isfinite(w.chi2_asymmetry)
+                            ? "a gain change beside a curvature and an asymmetry beside a "
+                              "curvature fit alike: not settled"
+                            : "a gain change beside a curvature fits, and the lab's responses "
+                              "needed to weigh an asymmetry are missing: not settled");
       const std::string alternative =
           std::isfinite(w.chi2_asymmetry) ? "scale_asymmetry" : "scale_nonlinearity";
       out->ambiguous.push_back({std::move(e), alternative, 0.0});

@@ -70,6 +70,26 @@ TEST(GainOrCurvature, AsymmetryFoldedIntoTheLabsQuadraticByHand) {
   EXPECT_NEAR(w.d, 2.02e-3, 1e-12);
   EXPECT_NEAR(w.d_sigma, std::sqrt(1e-8 + 400.0 * 4e-10), 1e-12);
   EXPECT_NEAR(w.k2_beside_d, -1e-6, 1e-12);
+  // k2 = z2 (1 + c2_per_abs Bk / D) - (c2_per_abs / D) z1 = -z2 - z1 / g:
+  // sigma sqrt(4e-10 + 1e-2 x 1e-8).
+  EXPECT_NEAR(w.k2_beside_d_sigma, std::sqrt(4e-10 + 1e-10), 1e-15);
+  EXPECT_TRUE(w.d_with_curvature);
+}
+
+// Where the asymmetry's column (lab and field) is proportional to the curvature's (x_mean =
+// -g / 2 with six-position responses: D = 0), the two are one hypothesis: equal chi-square, and
+// d comes from the one-parameter fit.
+TEST(GainOrCurvature, AsymmetryProportionalToTheCurvatureIsNotTold) {
+  const double g = 10.0;
+  OneSignedSlopeInputs in = lineKept(1e-3, 1e-4, -0.5 * g, 1e-4, 2e-5);
+  in.slope_per_abs = 0.0;
+  in.c2_per_abs = 1.0 / g;
+  const OneSignedSlope w = weighOneSignedSlope(in);
+  ASSERT_TRUE(std::isfinite(w.chi2_asymmetry)) << "weighed, not dropped";
+  EXPECT_NEAR(w.chi2_asymmetry, w.chi2_curvature, 1e-9);
+  EXPECT_FALSE(w.d_with_curvature);
+  EXPECT_TRUE(std::isfinite(w.d));
+  EXPECT_NEAR(w.margin, 0.0, 1e-9) << "the two lead together";
 }
 
 // The lab kept a quadratic that is a real curvature (SG#2 grafts it) and the field gain changed:
@@ -86,8 +106,16 @@ TEST(GainOrCurvature, RealCurvatureAndAGainChangeAreUnsettled) {
   EXPECT_GT(w.chi2_asymmetry, 9.0);
   EXPECT_EQ(w.best, SlopeCause::kUnsettled);
   EXPECT_EQ(w.margin, 0.0);
-  // Without the gain change, the lab's c2 being off by k / (2 x_mean) is the curvature cause;
-  // with the quadratic all a folded asymmetry (d = g c2) the field's slope is d, and the
+  // Without the gain change, a field slope of the lab's c2 being off by 1 sigma (k = 2 x_mean
+  // 1e-5) is the curvature cause: chi2 = (1e-5)^2 / (1e-10 + (1e-4 / 20)^2).
+  OneSignedSlopeInputs off = in;
+  off.k = 2.0 * -g * 1e-5;
+  const OneSignedSlope c = weighOneSignedSlope(off);
+  EXPECT_EQ(c.best, SlopeCause::kCurvature);
+  EXPECT_NEAR(c.chi2_curvature, 1e-10 / (1e-10 + 2.5e-11), 1e-9);
+  EXPECT_NEAR(c.k2, c2 + 1e-5 * 1e-10 / (1e-10 + 2.5e-11), 1e-12) << "lab and field combined";
+  EXPECT_GT(c.margin, 6.0);
+  // With the quadratic all a folded asymmetry (d = g c2) the field's slope is d, and the
   // asymmetry fits.
   OneSignedSlopeInputs fold = in;
   fold.k = g * c2;  // z1 = k + 2 c2 x_mean = g c2 - 2 g c2 = -g c2 = -d: d = g c2

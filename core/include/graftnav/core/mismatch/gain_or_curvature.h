@@ -18,11 +18,14 @@
 //    quadratic misses by d (random_23_13: a z asymmetry d = -2.9e-3 claimed as a -3.9e-3 z scale
 //    factor).
 //
-// Observations, independent: z1 = k + 2 c2_sim x_m +- sigma_k (the field's slope less SG#2's
-// lab slope, k the residual's slope and c2_sim the quadratic SG#2 grafts there, 0 for a line)
-// and z2 = c2_lab +- s (the lab's degree-2 coefficient, kept or only tested). With the lab fit's
-// responses (PolynomialFit::slope_per_abs, slope_per_sq, c2_tested_per_abs) the sensor's
-// k_g (gain change between lab and field), k2 and d give
+// Observations: z1 = k + 2 c2_sim x_m +- sigma_k (the field's slope less SG#2's lab slope c1,
+// k the residual's slope and c2_sim the quadratic SG#2 grafts there, 0 for a line; sigma_k
+// includes c1's uncertainty) and z2 = c2_lab +- s (the lab's degree-2 coefficient, kept or only
+// tested), taken as independent: exact when the lab kept a line (its slope and the degree-2
+// fit's c2 are orthogonal estimates); with a kept quadratic c1 and c2 correlate through the
+// poses' asymmetry (zero for poses symmetric about 0, small with one tilted pose). With the
+// lab fit's responses (PolynomialFit::slope_per_abs, slope_per_sq, c2_tested_per_abs) the
+// sensor's k_g (gain change between lab and field), k2 and d give
 //   z1 = k_g + d (sign(x_m) - slope_per_abs) + k2 (2 x_m - slope_per_sq)
 //   z2 = k2 + d c2_tested_per_abs.
 // Three hypotheses, one free parameter each, their chi-square (2 ln likelihood up to a common
@@ -73,7 +76,11 @@ struct OneSignedSlope {
   // the curvature beside it. NaN when the asymmetry is not weighed.
   double d = std::nan(""), d_sigma = std::nan("");
   double k2_beside_d = std::nan(""), k2_beside_d_sigma = std::nan("");
-  SlopeCause best = SlopeCause::kUnsettled;  // the best one-parameter hypothesis; kUnsettled: none fits
+  // False when d's column is proportional to the curvature's (the two-parameter fit does not
+  // exist): d is then the one-parameter estimate, without a curvature beside it.
+  bool d_with_curvature = false;
+  // The best one-parameter hypothesis (kUnsettled: none fits) and the next.
+  SlopeCause best = SlopeCause::kUnsettled;
   SlopeCause runner_up = SlopeCause::kUnsettled;
   double margin = 0.0;  // chi2 of the runner-up less the best's (0 when unsettled)
 };
@@ -94,10 +101,14 @@ bool oneSignedInput(double mean, double sd, double min_ratio = 5.0);
 // the others the lab's c2_tested; k2_missing: that axis only, less what SG#2 grafts), and the
 // sensor goes to *lab_quadratic_not_listed (the effect holds the lab's quadratic); an asymmetry
 // that leads renames it scale_asymmetry (k_pos = d, k_neg = -d on that axis, the gains per sign
-// about the lab's; other axes undetermined); a gain that leads keeps it and says why; otherwise
-// the effect moves to out->ambiguous with the best other cause as the alternative. SG#3 is not
-// changed: in the field they are the same column to first order. Not weighed when that sensor's
-// scale_nonlinearity is claimed already (the field named its curvature itself). input_mean /
+// about the sensor's mean gain; other axes undetermined); a gain that leads keeps it and says
+// why; otherwise it is listed under out->ambiguous: as the fitted scale_factor with the other
+// cause as the alternative when the gain is one of the two leading causes, else renamed to the
+// better of curvature and asymmetry with the other as the alternative (the lab's quadratic then
+// stays listed as in the simulation: an ambiguous effect is not a claim). SG#3 is not changed: in
+// the field they are the same column to first order. Not weighed when that sensor's
+// scale_nonlinearity or scale_asymmetry is claimed already (the field named its even response
+// itself). input_mean /
 // input_sd: per sensor (0 gyro, 1 accel) and axis, over the grid's unmasked bins.
 void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vector3d, 2>& input_mean,
                         const std::array<Eigen::Vector3d, 2>& input_sd, double min_margin,
