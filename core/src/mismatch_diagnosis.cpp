@@ -1146,7 +1146,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
       if (tf.claimed) claimed_terms.push_back(tf.term);
     for (Effect& e : out.effects) {
       if (e.name != "scale_asymmetry") continue;
-      int t_asym = -1, t_nonorth = -1, t_scale = -1;
+      int t_asym = -1, t_nonorth = -1, t_scale = -1, t_curv = -1;
       for (std::size_t t = 0; t < terms.size(); ++t) {
         if (terms[t].sensor != e.sensor) continue;
         // The plain |x| columns: y - x holds the sensor, not SG#2's quadratic.
@@ -1155,16 +1155,52 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         if (terms[t].name == "non_orthogonality" && terms[t].regressor.empty())
           t_nonorth = static_cast<int>(t);
         if (terms[t].name == "scale_factor") t_scale = static_cast<int>(t);
+        if (terms[t].name == "scale_nonlinearity") t_curv = static_cast<int>(t);
       }
       std::vector<int> model;
       for (int t : claimed_terms)  // the alternative replacing SG#2's quadratic: its plain columns
         if (terms[t].regressor != "replaces_lab_quadratic") model.push_back(t);
       for (int t : {t_asym, t_nonorth, t_scale})
         if (t >= 0 && std::find(model.begin(), model.end(), t) == model.end()) model.push_back(t);
+      const std::optional<LabQuadratic>& quad =
+          e.sensor == "gyro" ? in.lab_gyro_quadratic : in.lab_accel_quadratic;
+      // The sensor's own curvature is in y - x too. Where the lab kept a quadratic it measured
+      // c2 = k2 + d c2_tested_per_abs (its poses fold the asymmetry in), so on that axis the
+      // asymmetry's column is |x| - c2_tested_per_abs x^2 beside the known part c2 x^2. Without
+      // it a curvature the lab measured leaked into |x| (random_31_23: d_x 16 % high, k_neg x
+      // 3.3 sigma off, beside an injected accelerometer curvature SG#2 grafts). Not when a
+      // scale_nonlinearity of the sensor is claimed (its x^2 column is free in the model).
+      std::vector<CandidateTerm> own_terms = terms;
+      const bool curvature_free =
+          t_curv >= 0 && std::find(model.begin(), model.end(), t_curv) != model.end();
+      if (quad && t_asym >= 0 && t_curv >= 0 && !curvature_free) {
+        const int s = e.sensor == "gyro" ? 0 : 1;
+        CandidateTerm known;
+        known.name = "lab_curvature_known";
+        known.sensor = e.sensor;
+        known.fixed = true;
+        known.explanation = "the lab's quadratic less the asymmetry's fold in it";
+        RegressorColumn col;
+        for (int a = 0; a < 3; ++a) {
+          const int ch = s * 3 + a;
+          if (quad->c2(a) == 0.0 || !std::isfinite(quad->c2_tested_per_abs(a)) ||
+              !own_terms[t_curv].columns[a].actsOn(ch) || !own_terms[t_asym].columns[a].actsOn(ch))
+            continue;
+          const Eigen::VectorXd& u_sq = own_terms[t_curv].columns[a].channel[ch];
+          own_terms[t_asym].columns[a].channel[ch] -= quad->c2_tested_per_abs(a) * u_sq;
+          col.channel[ch] = quad->c2(a) * u_sq;
+        }
+        if (std::any_of(col.channel.begin(), col.channel.end(),
+                        [](const Eigen::VectorXd& v) { return v.size() > 0; })) {
+          known.columns.push_back(col);
+          own_terms.push_back(known);
+          model.push_back(static_cast<int>(own_terms.size()) - 1);
+        }
+      }
       Eigen::MatrixXd y_minus_x(n, kMismatchChannels);
       y_minus_x << y.omega_rad_s - x.omega_rad_s, y.f_m_s2 - x.f_m_s2;
       zeroMaskedRows(out.masked_bins, &y_minus_x);
-      const SelectionResult own = fitTerms(y_minus_x, terms, model, opt.selection);
+      const SelectionResult own = fitTerms(y_minus_x, own_terms, model, opt.selection);
       const TermFit* fit_asym = nullptr;
       for (const TermFit& tf : own.selected)
         if (tf.term == t_asym) fit_asym = &tf;
@@ -1179,8 +1215,6 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
             e.sensor == "gyro" ? in.reference_gyro_scale_sigma : in.reference_accel_scale_sigma;
         // SG#2's gain at the drive's mean input x_m is c1 + 2 c2 x_m: with a lab quadratic its
         // c2 uncertainty is a gain uncertainty there too (as in the gate; ~0 on two-signed axes).
-        const std::optional<LabQuadratic>& quad =
-            e.sensor == "gyro" ? in.lab_gyro_quadratic : in.lab_accel_quadratic;
         Eigen::MatrixXd inputs(n, kMismatchChannels);
         inputs << x.omega_rad_s, x.f_m_s2;
         const Vector6d mean_inputs = meanOf(inputs, out.masked_bins);
@@ -1206,8 +1240,9 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         missing_neg.key = "k_neg_missing";
         e.parameters = {kp, kn, missing_pos, missing_neg};
         e.explanation += " (k_pos / k_neg: the sensor's gains per sign relative to the "
-                         "simulation's linear gain, i.e. its own asymmetry +-d fitted on tested minus reference "
-                         "plus the scale factor the simulation lacks; only k_pos - k_neg is "
+                         "simulation's linear gain, i.e. its own asymmetry +-d fitted on tested "
+                         "minus reference (beside the curvature its lab measured) plus the scale "
+                         "factor the simulation lacks; only k_pos - k_neg is "
                          "identifiable, their mean is the lab's, and their uncertainty includes "
                          "that of the lab's and the reference's gain; *_missing: the part the "
                          "simulation lacks)";
