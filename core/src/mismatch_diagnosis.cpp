@@ -1169,11 +1169,15 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
       // asymmetry's column is |x| - c2_tested_per_abs x^2 beside the known part c2 x^2. Without
       // it a curvature the lab measured leaked into |x| (random_31_23: d_x 16 % high, k_neg x
       // 3.3 sigma off, beside an injected accelerometer curvature SG#2 grafts). Not when a
-      // scale_nonlinearity of the sensor is claimed (its x^2 column is free in the model).
-      std::vector<CandidateTerm> own_terms = terms;
+      // scale_nonlinearity of the sensor is claimed (its x^2 column is free in the model). The
+      // lab's c2 uncertainty is left out of d's sigma (x^2's share of |x|: c2_sigma times a few
+      // m/s^2 for the accelerometer, small beside the field's).
+      std::vector<CandidateTerm> own_terms;  // a copy of the library only when changed
       const bool curvature_free =
           t_curv >= 0 && std::find(model.begin(), model.end(), t_curv) != model.end();
-      if (quad && t_asym >= 0 && t_curv >= 0 && !curvature_free) {
+      if (quad && t_asym >= 0 && t_curv >= 0 && !curvature_free &&
+          ((quad->c2.array() != 0.0) && quad->c2_tested_per_abs.array().isFinite()).any()) {
+        own_terms = terms;
         const int s = e.sensor == "gyro" ? 0 : 1;
         CandidateTerm known;
         known.name = "lab_curvature_known";
@@ -1200,7 +1204,8 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
       Eigen::MatrixXd y_minus_x(n, kMismatchChannels);
       y_minus_x << y.omega_rad_s - x.omega_rad_s, y.f_m_s2 - x.f_m_s2;
       zeroMaskedRows(out.masked_bins, &y_minus_x);
-      const SelectionResult own = fitTerms(y_minus_x, own_terms, model, opt.selection);
+      const SelectionResult own =
+          fitTerms(y_minus_x, own_terms.empty() ? terms : own_terms, model, opt.selection);
       const TermFit* fit_asym = nullptr;
       for (const TermFit& tf : own.selected)
         if (tf.term == t_asym) fit_asym = &tf;
