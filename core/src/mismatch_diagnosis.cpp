@@ -1140,6 +1140,11 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   // factor's gate allows for (random_22_02, consumer gyro: k_missing z -4.3e-4 +- 1.2e-4 with
   // no gain missing made k_neg 4.3 sigma off the injected -d). The part missing from the
   // simulation, which SG#3 grafts, is k_pos_missing / k_neg_missing (fit uncertainties).
+  // The reference inputs (true rates and specific forces) and their means over the unmasked
+  // bins: the gains at the drive's mean input below, and the one-signed axes after.
+  Eigen::MatrixXd ref_inputs(n, kMismatchChannels);
+  ref_inputs << x.omega_rad_s, x.f_m_s2;
+  const Vector6d ref_input_mean = meanOf(ref_inputs, out.masked_bins);
   {
     std::vector<int> claimed_terms;
     for (const TermFit& tf : sel.selected)
@@ -1220,11 +1225,8 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
             e.sensor == "gyro" ? in.reference_gyro_scale_sigma : in.reference_accel_scale_sigma;
         // SG#2's gain at the drive's mean input x_m is c1 + 2 c2 x_m: with a lab quadratic its
         // c2 uncertainty is a gain uncertainty there too (as in the gate; ~0 on two-signed axes).
-        Eigen::MatrixXd inputs(n, kMismatchChannels);
-        inputs << x.omega_rad_s, x.f_m_s2;
-        const Vector6d mean_inputs = meanOf(inputs, out.masked_bins);
         const Eigen::Vector3d mean_input =
-            e.sensor == "gyro" ? mean_inputs.head<3>() : mean_inputs.tail<3>();
+            e.sensor == "gyro" ? ref_input_mean.head<3>() : ref_input_mean.tail<3>();
         for (int a = 0; a < 3; ++a) {
           const double d = fit_asym->theta(a);
           const double k = scale_missing ? scale_missing->theta(a) : 0.0;
@@ -1278,12 +1280,11 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     // A gain on an axis whose input keeps one sign may be the lab's unfitted curvature or an
     // asymmetry its poses folded into a quadratic (gain_or_curvature.h): the lab's degree-2
     // coefficient decides the name, or says it cannot.
-    Eigen::MatrixXd inputs(n, kMismatchChannels);
-    inputs << x.omega_rad_s, x.f_m_s2;
-    const Vector6d mean = meanOf(inputs, out.masked_bins);
-    const ChannelRms sd = rmsOf(inputs.rowwise() - mean.transpose(), out.masked_bins);
-    nameOneSignedGains(in, {mean.head<3>(), mean.tail<3>()}, {sd.gyro, sd.accel},
-                       opt.selection.min_name_margin, &out, &lab_quadratic_not_listed);
+    const ChannelRms sd =
+        rmsOf(ref_inputs.rowwise() - ref_input_mean.transpose(), out.masked_bins);
+    nameOneSignedGains(in, {ref_input_mean.head<3>(), ref_input_mean.tail<3>()},
+                       {sd.gyro, sd.accel}, opt.selection.min_name_margin, &out,
+                       &lab_quadratic_not_listed);
   }
   out.nuisance_bias = sel.nuisance.theta.head<6>();
   if (sel.nuisance.theta.size() == 12) out.nuisance_drift = 2.0 * sel.nuisance.theta.segment<6>(6);

@@ -145,8 +145,8 @@ Effect curvatureEffect(const Effect& e, int a, const OneSignedSlope& w, double c
   return c;
 }
 
-// The scale_factor effect `e` renamed scale_asymmetry: gains per sign +-d about the lab's on
-// axis a (the simulation lacks no gain there), the other axes undetermined.
+// The scale_factor effect `e` renamed scale_asymmetry: gains per sign +-d about the sensor's
+// mean gain on axis a (no gain change between lab and field there), the other axes undetermined.
 Effect asymmetryEffect(const Effect& e, int a, const OneSignedSlope& w,
                        const std::string& weighed) {
   Effect c = renamed(e, "scale_asymmetry");
