@@ -9,6 +9,10 @@
 # then:  scripts/run_concealed_suite.sh --config-dir OUT_DIR --jobs 2 RESULT_DIR build/graftnav
 # TESTED_PROFILE (a file name under configs/imu/, e.g. consumer_mems.yaml) replaces the drawn
 # tested IMU; every other draw of the seed stays the same, so the cases pair with the seed's own.
+# WIDE=1 adds the simulator's kinds the default list leaves out (gyro vibration rectification on
+# either regressor, gyro asymmetries on all axes and two-sided, two-sided accelerometer
+# asymmetries, gyro non-linearity) and draws one to four effects; without it a seed writes
+# exactly the cases it always wrote.
 set -euo pipefail
 [ $# -eq 3 ] || [ $# -eq 4 ] || { sed -n '2,11p' "$0"; exit 2; }
 n="$1" seed="$2" out="$3" profile="${4:-}"
@@ -18,7 +22,8 @@ if [ -n "$profile" ] && [ ! -f "$repo/configs/imu/$profile" ]; then
 fi
 tracks="$(cd "$repo/../shared/data/tracks" && pwd)"
 mkdir -p "$out"
-awk -v n="$n" -v seed="$seed" -v out="$out" -v repo="$repo" -v tracks="$tracks" -v profile="$profile" '
+awk -v n="$n" -v seed="$seed" -v out="$out" -v repo="$repo" -v tracks="$tracks" -v profile="$profile" \
+    -v wide="${WIDE:-0}" '
 function u(a, b) { return a + (b - a) * rand() }
 function lu(a, b) { return exp(u(log(a), log(b))) }          # log-uniform in [a, b]
 function sg() { return rand() < 0.5 ? -1 : 1 }
@@ -38,10 +43,11 @@ BEGIN {
   srand(seed)
   effects = "time_offset lever_arm misalignment gsens gyro_temperature accel_temperature " \
             "gyro_asymmetry accel_asymmetry quantization accel_nonlinearity accel_vibration"
+  if (wide) effects = effects " gyro_vibration gyro_asym_all accel_asym_two gyro_nonlinearity"
   for (c = 1; c <= n; ++c) {
     name = sprintf("random_%d_%02d", seed, c)
     f = out "/" name ".yaml"
-    k = (c % 7 == 0) ? 0 : int(u(1, 4))
+    k = (c % 7 == 0) ? 0 : int(u(1, wide ? 5 : 4))
     chosen = k ? pick(effects, k) : ""
     long = rand() < 0.5
     track = long ? "wuhan_57min_rtk.pos" : "wuhan_27min_rtk.pos"
@@ -67,13 +73,20 @@ BEGIN {
     if (index(chosen, "gsens")) printf "  g_sensitivity_deg_h_per_g: %s\n", vec(9, 10, 120) > f
     if (index(chosen, "gyro_temperature")) { printf "  gyro_bias_per_degC_deg_h: %s\n", vec(3, 0.5, 5) > f; temp = 1 }
     if (index(chosen, "accel_temperature")) { printf "  accel_bias_per_degC_mg: %s\n", vec(3, 0.03, 0.3) > f; temp = 1 }
-    if (index(chosen, "gyro_asymmetry")) { a = lu(500, 4000); printf "  gyro_scale_asymmetry_pos_ppm: [0, 0, %.4g]\n  gyro_scale_asymmetry_neg_ppm: [0, 0, %.4g]\n", a, -a > f }
-    if (index(chosen, "accel_asymmetry")) { printf "  accel_scale_asymmetry_pos_ppm: %s\n  accel_scale_asymmetry_neg_ppm: [0, 0, 0]\n", vec(3, 1000, 8000) > f }
+    if (index(chosen, "gyro_asymmetry") && !index(chosen, "gyro_asym_all")) { a = lu(500, 4000); printf "  gyro_scale_asymmetry_pos_ppm: [0, 0, %.4g]\n  gyro_scale_asymmetry_neg_ppm: [0, 0, %.4g]\n", a, -a > f }
+    if (index(chosen, "accel_asymmetry") && !index(chosen, "accel_asym_two")) { printf "  accel_scale_asymmetry_pos_ppm: %s\n  accel_scale_asymmetry_neg_ppm: [0, 0, 0]\n", vec(3, 1000, 8000) > f }
     if (index(chosen, "quantization")) {
       q = lu(1e-6, 8e-6); p = lu(1e-5, 8e-5)
       printf "  gyro_quantization_rad: [%.3g, %.3g, %.3g]\n  accel_quantization_m_s: [%.3g, %.3g, %.3g]\n", q, q, q, p, p, p > f
     }
     if (index(chosen, "accel_nonlinearity")) printf "  accel_scale_nonlinearity_per_m_s2: %s\n", vec(3, 5e-5, 2e-3) > f
+    if (index(chosen, "gyro_vibration")) {
+      if (rand() < 0.5) printf "  gyro_vibration_rectification:\n    coeff: %s\n    regressor: specific_force_hp_sq\n    window_s: 1\n", vec(3, 3e-5, 1e-3) > f
+      else printf "  gyro_vibration_rectification:\n    coeff: %s\n    regressor: angular_rate_hp_sq\n    window_s: 1\n", vec(3, 3e-3, 1e-1) > f
+    }
+    if (index(chosen, "gyro_asym_all")) printf "  gyro_scale_asymmetry_pos_ppm: %s\n  gyro_scale_asymmetry_neg_ppm: %s\n", vec(3, 300, 4000), vec(3, 300, 4000) > f
+    if (index(chosen, "accel_asym_two")) printf "  accel_scale_asymmetry_pos_ppm: %s\n  accel_scale_asymmetry_neg_ppm: %s\n", vec(3, 1000, 8000), vec(3, 1000, 8000) > f
+    if (index(chosen, "gyro_nonlinearity")) printf "  gyro_scale_nonlinearity_per_rad_s: %s\n", vec(3, 1e-3, 5e-2) > f
     if (index(chosen, "accel_vibration")) printf "  accel_vibration_rectification:\n    coeff: %s\n    regressor: specific_force_hp_sq\n    window_s: 1\n", vec(3, 5e-4, 2e-2) > f
     if (temp) {
       printf "  temperature_ref_degC: 25\ntemperature:\n" > f
