@@ -14,7 +14,7 @@
 # asymmetries, gyro non-linearity) and draws one to four effects; without it a seed writes
 # exactly the cases it always wrote.
 set -euo pipefail
-[ $# -eq 3 ] || [ $# -eq 4 ] || { sed -n '2,11p' "$0"; exit 2; }
+[ $# -eq 3 ] || [ $# -eq 4 ] || { sed -n '2,15p' "$0"; exit 2; }
 n="$1" seed="$2" out="$3" profile="${4:-}"
 repo="$(cd "$(dirname "$0")/.." && pwd)"
 if [ -n "$profile" ] && [ ! -f "$repo/configs/imu/$profile" ]; then
