@@ -70,6 +70,7 @@ DiagnoseOptions loadDiagnoseConfig(const std::string& path, std::vector<std::str
     else if (k == "realign_offset_s") num(v, k, &o.realign_offset_s);
     else if (k == "holdout") o.holdout = v.as<bool>();
     else if (k == "detect_quantization") o.detect_quantization = v.as<bool>();
+    else if (k == "random_walk_sandwich") o.selection.random_walk_sandwich = v.as<bool>();
     else warnings->push_back(fmt::format("{}:{}: unknown key '{}' ignored", path, kv.first.Mark().line + 1, k));
   }
   try {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <limits>
 
 namespace graftnav {
@@ -55,6 +57,46 @@ std::vector<Eigen::MatrixXd> haarCoefficients(const Eigen::MatrixXd& X) {
   m += a.rows();
   for (const Eigen::RowVectorXd& row : leftover) last.row(m++) = row;
   return out;
+}
+
+Eigen::MatrixXd haarSynthesis(const std::vector<Eigen::MatrixXd>& levels, Eigen::Index rows) {
+  if (levels.empty()) throw std::invalid_argument("haarSynthesis: no levels");
+  // The forward pass's sizes: rows at each step and whether a row was left over.
+  std::vector<Eigen::Index> sizes;
+  for (Eigen::Index r = rows; r >= 4; r /= 2) sizes.push_back(r);
+  if (sizes.size() != levels.size() && !(sizes.empty() && levels.size() == 1))
+    throw std::invalid_argument("haarSynthesis: " + std::to_string(levels.size()) +
+                                " levels do not match " + std::to_string(rows) + " rows");
+  if (sizes.empty()) return levels[0];
+  const Eigen::Index cols = levels[0].cols();
+  const double inv_sqrt2 = 1.0 / std::sqrt(2.0);
+  // The last level: its details, the final approximation, then the left-over rows in the order
+  // the forward pass met them.
+  const Eigen::MatrixXd& last = levels.back();
+  const Eigen::Index m_last = sizes.back() / 2;
+  const Eigen::Index n_approx = m_last;
+  std::vector<Eigen::Index> odd_steps;
+  for (std::size_t k = 0; k < sizes.size(); ++k)
+    if (sizes[k] % 2 != 0) odd_steps.push_back(static_cast<Eigen::Index>(k));
+  if (last.rows() != m_last + n_approx + static_cast<Eigen::Index>(odd_steps.size()))
+    throw std::invalid_argument("haarSynthesis: last level has the wrong number of rows");
+  Eigen::MatrixXd a = last.middleRows(m_last, n_approx);
+  for (std::size_t k = sizes.size(); k-- > 0;) {
+    const Eigen::Index n_k = sizes[k], m = n_k / 2;
+    const Eigen::MatrixXd d = k + 1 == sizes.size() ? Eigen::MatrixXd(last.topRows(m_last))
+                                                     : levels[k];
+    Eigen::MatrixXd x(n_k, cols);
+    for (Eigen::Index i = 0; i < m; ++i) {
+      x.row(2 * i) = (a.row(i) + d.row(i)) * inv_sqrt2;
+      x.row(2 * i + 1) = (a.row(i) - d.row(i)) * inv_sqrt2;
+    }
+    if (n_k % 2 != 0) {
+      const auto pos = std::find(odd_steps.begin(), odd_steps.end(), static_cast<Eigen::Index>(k));
+      x.row(n_k - 1) = last.row(m_last + n_approx + (pos - odd_steps.begin()));
+    }
+    a.swap(x);
+  }
+  return a;
 }
 
 double ScaleNoiseModel::at(int level) const {

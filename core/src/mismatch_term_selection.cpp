@@ -343,6 +343,9 @@ class Selector {
     std::vector<Eigen::MatrixXd> G_fold;
     std::vector<Eigen::VectorXd> b_fold;
     std::vector<double> yy_fold;
+    // The per-channel law of the GLS (estimateSlowNoise only), for the sandwich covariance.
+    std::array<ScaleNoiseModel, kMismatchChannels> law;
+    bool has_law = false;
   };
 
   bool isSlow(int t) const {
@@ -585,12 +588,58 @@ class Selector {
       const ScaleNoiseModel model =
           fitScaleNoise(haarEnergies(e.col(c)), inflation_, report_level + 1);
       out.slow_inflation(c) = model.at(report_level);
+      out.law[c] = model;
       const ChannelLevels& cl = lg[c];
       addLevels(cl, cl.gram, model, &out.G, &out.b, &out.yy);
       for (int f = 0; f < folds; ++f)
         addLevels(cl, cl.fold_gram[f], model, &out.G_fold[f], &out.b_fold[f], &out.yy_fold[f]);
     }
+    out.has_law = true;
     return out;
+  }
+
+  // The meat X'W Sigma W X of the sandwich covariance over the free columns S (options'
+  // random_walk_sandwich), in the whitened units of the fit (white part 1, the law's c_j relative
+  // to it). Per channel: the columns' Haar levels weighted by 1 / c_j (W X), mapped back to time
+  // (V); then V'V (white) + 12 b (L'V)'(L'V) (the random walk: Var(v'x) = q sum_s (sum_{t>=s}
+  // v_t)^2, L' the reverse cumulative sum) + sum_j a 2^j (W X)_j' (W X)_j (the 2^j part taken
+  // level-diagonal).
+  Eigen::MatrixXd randomWalkMeat(const SlowNoise& sn, const std::vector<int>& S) const {
+    const int p = static_cast<int>(S.size());
+    Eigen::MatrixXd B = Eigen::MatrixXd::Zero(p, p);
+    const int len = re_ - rb_;
+    for (int c = 0; c < kMismatchChannels; ++c) {
+      std::vector<int> pos;
+      std::vector<const Eigen::VectorXd*> src;
+      for (std::size_t t = 0; t < terms_.size(); ++t)
+        for (int j = 0; j < map_.count[t]; ++j) {
+          const auto it = std::find(S.begin(), S.end(), map_.start[t] + j);
+          if (it == S.end() || !terms_[t].columns[j].actsOn(c)) continue;
+          pos.push_back(static_cast<int>(it - S.begin()));
+          src.push_back(&terms_[t].columns[j].channel[c]);
+        }
+      const int m = static_cast<int>(src.size());
+      if (m == 0) continue;
+      Eigen::MatrixXd X(len, m);
+      const double w = 1.0 / sigma_(c);
+      for (int i = 0; i < len; ++i)
+        for (int k = 0; k < m; ++k) X(i, k) = whitenedRow(*src[k], rb_, i, rho_(c), w);
+      std::vector<Eigen::MatrixXd> levels = haarCoefficients(X);
+      const ScaleNoiseModel& law = sn.law[c];
+      Eigen::MatrixXd Bc = Eigen::MatrixXd::Zero(m, m);
+      for (std::size_t j = 0; j < levels.size(); ++j) {
+        const int level = static_cast<int>(j) + 1;
+        levels[j] /= law.at(level);
+        Bc += law.a * std::ldexp(1.0, level) * levels[j].transpose() * levels[j];
+      }
+      const Eigen::MatrixXd V = haarSynthesis(levels, len);
+      Eigen::MatrixXd tail = V;  // reverse cumulative sums
+      for (int i = len - 2; i >= 0; --i) tail.row(i) += tail.row(i + 1);
+      Bc += V.transpose() * V + 12.0 * law.b * tail.transpose() * tail;
+      for (int a = 0; a < m; ++a)
+        for (int b = 0; b < m; ++b) B(pos[a], pos[b]) += Bc(a, b);
+    }
+    return B;
   }
 
   // Step 4's gauge. The antisymmetric parts of the two full non-orthogonalities span a rotation
@@ -916,6 +965,7 @@ class Selector {
     // Whitened noise has unit variance; the inflation c carries the leftover correlation and any
     // excess variance of the full model's residual.
     std::map<const SlowNoise*, ModelFit> fits;
+    std::map<const SlowNoise*, Eigen::MatrixXd> sandwich;  // random_walk_sandwich covariances
     int pos = 0;
     for (int t : model) {
       TermFit tf;
@@ -932,7 +982,15 @@ class Selector {
         const ModelFit& fit = it->second;
         tf.theta = fit.theta.segment(pos, k);
         tf.inflation_factor = sn.term_inflation[t];
-        tf.covariance = fit.A_inv.block(pos, pos, k, k) * (inflation_ * tf.inflation_factor);
+        if (opt_.random_walk_sandwich && sn.has_law && !isSlow(t)) {
+          auto cov = sandwich.find(&sn);
+          if (cov == sandwich.end())
+            cov = sandwich.emplace(&sn, fit.A_inv * randomWalkMeat(sn, fit.free_cols) * fit.A_inv)
+                      .first;
+          tf.covariance = cov->second.block(pos, pos, k, k) * (inflation_ * tf.inflation_factor);
+        } else {
+          tf.covariance = fit.A_inv.block(pos, pos, k, k) * (inflation_ * tf.inflation_factor);
+        }
         for (int i = 0; i < k; ++i)
           if (fit.unobservable[pos + i]) tf.covariance(i, i) = std::numeric_limits<double>::infinity();
         tf.sigma = tf.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <vector>
 
 #include "graftnav/core/mismatch/scale_noise.h"
 #include "graftnav/core/gauss_markov.h"
@@ -22,6 +24,31 @@ TEST(ScaleNoise, HaarLevelsPartitionTheGramMatrix) {
     for (const Eigen::MatrixXd& D : haarCoefficients(X)) sum += D.transpose() * D;
     EXPECT_LT((sum - X.transpose() * X).norm(), 1e-9 * (X.transpose() * X).norm()) << "n " << n;
   }
+}
+
+// Synthesis inverts the transform, odd lengths and leftover rows included (1-3 rows: no
+// transform), and a weighted level maps back to the time series it stands for.
+TEST(ScaleNoise, HaarSynthesisInvertsTheCoefficients) {
+  StandardNormalSampler rng(2);
+  for (int n : {1, 3, 4, 5, 7, 17, 1000, 1023, 22581}) {
+    Eigen::MatrixXd X(n, 2);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < 2; ++j) X(i, j) = rng.next() + (j == 1 ? 0.01 * i : 0.0);
+    const std::vector<Eigen::MatrixXd> levels = haarCoefficients(X);
+    const Eigen::MatrixXd back = haarSynthesis(levels, n);
+    ASSERT_EQ(back.rows(), n);
+    EXPECT_LT((back - X).norm(), 1e-10 * X.norm()) << "n " << n;
+    // Linear: scaling one level scales only that level's part of the series.
+    if (levels.size() > 2) {
+      std::vector<Eigen::MatrixXd> scaled = levels;
+      scaled[1] *= 3.0;
+      const std::vector<Eigen::MatrixXd> again = haarCoefficients(haarSynthesis(scaled, n));
+      EXPECT_LT((again[1] - 3.0 * levels[1]).norm(), 1e-9 * levels[1].norm()) << "n " << n;
+      EXPECT_LT((again[0] - levels[0]).norm(), 1e-9 * levels[0].norm()) << "n " << n;
+    }
+  }
+  EXPECT_THROW(haarSynthesis(haarCoefficients(Eigen::MatrixXd::Ones(100, 1)), 50),
+               std::invalid_argument);
 }
 
 // White noise plus a random walk: the law fitted on the fine and middle levels predicts the

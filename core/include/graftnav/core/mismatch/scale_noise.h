@@ -40,6 +40,11 @@ HaarEnergies haarEnergies(const Eigen::VectorXd& z);
 // on the scaled coefficients is generalized least squares (GLS) under that noise.
 std::vector<Eigen::MatrixXd> haarCoefficients(const Eigen::MatrixXd& X);
 
+// The inverse of haarCoefficients for `rows` rows (the transform is orthonormal, so this is its
+// transpose): X = haarSynthesis(haarCoefficients(X), X.rows()). Maps level-weighted coefficients
+// back to time, e.g. a GLS-weighted regressor whose time-domain covariance is wanted.
+Eigen::MatrixXd haarSynthesis(const std::vector<Eigen::MatrixXd>& levels, Eigen::Index rows);
+
 // c_j = 1 + a 2^j + b 4^j for j = 1..levels (index j - 1), every c_j >= 1.
 struct ScaleNoiseModel {
   double a = 0.0;

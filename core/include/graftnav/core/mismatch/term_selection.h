@@ -101,6 +101,12 @@ struct SelectionOptions {
   double replay_period_s = 0.0;
   double replay_start_s = 0.0;
   double bin_s = 0.0;
+  // A fast term's covariance as the sandwich A^-1 X'W Sigma W X A^-1 (default off): the
+  // level-diagonal Haar GLS treats a random walk's wavelet coefficients as independent across
+  // levels, which they are not, and states a regressor on the wander's scales too certain
+  // (docs/mismatch.md, Gaps). Sigma = white + the random walk whose Haar variances the law's
+  // 4^j part fits (step variance 12 b) + the 2^j part on the diagonal. Needs slow_block_bins.
+  bool random_walk_sandwich = false;
   void validate() const;
 };
 
