@@ -656,6 +656,20 @@ TEST(MismatchSelection, FastTermSigmaIsCalibratedUnderBiasWander) {
   EXPECT_GT(rms[1], 2.0 * rms[0]) << "the wander should matter on this motion";
 }
 
+// The nuisance constant per channel over n bins, as the library's first term.
+CandidateTerm constantNuisance(int n) {
+  CandidateTerm t;
+  t.name = "constant_bias";
+  t.sensor = "both";
+  t.nuisance = true;
+  for (int c = 0; c < 6; ++c) {
+    RegressorColumn col;
+    col.channel[c] = Eigen::VectorXd::Ones(n);
+    t.columns.push_back(col);
+  }
+  return t;
+}
+
 // A fast term whose regressor lives on the wander's scales (white noise smoothed over 20 s)
 // under a random walk on top of white noise (c_j about 13 at the 60-s level, as a MEMS
 // accelerometer's two bias realizations give): a random walk's Haar coefficients are correlated
@@ -664,14 +678,7 @@ TEST(MismatchSelection, FastTermSigmaIsCalibratedUnderBiasWander) {
 TEST(MismatchSelection, SandwichCoversTheRandomWalkAcrossHaarLevels) {
   const int n = 18000;  // 15 min of 0.05-s bins
   std::vector<CandidateTerm> terms(2);
-  terms[0].name = "constant_bias";
-  terms[0].sensor = "both";
-  terms[0].nuisance = true;
-  for (int c = 0; c < 6; ++c) {
-    RegressorColumn col;
-    col.channel[c] = Eigen::VectorXd::Ones(n);
-    terms[0].columns.push_back(col);
-  }
+  terms[0] = constantNuisance(n);
   Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
   {
     StandardNormalSampler rng(4242);
@@ -820,14 +827,7 @@ TEST(MismatchSelection, MutuallyExclusiveTermsOfEqualEvidenceDoNotCycle) {
   for (int i = 0; i < n; ++i) a(i) = std::sin(0.01 * i) + 0.3 * rng.next();
   b = a;  // identical evidence: each fails against the other by less than min_delta_bic
   std::vector<CandidateTerm> terms(3);
-  terms[0].name = "constant_bias";
-  terms[0].sensor = "both";
-  terms[0].nuisance = true;
-  for (int c = 0; c < 6; ++c) {
-    RegressorColumn col;
-    col.channel[c] = Eigen::VectorXd::Ones(n);
-    terms[0].columns.push_back(col);
-  }
+  terms[0] = constantNuisance(n);
   for (int k = 1; k <= 2; ++k) {
     terms[k].name = "vibration_rectification";
     terms[k].sensor = "gyro";
