@@ -71,6 +71,37 @@ double whitenedRow(const Eigen::VectorXd& z, int rb, int i, double rho, double w
                 : w * (z(t) - rho * z(t - 1));
 }
 
+// The candidate columns acting on channel c: their global indices and their series there.
+struct ChannelColumns {
+  std::vector<int> idx;
+  std::vector<const Eigen::VectorXd*> src;
+};
+ChannelColumns channelColumns(const std::vector<CandidateTerm>& terms, const ColumnMap& map,
+                              int c) {
+  ChannelColumns out;
+  for (std::size_t t = 0; t < terms.size(); ++t)
+    for (int j = 0; j < map.count[t]; ++j)
+      if (terms[t].columns[j].actsOn(c)) {
+        out.idx.push_back(map.start[t] + j);
+        out.src.push_back(&terms[t].columns[j].channel[c]);
+      }
+  return out;
+}
+
+// The series `src`, and `last` as one more column when given, whitened over `len` rows from
+// row rb (whitenedRow): the rows the fit sees.
+Eigen::MatrixXd whitenedColumns(const std::vector<const Eigen::VectorXd*>& src,
+                                const Eigen::VectorXd* last, int rb, int len, double rho,
+                                double w) {
+  const int m = static_cast<int>(src.size());
+  Eigen::MatrixXd X(len, m + (last ? 1 : 0));
+  for (int i = 0; i < len; ++i) {
+    for (int k = 0; k < m; ++k) X(i, k) = whitenedRow(*src[k], rb, i, rho, w);
+    if (last) X(i, m) = whitenedRow(*last, rb, i, rho, w);
+  }
+  return X;
+}
+
 // First row of CV fold f of `folds` contiguous folds over `len` rows (fold f is
 // [foldStart(f), foldStart(f + 1))): the one partition the white and the GLS fold grams share.
 int foldStart(int len, int f, int folds) {
@@ -87,26 +118,15 @@ GramSet accumulate(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& t
   g.yy.assign(folds, 0.0);
   const int len = re - rb;
   for (int c = 0; c < kMismatchChannels; ++c) {
-    std::vector<int> idx;
-    std::vector<const Eigen::VectorXd*> src;
-    for (std::size_t t = 0; t < terms.size(); ++t)
-      for (int j = 0; j < map.count[t]; ++j)
-        if (terms[t].columns[j].actsOn(c)) {
-          idx.push_back(map.start[t] + j);
-          src.push_back(&terms[t].columns[j].channel[c]);
-        }
+    const ChannelColumns cols = channelColumns(terms, map, c);
+    const std::vector<int>& idx = cols.idx;
     const int m = static_cast<int>(idx.size());
-    Eigen::MatrixXd X(len, m);
-    Eigen::VectorXd y(len);
     const Eigen::VectorXd rc = r.col(c);
-    for (int i = 0; i < len; ++i) {
-      y(i) = whitenedRow(rc, rb, i, rho(c), weight(c));
-      for (int j = 0; j < m; ++j) X(i, j) = whitenedRow(*src[j], rb, i, rho(c), weight(c));
-    }
+    const Eigen::MatrixXd Xy = whitenedColumns(cols.src, &rc, rb, len, rho(c), weight(c));
     for (int f = 0; f < folds; ++f) {
       const int a = foldStart(len, f, folds), b = foldStart(len, f + 1, folds);
-      const auto Xf = X.middleRows(a, b - a);
-      const auto yf = y.segment(a, b - a);
+      const auto Xf = Xy.leftCols(m).middleRows(a, b - a);
+      const auto yf = Xy.col(m).segment(a, b - a);
       const Eigen::MatrixXd Gf = Xf.transpose() * Xf;
       const Eigen::VectorXd bf = Xf.transpose() * yf;
       for (int j = 0; j < m; ++j) {
@@ -397,21 +417,11 @@ class Selector {
       const int len = re_ - rb_;
       for (int c = 0; c < kMismatchChannels; ++c) {
         ChannelLevels& cl = (*level_grams_)[c];
-        std::vector<const Eigen::VectorXd*> src;
-        for (std::size_t t = 0; t < terms_.size(); ++t)
-          for (int j = 0; j < map_.count[t]; ++j)
-            if (terms_[t].columns[j].actsOn(c)) {
-              cl.idx.push_back(map_.start[t] + j);
-              src.push_back(&terms_[t].columns[j].channel[c]);
-            }
-        const int m = static_cast<int>(src.size());
-        Eigen::MatrixXd Xy(len, m + 1);
-        const double w = 1.0 / sigma_(c);
+        ChannelColumns cols = channelColumns(terms_, map_, c);
+        cl.idx = std::move(cols.idx);
         const Eigen::VectorXd rc = r_.col(c);
-        for (int i = 0; i < len; ++i) {
-          for (int k = 0; k < m; ++k) Xy(i, k) = whitenedRow(*src[k], rb_, i, rho_(c), w);
-          Xy(i, m) = whitenedRow(rc, rb_, i, rho_(c), w);
-        }
+        const Eigen::MatrixXd Xy =
+            whitenedColumns(cols.src, &rc, rb_, len, rho_(c), 1.0 / sigma_(c));
         for (const Eigen::MatrixXd& D : haarCoefficients(Xy)) cl.gram.push_back(D.transpose() * D);
         const int folds = static_cast<int>(gram_.G.size());
         cl.fold_gram.resize(folds);
@@ -609,22 +619,19 @@ class Selector {
     Eigen::MatrixXd B = Eigen::MatrixXd::Zero(p, p);
     const int len = re_ - rb_;
     for (int c = 0; c < kMismatchChannels; ++c) {
-      std::vector<int> pos;
+      const ChannelColumns all = channelColumns(terms_, map_, c);
+      std::vector<int> pos;  // the free columns on channel c: their places in S
       std::vector<const Eigen::VectorXd*> src;
-      for (std::size_t t = 0; t < terms_.size(); ++t)
-        for (int j = 0; j < map_.count[t]; ++j) {
-          const auto it = std::find(S.begin(), S.end(), map_.start[t] + j);
-          if (it == S.end() || !terms_[t].columns[j].actsOn(c)) continue;
-          pos.push_back(static_cast<int>(it - S.begin()));
-          src.push_back(&terms_[t].columns[j].channel[c]);
-        }
+      for (std::size_t k = 0; k < all.idx.size(); ++k) {
+        const auto it = std::find(S.begin(), S.end(), all.idx[k]);
+        if (it == S.end()) continue;
+        pos.push_back(static_cast<int>(it - S.begin()));
+        src.push_back(all.src[k]);
+      }
       const int m = static_cast<int>(src.size());
       if (m == 0) continue;
-      Eigen::MatrixXd X(len, m);
-      const double w = 1.0 / sigma_(c);
-      for (int i = 0; i < len; ++i)
-        for (int k = 0; k < m; ++k) X(i, k) = whitenedRow(*src[k], rb_, i, rho_(c), w);
-      std::vector<Eigen::MatrixXd> levels = haarCoefficients(X);
+      std::vector<Eigen::MatrixXd> levels =
+          haarCoefficients(whitenedColumns(src, nullptr, rb_, len, rho_(c), 1.0 / sigma_(c)));
       const ScaleNoiseModel& law = sn.law[c];
       Eigen::MatrixXd Bc = Eigen::MatrixXd::Zero(m, m);
       for (std::size_t j = 0; j < levels.size(); ++j) {
