@@ -50,6 +50,15 @@ DiagnoseOptions loadDiagnoseConfig(const std::string& path, std::vector<std::str
                                            n.Mark().line + 1, key));
     }
   };
+  auto flag = [&](const YAML::Node& n, const std::string& key, bool* out) {
+    try {
+      *out = n.as<bool>();
+    } catch (const YAML::Exception&) {
+      throw std::runtime_error(fmt::format("{}:{}: key '{}' must be true or false, not '{}'",
+                                           path, n.Mark().line + 1, key,
+                                           n.IsScalar() ? n.Scalar() : std::string("(not a scalar)")));
+    }
+  };
   for (const auto& kv : root) {
     const std::string k = kv.first.as<std::string>();
     const YAML::Node& v = kv.second;
@@ -68,9 +77,9 @@ DiagnoseOptions loadDiagnoseConfig(const std::string& path, std::vector<std::str
     else if (k == "max_time_offset_s") num(v, k, &o.time_offset.max_offset_s);
     else if (k == "coarse_max_time_offset_s") num(v, k, &o.time_offset.coarse_max_offset_s);
     else if (k == "realign_offset_s") num(v, k, &o.realign_offset_s);
-    else if (k == "holdout") o.holdout = v.as<bool>();
-    else if (k == "detect_quantization") o.detect_quantization = v.as<bool>();
-    else if (k == "random_walk_sandwich") o.selection.random_walk_sandwich = v.as<bool>();
+    else if (k == "holdout") flag(v, k, &o.holdout);
+    else if (k == "detect_quantization") flag(v, k, &o.detect_quantization);
+    else if (k == "random_walk_sandwich") flag(v, k, &o.selection.random_walk_sandwich);
     else warnings->push_back(fmt::format("{}:{}: unknown key '{}' ignored", path, kv.first.Mark().line + 1, k));
   }
   try {

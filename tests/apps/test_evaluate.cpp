@@ -163,6 +163,18 @@ TEST(Batch, BadManifestNamesFileLineAndKey) {
   EXPECT_NE(r.output.find("cases"), std::string::npos) << r.output;
 }
 
+// A diagnose config's switch that is not true or false names the file, line, key and value.
+TEST(Diagnose, BadConfigSwitchNamesFileLineKeyAndValue) {
+  const std::string dir = test::makeTempDir("diag_bad_cfg");
+  std::ofstream(dir + "/cfg.yaml") << "bin_s: 0.05\nrandom_walk_sandwich: maybe\n";
+  const RunResult r =
+      run("diagnose " + sample("mems") + " --out " + dir + "/out --config " + dir + "/cfg.yaml");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("cfg.yaml:2"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("'random_walk_sandwich'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("'maybe'"), std::string::npos) << r.output;
+}
+
 TEST(Batch, MonteCarloSummaryGroupsSeedsAndAveragesThem) {
   // The same case under two seed names: the group mean must equal the single-run value, the
   // spread must be zero and DIFF of the means must equal the single-run DIFF.
