@@ -231,6 +231,22 @@ double foldError(const ModelFit& fit, const Eigen::MatrixXd& G, const Eigen::Vec
   return zz - 2.0 * cross + quad;
 }
 
+}  // namespace
+
+Eigen::MatrixXd atLeastTheVariances(const Eigen::MatrixXd& P, const Eigen::MatrixXd& Q) {
+  if (P.rows() != P.cols() || Q.rows() != P.rows() || Q.cols() != P.cols())
+    throw std::invalid_argument("atLeastTheVariances: P and Q must be square and of one size");
+  Eigen::VectorXd d = Eigen::VectorXd::Ones(P.rows());
+  for (Eigen::Index i = 0; i < P.rows(); ++i)
+    if (Q(i, i) > P(i, i)) d(i) = P(i, i) > 0.0 ? std::sqrt(Q(i, i) / P(i, i)) : 1.0;
+  Eigen::MatrixXd out = d.asDiagonal() * P * d.asDiagonal();
+  for (Eigen::Index i = 0; i < P.rows(); ++i)
+    if (!(P(i, i) > 0.0) && Q(i, i) > P(i, i)) out(i, i) = Q(i, i);
+  return out;
+}
+
+namespace {
+
 class Selector {
  public:
   Selector(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
@@ -989,14 +1005,14 @@ class Selector {
         const ModelFit& fit = it->second;
         tf.theta = fit.theta.segment(pos, k);
         tf.inflation_factor = sn.term_inflation[t];
+        tf.covariance = fit.A_inv.block(pos, pos, k, k) * (inflation_ * tf.inflation_factor);
         if (opt_.random_walk_sandwich && sn.has_law && !isSlow(t)) {
           auto cov = sandwich.find(&sn);
           if (cov == sandwich.end())
             cov = sandwich.emplace(&sn, fit.A_inv * randomWalkMeat(sn, fit.free_cols) * fit.A_inv)
                       .first;
-          tf.covariance = cov->second.block(pos, pos, k, k) * (inflation_ * tf.inflation_factor);
-        } else {
-          tf.covariance = fit.A_inv.block(pos, pos, k, k) * (inflation_ * tf.inflation_factor);
+          tf.covariance = atLeastTheVariances(
+              tf.covariance, cov->second.block(pos, pos, k, k) * (inflation_ * tf.inflation_factor));
         }
         for (int i = 0; i < k; ++i)
           if (fit.unobservable[pos + i]) tf.covariance(i, i) = std::numeric_limits<double>::infinity();

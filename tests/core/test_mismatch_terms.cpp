@@ -709,6 +709,7 @@ TEST(MismatchSelection, SandwichCoversTheRandomWalkAcrossHaarLevels) {
   };
   SelectionOptions level_diagonal;
   level_diagonal.slow_block_bins = 1200;
+  level_diagonal.random_walk_sandwich = false;
   SelectionOptions sandwich = level_diagonal;
   sandwich.random_walk_sandwich = true;
   const std::vector<double> rms =
@@ -716,6 +717,22 @@ TEST(MismatchSelection, SandwichCoversTheRandomWalkAcrossHaarLevels) {
   EXPECT_GT(rms[0], 1.25) << "the level-diagonal sigma should be short here";
   EXPECT_GT(rms[1], 0.75);
   EXPECT_LT(rms[1], 1.2);
+}
+
+// The stated covariance takes each variance from the larger of the two noise models and keeps
+// the level-diagonal correlations: a parameter the sandwich states more certain (a quiet
+// residual's slow misfit taken for a random walk) keeps its level-diagonal sigma.
+TEST(MismatchSelection, AtLeastTheVariancesKeepsTheLargerVarianceAndTheCorrelation) {
+  Eigen::Matrix2d P;
+  P << 4.0, 1.2, 1.2, 1.0;  // correlation 0.6
+  Eigen::Matrix2d Q;
+  Q << 1.0, 0.0, 0.0, 9.0;
+  const Eigen::MatrixXd out = atLeastTheVariances(P, Q);
+  EXPECT_DOUBLE_EQ(out(0, 0), 4.0);
+  EXPECT_DOUBLE_EQ(out(1, 1), 9.0);
+  EXPECT_NEAR(out(0, 1) / std::sqrt(out(0, 0) * out(1, 1)), 0.6, 1e-12);
+  EXPECT_DOUBLE_EQ(out(0, 1), out(1, 0));
+  EXPECT_THROW(atLeastTheVariances(P, Eigen::Matrix3d::Identity()), std::invalid_argument);
 }
 
 // A slow term under a slow bias wander: an accelerometer warm-up (12 degC over a 150-s time

@@ -101,12 +101,15 @@ struct SelectionOptions {
   double replay_period_s = 0.0;
   double replay_start_s = 0.0;
   double bin_s = 0.0;
-  // A fast term's covariance as the sandwich A^-1 X'W Sigma W X A^-1 (default off): the
-  // level-diagonal Haar GLS treats a random walk's wavelet coefficients as independent across
-  // levels, which they are not, and states a regressor on the wander's scales too certain
-  // (docs/mismatch.md, Gaps). Sigma = white + the random walk whose Haar variances the law's
-  // 4^j part fits (step variance 12 b) + the 2^j part on the diagonal. Needs slow_block_bins.
-  bool random_walk_sandwich = false;
+  // A fast term's variances at least those of the sandwich A^-1 X'W Sigma W X A^-1
+  // (atLeastTheVariances; default on): the level-diagonal Haar GLS treats a random walk's
+  // wavelet coefficients as independent across levels, which they are not, and states a
+  // regressor on the wander's scales too certain; the sandwich trusts the law's 4^j part to be
+  // a random walk, which a quiet residual's slow misfit is not, and can state a direction far
+  // too certain (docs/mismatch.md, Gaps). Sigma = white + the random walk whose Haar variances
+  // the law's 4^j part fits (step variance 12 b) + the 2^j part on the diagonal. Needs
+  // slow_block_bins.
+  bool random_walk_sandwich = true;
   void validate() const;
 };
 
@@ -165,6 +168,12 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<C
 SelectionResult fitTerms(const Eigen::MatrixXd& residual, const std::vector<CandidateTerm>& terms,
                          const std::vector<int>& term_indices, const SelectionOptions& options = {},
                          int row_begin = 0, int row_end = -1);
+
+// The covariance P with each variance raised to at least Q's, its correlations kept:
+// D P D, D = diag(max(1, sqrt(Q_ii / P_ii))). Two noise models that agree on every Haar level's
+// variance but not on the levels' correlation (the level-diagonal GLS and the random-walk
+// sandwich) each hold for some residuals; a parameter is stated with the larger variance.
+Eigen::MatrixXd atLeastTheVariances(const Eigen::MatrixXd& P, const Eigen::MatrixXd& Q);
 
 // Model prediction on all n bins (n x 6): the selected terms, plus the nuisance when asked.
 Eigen::MatrixXd predictSelection(const SelectionResult& sel, const std::vector<CandidateTerm>& terms,
