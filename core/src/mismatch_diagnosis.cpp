@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/QR>
 #include <fmt/core.h>
 
 #include "graftnav/core/earth.h"
@@ -375,6 +376,42 @@ SelectionResult withCalibrationErrorFitted(const Eigen::MatrixXd& r,
   return sel;
 }
 
+// The column of `term_key` that acts on channel c (nullptr: no such term or column).
+const Eigen::VectorXd* columnOn(const std::vector<CandidateTerm>& terms, const std::string& term_key,
+                                int c) {
+  for (const CandidateTerm& t : terms) {
+    if (t.key() != term_key) continue;
+    for (const RegressorColumn& col : t.columns)
+      if (col.actsOn(c)) return &col.channel[c];
+  }
+  return nullptr;
+}
+
+// How an error e of SG#2's lab quadratic (a residual e x^2) reads as an asymmetry d |x| beside
+// the gain and the bias the asymmetry is fitted with: the |x| coefficient of x^2 regressed on
+// 1, x, |x| over the drive's inputs (1/s or 1/(m/s^2) times e; per axis, 0 where x keeps one
+// sign and |x| is the gain's column).
+Eigen::Vector3d quadraticReadAsAsymmetry(const std::vector<CandidateTerm>& terms,
+                                         const std::string& sensor) {
+  Eigen::Vector3d out = Eigen::Vector3d::Zero();
+  const int s = sensor == "gyro" ? 0 : 1;
+  for (int a = 0; a < 3; ++a) {
+    const int c = s * 3 + a;
+    const Eigen::VectorXd* x = columnOn(terms, "scale_factor:" + sensor, c);
+    const Eigen::VectorXd* x_abs = columnOn(terms, "scale_asymmetry:" + sensor, c);
+    const Eigen::VectorXd* x_sq = columnOn(terms, "scale_nonlinearity:" + sensor, c);
+    if (!x || !x_abs || !x_sq || x->size() != x_abs->size() || x->size() != x_sq->size()) continue;
+    Eigen::MatrixXd X(x->size(), 3);
+    X.col(0).setOnes();
+    X.col(1) = *x;
+    X.col(2) = *x_abs;
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
+    if (qr.rank() < 3) continue;
+    out(a) = qr.solve(*x_sq)(2);
+  }
+  return out;
+}
+
 // Gates against claiming what the lab calibration's own uncertainty explains (docs/mismatch.md,
 // Method, gates a, b, d). A gated term leaves the model, the rest is refitted, and the gates run
 // again on the refit (a term fitted to compensate the gated one, e.g. a gyro non-orthogonality
@@ -490,21 +527,34 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
         }
       }
       if (t.name == "scale_asymmetry" && Msig) {
-        // The gains per sign differ by more than two lab scale uncertainties allow.
+        // The half-difference d of the gains per sign beyond 3 sigma of the fit and of the lab
+        // quadratic's uncertainty as it reads on |x|. A lab gain error moves both gains alike
+        // and the scale factor the asymmetry is fitted beside takes it up; an error of the
+        // lab's c2 (in SG#2 where the lab kept it) is an even function, like |x|.
         const Effect e = effectFromTerm(t, tf, grid.count);
-        const EffectParameter& kp = e.parameters[0];
-        const EffectParameter& kn = e.parameters[1];
+        const EffectParameter& d = e.parameters[0];
+        const Eigen::Vector3d lab_c2_sigma = quad ? quad->c2_sigma : Eigen::Vector3d::Zero();
+        const Eigen::Vector3d per_c2 = lab_c2_sigma.isZero()
+                                           ? Eigen::Vector3d::Zero()
+                                           : quadraticReadAsAsymmetry(terms, t.sensor);
         bool beyond = false;
+        double worst_ratio = 0.0;
+        int worst_a = 0;
         for (int a = 0; a < 3; ++a) {
-          if (!std::isfinite(kp.sigma[a]) || !std::isfinite(kn.sigma[a])) continue;
-          const double lim = 3.0 * std::sqrt(kp.sigma[a] * kp.sigma[a] + kn.sigma[a] * kn.sigma[a] +
-                                             2.0 * (*Msig)(a, a) * (*Msig)(a, a));
-          beyond |= std::abs(kp.values[a] - kn.values[a]) > lim;
+          if (!std::isfinite(d.sigma[a])) continue;
+          const double lim = 3.0 * std::hypot(d.sigma[a], per_c2(a) * lab_c2_sigma(a));
+          beyond |= std::abs(d.values[a]) > lim;
+          if (std::abs(d.values[a]) / lim > worst_ratio) {
+            worst_ratio = std::abs(d.values[a]) / lim;
+            worst_a = a;
+          }
         }
         if (!beyond) {
           holdBack(tf, fmt::format(
-              "{} scale_asymmetry fitted but within 3 sigma of the lab calibration's scale "
-              "uncertainty: not claimed", t.sensor), true);
+              "{} scale_asymmetry fitted but within 3 sigma of the fit and of the lab "
+              "quadratic's uncertainty as it reads on |x|: not claimed (largest: axis {}, "
+              "d = {:.3g}, {:.2f} x its limit)", t.sensor, worst_a, d.values[worst_a],
+              worst_ratio), true);
           continue;
         }
       }

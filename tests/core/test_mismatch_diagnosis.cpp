@@ -310,6 +310,42 @@ TEST(MismatchDiagnosis, ScaleAsymmetryGainsAreRelativeToTheSimulationsGain) {
   EXPECT_NEAR(sa_off->parameters[1].values[2], -d, 3.0 * sa_off->parameters[1].sigma[2]);
 }
 
+// The asymmetry gate weighs the half-difference d of the gains per sign against what the lab
+// can put there: not its gain (an error of it moves both gains alike; until the eighteenth
+// session 2 M_sigma^2 sat in the gate and held back random_36_23's gyro asymmetry at 1.6 x its
+// limit), but the error of a quadratic it kept, which is even in x like |x|.
+TEST(MismatchDiagnosis, AsymmetryGateWeighsTheLabQuadraticNotItsGain) {
+  const Motion m = carMotion(11);
+  const ImuErrorModel noise = whiteNoise(3e-4, 3e-3);
+  ImuErrorModel real = noise;
+  const double d = 0.004;
+  real.gyro.scale_asymmetry.k_pos << 0.0, 0.0, d;
+  real.gyro.scale_asymmetry.k_neg << 0.0, 0.0, -d;
+  DiagnosisInputs in = graftedInputs(sampleMotion(m, 100.0, 150.0), real, noise, 45,
+                                     "reference + the lab's noise (as SG#2)");
+  // A lab gain as uncertain as the asymmetry: it cancels in k_pos - k_neg.
+  in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(d);
+  in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  const DiagnosisResult loose_gain = diagnose(in);
+  const Effect* sa = findEffect(loose_gain, "scale_asymmetry");
+  ASSERT_NE(sa, nullptr) << diagnosisMarkdown(loose_gain);
+  EXPECT_NEAR(sa->parameters[0].values[2] - sa->parameters[1].values[2], 2.0 * d,
+              3.0 * std::hypot(sa->parameters[0].sigma[2], sa->parameters[1].sigma[2]));
+
+  // The lab kept a z quadratic (zero) to +-0.1 per rad/s: on this drive's yaw rates its error
+  // reads on |x| as 0.37 rad/s x 0.1 = 0.037, nine times d. Not claimed, and said why.
+  LabQuadratic lab;
+  lab.c2_sigma << 0.0, 0.0, 0.1;
+  in.lab_gyro_quadratic = lab;
+  const DiagnosisResult loose_c2 = diagnose(in);
+  EXPECT_EQ(findEffect(loose_c2, "scale_asymmetry"), nullptr) << diagnosisMarkdown(loose_c2);
+  bool noted = false;
+  for (const std::string& n : loose_c2.notes)
+    noted |= n.find("gyro scale_asymmetry fitted but within 3 sigma") != std::string::npos &&
+             n.find("lab quadratic") != std::string::npos;
+  EXPECT_TRUE(noted) << diagnosisMarkdown(loose_c2);
+}
+
 // The lab's poses at +-g see an accelerometer's asymmetric gain d |x| as a quadratic c2 x^2 with
 // c2 = d / g, which SG#2 grafts. Measured with plain |x| columns the asymmetry needs a quadratic
 // column beside it to cancel SG#2's (and on the field's small inputs |x| and x^2 are nearly
