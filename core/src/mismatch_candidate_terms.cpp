@@ -269,6 +269,12 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
       if (s == 0) t.excludes = {"vibration_rectification:gyro:" + vib[1 - v].first};
       t.explanation = "vibration is rectified into a " + sensor + " bias proportional to the " +
                       (v == 0 ? "specific-force" : "angular-rate") + " vibration power";
+      // A gain that differs by sign rectifies the rate vibration too; the part inside a sample
+      // (vibration near the Nyquist frequency) is not in scale_asymmetry's bin-averaged |x|
+      // (random_31_01 at 100 Hz named this term; at 400 Hz the asymmetry, docs/mismatch.md).
+      if (v == 1)
+        t.explanation += " (a gyro scale_asymmetry rectifies rate vibration the samples do not "
+                         "resolve in the same way)";
       for (int a = 0; a < 3; ++a) t.columns.push_back(singleChannel(s * 3 + a, *vib[v].second));
       terms.push_back(std::move(t));
     }
