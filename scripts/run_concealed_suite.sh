@@ -285,6 +285,9 @@ def limit_ratio(j, key, pkey, truth):
     for d in j.get("detection_limits", []):
         if (d["name"], d["sensor"]) != key:
             continue
+        # A gyro has two vibration levels: the limit is the injected regressor's.
+        if pkey.startswith("coeff@") and d.get("regressor", pkey.split("@", 1)[1]) != pkey.split("@", 1)[1]:
+            continue
         lim = d["limit"]
         if "," in pkey:
             lim = sum((as_list(lim.get(k, [])) for k in pkey.split(",")), []) or None
