@@ -2,6 +2,7 @@
 // model (imu_error_model.h) from ideal signals, against a simulation that lacks some of its terms.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -111,6 +112,13 @@ DiagnosisInputs graftedInputs(const ImuSeries& reference, const ImuErrorModel& r
   in.real = applyErrors(reference, real_model, seed);
   in.simulated = applyErrors(reference, simulated_model, seed + 1);
   return in;
+}
+
+// Whether some note of r contains both a and b.
+bool hasNote(const DiagnosisResult& r, const std::string& a, const std::string& b) {
+  return std::any_of(r.notes.begin(), r.notes.end(), [&](const std::string& n) {
+    return n.find(a) != std::string::npos && n.find(b) != std::string::npos;
+  });
 }
 
 const Effect* findEffect(const DiagnosisResult& r, const std::string& name) {
@@ -339,11 +347,8 @@ TEST(MismatchDiagnosis, AsymmetryGateWeighsTheLabQuadraticNotItsGain) {
   in.lab_gyro_quadratic = lab;
   const DiagnosisResult loose_c2 = diagnose(in);
   EXPECT_EQ(findEffect(loose_c2, "scale_asymmetry"), nullptr) << diagnosisMarkdown(loose_c2);
-  bool noted = false;
-  for (const std::string& n : loose_c2.notes)
-    noted |= n.find("gyro scale_asymmetry fitted but within 3 sigma") != std::string::npos &&
-             n.find("lab quadratic") != std::string::npos;
-  EXPECT_TRUE(noted) << diagnosisMarkdown(loose_c2);
+  EXPECT_TRUE(hasNote(loose_c2, "gyro scale_asymmetry fitted but within 3 sigma", "lab quadratic"))
+      << diagnosisMarkdown(loose_c2);
 }
 
 // The lab's poses at +-g see an accelerometer's asymmetric gain d |x| as a quadratic c2 x^2 with
@@ -710,11 +715,8 @@ TEST(MismatchDiagnosis, ScaleNonlinearityReportsTheSensorsOwnQuadratic) {
   q.in.lab_gyro_quadratic = loose;
   const DiagnosisResult within_lab = diagnose(q.in);
   EXPECT_EQ(k2Of(within_lab, "k2"), nullptr) << diagnosisMarkdown(within_lab);
-  bool noted = false;
-  for (const std::string& n : within_lab.notes)
-    noted |= n.find("scale_nonlinearity") != std::string::npos &&
-             n.find("calibration error") != std::string::npos;
-  EXPECT_TRUE(noted) << diagnosisMarkdown(within_lab);
+  EXPECT_TRUE(hasNote(within_lab, "scale_nonlinearity", "calibration error"))
+      << diagnosisMarkdown(within_lab);
   // The sensor's bend is what SG#2 grafts: reported as already in the simulation.
   ASSERT_EQ(within_lab.in_simulation.size(), 1u) << diagnosisMarkdown(within_lab);
   const Effect& lab_term = within_lab.in_simulation[0];
