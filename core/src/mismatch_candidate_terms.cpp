@@ -285,8 +285,9 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
     t.name = "g_sensitivity";
     t.sensor = "gyro";
     t.explanation = "the gyros read part of the specific force as rotation (proof-mass unbalance)";
+    const Eigen::MatrixX3d& f = in.g_sensitivity_f_m_s2.rows() == n ? in.g_sensitivity_f_m_s2 : x.f_m_s2;
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) t.columns.push_back(singleChannel(i, x.f_m_s2.col(j)));
+      for (int j = 0; j < 3; ++j) t.columns.push_back(singleChannel(i, f.col(j)));
     terms.push_back(std::move(t));
   }
 

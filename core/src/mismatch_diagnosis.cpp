@@ -827,9 +827,10 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   // within milliseconds (a 3.9-ms offset left a lever arm 6 % short at 23 sigma when they were
   // built at t), and the joint fit shifts them by tau - pv only.
   double motion_pivot = kNaN;  // the pivot ri's motion regressors were last built at
-  // The specific force whose vibration the tested accelerometer rectifies: the reference's, or,
-  // once a lever arm is fitted (below), the reference's moved to the tested IMU by it.
-  const ImuSeries* vibrating_f = &in.reference;
+  // The specific force at the tested IMU, whose vibration its accelerometer rectifies and which
+  // its gyros' g-sensitivity reads: the reference's, or, once a lever arm is fitted (below), the
+  // reference's moved to the tested IMU by it.
+  const ImuSeries* tested_f = &in.reference;
   ImuSeries at_tested_imu;
   const auto motionRegressorsAt = [&](double pv) {
     if (pv == motion_pivot) return;
@@ -841,7 +842,9 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     ri.even_powers = binEvenPowers(in.reference, grid, -pv);
     const AngularAccelerationBins wdot = angularAccelerationPerBin(in.reference, shifted);
     ri.omega_dot_rad_s2 = wdot.omega_dot_rad_s2;
-    ri.vibration_f_hp_sq = vibrationLevelPerBin(*vibrating_f, shifted, "specific_force_hp_sq");
+    ri.vibration_f_hp_sq = vibrationLevelPerBin(*tested_f, shifted, "specific_force_hp_sq");
+    ri.g_sensitivity_f_m_s2 =
+        tested_f == &in.reference ? Eigen::MatrixX3d() : binImu(*tested_f, grid, -pv).f_m_s2;
     ri.vibration_w_hp_sq = vibrationLevelPerBin(in.reference, shifted, "angular_rate_hp_sq");
     if (!first) return;  // the windows do not depend on the pivot
     out.notes.push_back(fmt::format(
@@ -998,17 +1001,22 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   // omega_dot x r + omega x (omega x r) on top of the reference's specific force (0.5 m/s^2 at
   // 40 Hz for 1 deg/s and 0.1 m), and rectifies that too: measured on the reference's vibration
   // alone, a vibration coefficient came out 23 % (6 sigma) large next to a 0.1-m lever arm
-  // (random_20_15). With both claimed, the selection runs once more with the vibration level
-  // taken from the reference moved to the tested IMU by the fitted lever arm.
+  // (random_20_15). Its gyros' g-sensitivity reads that specific force too: read from the
+  // reference's, the difference G (omega_dot x r + omega x (omega x r)), even in the yaw rate,
+  // was claimed under common random numbers as a 9-ppm gyro z asymmetry at 8.6 sigma and a
+  // 3-us time offset (random_38_23; neither without the lever arm or without G). With a lever
+  // arm and either term selected, the selection runs once more with the reference moved to the
+  // tested IMU by the fitted lever arm for both.
   {
     const TermFit* lever = nullptr;
-    bool vibration = false;
+    bool reads_f = false;
     for (const TermFit& tf : sel.selected) {
       if (terms[tf.term].name == "lever_arm") lever = &tf;
-      vibration |= terms[tf.term].name == "vibration_rectification" &&
-                   terms[tf.term].regressor == "specific_force_hp_sq";
+      reads_f |= (terms[tf.term].name == "vibration_rectification" &&
+                  terms[tf.term].regressor == "specific_force_hp_sq") ||
+                 terms[tf.term].name == "g_sensitivity";
     }
-    if (lever != nullptr && vibration && lever->theta.size() == 3 && lever->theta.allFinite()) {
+    if (lever != nullptr && reads_f && lever->theta.size() == 3 && lever->theta.allFinite()) {
       const Eigen::Vector3d r = lever->theta;
       ImuErrorModel moved;
       moved.lever_arm.r_m = r;
@@ -1020,12 +1028,12 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
         have_moved = false;
       }
       if (have_moved) {
-        vibrating_f = &at_tested_imu;
+        tested_f = &at_tested_imu;
         motion_pivot = kNaN;  // rebuild the motion regressors with it
         explainAgain(fmt::format(
-            "selection repeated with the vibration level of the reference's specific force moved "
-            "to the tested IMU by the fitted lever arm [{:.4f} {:.4f} {:.4f}] m",
-            r(0), r(1), r(2)));
+            "selection repeated with the specific force of the vibration level and of "
+            "g_sensitivity moved to the tested IMU by the fitted lever arm [{:.4f} {:.4f} "
+            "{:.4f}] m", r(0), r(1), r(2)));
       }
     }
   }

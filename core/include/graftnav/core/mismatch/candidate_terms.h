@@ -106,6 +106,9 @@ struct RegressorInputs {
   // bin mean^2, exact without within-bin vibration).
   EvenPowerBins even_powers;
   Eigen::VectorXd vibration_f_hp_sq;    // n, specific_force_hp_sq level, or empty
+  // n x 3, optional: the specific force the tested gyros feel, g_sensitivity's columns (the
+  // reference's moved to the tested IMU by a fitted lever arm; empty: reference.f_m_s2).
+  Eigen::MatrixX3d g_sensitivity_f_m_s2;
   Eigen::VectorXd vibration_w_hp_sq;    // n, angular_rate_hp_sq level, or empty
   // The tested IMU's accelerometer response as the lab calibrated it,
   // y_i = c0 + c1 x_i + c2_i x_i^2 + sum_j M_ij x_j: a motion signal the reference does not carry
