@@ -121,6 +121,13 @@ bool hasNote(const DiagnosisResult& r, const std::string& a, const std::string& 
   });
 }
 
+// The names of r's claimed effects.
+std::set<std::string> effectNames(const DiagnosisResult& r) {
+  std::set<std::string> names;
+  for (const Effect& e : r.effects) names.insert(e.name);
+  return names;
+}
+
 const Effect* findEffect(const DiagnosisResult& r, const std::string& name) {
   for (const Effect& e : r.effects)
     if (e.name == name) return &e;
@@ -136,8 +143,7 @@ TEST(MismatchDiagnosis, FindsTimeOffsetLeverArmAndGSensitivityOnly) {
   extra.g_sensitivity.G(2, 1) = 3e-4;
   const Pair p = makePair(extra, 3);
   const DiagnosisResult r = diagnose(p.in);
-  std::set<std::string> names;
-  for (const Effect& e : r.effects) names.insert(e.name);
+  const std::set<std::string> names = effectNames(r);
   EXPECT_EQ(names, (std::set<std::string>{"time_offset", "lever_arm", "g_sensitivity"}))
       << diagnosisMarkdown(r);
   const Effect* to = findEffect(r, "time_offset");
@@ -177,8 +183,7 @@ TEST(MismatchDiagnosis, GSensitivityReadsTheSpecificForceAtTheTestedImu) {
   const DiagnosisInputs in = graftedInputs(sampleMotion(m, 100.0, 150.0), real, quiet, 47,
                                            "reference + white noise");
   const DiagnosisResult r = diagnose(in);
-  std::set<std::string> names;
-  for (const Effect& e : r.effects) names.insert(e.name);
+  const std::set<std::string> names = effectNames(r);
   EXPECT_EQ(names, (std::set<std::string>{"lever_arm", "g_sensitivity"})) << diagnosisMarkdown(r);
   const Effect* gs = findEffect(r, "g_sensitivity");
   ASSERT_NE(gs, nullptr);
@@ -246,8 +251,7 @@ TEST(MismatchDiagnosis, BinsOverlappingASamplingGapAreLeftOut) {
   EXPECT_LE(r.masked_spans[0].first, 5060.0);
   EXPECT_GE(r.masked_spans[0].second, 5061.5);
   EXPECT_LT(r.masked_spans[0].second - r.masked_spans[0].first, 1.8);
-  std::set<std::string> names;
-  for (const Effect& e : r.effects) names.insert(e.name);
+  const std::set<std::string> names = effectNames(r);
   EXPECT_EQ(names, (std::set<std::string>{"time_offset", "lever_arm"})) << diagnosisMarkdown(r);
   const Effect* la = findEffect(r, "lever_arm");
   ASSERT_NE(la, nullptr);
