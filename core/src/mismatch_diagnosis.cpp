@@ -1464,10 +1464,15 @@ StaticBiasSimulation simulateFromReferenceAndStaticBias(const ImuSeries& referen
                             .colwise().mean().transpose();
   out.accel_bias_m_s2 = (y.f_m_s2.middleRows(a, b - a) - x.f_m_s2.middleRows(a, b - a))
                             .colwise().mean().transpose();
+  // The temperature behind this bias is the tested IMU's over the span (NaN without one), not
+  // the reference IMU's: temperature_bias is regressed on the tested minus this temperature.
+  const Eigen::VectorXd span_degC = y.temperature_degC.segment(a, b - a);
+  out.temperature_degC = span_degC.allFinite() ? span_degC.mean() : std::nan("");
   out.simulated = reference;
   for (ImuSample& smp : out.simulated) {
     smp.dtheta_rad += out.gyro_bias_rad_s * smp.dt_s;
     smp.dvel_m_s += out.accel_bias_m_s2 * smp.dt_s;
+    smp.temperature_degC = out.temperature_degC;
   }
   return out;
 }

@@ -1241,6 +1241,25 @@ TEST(MismatchDiagnosis, QuantizationFoundFromTheValueLattice) {
 }
 
 // diagnosis.json has exactly the keys and types of issue 7 item 5.
+// Without a lab, the simulation's bias is the tested IMU's over its first static span, so the
+// temperature behind it is the tested IMU's there, not the reference IMU's (which a copy of the
+// reference carried before: a temperature bias was then regressed on tested minus reference
+// temperature).
+TEST(MismatchDiagnosis, StaticBiasSimulationCarriesTheTestedTemperatureOfItsSpan) {
+  ImuSeries reference = sampleMotion(carMotion(47), 100.0, 60.0);
+  ImuSeries tested = reference;
+  const double t0 = reference.front().t_s;
+  for (ImuSample& smp : reference) smp.temperature_degC = 40.0;
+  for (ImuSample& smp : tested) smp.temperature_degC = 10.0 + 0.1 * (smp.t_s - t0);
+  const StaticBiasSimulation sim = simulateFromReferenceAndStaticBias(reference, tested);
+  ASSERT_LT(sim.t_end_s, t0 + 20.0);  // the span is in the opening stop
+  const double span_mid_degC = 10.0 + 0.1 * (0.5 * (sim.t_start_s + sim.t_end_s) - t0);
+  EXPECT_NEAR(sim.temperature_degC, span_mid_degC, 0.06);
+  for (const ImuSample& smp : sim.simulated) ASSERT_EQ(smp.temperature_degC, sim.temperature_degC);
+  for (ImuSample& smp : tested) smp.temperature_degC = std::nan("");
+  EXPECT_TRUE(std::isnan(simulateFromReferenceAndStaticBias(reference, tested).temperature_degC));
+}
+
 TEST(MismatchDiagnosis, JsonHasTheIssueShape) {
   ImuErrorModel extra;
   extra.time_offset.tau_s = -0.01;

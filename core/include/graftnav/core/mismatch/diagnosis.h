@@ -218,6 +218,9 @@ struct StaticBiasSimulation {
   Eigen::Vector3d gyro_bias_rad_s = Eigen::Vector3d::Zero();
   Eigen::Vector3d accel_bias_m_s2 = Eigen::Vector3d::Zero();
   double t_start_s = 0.0, t_end_s = 0.0;
+  // The tested IMU's mean temperature over the span, the simulation's temperature column (NaN
+  // when the tested record has none).
+  double temperature_degC = std::nan("");
 };
 StaticBiasSimulation simulateFromReferenceAndStaticBias(const ImuSeries& reference,
                                                         const ImuSeries& tested,
