@@ -240,9 +240,15 @@ std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& in,
       CandidateTerm tb;
       tb.name = "temperature_bias";
       tb.sensor = sensor;
-      tb.t_ref_degC = t_ref;
+      // Against the simulation's temperature the model is per_degC (T - T_sim): the reference
+      // temperature is the one behind the simulation's bias (its mean, when it varies).
+      tb.t_ref_degC = sim_temp ? Ts.mean() : t_ref;
+      tb.mean_is_physical = sim_temp;
       tb.explanation = "the " + sensor + " bias follows the sensor temperature";
-      if (sim_temp) tb.explanation += " (regressed on the tested minus the simulation's temperature)";
+      if (sim_temp)
+        tb.explanation += " (regressed on the tested minus the simulation's temperature; t_ref_degC "
+                          "is the simulation's, so the bias at the field's temperature differs "
+                          "from the simulation's by per_degC (T - t_ref_degC), grafted in full)";
       for (int a = 0; a < 3; ++a) tb.columns.push_back(singleChannel(s * 3 + a, dT_bias));
       terms.push_back(std::move(tb));
       CandidateTerm ts;

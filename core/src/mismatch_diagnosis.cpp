@@ -1425,9 +1425,31 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   if (opt.holdout) holdoutCheck(r, terms, opt, &out);
   // SG#3 takes each term's variation, not its record mean: a constant part is confounded with
   // the nuisance bias (e.g. G_iz f_z with f_z ~ -g), which is not grafted, so grafting it would
-  // add an arbitrary bias.
-  out.sg3 = addBinnedContribution(in.simulated, grid,
-                                  out.model.rowwise() - out.model.colwise().mean());
+  // add an arbitrary bias. A term whose mean is a physical offset from the simulation (the
+  // temperature bias against the simulation's temperature) keeps it: random_40_17's field ran at
+  // 7-16 degC, its lab at 25 degC, and a -3.8 deg/h/degC gyro z left SG#3 55 deg/h short.
+  Eigen::MatrixXd sg3_model = out.model.rowwise() - out.model.colwise().mean();
+  for (const TermFit& tf : sel.selected) {
+    const CandidateTerm& term = terms[tf.term];
+    if (!term.mean_is_physical) continue;
+    const Vector6d offset = meanOf(termContribution(term, tf.theta, n), out.masked_bins);
+    sg3_model.rowwise() += offset.transpose();
+    // Its uncertainty: each coefficient's times its column's mean (one column per axis).
+    const int s0 = term.sensor == "gyro" ? 0 : 3;
+    Eigen::Vector3d sigma = Eigen::Vector3d::Constant(kNaN);
+    for (int a = 0; a < 3 && a < static_cast<int>(tf.sigma.size()); ++a) {
+      Eigen::VectorXd unit = Eigen::VectorXd::Zero(tf.theta.size());
+      unit(a) = 1.0;
+      const Vector6d column_mean = meanOf(termContribution(term, unit, n), out.masked_bins);
+      sigma(a) = tf.sigma(a) * std::abs(column_mean(s0 + a));
+    }
+    out.notes.push_back(fmt::format(
+        "SG#3 carries the {} bias change from the simulation's temperature ({:.1f} degC) to the "
+        "field's: [{:.3g} {:.3g} {:.3g}] {} (1-sigma [{:.2g} {:.2g} {:.2g}]), per_degC times the "
+        "mean temperature difference", term.sensor, term.t_ref_degC, offset(s0), offset(s0 + 1),
+        offset(s0 + 2), term.sensor == "gyro" ? "rad/s" : "m/s^2", sigma(0), sigma(1), sigma(2)));
+  }
+  out.sg3 = addBinnedContribution(in.simulated, grid, sg3_model);
   out.in_simulation = labModelledTerms(in, lab_quadratic_not_listed);
   return out;
 }

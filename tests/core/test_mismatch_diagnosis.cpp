@@ -1241,6 +1241,65 @@ TEST(MismatchDiagnosis, QuantizationFoundFromTheValueLattice) {
 }
 
 // diagnosis.json has exactly the keys and types of issue 7 item 5.
+// A field that runs colder than the lab: the simulation's bias is the lab's, at 25 degC, and the
+// tested gyro's bias follows its temperature (7 -> 16 degC here). The residual's constant is
+// the nuisance's, so the term is found from the warm-up alone; but its mean, per_degC times
+// (T - 25), is physics SG#3 must carry (random_40_17: 55 deg/h of gyro z, heading DIFF 64 -> 33 %
+// over 10 seeds). Before, SG#3 grafted the warm-up's variation only and t_ref_degC was the
+// field's mean temperature.
+TEST(MismatchDiagnosis, TemperatureBiasIsGraftedWithItsOffsetFromTheSimulationsTemperature) {
+  const double duration_s = 300.0, lab_degC = 25.0;
+  ImuSeries reference = sampleMotion(carMotion(41), 100.0, duration_s);
+  const double t0 = reference.front().t_s;
+  const auto field_degC = [&](double t) { return 16.0 - 9.0 * std::exp(-(t - t0) / 120.0); };
+  ImuSeries field = reference, lab = reference;
+  for (ImuSample& smp : field) smp.temperature_degC = field_degC(smp.t_s);
+  for (ImuSample& smp : lab) smp.temperature_degC = lab_degC;
+  // Tactical-grade white noise and no bias wander, so the slow-noise check is off: this test
+  // is about what SG#3 grafts, not about telling a warm-up from a wander.
+  const ImuErrorModel noise = whiteNoise(3e-5, 3e-4);
+  ImuErrorModel real = noise;
+  real.gyro.temperature_bias.per_degC << 2e-5, -4e-5, 3e-5;  // 4-8 deg/h per degC
+  real.gyro.temperature_bias.t_ref_degC = lab_degC;
+  DiagnosisInputs in = graftedInputs(field, real, noise, 43, "SG#2 (lab at 25 degC)");
+  in.reference = reference;  // the reference IMU has no temperature column
+  in.simulated = applyErrors(lab, noise, 44);
+  DiagnoseOptions opt;
+  opt.slow_block_s = 0.0;
+  const DiagnosisResult r = diagnose(in, opt);
+  const Effect* e = findEffect(r, "temperature_bias");
+  ASSERT_NE(e, nullptr) << diagnosisJson(r);
+  ASSERT_EQ(e->sensor, "gyro");
+  const EffectParameter* k = nullptr;
+  const EffectParameter* t_ref = nullptr;
+  for (const EffectParameter& p : e->parameters) {
+    if (p.key == "per_degC") k = &p;
+    if (p.key == "t_ref_degC") t_ref = &p;
+  }
+  ASSERT_NE(k, nullptr);
+  ASSERT_NE(t_ref, nullptr);
+  EXPECT_NEAR(t_ref->values[0], lab_degC, 1e-9);
+  // SG#3 minus the simulation, per axis, against per_degC (mean T - 25): the offset the fitted
+  // coefficient implies, and the true one within that coefficient's 3 sigma.
+  double mean_dT = 0.0;
+  Eigen::Vector3d sg3_minus_sim = Eigen::Vector3d::Zero();
+  ASSERT_EQ(r.sg3.size(), in.simulated.size());
+  for (std::size_t i = 0; i < r.sg3.size(); ++i) {
+    mean_dT += field_degC(in.simulated[i].t_s) - lab_degC;
+    sg3_minus_sim += (r.sg3[i].dtheta_rad - in.simulated[i].dtheta_rad) / in.simulated[i].dt_s;
+  }
+  mean_dT /= static_cast<double>(r.sg3.size());
+  sg3_minus_sim /= static_cast<double>(r.sg3.size());
+  ASSERT_LT(mean_dT, -10.0);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(sg3_minus_sim(a), k->values[a] * mean_dT, 0.05 * std::abs(k->values[a] * mean_dT))
+        << "axis " << a;
+    EXPECT_NEAR(sg3_minus_sim(a), real.gyro.temperature_bias.per_degC(a) * mean_dT,
+                3.0 * k->sigma[a] * std::abs(mean_dT) + 1e-6)
+        << "axis " << a;
+  }
+}
+
 // Without a lab, the simulation's bias is the tested IMU's over its first static span, so the
 // temperature behind it is the tested IMU's there, not the reference IMU's (which a copy of the
 // reference carried before: a temperature bias was then regressed on tested minus reference

@@ -85,6 +85,12 @@ struct CandidateTerm {
   std::string part_of;
   double knot_spacing_s = 0.0;        // bias_instability only
   double t_ref_degC = 0.0;            // temperature terms only
+  // The term's record mean is a physical offset from the simulation, not a part of the constant
+  // bias it cannot be told from: temperature_bias regressed on the tested minus the simulation's
+  // temperature is per_degC (T - T_sim), whose mean is the bias change between the temperature
+  // behind the simulation's bias (the lab's) and the field's. SG#3 grafts such a term in full;
+  // every other term only as its variation (diagnosis.cpp, step 6).
+  bool mean_is_physical = false;
   std::string key() const { return name + ":" + sensor + (regressor.empty() ? "" : ":" + regressor); }
 };
 
