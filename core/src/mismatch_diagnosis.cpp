@@ -1434,15 +1434,14 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     if (!term.mean_is_physical) continue;
     const Vector6d offset = meanOf(termContribution(term, tf.theta, n), out.masked_bins);
     sg3_model.rowwise() += offset.transpose();
-    // Its uncertainty: each coefficient's times its column's mean (one column per axis).
+    // Its uncertainty: each coefficient's times its column's mean (one column per axis, each on
+    // its own channel, so unit coefficients give every column's mean at once).
     const int s0 = term.sensor == "gyro" ? 0 : 3;
+    const Vector6d column_mean = meanOf(
+        termContribution(term, Eigen::VectorXd::Ones(tf.theta.size()), n), out.masked_bins);
     Eigen::Vector3d sigma = Eigen::Vector3d::Constant(kNaN);
-    for (int a = 0; a < 3 && a < static_cast<int>(tf.sigma.size()); ++a) {
-      Eigen::VectorXd unit = Eigen::VectorXd::Zero(tf.theta.size());
-      unit(a) = 1.0;
-      const Vector6d column_mean = meanOf(termContribution(term, unit, n), out.masked_bins);
+    for (int a = 0; a < 3 && a < static_cast<int>(tf.sigma.size()); ++a)
       sigma(a) = tf.sigma(a) * std::abs(column_mean(s0 + a));
-    }
     out.notes.push_back(fmt::format(
         "SG#3 carries the {} bias change from the simulation's temperature ({:.1f} degC) to the "
         "field's: [{:.3g} {:.3g} {:.3g}] {} (1-sigma [{:.2g} {:.2g} {:.2g}]), per_degC times the "

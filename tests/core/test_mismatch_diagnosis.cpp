@@ -1240,7 +1240,6 @@ TEST(MismatchDiagnosis, QuantizationFoundFromTheValueLattice) {
   EXPECT_EQ(e->sensor, "accel");
 }
 
-// diagnosis.json has exactly the keys and types of issue 7 item 5.
 // A field that runs colder than the lab: the simulation's bias is the lab's, at 25 degC, and the
 // tested gyro's bias follows its temperature (7 -> 16 degC here). The residual's constant is
 // the nuisance's, so the term is found from the warm-up alone; but its mean, per_degC times
@@ -1319,6 +1318,7 @@ TEST(MismatchDiagnosis, StaticBiasSimulationCarriesTheTestedTemperatureOfItsSpan
   EXPECT_TRUE(std::isnan(simulateFromReferenceAndStaticBias(reference, tested).temperature_degC));
 }
 
+// diagnosis.json has exactly the keys and types of issue 7 item 5.
 TEST(MismatchDiagnosis, JsonHasTheIssueShape) {
   ImuErrorModel extra;
   extra.time_offset.tau_s = -0.01;
