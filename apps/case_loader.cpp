@@ -7,13 +7,13 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "graftnav/core/gnss_io.h"
-#include "graftnav/core/gnss_selection.h"
-#include "graftnav/core/imu_io.h"
-#include "graftnav/core/imu_profile_io.h"
-#include "graftnav/core/nav_interp.h"
-#include "graftnav/core/nav_io.h"
-#include "graftnav/core/rotation.h"
+#include "graftnav/io/gnss_io.h"
+#include "graftnav/eval/gnss_selection.h"
+#include "graftnav/io/imu_io.h"
+#include "graftnav/io/imu_profile_io.h"
+#include "graftnav/nav/nav_interp.h"
+#include "graftnav/io/nav_io.h"
+#include "graftnav/nav/rotation.h"
 #include "graftnav/filters/alignment.h"
 
 namespace graftnav::app {

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "graftnav/core/case_config.h"
-#include "graftnav/core/nav_solution.h"
+#include "graftnav/io/case_config.h"
+#include "graftnav/estimation/nav_solution.h"
 #include "run_config.h"
 
 namespace graftnav::app {

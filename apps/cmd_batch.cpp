@@ -14,8 +14,8 @@
 
 #include "batch_manifest.h"
 #include "commands.h"
-#include "graftnav/core/atomic_file.h"
-#include "graftnav/core/units.h"
+#include "graftnav/io/atomic_file.h"
+#include "graftnav/nav/units.h"
 #include "sg_evaluate.h"
 
 namespace graftnav::app {

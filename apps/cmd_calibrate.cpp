@@ -20,11 +20,11 @@
 
 #include "commands.h"
 #include "script_locator.h"
-#include "graftnav/core/calibration/calibration_io.h"
-#include "graftnav/core/calibration/lab_calibration.h"
-#include "graftnav/core/calibration/multi_position.h"
-#include "graftnav/core/imu_io.h"
-#include "graftnav/core/units.h"
+#include "graftnav/calibration/calibration_io.h"
+#include "graftnav/calibration/lab_calibration.h"
+#include "graftnav/calibration/multi_position.h"
+#include "graftnav/io/imu_io.h"
+#include "graftnav/nav/units.h"
 
 namespace graftnav::app {
 namespace {

@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "commands.h"
-#include "graftnav/core/units.h"
+#include "graftnav/nav/units.h"
 #include "sg_evaluate.h"
 
 namespace graftnav::app {

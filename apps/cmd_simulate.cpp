@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "commands.h"
-#include "graftnav/core/case_simulator.h"
-#include "graftnav/core/sim_config.h"
+#include "graftnav/sim/case_simulator.h"
+#include "graftnav/sim/sim_config.h"
 
 namespace graftnav::app {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "graftnav/core/nav_solution.h"
+#include "graftnav/estimation/nav_solution.h"
 #include "graftnav/filters/ekf.h"
 #include "run_config.h"
 

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include "graftnav/core/units.h"
+#include "graftnav/nav/units.h"
 
 namespace graftnav::app {
 namespace {

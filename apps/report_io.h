@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "graftnav/core/evaluation.h"
-#include "graftnav/core/nav_solution.h"
+#include "graftnav/eval/evaluation.h"
+#include "graftnav/estimation/nav_solution.h"
 
 namespace graftnav::app {
 

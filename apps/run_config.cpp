@@ -5,7 +5,7 @@
 #include <set>
 #include <stdexcept>
 
-#include "graftnav/core/units.h"
+#include "graftnav/nav/units.h"
 
 namespace graftnav::app {
 namespace {

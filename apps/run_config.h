@@ -50,9 +50,9 @@
 #include <string>
 #include <vector>
 
-#include "graftnav/core/evaluation.h"
-#include "graftnav/core/gnss_selection.h"
-#include "graftnav/core/outage_schedule.h"
+#include "graftnav/eval/evaluation.h"
+#include "graftnav/eval/gnss_selection.h"
+#include "graftnav/eval/outage_schedule.h"
 #include "graftnav/filters/alignment.h"
 #include "graftnav/filters/ekf.h"
 #include "graftnav/graph/fgo_options.h"

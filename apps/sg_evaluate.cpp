@@ -10,12 +10,12 @@
 
 #include "case_loader.h"
 #include "estimators.h"
-#include "graftnav/core/calibration/calibration_io.h"
-#include "graftnav/core/calibration/lab_calibration.h"
-#include "graftnav/core/calibration/lab_data.h"
-#include "graftnav/core/graft_case.h"
-#include "graftnav/core/imu_io.h"
-#include "graftnav/core/units.h"
+#include "graftnav/calibration/calibration_io.h"
+#include "graftnav/calibration/lab_calibration.h"
+#include "graftnav/calibration/lab_data.h"
+#include "graftnav/sg/graft_case.h"
+#include "graftnav/io/imu_io.h"
+#include "graftnav/nav/units.h"
 #include "report_io.h"
 #include "script_locator.h"
 

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "graftnav/core/atomic_file.h"
-#include "graftnav/core/units.h"
+#include "graftnav/io/atomic_file.h"
+#include "graftnav/nav/units.h"
 
 namespace graftnav::app {
 namespace {

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "graftnav/core/evaluation.h"
-#include "graftnav/core/sg_statistics.h"
+#include "graftnav/eval/evaluation.h"
+#include "graftnav/sg/sg_statistics.h"
 
 namespace graftnav::app {
 

@@ -1,9 +1,10 @@
 // Forward EKF and EKF + RTS on 1 h of 200 Hz IMU with 1 Hz GNSS (issue 3 target: < 3 s for both
 // on the 2-core machine). Data: the truth-by-construction drive of the filter tests
-// (tests/filters/ekf_scenario.h) with tactical-grade errors, generated once in memory.
+// (tests/support/ekf_scenario.h) with tactical-grade errors, generated once in memory.
 #include <benchmark/benchmark.h>
 
-#include "../tests/filters/ekf_scenario.h"
+#include "ekf_scenario.h"
+#include "graftnav/eval/outage_schedule.h"
 #include "graftnav/filters/ekf.h"
 #include "graftnav/filters/rts_smoother.h"
 

@@ -1,13 +1,13 @@
 // Batch factor-graph smoother and sliding window: time versus data length (200 Hz IMU, 1 Hz
 // GNSS, 60 s outages every 180 s after 300 s), MEMS-grade errors. The truth is made by
-// construction (the test scenario of tests/graph): ideal increments mechanized by Strapdown.
+// construction (the test scenario of tests/support/graph_scenario.h): ideal increments mechanized by Strapdown.
 //   build-x/bench_fgo --benchmark_filter=Batch/60   (1 h)
 #include <benchmark/benchmark.h>
 
 #include <map>
 #include <memory>
 
-#include "../tests/graph/graph_scenario.h"
+#include "graph_scenario.h"
 #include "graftnav/graph/fgo_solver.h"
 
 namespace {

@@ -8,7 +8,7 @@
 #include <random>
 #include <string>
 
-#include "graftnav/core/imu_io.h"
+#include "graftnav/io/imu_io.h"
 
 namespace {
 

@@ -3,9 +3,9 @@
 
 #include <random>
 
-#include "graftnav/core/earth.h"
-#include "graftnav/core/mechanization.h"
-#include "graftnav/core/rotation.h"
+#include "graftnav/nav/earth.h"
+#include "graftnav/nav/mechanization.h"
+#include "graftnav/nav/rotation.h"
 
 namespace {
 

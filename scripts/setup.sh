@@ -22,5 +22,7 @@ if ((${#missing[@]})); then
 fi
 
 JOBS=$(nproc)
+# ccache keys on paths relative to the checkout, so a fresh clone elsewhere reuses the cache.
+export CCACHE_BASEDIR="$PWD"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j "$JOBS"

@@ -4,8 +4,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "graftnav/core/earth.h"
-#include "graftnav/core/rotation.h"
+#include "graftnav/nav/earth.h"
+#include "graftnav/nav/rotation.h"
 
 namespace graftnav {
 

@@ -6,8 +6,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "graftnav/core/evaluation.h"
-#include "graftnav/core/outage_schedule.h"
+#include "graftnav/nav/distributions.h"
+#include "graftnav/eval/outage_schedule.h"
 
 namespace graftnav {
 

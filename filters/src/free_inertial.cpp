@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "graftnav/core/mechanization.h"
+#include "graftnav/nav/mechanization.h"
 
 namespace graftnav {
 

@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "graftnav/core/earth.h"
-#include "graftnav/core/evaluation.h"
-#include "graftnav/core/rotation.h"
+#include "graftnav/nav/earth.h"
+#include "graftnav/nav/earth.h"
+#include "graftnav/nav/rotation.h"
 
 namespace graftnav {
 

@@ -3,7 +3,7 @@
 #include <Eigen/Cholesky>
 #include <stdexcept>
 
-#include "graftnav/core/mechanization.h"
+#include "graftnav/nav/mechanization.h"
 
 namespace graftnav {
 

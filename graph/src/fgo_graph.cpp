@@ -6,8 +6,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "graftnav/core/mechanization.h"
-#include "graftnav/core/rotation.h"
+#include "graftnav/nav/mechanization.h"
+#include "graftnav/nav/rotation.h"
 
 namespace graftnav {
 

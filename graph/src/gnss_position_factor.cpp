@@ -2,7 +2,7 @@
 
 #include <Eigen/Geometry>
 
-#include "graftnav/core/rotation.h"
+#include "graftnav/nav/rotation.h"
 #include "graftnav/graph/right_quaternion_manifold.h"
 
 namespace graftnav {

@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "graftnav/core/rotation.h"
+#include "graftnav/nav/rotation.h"
 
 namespace graftnav {
 

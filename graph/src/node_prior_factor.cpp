@@ -1,6 +1,6 @@
 #include "graftnav/graph/node_prior_factor.h"
 
-#include "graftnav/core/rotation.h"
+#include "graftnav/nav/rotation.h"
 #include "graftnav/graph/right_quaternion_manifold.h"
 
 namespace graftnav {

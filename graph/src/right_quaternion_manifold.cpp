@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "graftnav/core/rotation.h"
+#include "graftnav/nav/rotation.h"
 
 namespace graftnav {
 

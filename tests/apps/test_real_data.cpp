@@ -13,10 +13,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "graftnav/core/gnss_io.h"
-#include "graftnav/core/gnss_latency.h"
-#include "graftnav/core/gnss_selection.h"
-#include "graftnav/core/nav_io.h"
+#include "graftnav/io/gnss_io.h"
+#include "graftnav/eval/gnss_latency.h"
+#include "graftnav/eval/gnss_selection.h"
+#include "graftnav/io/nav_io.h"
 #include "test_support.h"
 
 namespace graftnav {
@@ -26,9 +26,7 @@ namespace fs = std::filesystem;
 
 std::string realCase(const std::string& name) { return test::sharedDir() + "/data/real/" + name; }
 
-#define SKIP_WITHOUT(dir)                                                                      \
-  if (!fs::exists(dir)) GTEST_SKIP() << "real data not present at " << dir                     \
-                                     << " (../shared/data/real is not part of the repository)"
+#define SKIP_WITHOUT(dir) GRAFTNAV_REQUIRE_SHARED_PATH(dir)
 
 GnssSeries readYandldGnss(std::vector<ReadReport>* reports) {
   const std::string d = realCase("yandld_20220405_rtk") + "/field/";

@@ -2,7 +2,7 @@
 // Increments sampled exactly from an analytic integral, for synthetic IMU test signals.
 #include <Eigen/Core>
 
-#include "graftnav/core/types.h"
+#include "graftnav/nav/types.h"
 
 namespace graftnav::test {
 

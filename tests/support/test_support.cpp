@@ -1,17 +1,24 @@
 #include "test_support.h"
 
+#include <cstdlib>
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-#include "graftnav/core/earth.h"
-#include "graftnav/core/trajectory.h"
+#include "graftnav/nav/earth.h"
+#include "graftnav/sim/trajectory.h"
 
 namespace graftnav::test {
 
 std::string sourceDir() { return GRAFTNAV_SOURCE_DIR; }
 std::string sharedDir() { return GRAFTNAV_SHARED_DIR; }
 std::string graftnavBinary() { return GRAFTNAV_BINARY; }
+
+bool sharedDataRequired() {
+  const char* v = std::getenv("GRAFTNAV_REQUIRE_SHARED_DATA");
+  return v != nullptr && std::string(v) == "1";
+}
 
 std::string makeTempDir(const std::string& tag) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();

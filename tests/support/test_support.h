@@ -1,6 +1,9 @@
 #pragma once
 // Helpers shared by every test executable.
+#include <gtest/gtest.h>
+
 #include <Eigen/Core>
+#include <filesystem>
 #include <functional>
 #include <string>
 
@@ -18,6 +21,10 @@ std::string graftnavBinary();
 // A fresh, empty temporary directory unique to the calling test.
 std::string makeTempDir(const std::string& tag);
 
+// True when missing ../shared data must fail a test rather than skip it: the environment variable
+// GRAFTNAV_REQUIRE_SHARED_DATA is set to 1 (`.ci/run` sets it).
+bool sharedDataRequired();
+
 // Central-difference Jacobian of f at x0 (the one numeric-Jacobian helper of the test suites).
 Eigen::MatrixXd numericJacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
                                 const Eigen::VectorXd& x0, double step = 1e-6);
@@ -29,3 +36,17 @@ int expectDerivativesMatchCentralDifferences(const Trajectory& trj, double h, do
                                              double tol_a_m_s2, double tol_omega_rad_s);
 
 }  // namespace graftnav::test
+
+// Skips the calling test when `path` (under ../shared) does not exist, or fails it when
+// sharedDataRequired(): CI must not pass by skipping what it was meant to check.
+#define GRAFTNAV_REQUIRE_SHARED_PATH(path)                                                      \
+  do {                                                                                         \
+    const std::string graftnav_path_ = (path);                                                 \
+    if (!std::filesystem::exists(graftnav_path_)) {                                            \
+      if (::graftnav::test::sharedDataRequired()) {                                            \
+        FAIL() << "shared data missing: " << graftnav_path_                                    \
+               << " (GRAFTNAV_REQUIRE_SHARED_DATA=1)";                                         \
+      }                                                                                        \
+      GTEST_SKIP() << "shared data not found: " << graftnav_path_;                             \
+    }                                                                                          \
+  } while (0)

@@ -7,8 +7,8 @@
 #include <optional>
 #include <string>
 
-#include "graftnav/core/imu_profile.h"
-#include "graftnav/core/types.h"
+#include "graftnav/imu/imu_profile.h"
+#include "graftnav/nav/types.h"
 
 namespace graftnav {
 

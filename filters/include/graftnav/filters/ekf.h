@@ -13,8 +13,8 @@
 #include <functional>
 #include <vector>
 
-#include "graftnav/core/mechanization.h"
-#include "graftnav/core/nav_solution.h"
+#include "graftnav/nav/mechanization.h"
+#include "graftnav/estimation/nav_solution.h"
 #include "graftnav/filters/ins_error_model.h"
 
 namespace graftnav {

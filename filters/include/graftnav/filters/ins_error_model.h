@@ -25,8 +25,8 @@
 #include <Eigen/Core>
 #include <array>
 
-#include "graftnav/core/imu_profile.h"
-#include "graftnav/core/types.h"
+#include "graftnav/imu/imu_profile.h"
+#include "graftnav/nav/types.h"
 
 namespace graftnav {
 

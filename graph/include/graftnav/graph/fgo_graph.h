@@ -14,7 +14,7 @@
 #include <memory>
 #include <vector>
 
-#include "graftnav/core/nav_solution.h"
+#include "graftnav/estimation/nav_solution.h"
 #include "graftnav/graph/bias_factor.h"
 #include "graftnav/graph/fgo_options.h"
 #include "graftnav/graph/gnss_position_factor.h"

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "graftnav/core/nav_solution.h"
+#include "graftnav/estimation/nav_solution.h"
 #include "graftnav/graph/fgo_options.h"
 
 namespace graftnav {

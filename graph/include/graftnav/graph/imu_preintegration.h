@@ -18,7 +18,7 @@
 
 #include <Eigen/Core>
 
-#include "graftnav/core/types.h"
+#include "graftnav/nav/types.h"
 
 namespace graftnav {
 

@@ -12,8 +12,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "graftnav/core/earth.h"
-#include "graftnav/core/types.h"
+#include "graftnav/nav/earth.h"
+#include "graftnav/nav/types.h"
 
 namespace graftnav {
 

@@ -11,7 +11,7 @@
 //   r_phi = Log(^dR^T R_i^T Exp(omega_ie_w T) R_j)
 // whitened by the preintegration's square-root information. With earth_rotation = false,
 // omega_ie_w is taken as zero (gravity stays), which is the uncompensated preintegration.
-// Analytic Jacobians (docs/fgo.md), checked against numeric ones in tests/graph.
+// Analytic Jacobians (docs/fgo.md), checked against numeric ones in graph/tests.
 
 #include <ceres/sized_cost_function.h>
 

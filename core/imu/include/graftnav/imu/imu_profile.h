@@ -1,0 +1,31 @@
+#pragma once
+// Stochastic and deterministic specification of an IMU, in SI units. Files (configs/imu/*.yaml,
+// case.yaml) carry the seed's Table 1 units (deg/sqrt(h), m/s/sqrt(h), deg/h, mg, ppm); they are
+// converted once, in the parser (core/io/src/imu_profile_io.cpp), never elsewhere.
+
+#include <string>
+
+namespace graftnav {
+
+struct ImuProfile {
+  std::string name;   // e.g. "POS310-like"
+  std::string grade;  // navigation | tactical | mems
+  // White noise: angle random walk (rad/sqrt(s)) and velocity random walk (m/s/sqrt(s)).
+  double arw_rad_sqrt_s = 0.0;
+  double vrw_m_s_sqrt_s = 0.0;
+  // Bias instability modelled as first-order Gauss-Markov: 1-sigma (SI) and correlation time.
+  double gyro_bias_instability_rad_s = 0.0;
+  double accel_bias_instability_m_s2 = 0.0;
+  double gyro_bias_corr_time_s = 3600.0;
+  double accel_bias_corr_time_s = 3600.0;
+  // Scale-factor uncertainty (fraction, 1e-6 = 1 ppm) and its Gauss-Markov correlation time.
+  double gyro_scale_std = 0.0;
+  double accel_scale_std = 0.0;
+  double scale_corr_time_s = 3600.0;
+  // Turn-on (initial) bias uncertainty, used as the filter's initial bias covariance; defaults to
+  // the bias instability when not given.
+  double gyro_bias_initial_std_rad_s = 0.0;
+  double accel_bias_initial_std_m_s2 = 0.0;
+};
+
+}  // namespace graftnav

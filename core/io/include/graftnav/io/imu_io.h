@@ -1,0 +1,56 @@
+#pragma once
+// IMU text files (dataset.md): `t dtheta_x dtheta_y dtheta_z dvel_x dvel_y dvel_z [temp_degC]`,
+// t = GNSS seconds of week at the END of the interval, increments in rad and m/s, body FRD.
+//
+// Strict by default: a malformed line, a wrong column count, NaN/inf, a time not after the
+// previous one, an uneven interval or a gap is a std::runtime_error "path:line: ...". For real
+// recordings, ImuReadPolicy::real() turns the conditions into counted warnings or repairs that are
+// listed in a ReadReport (see docs/io.md).
+
+#include <string>
+
+#include "graftnav/io/text_table.h"
+#include "graftnav/nav/types.h"
+
+namespace graftnav {
+
+struct ImuReadPolicy {
+  // |dt - nominal| > uneven_tolerance * nominal (and not a gap): kError or kWarn (kept as is;
+  // dt_s is the actual interval).
+  ReadRule uneven_interval = ReadRule::kError;
+  double uneven_tolerance = 0.05;
+  // dt > gap_factor * nominal: kError or kWarn (kept; the sample after the gap carries dt_s = gap,
+  // its increments are whatever the file says; nothing is interpolated).
+  ReadRule gap = ReadRule::kError;
+  double gap_factor = 1.5;
+  // Time equal to the previous: kError or kRepair (drop an identical line; differing = error).
+  ReadRule duplicate_stamp = ReadRule::kError;
+  // Time before the previous: kError or kRepair (drop the line, at most 100 in a row).
+  ReadRule backwards_stamp = ReadRule::kError;
+
+  static ImuReadPolicy strict() { return {}; }
+  // For real recordings: warn on uneven intervals and gaps, repair duplicates and backwards stamps.
+  static ImuReadPolicy real();
+  // Throws std::invalid_argument naming the field when a rule does not fit its condition.
+  void validate() const;
+};
+
+struct ImuReadOptions {
+  // Nominal sample rate; 0 = unknown, then the nominal interval is the median interval of the file.
+  // The first sample's dt_s is 1/nominal_rate_hz when given, else the file's second interval.
+  double nominal_rate_hz = 0.0;
+  ImuReadPolicy policy;
+};
+
+// Reads an IMU file. Fills *report (when given) with counts and examples of every condition met.
+// Throws std::runtime_error naming path, line and value on any error (missing file, empty file,
+// malformed line, column count not 7/8, NaN/inf, and the conditions whose rule is kError).
+ImuSeries readImu(const std::string& path, const ImuReadOptions& options = {}, ReadReport* report = nullptr);
+
+// Writes an IMU file atomically: time %.9f, increments %.16e (17 significant digits: exact round
+// trip), temperature %.4f as an 8th column when every sample has one (all or none, else throws
+// std::invalid_argument). Throws std::invalid_argument on non-finite values or times not strictly
+// increasing (naming the sample index), std::runtime_error on I/O failure.
+void writeImu(const std::string& path, const ImuSeries& imu);
+
+}  // namespace graftnav

@@ -1,0 +1,32 @@
+#pragma once
+// Navigation files (.nav, dataset.md): `week sow lat_deg lon_deg h_m vn ve vd roll_deg pitch_deg
+// yaw_deg`; Euler angles are ZYX of body (FRD) in NED, converted to/from q_nb with rotation.h.
+// NavState.t_s is the seconds of week, NavState.gnss_week the week. Times must increase
+// (compared as week * 604800 + sow, so a week rollover is allowed).
+
+#include <string>
+
+#include "graftnav/io/text_table.h"
+#include "graftnav/nav/types.h"
+
+namespace graftnav {
+
+struct NavReadPolicy {
+  ReadRule duplicate_stamp = ReadRule::kError;  // kError | kRepair (drop an identical line)
+  ReadRule backwards_stamp = ReadRule::kError;  // kError | kRepair (drop the line)
+  static NavReadPolicy strict() { return {}; }
+  static NavReadPolicy real();  // repair both
+  void validate() const;
+};
+
+// Throws std::runtime_error naming path:line for a missing or empty file, a malformed line, a column
+// count other than 11, NaN/inf, a non-integer or negative week, latitude outside [-90, 90], and the
+// conditions whose rule is kError.
+NavSeries readNav(const std::string& path, const NavReadPolicy& policy = {}, ReadReport* report = nullptr);
+
+// Atomic writer: week %d, sow %.9f, lat/lon %.11f deg, height %.6f m, velocity %.6f m/s, roll and
+// pitch %.9f deg, yaw %.9f deg in [0, 360). Throws std::invalid_argument on non-finite values or
+// times not strictly increasing.
+void writeNav(const std::string& path, const NavSeries& nav);
+
+}  // namespace graftnav

@@ -1,0 +1,152 @@
+#include "graftnav/io/imu_io.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <stdexcept>
+#include <vector>
+
+#include "graftnav/io/atomic_file.h"
+
+namespace graftnav {
+
+ImuReadPolicy ImuReadPolicy::real() {
+  ImuReadPolicy p;
+  p.uneven_interval = ReadRule::kWarn;
+  p.gap = ReadRule::kWarn;
+  p.duplicate_stamp = ReadRule::kRepair;
+  p.backwards_stamp = ReadRule::kRepair;
+  return p;
+}
+
+void ImuReadPolicy::validate() const {
+  requireRule(uneven_interval, {ReadRule::kError, ReadRule::kWarn}, "ImuReadPolicy.uneven_interval");
+  requireRule(gap, {ReadRule::kError, ReadRule::kWarn}, "ImuReadPolicy.gap");
+  requireRule(duplicate_stamp, {ReadRule::kError, ReadRule::kRepair}, "ImuReadPolicy.duplicate_stamp");
+  requireRule(backwards_stamp, {ReadRule::kError, ReadRule::kRepair}, "ImuReadPolicy.backwards_stamp");
+  if (!(uneven_tolerance > 0.0) || !std::isfinite(uneven_tolerance))
+    throw std::invalid_argument("ImuReadPolicy.uneven_tolerance must be > 0, got " + std::to_string(uneven_tolerance));
+  if (!(gap_factor > 1.0) || !std::isfinite(gap_factor))
+    throw std::invalid_argument("ImuReadPolicy.gap_factor must be > 1, got " + std::to_string(gap_factor));
+}
+
+namespace {
+const char* const kImuColumns[] = {"time", "dtheta_x", "dtheta_y", "dtheta_z",
+                                   "dvel_x", "dvel_y", "dvel_z", "temperature"};
+
+std::string fmtDt(double dt_s, double nominal_s) {
+  return fmt::format("dt {:.6f} s = {:.3f} x nominal {:.6f} s", dt_s, dt_s / nominal_s, nominal_s);
+}
+}  // namespace
+
+ImuSeries readImu(const std::string& path, const ImuReadOptions& options, ReadReport* report_out) {
+  const ImuReadPolicy& policy = options.policy;
+  policy.validate();
+  if (!(options.nominal_rate_hz >= 0.0) || !std::isfinite(options.nominal_rate_hz))
+    throw std::invalid_argument(path + ": ImuReadOptions.nominal_rate_hz must be >= 0, got " +
+                                std::to_string(options.nominal_rate_hz));
+  ReadReport local_report;
+  ReadReport& report = report_out ? *report_out : local_report;
+  report = ReadReport{};
+  report.path = path;
+
+  TextTableReader reader(path);
+  ImuSeries imu;
+  std::vector<int> lines;  // line number of each kept sample, for messages of the interval checks
+  const std::size_t max_lines = reader.physicalLineCount();
+  imu.reserve(max_lines);
+  lines.reserve(max_lines);
+  TimeOrderGuard order(policy.duplicate_stamp, policy.backwards_stamp);
+  int first_column_count = 0;
+  while (reader.next()) {
+    ++report.data_lines;
+    reader.requireColumns(7, 8, "IMU");
+    if (first_column_count == 0) first_column_count = reader.columnCount();
+    if (reader.columnCount() != first_column_count)
+      reader.fail("IMU line has " + std::to_string(reader.columnCount()) + " columns but line 1 of the data has " +
+                  std::to_string(first_column_count) + " (temperature column must be all or none)");
+    reader.requireFinite(kImuColumns);
+    const double* v = reader.values();
+    if (!order.accept(reader, v[0], 0, report)) continue;
+    ImuSample s;
+    s.t_s = v[0];
+    s.dtheta_rad = Eigen::Vector3d(v[1], v[2], v[3]);
+    s.dvel_m_s = Eigen::Vector3d(v[4], v[5], v[6]);
+    if (reader.columnCount() == 8) s.temperature_degC = v[7];
+    imu.push_back(s);
+    lines.push_back(reader.lineNumber());
+  }
+  if (imu.empty()) throw std::runtime_error(path + ": no IMU samples in the file");
+  if (imu.size() < 2 && options.nominal_rate_hz <= 0.0)
+    throw std::runtime_error(path + ": a single IMU sample and no nominal rate: its interval is unknown");
+
+  for (std::size_t k = 1; k < imu.size(); ++k) imu[k].dt_s = imu[k].t_s - imu[k - 1].t_s;
+  double nominal_s;
+  if (options.nominal_rate_hz > 0.0) {
+    nominal_s = 1.0 / options.nominal_rate_hz;
+  } else {
+    std::vector<double> dts;
+    dts.reserve(imu.size() - 1);
+    for (std::size_t k = 1; k < imu.size(); ++k) dts.push_back(imu[k].dt_s);
+    std::nth_element(dts.begin(), dts.begin() + dts.size() / 2, dts.end());
+    nominal_s = dts[dts.size() / 2];
+  }
+  imu[0].dt_s = options.nominal_rate_hz > 0.0 ? nominal_s : imu[1].dt_s;
+
+  // Interval checks (times already strictly increase).
+  for (std::size_t k = 1; k < imu.size(); ++k) {
+    const double dt = imu[k].dt_s;
+    if (dt > policy.gap_factor * nominal_s) {
+      const std::string what = "gap: " + fmtDt(dt, nominal_s) + " after time " + fmt::format("{:.6f}", imu[k - 1].t_s);
+      if (policy.gap == ReadRule::kError)
+        throw std::runtime_error(path + ":" + std::to_string(lines[k]) + ": " + what);
+      report.note(ReadCondition::kGap, lines[k], what);
+    } else if (std::fabs(dt - nominal_s) > policy.uneven_tolerance * nominal_s) {
+      const std::string what = "uneven interval: " + fmtDt(dt, nominal_s) + " (tolerance " +
+                               fmt::format("{:g}", 100.0 * policy.uneven_tolerance) + " %)";
+      if (policy.uneven_interval == ReadRule::kError)
+        throw std::runtime_error(path + ":" + std::to_string(lines[k]) + ": " + what);
+      report.note(ReadCondition::kUnevenInterval, lines[k], what);
+    }
+  }
+  report.records_kept = static_cast<int>(imu.size());
+  return imu;
+}
+
+void writeImu(const std::string& path, const ImuSeries& imu) {
+  if (imu.empty()) throw std::invalid_argument(path + ": writeImu: no samples");
+  const bool with_temperature = imu.front().hasTemperature();
+  for (std::size_t k = 0; k < imu.size(); ++k) {
+    const ImuSample& s = imu[k];
+    if (s.hasTemperature() != with_temperature)
+      throw std::invalid_argument(path + ": writeImu: sample " + std::to_string(k) +
+                                  " differs from sample 0 in having a temperature (all or none)");
+    if (!std::isfinite(s.t_s) || !s.dtheta_rad.allFinite() || !s.dvel_m_s.allFinite() ||
+        (with_temperature && !std::isfinite(s.temperature_degC)))
+      throw std::invalid_argument(path + ": writeImu: sample " + std::to_string(k) + " has a non-finite value");
+    if (k > 0 && !(s.t_s > imu[k - 1].t_s))
+      throw std::invalid_argument(path + ": writeImu: sample " + std::to_string(k) + " time " +
+                                  fmt::format("{:.9f}", s.t_s) + " is not after previous " +
+                                  fmt::format("{:.9f}", imu[k - 1].t_s));
+  }
+  AtomicFile file(path);
+  fmt::memory_buffer buf;
+  for (const ImuSample& s : imu) {
+    const auto& a = s.dtheta_rad;
+    const auto& v = s.dvel_m_s;
+    fmt::format_to(std::back_inserter(buf), "{:.9f} {:.16e} {:.16e} {:.16e} {:.16e} {:.16e} {:.16e}", s.t_s, a.x(),
+                   a.y(), a.z(), v.x(), v.y(), v.z());
+    if (with_temperature) fmt::format_to(std::back_inserter(buf), " {:.4f}", s.temperature_degC);
+    buf.push_back('\n');
+    if (buf.size() > (1u << 20)) {
+      file.write(std::string_view(buf.data(), buf.size()));
+      buf.clear();
+    }
+  }
+  file.write(std::string_view(buf.data(), buf.size()));
+  file.commit();
+}
+
+}  // namespace graftnav

@@ -1,0 +1,238 @@
+// Robust reading of real files (issue 8 item 3): slices of the real recordings read strictly, and
+// the same slices with injected faults read under ImuReadPolicy/GnssReadPolicy/NavReadPolicy::real(),
+// where every condition must be counted with its line number and nothing dropped silently.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "graftnav/io/gnss_io.h"
+#include "graftnav/io/imu_io.h"
+#include "graftnav/io/nav_io.h"
+#include "test_support.h"
+
+namespace graftnav {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string realDir() { return test::sharedDir() + "/data/real/yandld_20220405_rtk/field/"; }
+
+// First n lines of a file; empty when the file is absent.
+std::vector<std::string> headLines(const std::string& path, int n) {
+  std::vector<std::string> lines;
+  std::ifstream f(path);
+  std::string line;
+  while (static_cast<int>(lines.size()) < n && std::getline(f, line)) lines.push_back(line);
+  return lines;
+}
+
+void writeLines(const std::string& path, const std::vector<std::string>& lines) {
+  std::ofstream f(path, std::ios::binary);
+  for (const auto& l : lines) f << l << '\n';
+}
+
+// Replaces column col (0-based) of a whitespace-separated line.
+std::string setColumn(const std::string& line, int col, const std::string& value) {
+  std::istringstream in(line);
+  std::vector<std::string> tok;
+  std::string t;
+  while (in >> t) tok.push_back(t);
+  tok.at(col) = value;
+  std::string out;
+  for (std::size_t i = 0; i < tok.size(); ++i) out += (i ? " " : "") + tok[i];
+  return out;
+}
+
+#define REQUIRE_REAL_FILE(path)                                                                  \
+  GRAFTNAV_REQUIRE_SHARED_PATH(path)
+
+int exampleLine(const ReadReport& r, ReadCondition c, int index = 0) {
+  int seen = 0;
+  for (const auto& ex : r.examples)
+    if (ex.condition == c && seen++ == index) return ex.line;
+  return -1;
+}
+
+TEST(IoRobust, RealSlicesReadStrictly) {
+  const std::string dir = test::makeTempDir("io");
+  REQUIRE_REAL_FILE(realDir() + "tested_imu.txt");
+  writeLines(dir + "/imu.txt", headLines(realDir() + "tested_imu.txt", 3000));
+  writeLines(dir + "/gnss.pos", headLines(realDir() + "gnss.pos", 400));
+  writeLines(dir + "/gnss_fixtype.txt", headLines(realDir() + "gnss_fixtype.txt", 400));
+  writeLines(dir + "/reference.nav", headLines(realDir() + "reference.nav", 1000));
+  ImuReadOptions opt;
+  opt.nominal_rate_hz = 100.0;
+  ReadReport imu_report;
+  const ImuSeries imu = readImu(dir + "/imu.txt", opt, &imu_report);
+  EXPECT_EQ(imu.size(), 3000u);
+  EXPECT_TRUE(imu_report.clean()) << imu_report.summary();
+  EXPECT_DOUBLE_EQ(imu.front().t_s, 203294.532);
+  EXPECT_DOUBLE_EQ(imu.front().dt_s, 0.01);
+  EXPECT_DOUBLE_EQ(imu.front().dvel_m_s.z(), -0.09122);
+
+  std::vector<ReadReport> reports;
+  const GnssSeries gnss = readGnss(dir + "/gnss.pos", dir + "/gnss_fixtype.txt", GnssReadPolicy::strict(), &reports);
+  ASSERT_EQ(gnss.size(), 400u);
+  int single = 0;
+  for (const auto& f : gnss) {
+    EXPECT_TRUE(f.fix_type == 1 || f.fix_type == 4 || f.fix_type == 5) << f.fix_type;
+    EXPECT_GT(f.num_sv, 0);
+    single += f.fix_type == 1;
+  }
+  EXPECT_GT(single, 0);
+  EXPECT_EQ(gnss.front().fix_type, 1);
+  EXPECT_EQ(gnss.front().num_sv, 45);
+  // 10 Hz receive-time stamps: off whole seconds, counted but not an error.
+  EXPECT_GT(reports[0].count(ReadCondition::kOffWholeSecond), 300);
+  EXPECT_EQ(reports[0].count(ReadCondition::kZeroStd), 0);
+
+  const NavSeries nav = readNav(dir + "/reference.nav");
+  EXPECT_EQ(nav.size(), 1000u);
+  EXPECT_EQ(nav.front().gnss_week, 2204);
+}
+
+TEST(IoRobust, ImuFaultsAreCountedWithLinesUnderRealPolicy) {
+  const std::string dir = test::makeTempDir("io");
+  REQUIRE_REAL_FILE(realDir() + "tested_imu.txt");
+  std::vector<std::string> l = headLines(realDir() + "tested_imu.txt", 1000);
+  // Faults, applied from the end so earlier indexes stay valid (line number = index + 1):
+  //  uneven: stamp of line 701 moved by +0.003 s (intervals 1.3 and 0.7 x nominal)
+  const double t700 = std::stod(l[700].substr(0, l[700].find(' ')));
+  l[700] = setColumn(l[700], 0, std::to_string(t700 + 0.003));
+  //  gap: original lines 501-505 deleted (one interval of 6 x nominal)
+  l.erase(l.begin() + 500, l.begin() + 505);
+  //  backwards: a copy of line 298 inserted after line 300 (new line 301)
+  l.insert(l.begin() + 300, l[297]);
+  //  duplicate: line 100 repeated identically (new line 101)
+  l.insert(l.begin() + 100, l[99]);
+  writeLines(dir + "/imu.txt", l);
+
+  ImuReadOptions strict;
+  strict.nominal_rate_hz = 100.0;
+  EXPECT_THAT([&] { readImu(dir + "/imu.txt", strict); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("imu.txt:101: time")));
+
+  // Line numbers after the edits: duplicate 101, backwards 302, gap 503 (original 506), uneven
+  // 698 and 699 (original 701 and 702).
+  ImuReadOptions real = strict;
+  real.policy = ImuReadPolicy::real();
+  ReadReport r;
+  const ImuSeries imu = readImu(dir + "/imu.txt", real, &r);
+  EXPECT_EQ(r.data_lines, 1000 - 5 + 2);
+  EXPECT_EQ(r.count(ReadCondition::kDuplicateStamp), 1);
+  EXPECT_EQ(exampleLine(r, ReadCondition::kDuplicateStamp), 101);
+  EXPECT_EQ(r.count(ReadCondition::kBackwardsStamp), 1);
+  EXPECT_EQ(exampleLine(r, ReadCondition::kBackwardsStamp), 302);
+  EXPECT_EQ(r.count(ReadCondition::kGap), 1);
+  EXPECT_EQ(exampleLine(r, ReadCondition::kGap), 503);
+  EXPECT_EQ(r.count(ReadCondition::kUnevenInterval), 2);
+  EXPECT_EQ(exampleLine(r, ReadCondition::kUnevenInterval, 0), 698);
+  EXPECT_EQ(exampleLine(r, ReadCondition::kUnevenInterval, 1), 699);
+  EXPECT_EQ(r.records_dropped, 2);
+  EXPECT_EQ(r.records_kept, static_cast<int>(imu.size()));
+  EXPECT_EQ(r.records_kept + r.records_dropped, r.data_lines);
+  EXPECT_NEAR(imu[500].dt_s, 0.06, 1e-9);  // the sample after the gap carries the whole interval
+  const std::string summary = r.summary();
+  EXPECT_THAT(summary, HasSubstr("1 x gap"));
+  EXPECT_THAT(summary, HasSubstr("line 503"));
+
+  // The nominal rate is not needed: without it the median interval is used, same verdicts.
+  ImuReadOptions no_rate = real;
+  no_rate.nominal_rate_hz = 0.0;
+  ReadReport r2;
+  readImu(dir + "/imu.txt", no_rate, &r2);
+  EXPECT_EQ(r2.counts, r.counts);
+
+  // A duplicated stamp with different values is never repaired.
+  std::vector<std::string> d = headLines(realDir() + "tested_imu.txt", 50);
+  d.insert(d.begin() + 20, setColumn(d[19], 3, "1e-3"));
+  writeLines(dir + "/dup_diff.txt", d);
+  EXPECT_THAT([&] { readImu(dir + "/dup_diff.txt", real); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("dup_diff.txt:21: time")));
+  // A long backwards run is not repairable.
+  std::vector<std::string> b = headLines(realDir() + "tested_imu.txt", 400);
+  const std::vector<std::string> early(b.begin(), b.begin() + 150);
+  b.insert(b.begin() + 300, early.begin(), early.end());
+  writeLines(dir + "/back_run.txt", b);
+  EXPECT_THAT([&] { readImu(dir + "/back_run.txt", real); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("not repairable")));
+}
+
+TEST(IoRobust, GnssFaultsAreCountedUnderRealPolicy) {
+  const std::string dir = test::makeTempDir("io");
+  REQUIRE_REAL_FILE(realDir() + "gnss.pos");
+  std::vector<std::string> pos = headLines(realDir() + "gnss.pos", 200);
+  std::vector<std::string> ft = headLines(realDir() + "gnss_fixtype.txt", 200);
+  pos[9] = setColumn(pos[9], 5, "0.0000");    // zero std east at line 10
+  pos.insert(pos.begin() + 20, pos[19]);       // identical duplicate at line 21
+  ft.resize(190);                              // the last 10 .pos epochs have no fix type
+  writeLines(dir + "/gnss.pos", pos);
+  writeLines(dir + "/gnss_fixtype.txt", ft);
+
+  EXPECT_THAT([&] { readGnssPos(dir + "/gnss.pos"); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("gnss.pos:10: std_east is '0.0000'")));
+  std::vector<ReadReport> reports;
+  const GnssReadPolicy real = GnssReadPolicy::real();
+  const GnssSeries g = readGnss(dir + "/gnss.pos", dir + "/gnss_fixtype.txt", real, &reports);
+  ASSERT_EQ(reports.size(), 2u);
+  EXPECT_EQ(g.size(), 200u);
+  EXPECT_EQ(reports[0].count(ReadCondition::kZeroStd), 1);
+  EXPECT_EQ(exampleLine(reports[0], ReadCondition::kZeroStd), 10);
+  EXPECT_DOUBLE_EQ(g[9].std_ned_m.y(), real.std_floor_m);
+  EXPECT_EQ(reports[0].count(ReadCondition::kDuplicateStamp), 1);
+  EXPECT_EQ(exampleLine(reports[0], ReadCondition::kDuplicateStamp), 21);
+  EXPECT_EQ(reports[0].records_dropped, 1);
+  EXPECT_EQ(reports[1].count(ReadCondition::kUnmatchedEpoch), 10);
+  double t189 = 0.0;
+  int type189 = -1;
+  std::istringstream(ft[189]) >> t189 >> type189;
+  EXPECT_EQ(g[189].fix_type, type189);
+  EXPECT_EQ(g[190].fix_type, 0);  // unknown
+  // Strict: the unmatched epochs are an error naming the fix-type file.
+  EXPECT_THAT([&] { readGnss(dir + "/gnss.pos", dir + "/gnss_fixtype.txt", [] {
+                      GnssReadPolicy p;
+                      p.zero_std = ReadRule::kRepair;
+                      p.duplicate_stamp = ReadRule::kRepair;
+                      return p;
+                    }()); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("gnss_fixtype.txt: GNSS epoch")));
+}
+
+TEST(IoRobust, NavDuplicateRepairedUnderRealPolicy) {
+  const std::string dir = test::makeTempDir("io");
+  REQUIRE_REAL_FILE(realDir() + "reference.nav");
+  std::vector<std::string> nav = headLines(realDir() + "reference.nav", 300);
+  nav.insert(nav.begin() + 50, nav[49]);
+  writeLines(dir + "/reference.nav", nav);
+  EXPECT_THROW(readNav(dir + "/reference.nav"), std::runtime_error);
+  ReadReport r;
+  EXPECT_EQ(readNav(dir + "/reference.nav", NavReadPolicy::real(), &r).size(), 300u);
+  EXPECT_EQ(r.count(ReadCondition::kDuplicateStamp), 1);
+  EXPECT_EQ(exampleLine(r, ReadCondition::kDuplicateStamp), 51);
+}
+
+TEST(IoRobust, PolicyRulesAreValidated) {
+  ImuReadPolicy p;
+  p.gap = ReadRule::kRepair;  // nothing would be a faithful repair of missing samples
+  EXPECT_THAT([&] { p.validate(); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("ImuReadPolicy.gap")));
+  p = ImuReadPolicy::real();
+  EXPECT_NO_THROW(p.validate());
+  p.duplicate_stamp = ReadRule::kWarn;
+  EXPECT_THROW(p.validate(), std::invalid_argument);
+  GnssReadPolicy g;
+  g.zero_std = ReadRule::kWarn;
+  EXPECT_THROW(g.validate(), std::invalid_argument);
+  g = GnssReadPolicy::real();
+  g.std_floor_m = 0.0;
+  EXPECT_THROW(g.validate(), std::invalid_argument);
+  NavReadPolicy n;
+  n.backwards_stamp = ReadRule::kWarn;
+  EXPECT_THROW(n.validate(), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace graftnav

@@ -1,0 +1,186 @@
+#pragma once
+// The library of candidate physics terms the mismatch finder can use to explain the residual
+// r = real - simulated (per bin, channels [gyro x, y, z (rad/s), accel x, y, z (m/s^2)]).
+//
+// Every term is linear in its parameters: r ~= sum_j theta_j u_j(t), where each regressor u_j is
+// built from the reference signals x (the true inputs: omega, f), their derivatives, temperature,
+// a vibration level or the attitude. A term's names and parameter keys are those of
+// diagnosis.json (issue 7 item 5) and of ImuErrorModel (imu_error_terms.h). First-order forms:
+//
+//  bias_instability        r_i = b_i(t), piecewise linear in time with knots every knot_s
+//                          (the first knot is spanned by the nuisance constant)
+//  scale_factor            r_i = k_i x_i
+//  non_orthogonality       r_i = sum_{j != i} N_ij x_j
+//  g_sensitivity (gyro)    r_i = sum_j G_ij f_j
+//  scale_asymmetry         r_i = k_pos_i max(x_i, 0) + k_neg_i min(x_i, 0)  (spans scale_factor,
+//                          so it replaces it: the gains reported are the whole gains per sign)
+//  scale_nonlinearity      r_i = k2_i x_i^2
+//  temperature_bias        r_i = p_i (T - T_ref)      (T of the tested IMU, T_ref its mean; or
+//                          T - T_sim when the simulation carries its own temperature history)
+//  temperature_scale       r_i = s_i (T - T_ref) x_i
+//  time_offset (both)      r = tau u(t), u = -dx/dt or the chord (x(t - tau0) - x(t)) / tau0
+//  lever_arm (accel)       r = omega_dot x r_m + omega x (omega x r_m)
+//  mounting_misalignment   r_gyro = omega x phi, r_accel = f x phi  (C_tb = I - [phi x])
+//  scale_asymmetry, replacing the lab quadratic (regressor "replaces_lab_quadratic"; only when
+//                          SG#2 grafts a lab c2 on the sensor): r_i = d_i |x_i| plus the fixed
+//                          part lab_quadratic_replaced, -c2_i x_i^2. The lab's +-g poses (the
+//                          rate table's +-turns) see an asymmetric gain d |x| as c2 x^2 with
+//                          c2 ~ d / g, so SG#2 carries a quadratic the sensor does not have; on the
+//                          field's small inputs the plain |x| column took up -c2 x^2 and the lab's
+//                          c2 was then claimed as the sensor's non-linearity (CRN random_14_26).
+//                          The two asymmetry terms exclude each other.
+//  vibration_rectification r_i = c_i v(t), v the VibrationRegressor level of the reference
+//  earth_rotation_omitted  r_gyro = C_bn omega_ie_n, coefficient fixed at 1 (no free parameter)
+//  gravity_model (accel)   r = -C_bn [0, 0, 1] dg   (dg = true minus simulated gravity, m/s^2)
+// A constant bias per channel (optionally a linear drift too) is always in the model (turn-on
+// bias differs between lab and field); it is a nuisance, not a claimed effect.
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "graftnav/mismatch/common_grid.h"
+
+namespace graftnav {
+
+constexpr int kMismatchChannels = 6;  // gyro x, y, z, accel x, y, z
+
+// One regressor: its values on the channels it acts on (empty vector = 0 on that channel).
+struct RegressorColumn {
+  std::array<Eigen::VectorXd, kMismatchChannels> channel;
+  bool actsOn(int c) const { return channel[c].size() > 0; }
+};
+
+struct CandidateTerm {
+  std::string name;         // diagnosis.json effect name ("constant_bias" for the nuisance)
+  std::string sensor;       // "gyro" | "accel" | "both"
+  std::string regressor;    // vibration_rectification: regressor name; the accelerometer's
+                            // symmetric non_orthogonality: "symmetric"; else empty
+  std::string explanation;  // plain-language physics
+  std::vector<RegressorColumn> columns;
+  bool nuisance = false;    // always in the model, never claimed
+  bool fixed = false;       // coefficients fixed at 1 (earth_rotation_omitted)
+  // Never selected on its own: only the selection's gauge step puts it in a final model (the
+  // symmetric accelerometer non_orthogonality; term_selection.h, step 4).
+  bool gauge_only = false;
+  std::vector<std::string> excludes;  // keys of terms this one replaces when added
+  // Names of other terms of the same sensor whose regressors are another shape of the same
+  // physics on this data (scale_asymmetry's |x| and scale_nonlinearity's x^2): a selected term
+  // is named only when it beats the best of them (term_selection.h, step 5).
+  std::vector<std::string> shape_alternatives;
+  // Keys of terms that must be in the model when this one is tested (its evidence is measured
+  // against the model with them) and that stay in it while this one does (a companion that fails
+  // its own test is fitted but not claimed): the near-constant earth/gravity regressors must beat
+  // a wandering bias before they are believed, and a quadratic is measured beyond the linear
+  // term of its sensor (scale_nonlinearity requires scale_factor).
+  std::vector<std::string> requires_terms;
+  // How a forward step measures this term when its required terms are not in the model yet:
+  // false, against the model with them (the earth/gravity terms must beat a wander that is
+  // there anyway); true, together with them against the model (hierarchy: a quadratic enters
+  // with its linear term and pays for both).
+  bool paid_requires = false;
+  // Key of the term this fixed one completes (mounting_rotation_remainder: the rotation's
+  // remainder at its pivot): in a model only with that term, never selected or claimed alone.
+  std::string part_of;
+  double knot_spacing_s = 0.0;        // bias_instability only
+  double t_ref_degC = 0.0;            // temperature terms only
+  // The term's record mean is a physical offset from the simulation, not a part of the constant
+  // bias it cannot be told from: temperature_bias regressed on the tested minus the simulation's
+  // temperature is per_degC (T - T_sim), whose mean is the bias change between the temperature
+  // behind the simulation's bias (the lab's) and the field's. SG#3 grafts such a term in full;
+  // every other term only as its variation (diagnosis.cpp, step 6).
+  bool mean_is_physical = false;
+  std::string key() const { return name + ":" + sensor + (regressor.empty() ? "" : ":" + regressor); }
+};
+
+// What the regressors are built from, all on one grid.
+struct RegressorInputs {
+  BinnedImu reference;                  // true inputs x (reference IMU signals, binned)
+  Eigen::MatrixXd time_offset_column;   // n x 6 (timeOffsetRegressor) or empty: no term
+  Eigen::VectorXd tested_temperature_degC;  // n, or empty / NaN: no temperature terms
+  // n, optional: the temperature behind the simulation's own bias (e.g. the tiled lab record of
+  // SG#2, whose basic error signal carries the lab warm-up). When given, temperature_bias regresses
+  // on T_tested - T_simulated: the simulation already holds p (T_simulated - T_ref).
+  Eigen::VectorXd simulated_temperature_degC;
+  // n x 3, optional: bin means of the angular acceleration (angularAccelerationPerBin); without
+  // it the lever arm uses central differences of the bin means, which attenuate road
+  // oscillations of a few Hz (~10 % at 2.5 Hz with 0.05-s bins) and so overstate r_m.
+  Eigen::MatrixX3d omega_dot_rad_s2;
+  // Optional (binEvenPowers, on the grid and shift of `reference`): bin means of |x| and x^2
+  // per sample, the inputs of scale_asymmetry and scale_nonlinearity (empty: |bin mean| and
+  // bin mean^2, exact without within-bin vibration).
+  EvenPowerBins even_powers;
+  Eigen::VectorXd vibration_f_hp_sq;    // n, specific_force_hp_sq level, or empty
+  // n x 3, optional: the specific force the tested gyros feel, g_sensitivity's columns (the
+  // reference's moved to the tested IMU by a fitted lever arm; empty: reference.f_m_s2).
+  Eigen::MatrixX3d g_sensitivity_f_m_s2;
+  Eigen::VectorXd vibration_w_hp_sq;    // n, angular_rate_hp_sq level, or empty
+  // The tested IMU's accelerometer response as the lab calibrated it,
+  // y_i = c0 + c1 x_i + c2_i x_i^2 + sum_j M_ij x_j: a motion signal the reference does not carry
+  // (lever-arm acceleration, a mounting rotation's f x phi) reaches the tested output through its
+  // slope J = M + diag(2 c2 f) at the bin's specific force. With f_z ~ -g a c2_z of 8e-4 per
+  // m/s^2 scales the lever arm's z acceleration by -1.6 %. Identity / zero: no lab calibration.
+  Eigen::Matrix3d accel_response_M = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d accel_response_c2 = Eigen::Vector3d::Zero();
+  // The gyro's lab c2 (SG#2's quadratic per axis; zero: none). With accel_response_c2 it also
+  // gives scale_asymmetry its alternative that replaces the lab quadratic (below).
+  Eigen::Vector3d gyro_response_c2 = Eigen::Vector3d::Zero();
+  // The rotation vector (rad) mounting_misalignment is linearized at. Zero: the first-order
+  // columns x x phi. Non-zero (diagnose sets the rotation of a first pass): the columns are the
+  // exact rotation's Jacobian there and a fixed part, mounting_rotation_remainder, carries the
+  // rest, so a rotation of several degrees is not left with second-order "scale" terms.
+  Eigen::Vector3d mounting_rotation_pivot_rad = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Matrix3d> C_bn;    // n attitudes (nav to body) or empty: no earth/gravity terms
+  Eigen::Vector3d omega_ie_n = Eigen::Vector3d::Zero();  // Earth rate in n (rad/s)
+};
+
+struct CandidateLibraryOptions {
+  double knot_spacing_s = 60.0;   // bias_instability knot spacing (s)
+  int max_knots = 20;             // the spacing grows for long records to keep at most this many
+  double min_temperature_span_degC = 0.5;  // temperature terms need this much range
+  // Add a linear drift per channel to the nuisance. Off by default: a drift absorbs most of a
+  // temperature warm-up and costs the temperature terms their power.
+  bool linear_drift_nuisance = false;
+  void validate() const;
+};
+
+// Term 0 is the nuisance (constant bias per channel [+ linear drift], 6 [12] columns); the rest are the candidates whose inputs exist.
+std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& inputs,
+                                                 const CandidateLibraryOptions& options = {});
+
+// The per-bin level of a VibrationRegressor (imu_error_terms.h) run over the samples of `imu`,
+// averaged over the samples whose end tag falls in each bin.
+Eigen::VectorXd vibrationLevelPerBin(const ImuSeries& imu, const GridSpec& grid,
+                                     const std::string& regressor_name, double window_s = 1.0);
+
+// Bin means of the angular acceleration of `imu` on `grid`: (omega(b) - omega(a)) / (b - a) for
+// bin (a, b] (exact for the instantaneous rate omega), omega at an edge from Richardson
+// extrapolation of the mean rates over windows w and 2w centred on it, (4 m_w - m_2w) / 3 (gain
+// error O((f w)^4): 0.2 % at 3.1 Hz, 1.2 % at 5 Hz for w = 0.05 s). Per axis, w is the shortest
+// of h, h/2, h/4, ... (h = bin length, down to a quarter of the sample interval: the integral is
+// band limited between samples) whose white noise in the regressor is at most
+// `max_noise_fraction` of its variance: a short window follows road and engine vibration (a
+// one-bin window's gain turns negative above 1/h = 20 Hz; at w = 1.25 dt 38 Hz of a 100-Hz
+// record still lost 13 %), a long one keeps a noisy reference's noise out of the regressor
+// (errors-in-variables biases r_m towards 0).
+struct AngularAccelerationBins {
+  Eigen::MatrixX3d omega_dot_rad_s2;       // n x 3
+  Eigen::Vector3d window_s;                // the window w chosen per axis
+  Eigen::Vector3d noise_fraction;          // white-noise share of the regressor's variance
+  Eigen::Vector3d rate_noise_sd_rad_s;     // per-sample white noise of the rates (estimate)
+};
+// Throws std::invalid_argument with fewer than 2 samples.
+AngularAccelerationBins angularAccelerationPerBin(const ImuSeries& imu, const GridSpec& grid,
+                                                  double max_noise_fraction = 0.01);
+
+// Per-axis white noise (standard deviation per sample) of the angular rates dtheta / dt of
+// `imu`: half the mean squared first difference over 1-s blocks, the 5th percentile over the
+// blocks (the quietest, e.g. standstills; an upper bound when the record never rests).
+Eigen::Vector3d sampleRateNoiseSd(const ImuSeries& imu);
+
+// Contribution sum_j theta_j u_j of a term on the grid (n x 6). theta has one value per column
+// (ignored for fixed terms, whose coefficients are 1).
+Eigen::MatrixXd termContribution(const CandidateTerm& term, const Eigen::VectorXd& theta, int n);
+
+}  // namespace graftnav

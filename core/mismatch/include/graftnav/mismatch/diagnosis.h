@@ -1,0 +1,239 @@
+#pragma once
+// The mismatch finder's pipeline (issue 7): given the reference signals x, a simulation of the
+// tested IMU and the tested IMU's real recording,
+//   1. bin all three on one grid (common_grid.h);
+//   2. estimate the time offset of the real record by cross-correlation (time_offset.h); it is the
+//      pivot of the time_offset regressor, so the offset is then fitted jointly with the rest;
+//   3. residual r = real - simulated per channel; locate where it departs from noise (locate.h);
+//   4. explain it with the candidate terms (candidate_terms.h, term_selection.h) plus the
+//      quantization lattice of the raw tested samples;
+//   5. model: SG#3 = simulation + the selected terms (each channel's record mean of the model left
+//      out: it is confounded with the constant bias, which is not grafted); residual RMS
+//      before/after on the whole record
+//      and on the second half with a model fitted on the first half only;
+//   6. whatever the model leaves above noise is listed as unexplained, with where it lives.
+
+#include <Eigen/Core>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "graftnav/mismatch/candidate_terms.h"
+#include "graftnav/mismatch/common_grid.h"
+#include "graftnav/mismatch/joint_fit.h"
+#include "graftnav/mismatch/locate.h"
+#include "graftnav/mismatch/term_selection.h"
+#include "graftnav/mismatch/time_offset.h"
+#include "graftnav/mismatch/wander.h"
+#include "graftnav/nav/types.h"
+
+namespace graftnav {
+
+// The quadratic coefficient per axis of the lab's fitting polynomial (measured = c0 + c1 x +
+// c2 x^2, SI; calibration_result.h PolynomialFit), which SG#2 grafts; zero on axes fitted with
+// degree 1.
+struct LabQuadratic {
+  Eigen::Vector3d c2 = Eigen::Vector3d::Zero();
+  Eigen::Vector3d c2_sigma = Eigen::Vector3d::Zero();
+  // The degree-2 coefficient the lab's degree test weighed on every axis, kept or not
+  // (PolynomialFit::c2_tested; NaN: the points support no quadratic): evidence for naming a
+  // field gain on a one-signed axis a curvature (gain_or_curvature.h).
+  Eigen::Vector3d c2_tested = Eigen::Vector3d::Constant(std::nan(""));
+  Eigen::Vector3d c2_tested_sigma = Eigen::Vector3d::Constant(std::nan(""));
+  // The lab fit's response to an asymmetry d |x| (slope: d * slope_per_abs, c2_tested:
+  // d * c2_tested_per_abs) and to a curvature it did not fit (slope: k2 * slope_per_sq); see
+  // PolynomialFit. NaN slope_per_sq counts as 0 (symmetric poses); NaN asymmetry responses: an
+  // asymmetry is not weighed (gain_or_curvature.h).
+  Eigen::Vector3d slope_per_abs = Eigen::Vector3d::Constant(std::nan(""));
+  Eigen::Vector3d slope_per_sq = Eigen::Vector3d::Constant(std::nan(""));
+  Eigen::Vector3d c2_tested_per_abs = Eigen::Vector3d::Constant(std::nan(""));
+};
+
+struct DiagnosisInputs {
+  std::string case_name;
+  ImuSeries reference;   // reference IMU: the true inputs x, reference body frame
+  ImuSeries simulated;   // the simulation of the tested IMU (SG#2, or reference + static bias);
+                         // its temperature column, when every sample has one, is the temperature
+                         // behind its own bias (see RegressorInputs::simulated_temperature_degC)
+  ImuSeries real;        // the tested IMU's field recording
+  std::string simulation_kind;  // e.g. "SG#2" or "reference + static bias", for the report
+  // Initial attitude and position of the reference body (enables the earth_rotation_omitted and
+  // gravity_model terms).
+  std::optional<NavState> initial_state;
+  // Omitted navigation physics (earth_rotation_omitted, gravity_model) can only be missing from a
+  // simulated reference; a recorded reference IMU senses both. Set for simulated cases.
+  bool reference_is_simulated = false;
+  // Attitude of the reference body along the record (e.g. truth.nav of a simulated case); when
+  // empty, the attitude is integrated from initial_state with the reference gyros (Earth rate
+  // removed).
+  NavSeries attitude;
+  // Lab Allan figures of the tested IMU, per sensor. When given, the slow bias wander that two
+  // independent realizations (lab graft and field) of that noise leave in the residual is noise,
+  // not missing physics: a bias_instability term is claimed only beyond it, and a channel whose
+  // fitted wander lies within it is not listed as unexplained (see WanderCheck).
+  std::optional<LabNoiseFigures> lab_gyro_noise;
+  std::optional<LabNoiseFigures> lab_accel_noise;
+  // SG#2 replays the lab's static record (its bias wander included) tiled forward and backward
+  // (GraftedCase): its length and the tiling time at the reference's first sample start. The
+  // slow terms' wander model then holds that replay next to the field's own walk. 0: none.
+  double graft_static_record_s = 0.0;
+  double graft_start_offset_s = 0.0;
+  // 1-sigma of the lab calibration matrices M (calibration_result.h). When given, a scale_factor
+  // or non_orthogonality term is claimed only if some element exceeds 3 x sqrt(fit sigma^2 +
+  // lab sigma^2): a smaller one is the lab calibration's own error, not missing physics.
+  std::optional<Eigen::Matrix3d> lab_gyro_M_sigma;
+  std::optional<Eigen::Matrix3d> lab_accel_M_sigma;
+  // The lab calibration matrices M (scale and cross-axis of the tested IMU). The tested IMU
+  // applies them to the motion it measured at t - tau, so the time offset's signal in the
+  // residual is M (x(t - tau) - x(t)), not x(t - tau) - x(t); with a MEMS scale of 1e-3 the
+  // difference is invisible with independent noise but not under common random numbers.
+  std::optional<Eigen::Matrix3d> lab_gyro_M;
+  std::optional<Eigen::Matrix3d> lab_accel_M;
+  // 1-sigma scale-factor uncertainty of the reference IMU (its profile in case.yaml, a
+  // fraction). The simulation is built on the reference signal, so it carries the reference's own
+  // scale error; with a lab calibration a scale_factor is claimed only beyond 3 x sqrt(fit sigma^2
+  // + lab sigma^2 + this^2) (under common random numbers a navigation-grade reference's 26 ppm
+  // was claimed on a null case).
+  std::optional<double> reference_gyro_scale_sigma;
+  std::optional<double> reference_accel_scale_sigma;
+  // The lab polynomial's quadratic term. When given, scale_nonlinearity reports the sensor's own
+  // k2 (the lab's c2 plus the missing part the residual shows, k2_missing) and is claimed only
+  // if that is non-zero beyond 3 sigma: a residual quadratic that only cancels SG#2's c2 (e.g. a
+  // scale asymmetry folded into c2 on the rate table) is the simulation's artefact, modelled in
+  // SG#3 but not a non-linearity of the sensor. Nor is it claimed when k2_missing is within
+  // 3 x sqrt(fit sigma^2 + c2_sigma^2) on every axis: the lab's c2 is off by no more than its own
+  // uncertainty (calibration error, as for scale_factor; modelled in SG#3).
+  std::optional<LabQuadratic> lab_gyro_quadratic;
+  std::optional<LabQuadratic> lab_accel_quadratic;
+};
+
+struct DiagnoseOptions {
+  double bin_s = 0.05;       // averaging bin (s)
+  double margin_s = 1.0;     // dropped at both ends of the overlap (room for the time shift)
+  // A cross-correlation time offset larger than this is taken out of the real record's tags
+  // before binning (the joint fit shifts the other terms only to first order); the reported
+  // time_offset adds the fitted remainder.
+  double realign_offset_s = 0.1;
+  TimeOffsetOptions time_offset;
+  CandidateLibraryOptions library;
+  SelectionOptions selection;
+  RegimeOptions regimes;
+  LocateOptions locate;
+  bool holdout = true;       // first half fit, second half check
+  double slow_block_s = 60.0;  // block of the slow-noise check (term_selection.h); 0 = off
+  bool detect_quantization = true;
+  // When time_offset is selected, refit the final model with tau as a non-linear parameter in a
+  // ceres::Problem (joint_fit.h); the reported parameters and covariances are then Ceres'.
+  bool ceres_joint_fit = true;
+  JointFitOptions joint_fit;
+  void validate() const;
+};
+
+// One named parameter of an effect (values row-major for matrices; sigma NaN/inf = unknown).
+struct EffectParameter {
+  std::string key;
+  std::vector<double> values;
+  std::vector<double> sigma;
+  bool scalar = false;       // written as a number, not a list
+  std::string text;          // for string-valued parameters (vibration regressor)
+};
+
+struct Effect {
+  std::string name;          // issue 7 effect name
+  std::string sensor;        // gyro | accel | both
+  std::vector<EffectParameter> parameters;
+  double delta_bic = 0.0;
+  double cv_gain = 0.0;
+  std::string explanation;
+  std::string evidence_method = "bic+blocked_cv";  // or "value_lattice"
+};
+
+// A selected term whose shape the data do not settle (term_selection.h, step 5): modelled in SG#3
+// under the name the selection chose, not claimed. `effect` is that term as fitted; `alternative` the
+// other shape's name and `name_margin` the evidence of the fitted shape over it (2 ln Bayes
+// factor, below SelectionOptions::min_name_margin; negative when the other shape is the better
+// one, by less than the margin: the term stays as forward selection chose it).
+struct AmbiguousEffect {
+  Effect effect;
+  std::string alternative;
+  double name_margin = 0.0;
+};
+
+struct ChannelRms {
+  Eigen::Vector3d gyro = Eigen::Vector3d::Zero();   // rad/s
+  Eigen::Vector3d accel = Eigen::Vector3d::Zero();  // m/s^2
+};
+
+struct DiagnosisResult {
+  std::string case_name;
+  std::string simulation_kind;
+  GridSpec grid;
+  TimeOffsetEstimate time_offset_xcorr;
+  std::vector<LocatedSpan> located;       // residual before modelling
+  std::vector<Effect> effects;            // claimed
+  std::vector<AmbiguousEffect> ambiguous; // found, modelled, name not settled (not claimed)
+  // Physics of the tested IMU that the simulation already carries beyond the linear model: the
+  // lab fitting function's quadratic (scale_nonlinearity, k2 = c2 per axis, 1-sigma NaN on axes
+  // fitted with a line), which SG#2 grafts, so the field residual cannot show it (evidence_method
+  // "lab_degree_test"). Not claimed: it is not missing from the simulation. Left out for a sensor
+  // whose scale_nonlinearity is claimed (its k2 includes the lab's c2) or whose residual cancels
+  // the lab's c2 (then not the sensor's; see the notes).
+  std::vector<Effect> in_simulation;
+  // Every candidate left out of the final model, its parameters holding the detection limit
+  // (each parameter alone, the others zero; about 50 % detection; term_selection.h TermLimit).
+  std::vector<Effect> detection_limits;
+  std::vector<LocatedSpan> unexplained;   // still above noise after modelling
+  std::vector<WanderCheck> wander;        // per channel, when the lab's noise figures are known
+  // Per bin: 1 = left out (overlaps a sampling gap of a record; common_grid.h), and those spans.
+  std::vector<char> masked_bins;
+  std::vector<std::pair<double, double>> masked_spans;  // [t_start, t_end) s
+  ChannelRms rms_raw;                     // residual as is
+  ChannelRms rms_before;                  // residual minus its per-channel constant + linear drift
+  ChannelRms rms_after;                   // residual minus constant, drift and selected terms
+  bool has_holdout = false;
+  ChannelRms holdout_before, holdout_after;  // second half, model fitted on the first half
+  std::vector<std::string> holdout_terms;    // terms selected on the first half
+  double holdout_split_s = 0.0;
+  Vector6d nuisance_bias = Vector6d::Zero(); // constant real - simulated per channel (SI)
+  Vector6d nuisance_drift = Vector6d::Zero();// linear drift over the record, end minus start (SI)
+  SelectionResult selection;
+  std::vector<std::string> notes;            // assumptions and warnings for the report
+  Eigen::MatrixXd residual_before;           // n x 6, for plots
+  Eigen::MatrixXd model;                     // n x 6, selected terms (no constant)
+  Eigen::MatrixXd nuisance;                  // n x 6, constant + drift
+  std::vector<std::string> regimes;          // per bin
+  ImuSeries sg3;                             // simulated + selected terms (record mean removed)
+};
+
+DiagnosisResult diagnose(const DiagnosisInputs& inputs, const DiagnoseOptions& options = {});
+
+// The simulation used when the case has no lab data: the reference increments plus the tested
+// IMU's bias measured in the first static span of the field recording (mean tested minus mean
+// reference over that span, so the reference's own bias and the local gravity cancel). Throws
+// std::runtime_error when no static span of at least min_static_s is found.
+struct StaticBiasSimulation {
+  ImuSeries simulated;
+  Eigen::Vector3d gyro_bias_rad_s = Eigen::Vector3d::Zero();
+  Eigen::Vector3d accel_bias_m_s2 = Eigen::Vector3d::Zero();
+  double t_start_s = 0.0, t_end_s = 0.0;
+  // The tested IMU's mean temperature over the span, the simulation's temperature column (NaN
+  // when the tested record has none).
+  double temperature_degC = std::nan("");
+};
+StaticBiasSimulation simulateFromReferenceAndStaticBias(const ImuSeries& reference,
+                                                        const ImuSeries& tested,
+                                                        double min_static_s = 2.0,
+                                                        double max_static_s = 30.0);
+
+// Step of a value lattice of the raw increments (rad or m/s per sample) per axis; 0 where the
+// values are not on a lattice (fewer than half of them repeat, or they miss the lattice).
+Eigen::Vector3d detectQuantizationStep(const ImuSeries& imu, bool gyro);
+
+// SG#3: the simulation plus a per-bin contribution (n x 6, SI rates) on `grid`, added to every
+// sample as rate x dt from the bin that holds the sample's middle (clamped at the grid's ends).
+ImuSeries addBinnedContribution(const ImuSeries& simulated, const GridSpec& grid,
+                                const Eigen::MatrixXd& contribution);
+
+}  // namespace graftnav

@@ -1,0 +1,304 @@
+#include "graftnav/mismatch/joint_fit.h"
+
+#include <ceres/ceres.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+
+namespace graftnav {
+
+void JointFitOptions::validate() const {
+  if (max_iterations < 1)
+    throw std::invalid_argument("JointFitOptions: max_iterations = " +
+                                std::to_string(max_iterations) + " must be >= 1");
+  if (chunk_bins < 2)
+    throw std::invalid_argument("JointFitOptions: chunk_bins = " + std::to_string(chunk_bins) +
+                                " must be >= 2");
+  if (!(min_reciprocal_condition > 0.0 && min_reciprocal_condition < 1.0))
+    throw std::invalid_argument("JointFitOptions: min_reciprocal_condition must be in (0, 1)");
+}
+
+namespace {
+
+// Central difference per bin of a column (one-sided at the ends), per second.
+Eigen::VectorXd binDerivative(const Eigen::VectorXd& u, double bin_s) {
+  const int n = static_cast<int>(u.size());
+  Eigen::VectorXd d(n);
+  for (int i = 0; i < n; ++i) {
+    const int a = std::max(0, i - 1), b = std::min(n - 1, i + 1);
+    d(i) = (u(b) - u(a)) / ((b - a) * bin_s);
+  }
+  return d;
+}
+
+struct ColumnRef {
+  int param;                   // index into theta
+  const Eigen::VectorXd* u;    // regressor values on this channel
+  Eigen::VectorXd du;          // its time derivative
+};
+
+// Everything the residual blocks share.
+struct JointData {
+  const Eigen::MatrixXd* r = nullptr;
+  const CumulativeImu* cum = nullptr;
+  GridSpec grid;
+  Eigen::MatrixXd X;           // n x 6 unshifted reference bin means
+  Eigen::MatrixXd K, dK;       // n x 6 fixed-term contribution and its derivative
+  double pivot = 0.0;          // the regressors' own shift: theirs in the model is tau - pivot
+  std::array<std::vector<ColumnRef>, kMismatchChannels> cols;
+  Eigen::Matrix<double, 6, 1> rho, w;
+  int P = 0;
+
+  // Error e = r - model at bin i, its derivatives in theta (6 x P, row-major into de_dth) and tau.
+  void error(int i, const double* theta, double tau, double* e, double* de_dth,
+             double* de_dtau) const {
+    const double a = grid.binStart(i), b = grid.binStart(i + 1), h = grid.bin_s;
+    const Vector6d xs = (cum->at(b - tau) - cum->at(a - tau)) / h;
+    Vector6d dxs;
+    if (de_dtau) dxs = -(cum->rateAt(b - tau) - cum->rateAt(a - tau)) / h;
+    const double dtau = tau - pivot;
+    for (int c = 0; c < kMismatchChannels; ++c) {
+      double m = xs(c) - X(i, c) + K(i, c) - dtau * dK(i, c);
+      double dm_dtau = de_dtau ? dxs(c) - dK(i, c) : 0.0;
+      if (de_dth) std::fill(de_dth + c * P, de_dth + (c + 1) * P, 0.0);
+      for (const ColumnRef& col : cols[c]) {
+        const double u = (*col.u)(i), du = col.du(i);
+        m += theta[col.param] * (u - dtau * du);
+        dm_dtau -= theta[col.param] * du;
+        if (de_dth) de_dth[c * P + col.param] = -(u - dtau * du);
+      }
+      e[c] = (*r)(i, c) - m;
+      if (de_dtau) de_dtau[c] = -dm_dtau;
+    }
+  }
+};
+
+// AR(1)-whitened residuals of bins [i0, i1): z_i = w_c (e_i - rho_c e_{i-1}); the record's first
+// bin gets w_c sqrt(1 - rho_c^2) e_0 (as in the selection's prewhitening).
+class ChunkCost final : public ceres::CostFunction {
+ public:
+  ChunkCost(const JointData* d, int i0, int i1) : d_(d), i0_(i0), i1_(i1) {
+    set_num_residuals(kMismatchChannels * (i1 - i0));
+    mutable_parameter_block_sizes()->push_back(d->P);
+    mutable_parameter_block_sizes()->push_back(1);
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const double* theta = parameters[0];
+    const double tau = parameters[1][0];
+    const int P = d_->P;
+    const bool jac = jacobians != nullptr;
+    double e_prev[6], e_cur[6], de_tau_prev[6], de_tau_cur[6];
+    std::vector<double> dth_prev(jac ? 6 * P : 0), dth_cur(jac ? 6 * P : 0);
+    const bool has_prev = i0_ > 0;
+    if (has_prev)
+      d_->error(i0_ - 1, theta, tau, e_prev, jac ? dth_prev.data() : nullptr,
+                jac ? de_tau_prev : nullptr);
+    for (int i = i0_; i < i1_; ++i) {
+      d_->error(i, theta, tau, e_cur, jac ? dth_cur.data() : nullptr, jac ? de_tau_cur : nullptr);
+      const bool first = i == 0;
+      for (int c = 0; c < kMismatchChannels; ++c) {
+        const double p = d_->rho(c), w = d_->w(c);
+        const int row = (i - i0_) * kMismatchChannels + c;
+        const double sc = first ? w * std::sqrt(std::max(0.0, 1.0 - p * p)) : w;
+        const double pp = first ? 0.0 : p;
+        residuals[row] = sc * e_cur[c] - (first ? 0.0 : w * pp * e_prev[c]);
+        if (jac) {
+          if (jacobians[0]) {
+            double* J = jacobians[0] + static_cast<std::ptrdiff_t>(row) * P;
+            for (int k = 0; k < P; ++k)
+              J[k] = sc * dth_cur[c * P + k] - (first ? 0.0 : w * pp * dth_prev[c * P + k]);
+          }
+          if (jacobians[1])
+            jacobians[1][row] = sc * de_tau_cur[c] - (first ? 0.0 : w * pp * de_tau_prev[c]);
+        }
+      }
+      std::copy(e_cur, e_cur + 6, e_prev);
+      if (jac) {
+        std::copy(de_tau_cur, de_tau_cur + 6, de_tau_prev);
+        dth_prev.swap(dth_cur);
+      }
+    }
+    return true;
+  }
+
+ private:
+  const JointData* d_;
+  int i0_, i1_;
+};
+
+}  // namespace
+
+JointFitResult jointFitWithTimeOffset(const Eigen::MatrixXd& residual, const ImuSeries& reference,
+                                      const GridSpec& grid, const std::vector<CandidateTerm>& terms,
+                                      const SelectionResult& linear, int time_offset_term,
+                                      double regressor_pivot_s, const JointFitOptions& options) {
+  options.validate();
+  const int n = grid.count;
+  if (residual.rows() != n || residual.cols() != kMismatchChannels)
+    throw std::invalid_argument(fmt::format(
+        "jointFitWithTimeOffset: residual is {} x {}, expected {} x 6 (grid bins)",
+        residual.rows(), residual.cols(), n));
+  if (time_offset_term < 0 || time_offset_term >= static_cast<int>(terms.size()))
+    throw std::invalid_argument("jointFitWithTimeOffset: time_offset_term out of range");
+  int to_pos = -1;
+  for (std::size_t k = 0; k < linear.selected.size(); ++k)
+    if (linear.selected[k].term == time_offset_term) to_pos = static_cast<int>(k);
+  if (to_pos < 0)
+    throw std::invalid_argument("jointFitWithTimeOffset: the time_offset term is not selected");
+  if (linear.nuisance.term < 0 && linear.nuisance.theta.size() == 0)
+    throw std::invalid_argument("jointFitWithTimeOffset: the linear fit has no nuisance term");
+
+  const CumulativeImu cum(reference);
+  JointData d;
+  d.r = &residual;
+  d.cum = &cum;
+  d.grid = grid;
+  d.pivot = regressor_pivot_s;
+  d.rho = linear.rho;
+  for (int c = 0; c < kMismatchChannels; ++c) d.w(c) = 1.0 / linear.sigma(c);
+  d.X.resize(n, kMismatchChannels);
+  for (int i = 0; i < n; ++i)
+    d.X.row(i) = ((cum.at(grid.binStart(i + 1)) - cum.at(grid.binStart(i))) / grid.bin_s)
+                     .transpose();
+  d.K = Eigen::MatrixXd::Zero(n, kMismatchChannels);
+
+  // Model terms in the order nuisance, selected (time offset excluded); parameters of the free
+  // ones laid out in theta.
+  std::vector<const TermFit*> fits = {&linear.nuisance};
+  for (const TermFit& tf : linear.selected)
+    if (tf.term != time_offset_term) fits.push_back(&tf);
+  std::vector<int> start(fits.size(), -1);
+  std::vector<double> theta;
+  for (std::size_t f = 0; f < fits.size(); ++f) {
+    const int t = fits[f]->term < 0 ? 0 : fits[f]->term;
+    const CandidateTerm& term = terms[t];
+    if (term.fixed) {
+      d.K += termContribution(term, Eigen::VectorXd::Ones(term.columns.size()), n);
+      continue;
+    }
+    start[f] = static_cast<int>(theta.size());
+    for (std::size_t j = 0; j < term.columns.size(); ++j) {
+      const int k = static_cast<int>(theta.size());
+      theta.push_back(fits[f]->theta(static_cast<Eigen::Index>(j)));
+      for (int c = 0; c < kMismatchChannels; ++c)
+        if (term.columns[j].actsOn(c))
+          d.cols[c].push_back({k, &term.columns[j].channel[c],
+                               binDerivative(term.columns[j].channel[c], grid.bin_s)});
+    }
+  }
+  d.P = static_cast<int>(theta.size());
+  d.dK.resize(n, kMismatchChannels);
+  for (int c = 0; c < kMismatchChannels; ++c) d.dK.col(c) = binDerivative(d.K.col(c), grid.bin_s);
+  double tau = linear.selected[to_pos].theta(0);
+  const double tau_linear = tau;
+
+  ceres::Problem::Options po;
+  po.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+  ceres::Problem problem(po);
+  for (int i0 = 0; i0 < n; i0 += options.chunk_bins) {
+    const int i1 = std::min(n, i0 + options.chunk_bins);
+    problem.AddResidualBlock(new ChunkCost(&d, i0, i1), nullptr, theta.data(), &tau);
+  }
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+  so.max_num_iterations = options.max_iterations;
+  so.function_tolerance = 1e-12;
+  so.parameter_tolerance = 1e-12;
+  so.gradient_tolerance = 1e-14;
+  so.num_threads = 1;
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+
+  JointFitResult out;
+  out.iterations = static_cast<int>(summary.iterations.size());
+  out.initial_cost = summary.initial_cost;
+  out.final_cost = summary.final_cost;
+  out.tau_s = tau;
+
+  ceres::Covariance::Options co;
+  co.algorithm_type = ceres::DENSE_SVD;
+  co.null_space_rank = -1;
+  co.min_reciprocal_condition_number = options.min_reciprocal_condition;
+  co.num_threads = 1;
+  ceres::Covariance covariance(co);
+  const std::vector<const double*> blocks = {theta.data(), &tau};
+  std::vector<std::pair<const double*, const double*>> pairs;
+  for (const double* a : blocks)
+    for (const double* b : blocks) pairs.emplace_back(a, b);
+  Eigen::MatrixXd cov = Eigen::MatrixXd::Constant(d.P + 1, d.P + 1,
+                                                  std::numeric_limits<double>::quiet_NaN());
+  bool cov_ok = covariance.Compute(pairs, &problem);
+  if (cov_ok) {
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> full(d.P + 1, d.P + 1);
+    cov_ok = covariance.GetCovarianceMatrix(blocks, full.data());
+    if (cov_ok) cov = full;
+  }
+  out.converged = summary.IsSolutionUsable() && cov_ok;
+
+  // Inflation as in the linear covariance: c for all, each term's slow-noise factor on its block
+  // (sqrt(f_a f_b) on cross blocks).
+  std::vector<double> factor(d.P + 1, 1.0);
+  for (std::size_t f = 0; f < fits.size(); ++f)
+    if (start[f] >= 0)
+      for (Eigen::Index j = 0; j < fits[f]->theta.size(); ++j)
+        factor[start[f] + j] = fits[f]->inflation_factor;
+  factor[d.P] = linear.selected[to_pos].inflation_factor;
+  for (int a = 0; a <= d.P; ++a)
+    for (int b = 0; b <= d.P; ++b) cov(a, b) *= linear.inflation * std::sqrt(factor[a] * factor[b]);
+
+  // Model prediction at the solution (r - e), without the nuisance.
+  out.model.resize(n, kMismatchChannels);
+  {
+    double e[6];
+    for (int i = 0; i < n; ++i) {
+      d.error(i, theta.data(), tau, e, nullptr, nullptr);
+      for (int c = 0; c < kMismatchChannels; ++c) out.model(i, c) = residual(i, c) - e[c];
+    }
+  }
+
+  auto fill = [&](const TermFit& lin, int s0, TermFit* tf) {
+    *tf = lin;
+    if (s0 < 0) return;  // fixed term
+    const int k = static_cast<int>(lin.theta.size());
+    for (int j = 0; j < k; ++j) tf->theta(j) = theta[s0 + j];
+    tf->covariance = cov.block(s0, s0, k, k);
+    tf->sigma = tf->covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+    for (int j = 0; j < k; ++j)  // what the linear fit found unobservable stays so
+      if (!std::isfinite(lin.sigma(j))) tf->sigma(j) = lin.sigma(j);
+  };
+  fill(linear.nuisance, start[0], &out.nuisance);
+  {
+    const int t0 = linear.nuisance.term < 0 ? 0 : linear.nuisance.term;
+    out.model -= termContribution(terms[t0], out.nuisance.theta, n);
+  }
+  std::size_t f = 1;
+  for (const TermFit& lin : linear.selected) {
+    TermFit tf;
+    if (lin.term == time_offset_term) {
+      tf = lin;
+      tf.theta = Eigen::VectorXd::Constant(1, tau);
+      tf.covariance = Eigen::MatrixXd::Constant(1, 1, cov(d.P, d.P));
+      tf.sigma = Eigen::VectorXd::Constant(1, std::sqrt(std::max(0.0, cov(d.P, d.P))));
+      out.tau_sigma_s = tf.sigma(0);
+    } else {
+      fill(lin, start[f], &tf);
+      ++f;
+    }
+    out.terms.push_back(tf);
+  }
+  out.summary = fmt::format(
+      "Ceres joint fit ({} parameters + tau, {} iterations, {}): cost {:.6g} -> {:.6g}, tau "
+      "{:.6f} s (linear pivot fit) -> {:.6f} +- {:.6f} s",
+      d.P, out.iterations, out.converged ? "converged" : "NOT usable", out.initial_cost,
+      out.final_cost, tau_linear, tau, out.tau_sigma_s);
+  return out;
+}
+
+}  // namespace graftnav

@@ -1,0 +1,168 @@
+#include "graftnav/mismatch/scale_noise.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <limits>
+
+namespace graftnav {
+
+HaarEnergies haarEnergies(const Eigen::VectorXd& z) {
+  HaarEnergies out;
+  std::vector<double> a(z.data(), z.data() + z.size());
+  std::vector<double> next;
+  const double inv_sqrt2 = 1.0 / std::sqrt(2.0);
+  while (a.size() >= 4) {  // the level leaves >= 2 approximation coefficients
+    const std::size_t m = a.size() / 2;
+    next.resize(m);
+    double e = 0.0;
+    for (std::size_t k = 0; k < m; ++k) {
+      const double d = (a[2 * k] - a[2 * k + 1]) * inv_sqrt2;
+      next[k] = (a[2 * k] + a[2 * k + 1]) * inv_sqrt2;
+      e += d * d;
+    }
+    out.energy.push_back(e);
+    out.count.push_back(static_cast<int>(m));
+    a.swap(next);
+  }
+  for (double v : a) out.approximation += v * v;
+  return out;
+}
+
+std::vector<Eigen::MatrixXd> haarCoefficients(const Eigen::MatrixXd& X) {
+  std::vector<Eigen::MatrixXd> out;
+  std::vector<Eigen::RowVectorXd> leftover;  // odd rows left at each level
+  Eigen::MatrixXd a = X;
+  const double inv_sqrt2 = 1.0 / std::sqrt(2.0);
+  while (a.rows() >= 4) {
+    const Eigen::Index m = a.rows() / 2;
+    if (a.rows() % 2 != 0) leftover.push_back(a.row(a.rows() - 1));
+    Eigen::MatrixXd d(m, a.cols()), next(m, a.cols());
+    for (Eigen::Index k = 0; k < m; ++k) {
+      d.row(k) = (a.row(2 * k) - a.row(2 * k + 1)) * inv_sqrt2;
+      next.row(k) = (a.row(2 * k) + a.row(2 * k + 1)) * inv_sqrt2;
+    }
+    out.push_back(std::move(d));
+    a.swap(next);
+  }
+  if (out.empty()) {
+    out.push_back(a);
+    return out;
+  }
+  Eigen::MatrixXd& last = out.back();
+  Eigen::Index m = last.rows();
+  last.conservativeResize(m + a.rows() + static_cast<Eigen::Index>(leftover.size()), Eigen::NoChange);
+  last.middleRows(m, a.rows()) = a;
+  m += a.rows();
+  for (const Eigen::RowVectorXd& row : leftover) last.row(m++) = row;
+  return out;
+}
+
+Eigen::MatrixXd haarSynthesis(const std::vector<Eigen::MatrixXd>& levels, Eigen::Index rows) {
+  if (levels.empty()) throw std::invalid_argument("haarSynthesis: no levels");
+  // The forward pass's sizes: rows at each step and whether a row was left over.
+  std::vector<Eigen::Index> sizes;
+  for (Eigen::Index r = rows; r >= 4; r /= 2) sizes.push_back(r);
+  if (sizes.size() != levels.size() && !(sizes.empty() && levels.size() == 1))
+    throw std::invalid_argument("haarSynthesis: " + std::to_string(levels.size()) +
+                                " levels do not match " + std::to_string(rows) + " rows");
+  if (sizes.empty()) return levels[0];
+  const Eigen::Index cols = levels[0].cols();
+  const double inv_sqrt2 = 1.0 / std::sqrt(2.0);
+  // The last level: its details, the final approximation, then the left-over rows in the order
+  // the forward pass met them.
+  const Eigen::MatrixXd& last = levels.back();
+  const Eigen::Index m_last = sizes.back() / 2;
+  const Eigen::Index n_approx = m_last;
+  std::vector<Eigen::Index> odd_steps;
+  for (std::size_t k = 0; k < sizes.size(); ++k)
+    if (sizes[k] % 2 != 0) odd_steps.push_back(static_cast<Eigen::Index>(k));
+  if (last.rows() != m_last + n_approx + static_cast<Eigen::Index>(odd_steps.size()))
+    throw std::invalid_argument("haarSynthesis: last level has the wrong number of rows");
+  Eigen::MatrixXd a = last.middleRows(m_last, n_approx);
+  for (std::size_t k = sizes.size(); k-- > 0;) {
+    const Eigen::Index n_k = sizes[k], m = n_k / 2;
+    const Eigen::MatrixXd d = k + 1 == sizes.size() ? Eigen::MatrixXd(last.topRows(m_last))
+                                                     : levels[k];
+    Eigen::MatrixXd x(n_k, cols);
+    for (Eigen::Index i = 0; i < m; ++i) {
+      x.row(2 * i) = (a.row(i) + d.row(i)) * inv_sqrt2;
+      x.row(2 * i + 1) = (a.row(i) - d.row(i)) * inv_sqrt2;
+    }
+    if (n_k % 2 != 0) {
+      const auto pos = std::find(odd_steps.begin(), odd_steps.end(), static_cast<Eigen::Index>(k));
+      x.row(n_k - 1) = last.row(m_last + n_approx + (pos - odd_steps.begin()));
+    }
+    a.swap(x);
+  }
+  return a;
+}
+
+double ScaleNoiseModel::at(int level) const {
+  const int j = std::clamp(level, 1, std::max(1, levels));
+  return 1.0 + a * std::ldexp(1.0, j) + b * std::ldexp(1.0, 2 * j);
+}
+
+ScaleNoiseModel fitScaleNoise(const HaarEnergies& r, double unit_variance, int max_fit_level) {
+  ScaleNoiseModel m;
+  m.levels = static_cast<int>(r.energy.size());
+  const int n = max_fit_level > 0 ? std::min(m.levels, max_fit_level) : m.levels;
+  if (n == 0 || !(unit_variance > 0.0)) return m;
+  std::vector<double> v(n), x(n), y(n), c(n);
+  for (int j = 1; j <= n; ++j) {
+    v[j - 1] = r.count[j - 1] > 0 ? r.energy[j - 1] / r.count[j - 1] / unit_variance : 1.0;
+    x[j - 1] = std::ldexp(1.0, j) / std::ldexp(1.0, n);      // columns scaled to <= 1
+    y[j - 1] = std::ldexp(1.0, 2 * j) / std::ldexp(1.0, 2 * n);
+    c[j - 1] = std::max(1.0, v[j - 1]);
+  }
+  double ax = 0.0, by = 0.0;  // coefficients of the scaled columns
+  // Iteratively reweighted least squares: weights n_j / c_j^2 with c_j from the last fit.
+  for (int it = 0; it < 8; ++it) {
+    double sxx = 0.0, syy = 0.0, sxy = 0.0, sxv = 0.0, syv = 0.0;
+    for (int j = 0; j < n; ++j) {
+      const double w = r.count[j] / (c[j] * c[j]);
+      const double d = v[j] - 1.0;
+      sxx += w * x[j] * x[j];
+      syy += w * y[j] * y[j];
+      sxy += w * x[j] * y[j];
+      sxv += w * x[j] * d;
+      syv += w * y[j] * d;
+    }
+    const auto sse = [&](double p, double q) {
+      double s = 0.0;
+      for (int j = 0; j < n; ++j) {
+        const double e = v[j] - 1.0 - p * x[j] - q * y[j];
+        s += r.count[j] / (c[j] * c[j]) * e * e;
+      }
+      return s;
+    };
+    // Non-negative least squares in two unknowns: the joint solution if both are >= 0, else
+    // the better of the two one-parameter fits (each clamped at 0).
+    const double det = sxx * syy - sxy * sxy;
+    double p = -1.0, q = -1.0;
+    if (det > 1e-12 * sxx * syy) {
+      p = (syy * sxv - sxy * syv) / det;
+      q = (sxx * syv - sxy * sxv) / det;
+    }
+    if (!(p >= 0.0 && q >= 0.0)) {
+      const double p1 = sxx > 0.0 ? std::max(0.0, sxv / sxx) : 0.0;
+      const double q1 = syy > 0.0 ? std::max(0.0, syv / syy) : 0.0;
+      if (sse(p1, 0.0) <= sse(0.0, q1)) {
+        p = p1;
+        q = 0.0;
+      } else {
+        p = 0.0;
+        q = q1;
+      }
+    }
+    ax = p;
+    by = q;
+    for (int j = 0; j < n; ++j) c[j] = 1.0 + ax * x[j] + by * y[j];
+  }
+  m.a = ax / std::ldexp(1.0, n);
+  m.b = by / std::ldexp(1.0, 2 * n);
+  return m;
+}
+
+}  // namespace graftnav

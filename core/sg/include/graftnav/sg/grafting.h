@@ -1,0 +1,110 @@
+#pragma once
+// Signal grafting (Niu et al. 2016, Sec. 2.3): errors of a tested IMU, measured only in the lab,
+// are added to the signals of a reference IMU recorded in the field.
+//
+//   SG#1 (basic-error strategy):  y = x_ref + e_basic
+//   SG#2 (full-error strategy):   y = x_ref + d(x_ref) + e_basic
+//
+// x_ref are the reference IMU's mean rates / specific forces over each sample interval, e_basic
+// the basic error signal (lab static output minus its theoretical value, seed Eq. 13-20), and
+// d(x) the dynamic error from the lab fitting functions (seed Eq. 21) with their constant term
+// taken relative to the lab static point x_s (gravity and Earth rate at the static attitude),
+// because e_basic already holds the bias AND the dynamic error at x_s:
+//   D_i(x) = p_i(x_i) - x_i + sum_{j != i} M_ij x_j,   d(x) = D(x) - D(x_s)
+// p_i is the per-axis polynomial fitted from theoretical to measured output; the off-diagonal of
+// the calibration matrix M carries the cross-axis terms (non-orthogonality) that a per-axis
+// polynomial cannot see. The reference IMU's own errors stay in x_ref: they are grafted too, and
+// their size relative to the tested IMU's is reported by referenceResidualFraction().
+//
+// The lab static record is usually shorter than the field test. It is extended by mirrored
+// tiling: record, record reversed in time, record, ... The tiled signal is continuous at every
+// seam (its slow components - bias, bias instability, temperature drift - do not jump) and keeps
+// the record's noise spectrum and Allan deviation up to times of the record length. Increments
+// over any field interval are exact integrals of the tiled rate signal, so the lab and field
+// sampling rates may differ.
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "graftnav/imu/imu_profile.h"
+#include "graftnav/nav/types.h"
+
+namespace graftnav {
+
+// Per-sensor dynamic model of SG#2.
+struct SensorDynamicFit {
+  // poly[i]: coefficients of measured_i = sum_k poly[i][k] * true_i^k, lowest order first (SI).
+  std::array<std::vector<double>, 3> poly{std::vector<double>{0.0, 1.0},
+                                          std::vector<double>{0.0, 1.0},
+                                          std::vector<double>{0.0, 1.0}};
+  // Calibration matrix (measured = M true + bias); only its off-diagonal is used here.
+  Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
+  bool use_cross_axis = true;
+  // The theoretical output during the lab static record (f_b or omega_ie_b at the static
+  // attitude): the basic error signal already carries the dynamic error there.
+  Eigen::Vector3d static_point = Eigen::Vector3d::Zero();
+
+  // The dynamic error d(x) = D(x) - D(static_point) (SI, same unit as x).
+  Eigen::Vector3d dynamicError(const Eigen::Vector3d& x) const;
+};
+
+// The basic error signal: error rates (gyro rad/s, accel m/s^2) of the lab static record,
+// extended to any length by mirrored tiling, integrated exactly over requested intervals.
+class BasicErrorSignal {
+ public:
+  // error_increments: static lab output minus theoretical output, as increments (rad, m/s) with
+  // their own t_s/dt_s (uniform or not).
+  explicit BasicErrorSignal(const ImuSeries& error_increments);
+
+  double recordLength_s() const { return record_length_s_; }
+  std::size_t sampleCount() const { return tau_end_s_.size(); }
+  // Start of lab sample j, seconds from the beginning of the record (0 for j = 0).
+  double sampleStart_s(std::size_t j) const { return j == 0 ? 0.0 : tau_end_s_.at(j - 1); }
+  // Mean error rates over the whole record (the basic biases): gyro (rad/s), accel (m/s^2).
+  Eigen::Vector3d meanGyro_rad_s() const;
+  Eigen::Vector3d meanAccel_m_s2() const;
+
+  // Integral of the tiled error rates over (u0, u1], u measured in seconds from the tiling origin.
+  // Returns [dtheta (rad); dvel (m/s)].
+  Eigen::Matrix<double, 6, 1> integral(double u0_s, double u1_s) const;
+
+ private:
+  Eigen::Matrix<double, 6, 1> cumulative(double u_s) const;  // integral over (0, u], u >= 0
+  Eigen::Matrix<double, 6, 1> withinRecord(double tau_s) const;  // 0 <= tau <= T
+
+  std::vector<double> tau_end_s_;                       // end time of each lab sample, from 0
+  std::vector<Eigen::Matrix<double, 6, 1>> cum_;        // cumulative integral at tau_end_s_
+  std::vector<Eigen::Matrix<double, 6, 1>> rate_;       // rate within each lab sample
+  double record_length_s_ = 0.0;
+};
+
+struct GraftOptions {
+  // Where in the tiled lab record the field test starts (s). Chosen from `seed` when negative:
+  // the start of a lab sample drawn uniformly from the record, so that different seeds give
+  // different but reproducible realizations of the lab noise. A sample boundary matters: with
+  // equal lab and field rates each field interval then takes exactly one lab sample; a
+  // fractional start would average two neighbours and lower the grafted per-sample noise (by up
+  // to 1/sqrt(2), 26 % on average) while keeping its random walk.
+  double start_offset_s = -1.0;
+  std::uint64_t seed = 1;
+};
+
+// Resolves GraftOptions::start_offset_s (deterministic for a given seed).
+double graftStartOffset(const GraftOptions& opt, const BasicErrorSignal& basic);
+
+// SG#1: reference increments plus the basic error signal.
+ImuSeries graftBasic(const ImuSeries& ref, const BasicErrorSignal& basic, const GraftOptions& opt);
+
+// SG#2: reference increments plus the dynamic errors of the fitting functions plus the basic
+// error signal.
+ImuSeries graftFull(const ImuSeries& ref, const BasicErrorSignal& basic,
+                    const SensorDynamicFit& gyro, const SensorDynamicFit& accel,
+                    const GraftOptions& opt);
+
+// Ratio of the reference IMU's white-noise densities to the tested IMU's, per sensor
+// ([gyro, accel]); the share of grafted white noise that is the reference IMU's own.
+Eigen::Vector2d referenceResidualFraction(const ImuProfile& reference, const ImuProfile& tested);
+
+}  // namespace graftnav
