@@ -44,7 +44,7 @@ std::array<double, 5> values(const BatchRun& r, const std::string& label, bool d
   }
   const auto* s = r.report.find(label);
   if (!s) return nan;
-  auto a = asArray(s->evaluation.outage_rms);
+  auto a = asArray(s->err_rms);
   for (int i = 2; i < 5; ++i) a[i] *= units::kRadToDeg;
   return a;
 }

@@ -141,8 +141,14 @@ RunConfig loadRunConfig(const std::string& path, std::vector<std::string>* warni
                 path, warnings);
   }
   if (const YAML::Node g = root["grafting"]) {
-    warnUnknown(g, "grafting", {"start_offset_s"}, path, warnings);
+    warnUnknown(g, "grafting", {"start_offset_s", "realizations", "outage_shifts"}, path, warnings);
     read(g, "grafting", "start_offset_s", &c.grafting.start_offset_s, path);
+    read(g, "grafting", "realizations", &c.grafting.realizations, path);
+    read(g, "grafting", "outage_shifts", &c.grafting.outage_shifts, path);
+    for (const char* key : {"realizations", "outage_shifts"}) {
+      const int v = std::string(key) == "realizations" ? c.grafting.realizations : c.grafting.outage_shifts;
+      if (v < 1) throw std::runtime_error(where(path, g[key], std::string("grafting.") + key) + ": must be >= 1, got " + std::to_string(v));
+    }
   }
   if (const YAML::Node g = root["fgo"]) {
     FgoOptions& f = c.fgo;

@@ -84,6 +84,10 @@ struct GraftingConfig {
   // grafting seed. 0 pairs field sample k with lab static sample k, for common-random-number
   // experiments whose lab record shares the field noise (sim key lab.common_random_numbers).
   double start_offset_s = -1.0;
+  // Grafted realizations per strategy (K) and outage-schedule shifts (N) of `evaluate`; the
+  // command-line flags override them. sg/realization.h says what a realization varies.
+  int realizations = 20;
+  int outage_shifts = 1;
 };
 
 struct RunConfig {
