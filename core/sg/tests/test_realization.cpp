@@ -120,7 +120,7 @@ TEST(Realization, WanderBeyondTheRecordIsGaussMarkovFromZero) {
   for (const auto& d : draws) {
     ASSERT_EQ(d.power_on.wander_knots.size(), 11u);
     EXPECT_EQ(d.power_on.wander_knots.front(), PowerOnErrors::Vec6::Zero());
-    EXPECT_DOUBLE_EQ(d.power_on.wander_step_s, 60.0);
+    EXPECT_NEAR(d.power_on.wander_step_s, 60.0, 1e-9);
     last.push_back(d.power_on.wander_knots.back()[0]);
   }
   const double phi = std::exp(-60.0 / 600.0);
