@@ -12,11 +12,12 @@
 #   --jobs J        evaluations in parallel (default 2), each navigating on one thread
 #   --cases         case configs (default: the tactical and MEMS null cases, misalignment, gsens)
 #   --table FILE    also write the Markdown tables to FILE (e.g. docs/results/sg-calibration.md)
+#   --inject DOC    and replace the sg_calibration block of DOC (docs/sg-evaluation.md) with them
 # The simulated cases are deleted after their evaluation; OUT_DIR/runs/<case>_s<seed>/ keeps
 # evaluation.json and tables.md.
 set -euo pipefail
 repo="$(cd "$(dirname "$0")/.." && pwd)"
-seeds=20; K=20; jobs=2; estimator=ekf; table=""
+seeds=20; K=20; jobs=2; estimator=ekf; table=""; inject=""
 cases="$repo/configs/sim/calibration/null_tactical.yaml $repo/configs/sim/concealed/null.yaml $repo/configs/sim/concealed/misalignment.yaml $repo/configs/sim/concealed/gsens.yaml"
 pos=()
 while [ $# -gt 0 ]; do
@@ -27,7 +28,8 @@ while [ $# -gt 0 ]; do
     --estimator) estimator="$2"; shift 2 ;;
     --cases) cases="$2"; shift 2 ;;
     --table) table="$2"; shift 2 ;;
-    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
+    --inject) inject="$2"; shift 2 ;;
+    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
     --*) echo "sg_calibration: unknown option $1" >&2; exit 2 ;;
     *) pos+=("$1"); shift ;;
   esac
@@ -53,5 +55,5 @@ start=$(date +%s)
 for cfg in $cases; do for s in $(seq 1 "$seeds"); do echo "$cfg $s"; done; done |
   xargs -P "$jobs" -L 1 bash -c 'run_one "$0" "$1"'
 echo "sg_calibration: $(( $(date +%s) - start )) s for $(ls "$out/runs" | wc -l) runs"
-python3 "$repo/scripts/sg_calibration_table.py" "$out/runs" --estimator "$estimator" \
-  --command "scripts/sg_calibration.sh --seeds $seeds --realizations $K --estimator $estimator OUT" ${table:+--out "$table"}
+/usr/bin/python3 "$repo/scripts/sg_calibration_table.py" "$out/runs" --estimator "$estimator" \
+  --command "scripts/sg_calibration.sh --seeds $seeds --realizations $K --estimator $estimator OUT" ${table:+--out "$table"} ${inject:+--inject "$inject"}

@@ -1,7 +1,11 @@
 #!/usr/bin/env python3
 """Tables of the interval calibration (scripts/sg_calibration.sh) from the evaluation.json files.
 
-Usage: scripts/sg_calibration_table.py RUNS_DIR [--out FILE.md] [--estimator E] [--command CMD]
+Usage: scripts/sg_calibration_table.py RUNS_DIR [--out FILE.md] [--inject DOC.md] [--estimator E]
+                                       [--command CMD]
+
+--inject replaces the block between "<!-- sg_calibration:begin -->" and
+"<!-- sg_calibration:end -->" in DOC.md with the tables, so the page cannot drift from the runs.
 
 For each case (run folders <case>_s<seed>): per statistic, the share of seeds whose ERR_REAL lies
 inside SG#1's and SG#2's 90 % predictive interval, the mean percentile of REAL, and the spread of
@@ -84,6 +88,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("runs_dir")
     ap.add_argument("--out")
+    ap.add_argument("--inject")
     ap.add_argument("--estimator", default="ekf")
     ap.add_argument("--command", default="scripts/sg_calibration.sh OUT")
     a = ap.parse_args()
@@ -98,6 +103,17 @@ def main():
     if a.out:
         with open(a.out, "w") as f:
             f.write(md)
+    if a.inject:
+        begin, end = "<!-- sg_calibration:begin -->", "<!-- sg_calibration:end -->"
+        with open(a.inject) as f:
+            doc = f.read()
+        if begin not in doc or end not in doc:
+            print(f"sg_calibration_table: {a.inject} has no {begin} ... {end} block", file=sys.stderr)
+            return 1
+        body = md.split("\n", 2)[2]  # without the page title
+        doc = doc[: doc.index(begin) + len(begin)] + "\n" + body + doc[doc.index(end):]
+        with open(a.inject, "w") as f:
+            f.write(doc)
     return 0
 
 

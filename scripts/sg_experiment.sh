@@ -44,7 +44,7 @@ manifest() {  # OUT_SUBDIR RUN_CONFIG CASES...
   echo "outage_schedules:"
   echo "  - {length_s: 60, period_s: 180, start_s: 300}"
 }
-manifest runs "" "${cases[@]}" > "$OUT/manifest.yaml"
+manifest runs configs/sg/single_realization_run.yaml "${cases[@]}" > "$OUT/manifest.yaml"
 manifest runs_crn configs/sg/crn_run.yaml "${crn_cases[@]}" > "$OUT/manifest_crn.yaml"
 ./build/graftnav batch "$OUT/manifest.yaml"
 ./build/graftnav batch "$OUT/manifest_crn.yaml"

@@ -73,6 +73,8 @@ std::vector<RealizationDraw> drawRealizations(const RealizationOptions& o, const
   const double rep_g = repeatability(p.gyro_bias_repeatability_rad_s, p.gyro_bias_instability_rad_s) * sd_factor;
   const double rep_a = repeatability(p.accel_bias_repeatability_m_s2, p.accel_bias_instability_m_s2) * sd_factor;
   const double T = basic.recordLength_s();
+  // One realization is the seed's single graft: the lab record as it is, no power-on draws.
+  const bool power_on = o.count > 1;
   std::vector<RealizationDraw> draws(o.count);
   for (int k = 0; k < o.count; ++k) {
     RealizationDraw& d = draws[k];
@@ -80,12 +82,12 @@ std::vector<RealizationDraw> drawRealizations(const RealizationOptions& o, const
     std::mt19937_64 seg_rng(streamSeed(o.seed, k, 0)), bias_rng(streamSeed(o.seed, k, 1)),
         wander_rng(streamSeed(o.seed, k, 2));
     d.start_offset_s = startOffset(o, basic, span_s, k, seg_rng);
-    if (o.vary_turn_on_bias) {
+    if (power_on && o.vary_turn_on_bias) {
       std::normal_distribution<double> n01(0.0, 1.0);
       for (int i = 0; i < 3; ++i) d.power_on.gyro_bias_rad_s[i] = rep_g * n01(bias_rng);
       for (int i = 0; i < 3; ++i) d.power_on.accel_bias_m_s2[i] = rep_a * n01(bias_rng);
     }
-    if (o.vary_bias_wander && span_s > T) {
+    if (power_on && o.vary_bias_wander && span_s > T) {
       d.power_on.wander_step_s = T;
       d.power_on.wander_knots = wanderKnots(p, T, span_s, wander_rng);
     }

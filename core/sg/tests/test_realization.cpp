@@ -167,6 +167,14 @@ TEST(Realization, GraftingAddsTheTurnOnBiasExactly) {
   }
 }
 
+TEST(Realization, OneRealizationIsTheSeedsSingleGraft) {
+  RealizationOptions o;
+  o.count = 1;
+  const auto draws = drawRealizations(o, record(6000, 0.01), profile(), 600.0);
+  ASSERT_EQ(draws.size(), 1u);
+  EXPECT_TRUE(draws.front().power_on.empty());
+}
+
 TEST(Realization, OptionsAreValidated) {
   RealizationOptions o;
   o.count = 0;

@@ -16,7 +16,8 @@
 //   - the bias-wander path: when the field test is longer than the record, a first-order
 //     Gauss-Markov path (the profile's bias instability and correlation time) sampled every T and
 //     linear in between, starting at zero; the record itself carries the wander faster than T.
-// Draw k depends only on (seed, k), so a run is reproducible whatever the thread schedule.
+// Draw k depends only on (seed, k), so a run is reproducible whatever the thread schedule. K = 1 is
+// the seed's single graft: only the segment is drawn, no turn-on bias and no wander.
 
 #include <cstdint>
 #include <vector>
