@@ -67,10 +67,21 @@ BatchRunRecord recordOf(const SgEvaluationReport& report) {
   return rec;
 }
 
+// Temporary files a killed run of this task left in its folder (hidden ".<name>.tmp.*", the
+// atomic writers' pattern). The folder belongs to this task only, so they are the task's own.
+void removeStaleTemporaries(const BatchTask& t) {
+  if (!fs::is_directory(t.out_dir)) return;
+  for (const auto& e : fs::directory_iterator(t.out_dir)) {
+    const std::string n = e.path().filename().string();
+    if (n.size() > 1 && n[0] == '.' && n.find(".tmp.") != std::string::npos) fs::remove(e.path());
+  }
+}
+
 // Runs one task in-process and records it (ok or failed) in its task database.
 BatchRunRecord runTask(const BatchManifest& m, const BatchTask& t) {
   BatchRunRecord rec;
   const auto t0 = std::chrono::steady_clock::now();
+  removeStaleTemporaries(t);
   try {
     SgEvaluateOptions o;
     o.case_dir = t.case_dir;
