@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <stdexcept>
 
@@ -75,6 +76,10 @@ std::string hashFolder(const std::string& dir) {
 }  // namespace
 
 std::vector<BatchTask> expandBatchTasks(const BatchManifest& m) {
+  return expandBatchTasks(m, 0, std::numeric_limits<std::size_t>::max());
+}
+
+std::vector<BatchTask> expandBatchTasks(const BatchManifest& m, std::size_t first, std::size_t last) {
   Fnv1a64 options;
   options.add(std::string(graftnavVersion()));
   options.add(std::string(m.plots ? "plots" : "no-plots"));
@@ -87,7 +92,7 @@ std::vector<BatchTask> expandBatchTasks(const BatchManifest& m) {
 
   std::vector<BatchTask> tasks;
   for (std::size_t c = 0; c < m.cases.size(); ++c) {
-    const std::string case_hash = hashFolder(m.cases[c]);
+    std::optional<std::string> case_hash;  // read when the first task of this case needs it
     for (const auto& estimator : m.estimators) {
       for (const auto& schedule : schedules) {
         for (const auto seed : m.seeds) {
@@ -101,15 +106,18 @@ std::vector<BatchTask> expandBatchTasks(const BatchManifest& m) {
           t.seed = seed;
           t.name = fmt::format("{}__{}__{}__seed{}", t.case_name, estimator, t.schedule_label, seed);
           t.out_dir = (fs::path(m.out_dir) / "tasks" / t.name).string();
-          Fnv1a64 h = options;
-          h.add(t.case_name);  // two identical case folders under two names are two tasks
-          h.add(case_hash);
-          h.add(estimator);
-          // The schedule's numbers at full precision, not its rounded label.
-          h.add(schedule ? fmt::format("{:a},{:a},{:a}", schedule->length_s, schedule->period_s, schedule->start_s)
-                         : std::string("config"));
-          h.add(std::to_string(seed));
-          t.id = h.hex();
+          if (tasks.size() >= first && tasks.size() < last) {
+            if (!case_hash) case_hash = hashFolder(m.cases[c]);
+            Fnv1a64 h = options;
+            h.add(t.case_name);  // two identical case folders under two names are two tasks
+            h.add(*case_hash);
+            h.add(estimator);
+            // The schedule's numbers at full precision, not its rounded label.
+            h.add(schedule ? fmt::format("{:a},{:a},{:a}", schedule->length_s, schedule->period_s, schedule->start_s)
+                           : std::string("config"));
+            h.add(std::to_string(seed));
+            t.id = h.hex();
+          }
           tasks.push_back(std::move(t));
         }
       }

@@ -19,7 +19,7 @@ namespace graftnav::app {
 
 struct BatchTask {
   int index = 0;           // position in the manifest's expansion order (0-based)
-  std::string id;          // 16 hex digits
+  std::string id;          // 16 hex digits (empty for tasks outside the range that was hashed)
   std::string case_dir;
   std::string case_name;
   std::string estimator;
@@ -33,10 +33,13 @@ struct BatchTask {
 // graftnav's version, part of every id.
 const char* graftnavVersion();
 
-// Expands the manifest in the order cases > estimators > schedules > seeds. Reads every case
-// folder once to hash it; throws naming the case when one cannot be read. A case folder that does
-// not exist hashes as empty (its task then fails when run and records why).
+// Expands the manifest in the order cases > estimators > schedules > seeds and gives every task
+// its id (expandBatchTasks) or only tasks [first, last) (an array element needs no more, and
+// hashing reads every byte of the cases: a 57-minute case is ~430 MB). Each case folder is read
+// once per call; throws naming the file when one cannot be read. A case folder that does not
+// exist hashes as empty (its task then fails when run and records why).
 std::vector<BatchTask> expandBatchTasks(const BatchManifest& manifest);
+std::vector<BatchTask> expandBatchTasks(const BatchManifest& manifest, std::size_t first, std::size_t last);
 
 // Streaming 64-bit FNV-1a, for the ids.
 class Fnv1a64 {

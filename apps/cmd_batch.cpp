@@ -199,28 +199,31 @@ void writeSlurm(const BatchCli& cli, const BatchManifest& m, const std::vector<B
              collect_id, m.out_dir);
 }
 
+// Runs array element cli.task: tasks [task * chunk, (task + 1) * chunk), only those hashed.
+void runElement(const BatchCli& cli, const BatchManifest& m, int jobs) {
+  cli.slurm_options.validate();
+  const std::size_t first = static_cast<std::size_t>(cli.task) * cli.slurm_options.chunk;
+  const std::size_t last = first + cli.slurm_options.chunk;
+  const std::vector<BatchTask> tasks = expandBatchTasks(m, first, last);
+  if (first >= tasks.size()) {
+    throw std::invalid_argument(fmt::format("--task {} with --chunk {}: the manifest has only {} tasks", cli.task,
+                                            cli.slurm_options.chunk, tasks.size()));
+  }
+  const RunCounts n = runTasks(m, tasks, first, std::min(tasks.size(), last), jobs, cli.force);
+  fmt::print("batch: element {}: {} ran, {} skipped (finished before), {} failed\n", cli.task, n.ran, n.skipped,
+             n.failed);
+  if (n.failed > 0) throw std::runtime_error(fmt::format("{} task(s) of element {} failed", n.failed, cli.task));
+}
+
 void runBatch(const BatchCli& cli) {
   BatchManifest m = loadBatchManifest(cli.manifest);
   if (!cli.out.empty()) m.out_dir = cli.out;
-  const std::vector<BatchTask> tasks = expandBatchTasks(m);
   const int jobs = cli.jobs >= 0 ? cli.jobs : m.jobs;
+  if (cli.task >= 0) return runElement(cli, m, jobs);
+  if (cli.slurm) return writeSlurm(cli, m, expandBatchTasks(m, 0, 0));  // the count is enough
+  const std::vector<BatchTask> tasks = expandBatchTasks(m);
   if (cli.list) return listTasks(tasks);
-  if (cli.slurm) return writeSlurm(cli, m, tasks);
   if (cli.collect) return throwIfIncomplete(collectAndSummarize(m, tasks), tasks.size());
-  if (cli.task >= 0) {
-    cli.slurm_options.validate();
-    const std::size_t first = static_cast<std::size_t>(cli.task) * cli.slurm_options.chunk;
-    if (first >= tasks.size()) {
-      throw std::invalid_argument(fmt::format("--task {} with --chunk {}: the manifest has only {} tasks", cli.task,
-                                              cli.slurm_options.chunk, tasks.size()));
-    }
-    const RunCounts n = runTasks(m, tasks, first, std::min(tasks.size(), first + cli.slurm_options.chunk), jobs,
-                                 cli.force);
-    fmt::print("batch: element {}: {} ran, {} skipped (finished before), {} failed\n", cli.task, n.ran, n.skipped,
-               n.failed);
-    if (n.failed > 0) throw std::runtime_error(fmt::format("{} task(s) of element {} failed", n.failed, cli.task));
-    return;
-  }
   const RunCounts n = runTasks(m, tasks, 0, tasks.size(), jobs, cli.force);
   fmt::print("batch: {} ran, {} skipped (finished before), {} failed\n", n.ran, n.skipped, n.failed);
   throwIfIncomplete(collectAndSummarize(m, tasks), tasks.size());
