@@ -45,7 +45,8 @@ CREATE TABLE predictive_intervals (
 )sql";
 
 // The tables copied from a task file into the collected database (tasks come from the manifest).
-constexpr const char* kResultTables[] = {"runs", "run_statistics", "outages", "predictive_intervals"};
+constexpr const char* kResultTables[] = {"runs", "run_statistics", "outages",
+                                         "predictive_intervals"};
 
 class Statement;
 
@@ -68,7 +69,8 @@ class Database {
     if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
       const std::string msg = err ? err : "unknown error";
       sqlite3_free(err);
-      throw std::runtime_error(fmt::format("SQLite database '{}': {} (in: {})", path_, msg, sql.substr(0, 80)));
+      throw std::runtime_error(
+          fmt::format("SQLite database '{}': {} (in: {})", path_, msg, sql.substr(0, 80)));
     }
   }
   sqlite3* handle() const { return db_; }
@@ -125,17 +127,21 @@ class Statement {
     const auto* p = sqlite3_column_text(st_, c);
     return p ? reinterpret_cast<const char*>(p) : "";
   }
-  double real(int c) const { return isNull(c) ? std::numeric_limits<double>::quiet_NaN() : sqlite3_column_double(st_, c); }
+  double real(int c) const {
+    return isNull(c) ? std::numeric_limits<double>::quiet_NaN() : sqlite3_column_double(st_, c);
+  }
   long long integer(int c) const { return sqlite3_column_int64(st_, c); }
-  std::optional<double> optReal(int c) const { return isNull(c) ? std::nullopt : std::optional<double>(real(c)); }
+  std::optional<double> optReal(int c) const {
+    return isNull(c) ? std::nullopt : std::optional<double>(real(c));
+  }
 
  private:
   void check(int rc) {
     if (rc != SQLITE_OK) fail("bind");
   }
   [[noreturn]] void fail(const std::string& what) {
-    throw std::runtime_error(
-        fmt::format("SQLite database '{}': {} ({})", db_.path(), sqlite3_errmsg(db_.handle()), what.substr(0, 80)));
+    throw std::runtime_error(fmt::format("SQLite database '{}': {} ({})", db_.path(),
+                                         sqlite3_errmsg(db_.handle()), what.substr(0, 80)));
   }
   Database& db_;
   sqlite3_stmt* st_ = nullptr;
@@ -147,13 +153,16 @@ class AtomicDatabase {
   explicit AtomicDatabase(const std::string& path) : path_(path) {
     static std::atomic<unsigned> counter{0};
     const fs::path p(path);
-    tmp_ = (p.parent_path() / fmt::format(".{}.tmp.{}.{}", p.filename().string(), ::getpid(), counter++)).string();
+    tmp_ = (p.parent_path() /
+            fmt::format(".{}.tmp.{}.{}", p.filename().string(), ::getpid(), counter++))
+               .string();
     fs::remove(tmp_);
     db_.emplace(tmp_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
     db_->exec("PRAGMA journal_mode = OFF; PRAGMA synchronous = NORMAL;");
     db_->exec(kSchema);
-    db_->exec(fmt::format("INSERT INTO meta VALUES ('schema_version', '{}'), ('graftnav_version', '{}');",
-                          kSchemaVersion, graftnavVersion()));
+    db_->exec(
+        fmt::format("INSERT INTO meta VALUES ('schema_version', '{}'), ('graftnav_version', '{}');",
+                    kSchemaVersion, graftnavVersion()));
   }
   ~AtomicDatabase() {
     db_.reset();
@@ -174,32 +183,60 @@ class AtomicDatabase {
 
 void insertTask(Database& db, const BatchTask& t) {
   Statement st(db, "INSERT INTO tasks VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)");
-  st.bind(1, t.index).bind(2, t.id).bind(3, t.name).bind(4, t.case_name).bind(5, t.case_dir).bind(6, t.estimator);
+  st.bind(1, t.index)
+      .bind(2, t.id)
+      .bind(3, t.name)
+      .bind(4, t.case_name)
+      .bind(5, t.case_dir)
+      .bind(6, t.estimator);
   st.bind(7, t.schedule_label);
-  if (t.schedule) st.bind(8, t.schedule->length_s).bind(9, t.schedule->period_s).bind(10, t.schedule->start_s);
-  else st.bind(8, std::optional<double>()).bind(9, std::optional<double>()).bind(10, std::optional<double>());
+  if (t.schedule)
+    st.bind(8, t.schedule->length_s).bind(9, t.schedule->period_s).bind(10, t.schedule->start_s);
+  else
+    st.bind(8, std::optional<double>())
+        .bind(9, std::optional<double>())
+        .bind(10, std::optional<double>());
   st.bind(11, static_cast<long long>(t.seed));
   st.run();
 }
 
 void insertResults(Database& db, const std::string& id, const BatchRunRecord& r) {
   Statement run(db, "INSERT INTO runs VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
-  run.bind(1, id).bind(2, r.ok ? "ok" : "failed").bind(3, r.error).bind(4, r.outage_count).bind(5, r.reference);
+  run.bind(1, id)
+      .bind(2, r.ok ? "ok" : "failed")
+      .bind(3, r.error)
+      .bind(4, r.outage_count)
+      .bind(5, r.reference);
   run.bind(6, r.seconds).bind(7, graftnavVersion()).run();
   Statement stat(db, "INSERT INTO run_statistics VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
   for (const auto& s : r.statistics) {
-    stat.bind(1, id).bind(2, s.solution).bind(3, s.statistic).bind(4, s.outage_rms).bind(5, s.outage_max_rms);
+    stat.bind(1, id)
+        .bind(2, s.solution)
+        .bind(3, s.statistic)
+        .bind(4, s.outage_rms)
+        .bind(5, s.outage_max_rms);
     stat.bind(6, s.overall_rms).bind(7, s.diff).run();
   }
   Statement out(db, "INSERT INTO outages VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)");
   for (const auto& o : r.outages) {
-    out.bind(1, id).bind(2, o.solution).bind(3, o.outage_index).bind(4, o.start_s).bind(5, o.end_s).bind(6, o.epochs);
+    out.bind(1, id)
+        .bind(2, o.solution)
+        .bind(3, o.outage_index)
+        .bind(4, o.start_s)
+        .bind(5, o.end_s)
+        .bind(6, o.epochs);
     out.bind(7, o.horizontal_m).bind(8, o.vertical_m).bind(9, o.roll_deg).bind(10, o.pitch_deg);
     out.bind(11, o.heading_deg).run();
   }
-  Statement pred(db, "INSERT INTO predictive_intervals VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)");
+  Statement pred(
+      db, "INSERT INTO predictive_intervals VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)");
   for (const auto& p : r.predictive) {
-    pred.bind(1, id).bind(2, p.solution).bind(3, p.statistic).bind(4, p.p05).bind(5, p.p50).bind(6, p.p95);
+    pred.bind(1, id)
+        .bind(2, p.solution)
+        .bind(3, p.statistic)
+        .bind(4, p.p05)
+        .bind(5, p.p50)
+        .bind(6, p.p95);
     pred.bind(7, p.mean).bind(8, p.sd).bind(9, p.real_percentile).bind(10, p.verdict).run();
   }
 }
@@ -237,14 +274,16 @@ std::vector<BatchPredictiveRow> readPredictiveRows(const std::string& path) {
       r.mean = jsonNumber(v, "mean");
       r.sd = jsonNumber(v, "sd");
       r.real_percentile = jsonNumber(v, "real_percentile");
-      if (const auto vi = v.find("verdict"); vi != v.end() && vi->is_string()) r.verdict = vi->get<std::string>();
+      if (const auto vi = v.find("verdict"); vi != v.end() && vi->is_string())
+        r.verdict = vi->get<std::string>();
       rows.push_back(std::move(r));
     }
   }
   return rows;
 }
 
-void writeTaskDatabase(const std::string& path, const BatchTask& task, const BatchRunRecord& record) {
+void writeTaskDatabase(const std::string& path, const BatchTask& task,
+                       const BatchRunRecord& record) {
   AtomicDatabase out(path);
   out.db().exec("BEGIN");
   insertTask(out.db(), task);
@@ -266,7 +305,8 @@ std::optional<std::string> taskDatabaseStatus(const std::string& path, const std
   return std::nullopt;
 }
 
-CollectCounts collectTaskDatabases(const std::string& out_db_path, const std::vector<BatchTask>& tasks) {
+CollectCounts collectTaskDatabases(const std::string& out_db_path,
+                                   const std::vector<BatchTask>& tasks) {
   CollectCounts n;
   AtomicDatabase out(out_db_path);
   Database& db = out.db();
@@ -285,7 +325,8 @@ CollectCounts collectTaskDatabases(const std::string& out_db_path, const std::ve
     attach.bind(1, file).run();
     db.exec("BEGIN");
     for (const char* table : kResultTables) {
-      Statement copy(db, fmt::format("INSERT INTO main.{0} SELECT * FROM task.{0} WHERE task_id = ?1", table));
+      Statement copy(
+          db, fmt::format("INSERT INTO main.{0} SELECT * FROM task.{0} WHERE task_id = ?1", table));
       copy.bind(1, t.id).run();
     }
     db.exec("COMMIT");
@@ -316,10 +357,13 @@ std::vector<BatchSummaryRow> readSummaryRows(const std::string& db_path) {
     by_id[st.text(1)] = rows.size();
     rows.push_back(std::move(r));
   }
-  Statement stats(db, "SELECT task_id, solution, statistic, outage_rms, outage_max_rms, overall_rms, diff "
-                      "FROM run_statistics ORDER BY task_id, solution, statistic");
+  Statement stats(
+      db,
+      "SELECT task_id, solution, statistic, outage_rms, outage_max_rms, overall_rms, diff "
+      "FROM run_statistics ORDER BY task_id, solution, statistic");
   while (stats.step()) {
-    BatchStatisticRow s{stats.text(1), stats.text(2), stats.real(3), stats.real(4), stats.real(5), stats.optReal(6)};
+    BatchStatisticRow s{stats.text(1), stats.text(2), stats.real(3),
+                        stats.real(4), stats.real(5), stats.optReal(6)};
     rows.at(by_id.at(stats.text(0))).statistics.push_back(std::move(s));
   }
   return rows;

@@ -58,7 +58,8 @@ struct BatchRunRecord {
 std::vector<BatchPredictiveRow> readPredictiveRows(const std::string& evaluation_json_path);
 
 // Writes the task's database atomically (a previous one is replaced only when complete).
-void writeTaskDatabase(const std::string& path, const BatchTask& task, const BatchRunRecord& record);
+void writeTaskDatabase(const std::string& path, const BatchTask& task,
+                       const BatchRunRecord& record);
 
 // "ok" or "failed" when `path` holds a record of the task with this id, nothing otherwise (no
 // file, another id, an unreadable file).
@@ -70,7 +71,8 @@ struct CollectCounts {
 
 // Builds <out_db_path> from scratch: the manifest's tasks, and every task database that records
 // the task's current id. Written atomically.
-CollectCounts collectTaskDatabases(const std::string& out_db_path, const std::vector<BatchTask>& tasks);
+CollectCounts collectTaskDatabases(const std::string& out_db_path,
+                                   const std::vector<BatchTask>& tasks);
 
 // One row of the summaries: a task and, when it ran, its status and statistics.
 struct BatchSummaryRow {

@@ -27,10 +27,10 @@ struct SlurmOptions {
 std::string shellQuote(const std::string& s);
 
 struct SlurmScripts {
-  std::string dir;            // <out>/slurm
-  std::string array_script;   // <dir>/array.sbatch
-  std::string collect_script; // <dir>/collect.sbatch
-  std::string submit_script;  // <dir>/submit.sh: both sbatch lines, the dependency wired
+  std::string dir;             // <out>/slurm
+  std::string array_script;    // <dir>/array.sbatch
+  std::string collect_script;  // <dir>/collect.sbatch
+  std::string submit_script;   // <dir>/submit.sh: both sbatch lines, the dependency wired
   int array_size = 0;
 };
 
@@ -38,7 +38,8 @@ struct SlurmScripts {
 //   graftnav_exe batch manifest_path --out out_dir ...
 // with all three paths made absolute. Throws naming the folder when it cannot be written.
 SlurmScripts writeSlurmScripts(const std::string& out_dir, const std::string& graftnav_exe,
-                               const std::string& manifest_path, int task_count, const SlurmOptions& options);
+                               const std::string& manifest_path, int task_count,
+                               const SlurmOptions& options);
 
 // Submits the array, then the collect job with --dependency=afterany:<array id>, running sbatch
 // from scripts.dir without a shell. Returns {array job id, collect job id}. Throws with sbatch's
@@ -46,6 +47,7 @@ SlurmScripts writeSlurmScripts(const std::string& out_dir, const std::string& gr
 std::pair<std::string, std::string> submitSlurmScripts(const SlurmScripts& scripts);
 
 // Runs argv (no shell) in cwd, returns {exit status, stdout+stderr}. argv[0] is looked up in PATH.
-std::pair<int, std::string> runProgram(const std::vector<std::string>& argv, const std::string& cwd);
+std::pair<int, std::string> runProgram(const std::vector<std::string>& argv,
+                                       const std::string& cwd);
 
 }  // namespace graftnav::app

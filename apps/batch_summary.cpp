@@ -24,7 +24,9 @@ Five nanFive() {
   return a;
 }
 
-std::string cell(double v, int digits) { return std::isfinite(v) ? fmt::format("{:.{}f}", v, digits) : ""; }
+std::string cell(double v, int digits) {
+  return std::isfinite(v) ? fmt::format("{:.{}f}", v, digits) : "";
+}
 
 // ERR (outage RMS, m and deg) or DIFF (fraction) of one solution, in driftStatNames() order.
 Five values(const BatchSummaryRow& r, const std::string& solution, bool diff) {
@@ -57,22 +59,29 @@ void writeTaskSummaries(const std::string& out_dir, const std::vector<BatchSumma
   std::string csv = "case,estimator,outages,seed,outage_count,status";
   for (const auto& [l, d] : summaryColumns())
     for (const auto& n : driftStatNames())
-      csv += fmt::format(",{}_{}_{}", d ? "DIFF" : "ERR", l, d ? n.substr(0, n.rfind('_')) + "_frac" : n);
+      csv += fmt::format(",{}_{}_{}", d ? "DIFF" : "ERR", l,
+                         d ? n.substr(0, n.rfind('_')) + "_frac" : n);
   csv += ",error\n";
-  std::string md = "# graftnav batch summary\n\nERR: RMS over outage epochs (m, deg); DIFF: |ERR_x - ERR_REAL| / ERR_REAL.\n\n";
-  md += "| case | estimator | outages | seed | n | ERR_SG1 h/v/hdg | ERR_SG2 h/v/hdg | ERR_REAL h/v/hdg | DIFF_1 h/v/hdg | "
-        "DIFF_2 h/v/hdg | status |\n";
+  std::string md =
+      "# graftnav batch summary\n\nERR: RMS over outage epochs (m, deg); DIFF: |ERR_x - ERR_REAL| "
+      "/ ERR_REAL.\n\n";
+  md +=
+      "| case | estimator | outages | seed | n | ERR_SG1 h/v/hdg | ERR_SG2 h/v/hdg | ERR_REAL "
+      "h/v/hdg | DIFF_1 h/v/hdg | "
+      "DIFF_2 h/v/hdg | status |\n";
   md += "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     const std::string n = r.outage_count ? std::to_string(*r.outage_count) : "";
-    csv += fmt::format("{},{},{},{},{},{}", r.case_name, r.estimator, r.schedule, r.seed, n, r.status);
+    csv +=
+        fmt::format("{},{},{},{},{},{}", r.case_name, r.estimator, r.schedule, r.seed, n, r.status);
     for (const auto& [l, d] : summaryColumns())
       for (double v : values(r, l, d)) csv += "," + cell(v, 6);
     std::string err = r.error;
     for (char& ch : err)
       if (ch == ',' || ch == '\n') ch = ';';
     csv += "," + err + "\n";
-    md += fmt::format("| {} | {} | {} | {} | {} |", r.case_name, r.estimator, r.schedule, r.seed, n.empty() ? "-" : n);
+    md += fmt::format("| {} | {} | {} | {} | {} |", r.case_name, r.estimator, r.schedule, r.seed,
+                      n.empty() ? "-" : n);
     for (const auto& [l, d] : summaryColumns()) {
       const auto v = values(r, l, d);
       if (!std::isfinite(v[0])) {
@@ -119,11 +128,16 @@ void writeMonteCarloSummary(const std::string& out_dir, const std::vector<BatchS
     fs::remove(fs::path(out_dir) / "summary_monte_carlo.csv");
     return;
   }
-  std::string md = "# graftnav batch: Monte-Carlo summary over seeds\n\n"
-                   "Mean (and standard deviation over seeds) of the seed's outage statistic; DIFF on the means.\n\n"
-                   "| experiment | estimator | outages | seeds | row | horizontal_m | vertical_m | roll_deg | pitch_deg | heading_deg |\n"
-                   "|---|---|---|---|---|---|---|---|---|---|\n";
-  std::string csv = "experiment,estimator,outages,seeds,row,horizontal_m,vertical_m,roll_deg,pitch_deg,heading_deg\n";
+  std::string md =
+      "# graftnav batch: Monte-Carlo summary over seeds\n\n"
+      "Mean (and standard deviation over seeds) of the seed's outage statistic; DIFF on the "
+      "means.\n\n"
+      "| experiment | estimator | outages | seeds | row | horizontal_m | vertical_m | roll_deg | "
+      "pitch_deg | heading_deg |\n"
+      "|---|---|---|---|---|---|---|---|---|---|\n";
+  std::string csv =
+      "experiment,estimator,outages,seeds,row,horizontal_m,vertical_m,roll_deg,pitch_deg,heading_"
+      "deg\n";
   for (const auto& k : order) {
     const Experiment& g = groups[k];
     if (g.runs.size() < 2) continue;
@@ -147,7 +161,8 @@ void writeMonteCarloSummary(const std::string& out_dir, const std::vector<BatchS
         sd[i] = n > 1 ? std::sqrt(std::max(0.0, (sq[i] - n * m[i] * m[i]) / (n - 1))) : 0.0;
       }
       mean[label] = m;
-      md += fmt::format("| {} | {} | {} | {} | ERR_{} |", g.name, g.estimator, g.schedule, n, label);
+      md +=
+          fmt::format("| {} | {} | {} | {} | ERR_{} |", g.name, g.estimator, g.schedule, n, label);
       csv += fmt::format("{},{},{},{},ERR_{}_mean", g.name, g.estimator, g.schedule, n, label);
       for (int i = 0; i < 5; ++i) {
         md += fmt::format(" {:.4f} ({:.4f}) |", m[i], sd[i]);
@@ -159,9 +174,10 @@ void writeMonteCarloSummary(const std::string& out_dir, const std::vector<BatchS
     if (!mean.count("REAL")) continue;
     for (const std::string label : {"SG1", "SG2"}) {
       if (!mean.count(label)) continue;
-      md += fmt::format("| {} | {} | {} | {} | DIFF_{} (of means) |", g.name, g.estimator, g.schedule, g.runs.size(),
-                        label.substr(2));
-      csv += fmt::format("{},{},{},{},DIFF_{}_of_means", g.name, g.estimator, g.schedule, g.runs.size(), label.substr(2));
+      md += fmt::format("| {} | {} | {} | {} | DIFF_{} (of means) |", g.name, g.estimator,
+                        g.schedule, g.runs.size(), label.substr(2));
+      csv += fmt::format("{},{},{},{},DIFF_{}_of_means", g.name, g.estimator, g.schedule,
+                         g.runs.size(), label.substr(2));
       for (int i = 0; i < 5; ++i) {
         const double d = std::abs(mean[label][i] - mean["REAL"][i]) / mean["REAL"][i];
         md += fmt::format(" {:.1f}% |", 100.0 * d);

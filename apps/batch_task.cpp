@@ -62,7 +62,8 @@ std::string hashFolder(const std::string& dir) {
   Fnv1a64 h;
   if (!fs::is_directory(dir)) return h.hex();
   std::vector<fs::path> files;
-  for (const auto& e : fs::recursive_directory_iterator(dir, fs::directory_options::follow_directory_symlink)) {
+  for (const auto& e :
+       fs::recursive_directory_iterator(dir, fs::directory_options::follow_directory_symlink)) {
     if (e.is_regular_file()) files.push_back(e.path());
   }
   std::sort(files.begin(), files.end());
@@ -79,12 +80,14 @@ std::vector<BatchTask> expandBatchTasks(const BatchManifest& m) {
   return expandBatchTasks(m, 0, std::numeric_limits<std::size_t>::max());
 }
 
-std::vector<BatchTask> expandBatchTasks(const BatchManifest& m, std::size_t first, std::size_t last) {
+std::vector<BatchTask> expandBatchTasks(const BatchManifest& m, std::size_t first,
+                                        std::size_t last) {
   Fnv1a64 options;
   options.add(std::string(graftnavVersion()));
   options.add(std::string(m.plots ? "plots" : "no-plots"));
   if (!m.config.empty()) {
-    if (!fs::is_regular_file(m.config)) throw std::runtime_error(m.path + ": config '" + m.config + "' is not a file");
+    if (!fs::is_regular_file(m.config))
+      throw std::runtime_error(m.path + ": config '" + m.config + "' is not a file");
     addFileBytes(options, m.config);
   }
   std::vector<std::optional<OutageScheduleSpec>> schedules(m.schedules.begin(), m.schedules.end());
@@ -104,7 +107,8 @@ std::vector<BatchTask> expandBatchTasks(const BatchManifest& m, std::size_t firs
           t.schedule = schedule;
           t.schedule_label = schedule ? schedule->label() : "config";
           t.seed = seed;
-          t.name = fmt::format("{}__{}__{}__seed{}", t.case_name, estimator, t.schedule_label, seed);
+          t.name =
+              fmt::format("{}__{}__{}__seed{}", t.case_name, estimator, t.schedule_label, seed);
           t.out_dir = (fs::path(m.out_dir) / "tasks" / t.name).string();
           if (tasks.size() >= first && tasks.size() < last) {
             if (!case_hash) case_hash = hashFolder(m.cases[c]);
@@ -113,7 +117,8 @@ std::vector<BatchTask> expandBatchTasks(const BatchManifest& m, std::size_t firs
             h.add(*case_hash);
             h.add(estimator);
             // The schedule's numbers at full precision, not its rounded label.
-            h.add(schedule ? fmt::format("{:a},{:a},{:a}", schedule->length_s, schedule->period_s, schedule->start_s)
+            h.add(schedule ? fmt::format("{:a},{:a},{:a}", schedule->length_s, schedule->period_s,
+                                         schedule->start_s)
                            : std::string("config"));
             h.add(std::to_string(seed));
             t.id = h.hex();

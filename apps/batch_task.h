@@ -2,12 +2,12 @@
 // The tasks of a batch manifest: every case x estimator x outage schedule x seed, in a fixed
 // order, each with a stable id and its own output folder.
 //
-// The id is a 64-bit FNV-1a hash, finalized, as 16 hex digits, over everything that decides a task's result:
-// the case's name, the bytes of every file under the case folder (sorted by relative path, symlinks followed), the
-// estimator, the schedule, the seed, the bytes of the run config, the plots switch and graftnav's
-// version. Editing a case file or the config changes the ids of the tasks that use it, so a
-// resumed batch reruns exactly those. Files a case.yaml names outside its own folder are not
-// hashed.
+// The id is a 64-bit FNV-1a hash, finalized, as 16 hex digits, over everything that decides a
+// task's result: the case's name, the bytes of every file under the case folder (sorted by relative
+// path, symlinks followed), the estimator, the schedule, the seed, the bytes of the run config, the
+// plots switch and graftnav's version. Editing a case file or the config changes the ids of the
+// tasks that use it, so a resumed batch reruns exactly those. Files a case.yaml names outside its
+// own folder are not hashed.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -18,8 +18,8 @@
 namespace graftnav::app {
 
 struct BatchTask {
-  int index = 0;           // position in the manifest's expansion order (0-based)
-  std::string id;          // 16 hex digits (empty for tasks outside the range that was hashed)
+  int index = 0;   // position in the manifest's expansion order (0-based)
+  std::string id;  // 16 hex digits (empty for tasks outside the range that was hashed)
   std::string case_dir;
   std::string case_name;
   std::string estimator;
@@ -39,7 +39,8 @@ const char* graftnavVersion();
 // once per call; throws naming the file when one cannot be read. A case folder that does not
 // exist hashes as empty (its task then fails when run and records why).
 std::vector<BatchTask> expandBatchTasks(const BatchManifest& manifest);
-std::vector<BatchTask> expandBatchTasks(const BatchManifest& manifest, std::size_t first, std::size_t last);
+std::vector<BatchTask> expandBatchTasks(const BatchManifest& manifest, std::size_t first,
+                                        std::size_t last);
 
 // Streaming 64-bit FNV-1a, for the ids.
 class Fnv1a64 {

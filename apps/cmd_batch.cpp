@@ -34,7 +34,9 @@ struct BatchCli {
   SlurmOptions slurm_options;
 };
 
-std::string taskDatabasePath(const BatchTask& t) { return (fs::path(t.out_dir) / "task.sqlite").string(); }
+std::string taskDatabasePath(const BatchTask& t) {
+  return (fs::path(t.out_dir) / "task.sqlite").string();
+}
 
 // The report's numbers in the database's units (m, deg; DIFF as a fraction).
 BatchRunRecord recordOf(const SgEvaluationReport& report) {
@@ -60,8 +62,8 @@ BatchRunRecord recordOf(const SgEvaluationReport& report) {
     for (std::size_t k = 0; k < s.evaluation.outages.size(); ++k) {
       const auto& o = s.evaluation.outages[k];
       const auto m = reportUnits(asArray(o.max));
-      rec.outages.push_back({s.label, static_cast<int>(k), o.window.start_s, o.window.end_s, o.epochs, m[0], m[1],
-                             m[2], m[3], m[4]});
+      rec.outages.push_back({s.label, static_cast<int>(k), o.window.start_s, o.window.end_s,
+                             o.epochs, m[0], m[1], m[2], m[3], m[4]});
     }
   }
   return rec;
@@ -117,21 +119,23 @@ struct RunCounts {
 
 // Runs tasks[first, last) on `jobs` threads, skipping those already finished with their id
 // unless force. A failed task is recorded and the others go on.
-RunCounts runTasks(const BatchManifest& m, const std::vector<BatchTask>& tasks, std::size_t first, std::size_t last,
-                   int jobs, bool force) {
+RunCounts runTasks(const BatchManifest& m, const std::vector<BatchTask>& tasks, std::size_t first,
+                   std::size_t last, int jobs, bool force) {
   std::vector<const BatchTask*> todo;
   RunCounts n;
   for (std::size_t i = first; i < last; ++i) {
-    if (!force && taskDatabaseStatus(taskDatabasePath(tasks[i]), tasks[i].id) == std::optional<std::string>("ok")) {
+    if (!force && taskDatabaseStatus(taskDatabasePath(tasks[i]), tasks[i].id) ==
+                      std::optional<std::string>("ok")) {
       ++n.skipped;
     } else {
       todo.push_back(&tasks[i]);
     }
   }
-  const int threads = std::max(1, std::min<int>(static_cast<int>(todo.size()),
-                                                jobs > 0 ? jobs : static_cast<int>(std::thread::hardware_concurrency())));
-  fmt::print(stderr, "batch: tasks {}..{} of {}: {} finished before, {} to run on {} threads\n", first, last - 1,
-             tasks.size(), n.skipped, todo.size(), threads);
+  const int threads = std::max(
+      1, std::min<int>(static_cast<int>(todo.size()),
+                       jobs > 0 ? jobs : static_cast<int>(std::thread::hardware_concurrency())));
+  fmt::print(stderr, "batch: tasks {}..{} of {}: {} finished before, {} to run on {} threads\n",
+             first, last - 1, tasks.size(), n.skipped, todo.size(), threads);
   std::atomic<std::size_t> next{0};
   std::atomic<int> done{0}, failed{0};
   std::mutex print_mutex;
@@ -149,9 +153,10 @@ RunCounts runTasks(const BatchManifest& m, const std::vector<BatchTask>& tasks, 
       if (!error.empty()) ++failed;
       ++done;
       std::lock_guard<std::mutex> lock(print_mutex);
-      const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      fmt::print(stderr, "[{}/{}] {:.0f} s  task {} {} {}: {}\n", done.load(), todo.size(), el, t.index, t.id, t.name,
-                 error.empty() ? "ok" : "FAILED (" + error + ")");
+      const double el =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      fmt::print(stderr, "[{}/{}] {:.0f} s  task {} {} {}: {}\n", done.load(), todo.size(), el,
+                 t.index, t.id, t.name, error.empty() ? "ok" : "FAILED (" + error + ")");
     }
   };
   std::vector<std::thread> pool;
@@ -168,15 +173,18 @@ CollectCounts collectAndSummarize(const BatchManifest& m, const std::vector<Batc
   const std::string db = (fs::path(m.out_dir) / "results.sqlite").string();
   const CollectCounts c = collectTaskDatabases(db, tasks);
   writeBatchSummaries(m.out_dir, readSummaryRows(db));
-  fmt::print("batch: {} tasks, {} ok, {} failed, {} missing; results: {}, summary: {}/summary.md and summary.csv\n",
-             tasks.size(), c.ok, c.failed, c.missing, db, m.out_dir);
+  fmt::print(
+      "batch: {} tasks, {} ok, {} failed, {} missing; results: {}, summary: {}/summary.md and "
+      "summary.csv\n",
+      tasks.size(), c.ok, c.failed, c.missing, db, m.out_dir);
   return c;
 }
 
 void throwIfIncomplete(const CollectCounts& c, std::size_t total) {
   if (c.failed + c.missing > 0) {
-    throw std::runtime_error(fmt::format("{} of {} batch tasks failed and {} have no record (see the summary)",
-                                         c.failed, total, c.missing));
+    throw std::runtime_error(
+        fmt::format("{} of {} batch tasks failed and {} have no record (see the summary)", c.failed,
+                    total, c.missing));
   }
 }
 
@@ -184,19 +192,23 @@ void listTasks(const std::vector<BatchTask>& tasks) {
   fmt::print("index\tid\tstatus\tname\n");
   for (const auto& t : tasks) {
     const auto s = taskDatabaseStatus(taskDatabasePath(t), t.id);
-    fmt::print("{}\t{}\t{}\t{}\n", t.index, t.id, s ? (*s == "ok" ? "done" : "failed") : "pending", t.name);
+    fmt::print("{}\t{}\t{}\t{}\n", t.index, t.id, s ? (*s == "ok" ? "done" : "failed") : "pending",
+               t.name);
   }
 }
 
 void writeSlurm(const BatchCli& cli, const BatchManifest& m, const std::vector<BatchTask>& tasks) {
-  const SlurmScripts s = writeSlurmScripts(m.out_dir, fs::read_symlink("/proc/self/exe").string(), cli.manifest,
-                                           static_cast<int>(tasks.size()), cli.slurm_options);
-  fmt::print("batch: {} tasks in {} array elements of {}; scripts: {} and {}; submit with: bash {}\n", tasks.size(),
-             s.array_size, cli.slurm_options.chunk, s.array_script, s.collect_script, shellQuote(s.submit_script));
+  const SlurmScripts s =
+      writeSlurmScripts(m.out_dir, fs::read_symlink("/proc/self/exe").string(), cli.manifest,
+                        static_cast<int>(tasks.size()), cli.slurm_options);
+  fmt::print(
+      "batch: {} tasks in {} array elements of {}; scripts: {} and {}; submit with: bash {}\n",
+      tasks.size(), s.array_size, cli.slurm_options.chunk, s.array_script, s.collect_script,
+      shellQuote(s.submit_script));
   if (!cli.submit) return;
   const auto [array_id, collect_id] = submitSlurmScripts(s);
-  fmt::print("batch: submitted array job {} and collect job {} (after the array); results in {}\n", array_id,
-             collect_id, m.out_dir);
+  fmt::print("batch: submitted array job {} and collect job {} (after the array); results in {}\n",
+             array_id, collect_id, m.out_dir);
 }
 
 // Runs array element cli.task: tasks [task * chunk, (task + 1) * chunk), only those hashed.
@@ -206,13 +218,15 @@ void runElement(const BatchCli& cli, const BatchManifest& m, int jobs) {
   const std::size_t last = first + cli.slurm_options.chunk;
   const std::vector<BatchTask> tasks = expandBatchTasks(m, first, last);
   if (first >= tasks.size()) {
-    throw std::invalid_argument(fmt::format("--task {} with --chunk {}: the manifest has only {} tasks", cli.task,
-                                            cli.slurm_options.chunk, tasks.size()));
+    throw std::invalid_argument(
+        fmt::format("--task {} with --chunk {}: the manifest has only {} tasks", cli.task,
+                    cli.slurm_options.chunk, tasks.size()));
   }
   const RunCounts n = runTasks(m, tasks, first, std::min(tasks.size(), last), jobs, cli.force);
-  fmt::print("batch: element {}: {} ran, {} skipped (finished before), {} failed\n", cli.task, n.ran, n.skipped,
-             n.failed);
-  if (n.failed > 0) throw std::runtime_error(fmt::format("{} task(s) of element {} failed", n.failed, cli.task));
+  fmt::print("batch: element {}: {} ran, {} skipped (finished before), {} failed\n", cli.task,
+             n.ran, n.skipped, n.failed);
+  if (n.failed > 0)
+    throw std::runtime_error(fmt::format("{} task(s) of element {} failed", n.failed, cli.task));
 }
 
 void runBatch(const BatchCli& cli) {
@@ -225,7 +239,8 @@ void runBatch(const BatchCli& cli) {
   if (cli.list) return listTasks(tasks);
   if (cli.collect) return throwIfIncomplete(collectAndSummarize(m, tasks), tasks.size());
   const RunCounts n = runTasks(m, tasks, 0, tasks.size(), jobs, cli.force);
-  fmt::print("batch: {} ran, {} skipped (finished before), {} failed\n", n.ran, n.skipped, n.failed);
+  fmt::print("batch: {} ran, {} skipped (finished before), {} failed\n", n.ran, n.skipped,
+             n.failed);
   throwIfIncomplete(collectAndSummarize(m, tasks), tasks.size());
 }
 
@@ -233,25 +248,35 @@ void runBatch(const BatchCli& cli) {
 
 void registerBatch(CLI::App& app) {
   auto cli = std::make_shared<BatchCli>();
-  CLI::App* cmd = app.add_subcommand(
-      "batch", "Run the tasks of a manifest (cases x estimators x outage schedules x seeds) locally or on Slurm; "
-               "resumable; results in SQLite and summary tables");
-  cmd->add_option("manifest", cli->manifest, "batch manifest YAML")->required()->check(CLI::ExistingFile);
+  CLI::App* cmd = app.add_subcommand("batch",
+                                     "Run the tasks of a manifest (cases x estimators x outage "
+                                     "schedules x seeds) locally or on Slurm; "
+                                     "resumable; results in SQLite and summary tables");
+  cmd->add_option("manifest", cli->manifest, "batch manifest YAML")
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("--jobs", cli->jobs, "tasks in parallel (overrides the manifest; 0 = all cores)");
   cmd->add_option("--out", cli->out, "output folder (overrides the manifest's 'out')");
   cmd->add_flag("--force", cli->force, "rerun tasks that finished before");
-  auto* list = cmd->add_flag("--list", cli->list, "print the tasks (index, id, status, name) and exit");
-  auto* task = cmd->add_option("--task", cli->task, "run array element I only (tasks I*chunk .. I*chunk+chunk-1)")
+  auto* list =
+      cmd->add_flag("--list", cli->list, "print the tasks (index, id, status, name) and exit");
+  auto* task = cmd->add_option("--task", cli->task,
+                               "run array element I only (tasks I*chunk .. I*chunk+chunk-1)")
                    ->check(CLI::NonNegativeNumber);
   cmd->add_option("--chunk", cli->slurm_options.chunk, "tasks per array element (default 1)")
       ->check(CLI::PositiveNumber);
-  auto* collect = cmd->add_flag("--collect", cli->collect, "merge the task results into results.sqlite and summaries");
-  auto* slurm = cmd->add_flag("--slurm", cli->slurm, "write an sbatch array script and a collect job script");
-  auto* submit = cmd->add_flag("--submit", cli->submit, "with --slurm: submit both (the collect job after the array)");
+  auto* collect = cmd->add_flag("--collect", cli->collect,
+                                "merge the task results into results.sqlite and summaries");
+  auto* slurm =
+      cmd->add_flag("--slurm", cli->slurm, "write an sbatch array script and a collect job script");
+  auto* submit = cmd->add_flag("--submit", cli->submit,
+                               "with --slurm: submit both (the collect job after the array)");
   cmd->add_option("--partition", cli->slurm_options.partition, "with --slurm: partition");
   cmd->add_option("--time", cli->slurm_options.time, "with --slurm: time limit per array element");
-  cmd->add_option("--mem", cli->slurm_options.mem, "with --slurm: memory per array element (e.g. 4G)");
-  cmd->add_option("--cpus", cli->slurm_options.cpus, "with --slurm: cpus per array element (default 1)")
+  cmd->add_option("--mem", cli->slurm_options.mem,
+                  "with --slurm: memory per array element (e.g. 4G)");
+  cmd->add_option("--cpus", cli->slurm_options.cpus,
+                  "with --slurm: cpus per array element (default 1)")
       ->check(CLI::PositiveNumber);
   submit->needs(slurm);
   list->excludes(task, collect, slurm);

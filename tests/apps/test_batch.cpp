@@ -51,7 +51,8 @@ std::string readFile(const std::string& path) {
 std::string sample(const std::string& grade) { return test::sourceDir() + "/data/sample_" + grade; }
 
 // A manifest over the tactical sample: `seeds` seeds, one 60 s schedule, EKF.
-void writeManifest(const std::string& path, const std::vector<std::string>& cases, const std::string& seeds) {
+void writeManifest(const std::string& path, const std::vector<std::string>& cases,
+                   const std::string& seeds) {
   std::ofstream m(path);
   m << "out: out\nconfig: " << test::sourceDir() << "/configs/evaluate_sample.yaml\ncases:\n";
   for (const auto& c : cases) m << "  - \"" << c << "\"\n";
@@ -77,9 +78,11 @@ std::map<int, std::pair<std::string, std::string>> listTasks(const std::string& 
 
 long long queryInt(const std::string& db_path, const std::string& sql) {
   sqlite3* db = nullptr;
-  EXPECT_EQ(sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK) << db_path;
+  EXPECT_EQ(sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK)
+      << db_path;
   sqlite3_stmt* st = nullptr;
-  EXPECT_EQ(sqlite3_prepare_v2(db, sql.c_str(), -1, &st, nullptr), SQLITE_OK) << sqlite3_errmsg(db) << ": " << sql;
+  EXPECT_EQ(sqlite3_prepare_v2(db, sql.c_str(), -1, &st, nullptr), SQLITE_OK)
+      << sqlite3_errmsg(db) << ": " << sql;
   long long v = -1;
   if (st && sqlite3_step(st) == SQLITE_ROW) v = sqlite3_column_int64(st, 0);
   sqlite3_finalize(st);
@@ -100,7 +103,8 @@ TEST(BatchTasks, IdsAreStableAndFollowTheInputsThatDecideTheResult) {
     ids.insert(t.first);
     EXPECT_EQ(t.second, "pending");
   }
-  EXPECT_EQ(ids.size(), 4u) << "two identical folders under two names, two seeds: four distinct ids";
+  EXPECT_EQ(ids.size(), 4u)
+      << "two identical folders under two names, two seeds: four distinct ids";
 
   // One byte more in caseB's case.yaml: only caseB's ids change.
   std::ofstream(dir + "/caseB/case.yaml", std::ios::app) << "\n";
@@ -172,12 +176,18 @@ TEST(BatchRuns, AFailedTaskLeavesItsMessageInTheDatabase) {
   EXPECT_NE(r.exit_code, 0);
   const std::string db = dir + "/out/results.sqlite";
   EXPECT_EQ(queryInt(db, "SELECT count(*) FROM runs WHERE status = 'ok'"), 1);
-  EXPECT_EQ(queryInt(db, "SELECT count(*) FROM runs WHERE status = 'failed' AND error LIKE '%no_such_case%'"), 1);
+  EXPECT_EQ(
+      queryInt(db,
+               "SELECT count(*) FROM runs WHERE status = 'failed' AND error LIKE '%no_such_case%'"),
+      1);
   EXPECT_EQ(queryInt(db, "SELECT count(*) FROM tasks"), 2);
   // The good task's statistics and per-outage rows (3 outages x SG1, SG2, REAL).
   EXPECT_EQ(queryInt(db, "SELECT count(*) FROM run_statistics"), 15);
   EXPECT_EQ(queryInt(db, "SELECT count(*) FROM outages"), 9);
-  EXPECT_EQ(queryInt(db, "SELECT count(*) FROM run_statistics WHERE solution = 'REAL' AND diff IS NOT NULL"), 0);
+  EXPECT_EQ(
+      queryInt(db,
+               "SELECT count(*) FROM run_statistics WHERE solution = 'REAL' AND diff IS NOT NULL"),
+      0);
   const std::string md = readFile(dir + "/out/summary.md");
   EXPECT_NE(md.find("failed: "), std::string::npos) << md;
 }
@@ -187,19 +197,22 @@ TEST(BatchRuns, ArrayElementsInParallelProcessesThenCollectEqualALocalRun) {
   writeManifest(dir + "/m.yaml", {sample("tactical"), sample("mems")}, "[1, 2]");
   const std::string exe = test::graftnavBinary();
   // Two elements of two tasks each, as two concurrent processes writing into one output folder.
-  const RunResult par = shell(exe + " batch " + dir + "/m.yaml --out " + dir + "/array --task 0 --chunk 2 & " + exe +
-                              " batch " + dir + "/m.yaml --out " + dir + "/array --task 1 --chunk 2 & wait");
+  const RunResult par =
+      shell(exe + " batch " + dir + "/m.yaml --out " + dir + "/array --task 0 --chunk 2 & " + exe +
+            " batch " + dir + "/m.yaml --out " + dir + "/array --task 1 --chunk 2 & wait");
   ASSERT_EQ(par.exit_code, 0) << par.output;
   RunResult r = graftnav("batch " + dir + "/m.yaml --out " + dir + "/array --collect");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = graftnav("batch " + dir + "/m.yaml --out " + dir + "/local --jobs 2");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  for (const std::string f : {"summary.csv", "summary.md", "summary_monte_carlo.csv", "summary_monte_carlo.md"}) {
+  for (const std::string f :
+       {"summary.csv", "summary.md", "summary_monte_carlo.csv", "summary_monte_carlo.md"}) {
     const std::string local = readFile(dir + "/local/" + f);
     EXPECT_FALSE(local.empty()) << f;
     EXPECT_EQ(readFile(dir + "/array/" + f), local) << f;
   }
-  EXPECT_EQ(queryInt(dir + "/array/results.sqlite", "SELECT count(*) FROM runs WHERE status = 'ok'"), 4);
+  EXPECT_EQ(
+      queryInt(dir + "/array/results.sqlite", "SELECT count(*) FROM runs WHERE status = 'ok'"), 4);
   // An element past the end is an error, not a silent no-op.
   r = graftnav("batch " + dir + "/m.yaml --out " + dir + "/array --task 2 --chunk 2");
   EXPECT_NE(r.exit_code, 0);
@@ -216,7 +229,8 @@ TEST(BatchSlurm, HostilePathsInTheScriptsRunNothingTheyShouldNot) {
   fs::create_directory_symlink(sample("tactical"), mdir + "/case " + evil);
   {
     std::ofstream m(mdir + "/m.yaml");
-    m << "out: 'out $(touch PWNED_OUT)'\nconfig: " << test::sourceDir() << "/configs/evaluate_sample.yaml\n"
+    m << "out: 'out $(touch PWNED_OUT)'\nconfig: " << test::sourceDir()
+      << "/configs/evaluate_sample.yaml\n"
       << "cases: ['case it''s a $(touch PWNED_DIR) `touch PWNED_TICK`; touch PWNED_SEMI \"q\"']\n";
   }
   const std::string q = app::shellQuote(mdir + "/m.yaml");
@@ -224,14 +238,16 @@ TEST(BatchSlurm, HostilePathsInTheScriptsRunNothingTheyShouldNot) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string slurm_dir = mdir + "/out $(touch PWNED_OUT)/slurm";
   ASSERT_TRUE(fs::exists(slurm_dir + "/array.sbatch")) << r.output;
-  r = shell("cd " + app::shellQuote(slurm_dir) + " && SLURM_ARRAY_TASK_ID=0 bash array.sbatch && bash collect.sbatch");
+  r = shell("cd " + app::shellQuote(slurm_dir) +
+            " && SLURM_ARRAY_TASK_ID=0 bash array.sbatch && bash collect.sbatch");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   const std::string summary = readFile(mdir + "/out $(touch PWNED_OUT)/summary.csv");
   EXPECT_NE(summary.find("case it's a $(touch PWNED_DIR)"), std::string::npos) << summary;
   EXPECT_NE(summary.find(",ok,"), std::string::npos) << summary;
   for (const auto& root : {fs::path(dir), fs::path(mdir), fs::path(slurm_dir)}) {
     for (const auto& e : fs::recursive_directory_iterator(root)) {
-      EXPECT_EQ(e.path().filename().string().rfind("PWNED", 0), std::string::npos) << "injected: " << e.path();
+      EXPECT_EQ(e.path().filename().string().rfind("PWNED", 0), std::string::npos)
+          << "injected: " << e.path();
     }
   }
   // Options reach #SBATCH lines unquoted, so they must be plain Slurm words.
@@ -253,13 +269,15 @@ TEST(BatchSlurm, ScriptsHoldTheArrayTheChunkAndTheDependency) {
   const auto s = app::writeSlurmScripts(dir + "/out", "/opt/graftnav", dir + "/m.yaml", 10, o);
   EXPECT_EQ(s.array_size, 3);  // 4 + 4 + 2 tasks
   const std::string array = readFile(s.array_script);
-  for (const std::string line : {"#SBATCH --array=0-2\n", "#SBATCH --partition=short\n", "#SBATCH --time=00:20:00\n",
-                                 "#SBATCH --mem=2G\n", "#SBATCH --cpus-per-task=2\n",
-                                 "--task \"$SLURM_ARRAY_TASK_ID\" --chunk 4 --jobs 2\n"}) {
+  for (const std::string line :
+       {"#SBATCH --array=0-2\n", "#SBATCH --partition=short\n", "#SBATCH --time=00:20:00\n",
+        "#SBATCH --mem=2G\n", "#SBATCH --cpus-per-task=2\n",
+        "--task \"$SLURM_ARRAY_TASK_ID\" --chunk 4 --jobs 2\n"}) {
     EXPECT_NE(array.find(line), std::string::npos) << line << "\n" << array;
   }
   EXPECT_NE(readFile(s.collect_script).find("--collect"), std::string::npos);
-  EXPECT_NE(readFile(s.submit_script).find("--dependency=afterany:\"$array_id\" collect.sbatch"), std::string::npos);
+  EXPECT_NE(readFile(s.submit_script).find("--dependency=afterany:\"$array_id\" collect.sbatch"),
+            std::string::npos);
 }
 
 // Many writers at once: each task writes its own database file, collecting merges them all.
@@ -281,7 +299,8 @@ TEST(BatchDatabase, ParallelWritersThenCollectKeepEveryRowAndThePredictiveInterv
   }
   // Predictive grafting's evaluation.json block, as the batch reads it after a task.
   const std::string json = dir + "/evaluation.json";
-  std::ofstream(json) << R"({"case": "x", "predictive": {"SG1": {"horizontal_m": {"p05": 0.5, "p50": 1.0,
+  std::ofstream(json)
+      << R"({"case": "x", "predictive": {"SG1": {"horizontal_m": {"p05": 0.5, "p50": 1.0,
       "p95": 2.0, "mean": 1.1, "sd": 0.4, "real_percentile": 63.0, "verdict": "consistent"},
       "vertical_m": {"p05": 0.1, "p95": 0.3}}}})";
   const auto predictive = app::readPredictiveRows(json);
@@ -317,10 +336,13 @@ TEST(BatchDatabase, ParallelWritersThenCollectKeepEveryRowAndThePredictiveInterv
   EXPECT_EQ(queryInt(db, "SELECT count(*) FROM runs"), kTasks - 1);
   EXPECT_EQ(queryInt(db, "SELECT count(*) FROM outages"), 2 * (kTasks - 1));
   EXPECT_EQ(queryInt(db, "SELECT count(*) FROM predictive_intervals"), 2 * (kTasks - 1));
-  EXPECT_EQ(queryInt(db, "SELECT count(*) FROM predictive_intervals WHERE statistic = 'vertical_m' AND p50 IS NULL"),
+  EXPECT_EQ(queryInt(db,
+                     "SELECT count(*) FROM predictive_intervals WHERE statistic = 'vertical_m' AND "
+                     "p50 IS NULL"),
             kTasks - 1);
-  EXPECT_EQ(queryInt(db, "SELECT count(*) FROM predictive_intervals WHERE verdict = 'consistent' AND "
-                         "real_percentile = 63.0"),
+  EXPECT_EQ(queryInt(db,
+                     "SELECT count(*) FROM predictive_intervals WHERE verdict = 'consistent' AND "
+                     "real_percentile = 63.0"),
             kTasks - 1);
   EXPECT_EQ(queryInt(db, "SELECT CAST(sum(outage_rms) AS INTEGER) FROM run_statistics"),
             kTasks * (kTasks + 1) / 2 - (1 + 7));  // sum of 1 + i over every task but 7
