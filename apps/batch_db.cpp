@@ -28,7 +28,7 @@ CREATE TABLE tasks (
 CREATE TABLE runs (
   task_id TEXT PRIMARY KEY, status TEXT NOT NULL CHECK (status IN ('ok', 'failed')),
   error TEXT NOT NULL, outage_count INTEGER, reference TEXT NOT NULL, seconds REAL NOT NULL,
-  graftnav_version TEXT NOT NULL);
+  graftnav_version TEXT NOT NULL, realizations INTEGER);
 CREATE TABLE run_statistics (
   task_id TEXT NOT NULL, solution TEXT NOT NULL, statistic TEXT NOT NULL,
   outage_rms REAL, outage_max_rms REAL, overall_rms REAL, diff REAL,
@@ -201,13 +201,13 @@ void insertTask(Database& db, const BatchTask& t) {
 }
 
 void insertResults(Database& db, const std::string& id, const BatchRunRecord& r) {
-  Statement run(db, "INSERT INTO runs VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
+  Statement run(db, "INSERT INTO runs VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)");
   run.bind(1, id)
       .bind(2, r.ok ? "ok" : "failed")
       .bind(3, r.error)
       .bind(4, r.outage_count)
       .bind(5, r.reference);
-  run.bind(6, r.seconds).bind(7, graftnavVersion()).run();
+  run.bind(6, r.seconds).bind(7, graftnavVersion()).bind(8, r.realizations).run();
   Statement stat(db, "INSERT INTO run_statistics VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
   for (const auto& s : r.statistics) {
     stat.bind(1, id)
@@ -249,18 +249,20 @@ std::optional<double> jsonNumber(const nlohmann::json& o, const char* key) {
 
 }  // namespace
 
-std::vector<BatchPredictiveRow> readPredictiveRows(const std::string& path) {
+BatchPredictive readPredictive(const std::string& path) {
+  BatchPredictive out;
   std::ifstream in(path);
-  if (!in) return {};
+  if (!in) return out;
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(fmt::format("'{}' is not valid JSON: {}", path, e.what()));
   }
-  std::vector<BatchPredictiveRow> rows;
+  if (const auto k = j.find("realizations"); k != j.end() && k->is_number_integer())
+    out.realizations = k->get<int>();
   const auto it = j.find("predictive");
-  if (it == j.end() || !it->is_object()) return rows;
+  if (it == j.end() || !it->is_object()) return out;
   for (const auto& [solution, stats] : it->items()) {
     if (!stats.is_object()) continue;
     for (const auto& [statistic, v] : stats.items()) {
@@ -276,10 +278,10 @@ std::vector<BatchPredictiveRow> readPredictiveRows(const std::string& path) {
       r.real_percentile = jsonNumber(v, "real_percentile");
       if (const auto vi = v.find("verdict"); vi != v.end() && vi->is_string())
         r.verdict = vi->get<std::string>();
-      rows.push_back(std::move(r));
+      out.rows.push_back(std::move(r));
     }
   }
-  return rows;
+  return out;
 }
 
 void writeTaskDatabase(const std::string& path, const BatchTask& task,

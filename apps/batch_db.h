@@ -48,14 +48,20 @@ struct BatchRunRecord {
   double seconds = 0.0;
   std::vector<BatchStatisticRow> statistics;
   std::vector<BatchOutageRow> outages;
+  std::optional<int> realizations;  // K of predictive grafting, when it ran
   std::vector<BatchPredictiveRow> predictive;
 };
 
-// The rows of evaluation.json's "predictive" object, when present (empty otherwise):
+// What predictive grafting added to evaluation.json, when present (nothing otherwise): the
+// number "realizations" (K) and the "predictive" object, solution -> statistic -> numbers:
 //   "predictive": {"SG1": {"horizontal_m": {"p05": .., "p50": .., "p95": .., "mean": .., "sd": ..,
-//                                            "real_percentile": .., "verdict": ".."}, ...}, ...}
+//                                           "real_percentile": .., "verdict": ".."}, ...}, ...}
 // Missing numbers stay NULL. Throws naming the file when it is not valid JSON.
-std::vector<BatchPredictiveRow> readPredictiveRows(const std::string& evaluation_json_path);
+struct BatchPredictive {
+  std::optional<int> realizations;
+  std::vector<BatchPredictiveRow> rows;
+};
+BatchPredictive readPredictive(const std::string& evaluation_json_path);
 
 // Writes the task's database atomically (a previous one is replaced only when complete).
 void writeTaskDatabase(const std::string& path, const BatchTask& task,

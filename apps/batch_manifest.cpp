@@ -71,6 +71,37 @@ OutageScheduleSpec parseSchedule(const std::string& path, const YAML::Node& s) {
   return o;
 }
 
+std::vector<unsigned long long> parseSeeds(const std::string& path, const YAML::Node& v) {
+  if (!v.IsSequence() || v.size() == 0)
+    throw std::runtime_error(where(path, v) + ": 'seeds' must be a non-empty list");
+  std::vector<unsigned long long> seeds;
+  std::set<std::string> seen;
+  for (const auto& e : v) {
+    seeds.push_back(get<unsigned long long>(path, e, "seeds"));
+    requireUnique(seen, std::to_string(seeds.back()), path, e, "seeds");
+  }
+  return seeds;
+}
+
+// Case paths (resolved by `rel`) and their folder names, which must be unique.
+template <typename Resolve>
+void parseCases(const std::string& path, const YAML::Node& v, const Resolve& rel,
+                BatchManifest& m) {
+  if (!v.IsSequence())
+    throw std::runtime_error(fmt::format("{}: 'cases' must be a list", where(path, v)));
+  std::set<std::string> seen;
+  for (const auto& e : v) {
+    const std::string c = rel(get<std::string>(path, e, "cases"));
+    const std::string name = caseName(c);
+    if (name.empty() || name == "." || name == "..") {
+      throw std::runtime_error(fmt::format("{}: case '{}' has no folder name", where(path, e), c));
+    }
+    requireUnique(seen, name, path, e, "cases (folder names)");
+    m.cases.push_back(c);
+    m.case_names.push_back(name);
+  }
+}
+
 }  // namespace
 
 std::string caseName(const std::string& case_path) {
@@ -114,32 +145,12 @@ BatchManifest loadBatchManifest(const std::string& path) {
     } else if (key == "seeds") {
       if (seeds_set)
         throw std::runtime_error(where(path, kv.first) + ": give 'seed' or 'seeds', not both");
-      if (!v.IsSequence() || v.size() == 0)
-        throw std::runtime_error(where(path, v) + ": 'seeds' must be a non-empty list");
-      m.seeds.clear();
-      std::set<std::string> seen;
-      for (const auto& e : v) {
-        m.seeds.push_back(get<unsigned long long>(path, e, key));
-        requireUnique(seen, std::to_string(m.seeds.back()), path, e, key);
-      }
+      m.seeds = parseSeeds(path, v);
       seeds_set = true;
     } else if (key == "plots") {
       m.plots = get<bool>(path, v, key);
     } else if (key == "cases") {
-      if (!v.IsSequence())
-        throw std::runtime_error(fmt::format("{}: '{}' must be a list", where(path, v), key));
-      std::set<std::string> seen;
-      for (const auto& e : v) {
-        const std::string c = rel(get<std::string>(path, e, key));
-        const std::string name = caseName(c);
-        if (name.empty() || name == "." || name == "..") {
-          throw std::runtime_error(
-              fmt::format("{}: case '{}' has no folder name", where(path, e), c));
-        }
-        requireUnique(seen, name, path, e, "cases (folder names)");
-        m.cases.push_back(c);
-        m.case_names.push_back(name);
-      }
+      parseCases(path, v, rel, m);
     } else if (key == "estimators") {
       m.estimators = stringList(path, v, key);
       std::set<std::string> seen;

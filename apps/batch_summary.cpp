@@ -108,21 +108,27 @@ struct Experiment {
 
 // Mean and standard deviation over the realizations of ERR rows, then DIFF of the means; this
 // separates what grafting gets wrong from the spread of single realizations.
-void writeMonteCarloSummary(const std::string& out_dir, const std::vector<BatchSummaryRow>& rows) {
-  std::map<std::string, Experiment> groups;
-  std::vector<std::string> order;
+// The finished tasks grouped into experiments, in order of first appearance.
+std::vector<Experiment> groupExperiments(const std::vector<BatchSummaryRow>& rows) {
+  std::map<std::string, std::size_t> index;
+  std::vector<Experiment> groups;
   for (const auto& r : rows) {
     if (r.status != "ok") continue;
     const std::string exp = experimentName(r.case_name);
     const std::string key = exp + "|" + r.estimator + "|" + r.schedule;
-    if (!groups.count(key)) {
-      order.push_back(key);
-      groups[key] = Experiment{exp, r.estimator, r.schedule, {}};
+    if (!index.count(key)) {
+      index[key] = groups.size();
+      groups.push_back(Experiment{exp, r.estimator, r.schedule, {}});
     }
-    groups[key].runs.push_back(&r);
+    groups[index[key]].runs.push_back(&r);
   }
+  return groups;
+}
+
+void writeMonteCarloSummary(const std::string& out_dir, const std::vector<BatchSummaryRow>& rows) {
+  const std::vector<Experiment> groups = groupExperiments(rows);
   bool any = false;
-  for (const auto& k : order) any = any || groups[k].runs.size() > 1;
+  for (const auto& g : groups) any = any || g.runs.size() > 1;
   if (!any) {  // no experiment with realizations: no Monte-Carlo table (and none left from before)
     fs::remove(fs::path(out_dir) / "summary_monte_carlo.md");
     fs::remove(fs::path(out_dir) / "summary_monte_carlo.csv");
@@ -138,8 +144,7 @@ void writeMonteCarloSummary(const std::string& out_dir, const std::vector<BatchS
   std::string csv =
       "experiment,estimator,outages,seeds,row,horizontal_m,vertical_m,roll_deg,pitch_deg,heading_"
       "deg\n";
-  for (const auto& k : order) {
-    const Experiment& g = groups[k];
+  for (const Experiment& g : groups) {
     if (g.runs.size() < 2) continue;
     std::map<std::string, Five> mean;
     for (const std::string label : {"SG1", "SG2", "REAL"}) {

@@ -102,7 +102,9 @@ BatchRunRecord runTask(const BatchManifest& m, const BatchTask& t) {
     fs::create_directories(t.out_dir);
     std::ofstream log((fs::path(t.out_dir) / "log.txt").string());
     rec = recordOf(runSgEvaluation(o, [&](const std::string& s) { log << s << "\n"; }));
-    rec.predictive = readPredictiveRows((fs::path(t.out_dir) / "evaluation.json").string());
+    const BatchPredictive p = readPredictive((fs::path(t.out_dir) / "evaluation.json").string());
+    rec.realizations = p.realizations;
+    rec.predictive = p.rows;
   } catch (const std::exception& e) {
     rec = BatchRunRecord{};
     rec.error = e.what();

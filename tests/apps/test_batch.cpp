@@ -300,12 +300,14 @@ TEST(BatchDatabase, ParallelWritersThenCollectKeepEveryRowAndThePredictiveInterv
   // Predictive grafting's evaluation.json block, as the batch reads it after a task.
   const std::string json = dir + "/evaluation.json";
   std::ofstream(json)
-      << R"({"case": "x", "predictive": {"SG1": {"horizontal_m": {"p05": 0.5, "p50": 1.0,
+      << R"({"case": "x", "realizations": 20, "predictive": {"SG1": {"horizontal_m": {"p05": 0.5, "p50": 1.0,
       "p95": 2.0, "mean": 1.1, "sd": 0.4, "real_percentile": 63.0, "verdict": "consistent"},
       "vertical_m": {"p05": 0.1, "p95": 0.3}}}})";
-  const auto predictive = app::readPredictiveRows(json);
-  ASSERT_EQ(predictive.size(), 2u);
-  EXPECT_TRUE(app::readPredictiveRows(dir + "/absent.json").empty());
+  const auto predictive = app::readPredictive(json);
+  ASSERT_EQ(predictive.rows.size(), 2u);
+  EXPECT_EQ(predictive.realizations, 20);
+  EXPECT_TRUE(app::readPredictive(dir + "/absent.json").rows.empty());
+  EXPECT_FALSE(app::readPredictive(dir + "/absent.json").realizations);
 
   std::vector<std::thread> writers;
   for (int w = 0; w < 8; ++w) {
@@ -318,7 +320,8 @@ TEST(BatchDatabase, ParallelWritersThenCollectKeepEveryRowAndThePredictiveInterv
         rec.statistics.push_back({"SG1", "horizontal_m", 1.0 + i, 2.0, 0.5, 0.25});
         rec.outages.push_back({"SG1", 0, 10.0, 70.0, 60, 1.0 + i, 0.1, 0.01, 0.01, 0.05});
         rec.outages.push_back({"SG1", 1, 100.0, 160.0, 60, 2.0 + i, 0.2, 0.02, 0.02, 0.06});
-        rec.predictive = predictive;
+        rec.realizations = predictive.realizations;
+        rec.predictive = predictive.rows;
         fs::create_directories(tasks[i].out_dir);
         app::writeTaskDatabase(tasks[i].out_dir + "/task.sqlite", tasks[i], rec);
       }
@@ -336,6 +339,7 @@ TEST(BatchDatabase, ParallelWritersThenCollectKeepEveryRowAndThePredictiveInterv
   EXPECT_EQ(queryInt(db, "SELECT count(*) FROM runs"), kTasks - 1);
   EXPECT_EQ(queryInt(db, "SELECT count(*) FROM outages"), 2 * (kTasks - 1));
   EXPECT_EQ(queryInt(db, "SELECT count(*) FROM predictive_intervals"), 2 * (kTasks - 1));
+  EXPECT_EQ(queryInt(db, "SELECT count(*) FROM runs WHERE realizations = 20"), kTasks - 1);
   EXPECT_EQ(queryInt(db,
                      "SELECT count(*) FROM predictive_intervals WHERE statistic = 'vertical_m' AND "
                      "p50 IS NULL"),
