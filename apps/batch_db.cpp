@@ -203,7 +203,7 @@ void insertTask(Database& db, const BatchTask& t) {
 void insertResults(Database& db, const std::string& id, const BatchRunRecord& r) {
   Statement run(db, "INSERT INTO runs VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)");
   run.bind(1, id)
-      .bind(2, r.ok ? "ok" : "failed")
+      .bind(2, statusName(r.ok ? TaskStatus::kOk : TaskStatus::kFailed))
       .bind(3, r.error)
       .bind(4, r.outage_count)
       .bind(5, r.reference);
@@ -241,6 +241,13 @@ void insertResults(Database& db, const std::string& id, const BatchRunRecord& r)
   }
 }
 
+TaskStatus parseStatus(const std::string& word, const std::string& db_path) {
+  for (TaskStatus s : {TaskStatus::kOk, TaskStatus::kFailed, TaskStatus::kMissing})
+    if (word == statusName(s)) return s;
+  throw std::runtime_error(
+      fmt::format("SQLite database '{}': unknown run status '{}'", db_path, word));
+}
+
 std::optional<double> jsonNumber(const nlohmann::json& o, const char* key) {
   const auto it = o.find(key);
   if (it == o.end() || !it->is_number()) return std::nullopt;
@@ -248,6 +255,18 @@ std::optional<double> jsonNumber(const nlohmann::json& o, const char* key) {
 }
 
 }  // namespace
+
+const char* statusName(TaskStatus s) {
+  switch (s) {
+    case TaskStatus::kOk:
+      return "ok";
+    case TaskStatus::kFailed:
+      return "failed";
+    case TaskStatus::kMissing:
+      return "missing";
+  }
+  return "missing";
+}
 
 BatchPredictive readPredictive(const std::string& path) {
   BatchPredictive out;
@@ -294,17 +313,17 @@ void writeTaskDatabase(const std::string& path, const BatchTask& task,
   out.commit();
 }
 
-std::optional<std::string> taskDatabaseStatus(const std::string& path, const std::string& task_id) {
-  if (!fs::is_regular_file(path)) return std::nullopt;
+TaskStatus taskDatabaseStatus(const std::string& path, const std::string& task_id) {
+  if (!fs::is_regular_file(path)) return TaskStatus::kMissing;
   try {
     Database db(path, SQLITE_OPEN_READONLY);
     Statement st(db, "SELECT status FROM runs WHERE task_id = ?1");
     st.bind(1, task_id);
-    if (st.step()) return st.text(0);
+    if (st.step()) return parseStatus(st.text(0), path);
   } catch (const std::runtime_error&) {
     // An unreadable or foreign file is not a record of this task: the task runs again.
   }
-  return std::nullopt;
+  return TaskStatus::kMissing;
 }
 
 CollectCounts collectTaskDatabases(const std::string& out_db_path,
@@ -317,12 +336,12 @@ CollectCounts collectTaskDatabases(const std::string& out_db_path,
   db.exec("COMMIT");
   for (const auto& t : tasks) {
     const std::string file = (fs::path(t.out_dir) / "task.sqlite").string();
-    const auto status = taskDatabaseStatus(file, t.id);
-    if (!status) {
+    const TaskStatus status = taskDatabaseStatus(file, t.id);
+    if (status == TaskStatus::kMissing) {
       ++n.missing;
       continue;
     }
-    (*status == "ok" ? n.ok : n.failed)++;
+    (status == TaskStatus::kOk ? n.ok : n.failed)++;
     Statement attach(db, "ATTACH DATABASE ?1 AS task");
     attach.bind(1, file).run();
     db.exec("BEGIN");
@@ -353,7 +372,7 @@ std::vector<BatchSummaryRow> readSummaryRows(const std::string& db_path) {
     r.estimator = st.text(3);
     r.schedule = st.text(4);
     r.seed = static_cast<unsigned long long>(st.integer(5));
-    r.status = st.text(6);
+    r.status = parseStatus(st.text(6), db_path);
     r.error = st.text(7);
     if (!st.isNull(8)) r.outage_count = static_cast<int>(st.integer(8));
     by_id[st.text(1)] = rows.size();

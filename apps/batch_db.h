@@ -14,6 +14,12 @@
 
 namespace graftnav::app {
 
+// Where a task stands: ran to the end, ran and failed (its message recorded), or no record of
+// its current id (never ran, killed, or its inputs changed since).
+enum class TaskStatus { kOk, kFailed, kMissing };
+// "ok", "failed", "missing": the words of runs.status and of the summaries.
+const char* statusName(TaskStatus s);
+
 // Statistics of one solution (SG1, SG2, REAL, ...) of one run, per statistic (horizontal_m,
 // vertical_m, roll_deg, pitch_deg, heading_deg). Angles in degrees, DIFF as a fraction.
 struct BatchStatisticRow {
@@ -67,9 +73,9 @@ BatchPredictive readPredictive(const std::string& evaluation_json_path);
 void writeTaskDatabase(const std::string& path, const BatchTask& task,
                        const BatchRunRecord& record);
 
-// "ok" or "failed" when `path` holds a record of the task with this id, nothing otherwise (no
+// kOk or kFailed when `path` holds a record of the task with this id, kMissing otherwise (no
 // file, another id, an unreadable file).
-std::optional<std::string> taskDatabaseStatus(const std::string& path, const std::string& task_id);
+TaskStatus taskDatabaseStatus(const std::string& path, const std::string& task_id);
 
 struct CollectCounts {
   int ok = 0, failed = 0, missing = 0;
@@ -85,7 +91,7 @@ struct BatchSummaryRow {
   int task_index = 0;
   std::string case_name, estimator, schedule;
   unsigned long long seed = 0;
-  std::string status;  // ok, failed, missing
+  TaskStatus status = TaskStatus::kMissing;
   std::string error;
   std::optional<int> outage_count;
   std::vector<BatchStatisticRow> statistics;

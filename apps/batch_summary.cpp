@@ -31,7 +31,7 @@ std::string cell(double v, int digits) {
 // ERR (outage RMS, m and deg) or DIFF (fraction) of one solution, in driftStatNames() order.
 Five values(const BatchSummaryRow& r, const std::string& solution, bool diff) {
   Five a = nanFive();
-  if (r.status != "ok") return a;
+  if (r.status != TaskStatus::kOk) return a;
   const auto& names = driftStatNames();
   for (const auto& s : r.statistics) {
     if (s.solution != solution) continue;
@@ -50,8 +50,8 @@ const std::vector<std::pair<std::string, bool>>& summaryColumns() {
 }
 
 std::string statusText(const BatchSummaryRow& r) {
-  if (r.status == "ok") return "ok";
-  if (r.status == "missing") return "missing (no record)";
+  if (r.status == TaskStatus::kOk) return "ok";
+  if (r.status == TaskStatus::kMissing) return "missing (no record)";
   return "failed: " + r.error;
 }
 
@@ -72,8 +72,8 @@ void writeTaskSummaries(const std::string& out_dir, const std::vector<BatchSumma
   md += "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     const std::string n = r.outage_count ? std::to_string(*r.outage_count) : "";
-    csv +=
-        fmt::format("{},{},{},{},{},{}", r.case_name, r.estimator, r.schedule, r.seed, n, r.status);
+    csv += fmt::format("{},{},{},{},{},{}", r.case_name, r.estimator, r.schedule, r.seed, n,
+                       statusName(r.status));
     for (const auto& [l, d] : summaryColumns())
       for (double v : values(r, l, d)) csv += "," + cell(v, 6);
     std::string err = r.error;
@@ -113,7 +113,7 @@ std::vector<Experiment> groupExperiments(const std::vector<BatchSummaryRow>& row
   std::map<std::string, std::size_t> index;
   std::vector<Experiment> groups;
   for (const auto& r : rows) {
-    if (r.status != "ok") continue;
+    if (r.status != TaskStatus::kOk) continue;
     const std::string exp = experimentName(r.case_name);
     const std::string key = exp + "|" + r.estimator + "|" + r.schedule;
     if (!index.count(key)) {

@@ -126,8 +126,7 @@ RunCounts runTasks(const BatchManifest& m, const std::vector<BatchTask>& tasks, 
   std::vector<const BatchTask*> todo;
   RunCounts n;
   for (std::size_t i = first; i < last; ++i) {
-    if (!force && taskDatabaseStatus(taskDatabasePath(tasks[i]), tasks[i].id) ==
-                      std::optional<std::string>("ok")) {
+    if (!force && taskDatabaseStatus(taskDatabasePath(tasks[i]), tasks[i].id) == TaskStatus::kOk) {
       ++n.skipped;
     } else {
       todo.push_back(&tasks[i]);
@@ -194,8 +193,10 @@ void listTasks(const std::vector<BatchTask>& tasks) {
   fmt::print("index\tid\tstatus\tname\n");
   for (const auto& t : tasks) {
     const auto s = taskDatabaseStatus(taskDatabasePath(t), t.id);
-    fmt::print("{}\t{}\t{}\t{}\n", t.index, t.id, s ? (*s == "ok" ? "done" : "failed") : "pending",
-               t.name);
+    const char* word = s == TaskStatus::kOk       ? "done"
+                       : s == TaskStatus::kFailed ? "failed"
+                                                  : "pending";
+    fmt::print("{}\t{}\t{}\t{}\n", t.index, t.id, word, t.name);
   }
 }
 

@@ -352,8 +352,9 @@ TEST(BatchDatabase, ParallelWritersThenCollectKeepEveryRowAndThePredictiveInterv
             kTasks * (kTasks + 1) / 2 - (1 + 7));  // sum of 1 + i over every task but 7
   const auto rows = app::readSummaryRows(db);
   ASSERT_EQ(rows.size(), static_cast<std::size_t>(kTasks));
-  EXPECT_EQ(rows[7].status, "missing");
-  EXPECT_EQ(rows[5].status, "failed");
+  EXPECT_EQ(rows[7].status, app::TaskStatus::kMissing);
+  EXPECT_EQ(rows[5].status, app::TaskStatus::kFailed);
+  EXPECT_EQ(rows[6].status, app::TaskStatus::kOk);
   EXPECT_EQ(rows[5].error, "synthetic failure 5");
 }
 
