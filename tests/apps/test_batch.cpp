@@ -50,11 +50,13 @@ std::string readFile(const std::string& path) {
 
 std::string sample(const std::string& grade) { return test::sourceDir() + "/data/sample_" + grade; }
 
-// A manifest over the tactical sample: `seeds` seeds, one 60 s schedule, EKF.
+std::string sampleConfig() { return test::sourceDir() + "/configs/evaluate_sample.yaml"; }
+
+// A manifest: the cases, EKF, the config's outage schedule, the seeds.
 void writeManifest(const std::string& path, const std::vector<std::string>& cases,
-                   const std::string& seeds) {
+                   const std::string& seeds, const std::string& config = sampleConfig()) {
   std::ofstream m(path);
-  m << "out: out\nconfig: " << test::sourceDir() << "/configs/evaluate_sample.yaml\ncases:\n";
+  m << "out: out\nconfig: " << config << "\ncases:\n";
   for (const auto& c : cases) m << "  - \"" << c << "\"\n";
   m << "estimators: [ekf]\nseeds: " << seeds << "\n";
 }
@@ -113,6 +115,15 @@ TEST(BatchTasks, IdsAreStableAndFollowTheInputsThatDecideTheResult) {
   EXPECT_EQ(edited.at(1), first.at(1));
   EXPECT_NE(edited.at(2).first, first.at(2).first);
   EXPECT_NE(edited.at(3).first, first.at(3).first);
+
+  // The config's bytes count, not its path: a copy gives the same ids, an edited copy new ones.
+  fs::copy_file(sampleConfig(), dir + "/cfg.yaml");
+  writeManifest(dir + "/m2.yaml", {"caseA", "caseB"}, "[1, 2]", dir + "/cfg.yaml");
+  EXPECT_EQ(listTasks(dir + "/m2.yaml"), edited);
+  std::ofstream(dir + "/cfg.yaml", std::ios::app) << "# edited\n";
+  const auto config_edited = listTasks(dir + "/m2.yaml");
+  ASSERT_EQ(config_edited.size(), 4u);
+  for (int i = 0; i < 4; ++i) EXPECT_NE(config_edited.at(i).first, edited.at(i).first) << i;
 }
 
 TEST(BatchTasks, DuplicateTaskNamesAreAnErrorAtLoad) {
