@@ -187,7 +187,7 @@ TEST(Batch, MonteCarloSummaryGroupsSeedsAndAveragesThem) {
                                         << "estimators: [ekf]\n";
   const RunResult r = run("batch " + dir + "/manifest.yaml --jobs 2");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const auto single = readJson(dir + "/out/exp_seed1__ekf__config/evaluation.json");
+  const auto single = readJson(dir + "/out/tasks/exp_seed1__ekf__config__seed1/evaluation.json");
   std::ifstream f(dir + "/out/summary_monte_carlo.csv");
   ASSERT_TRUE(f.good());
   std::string line;
