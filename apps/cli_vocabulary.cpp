@@ -36,6 +36,22 @@ void addDeprecatedOption(CLI::App* cmd, const std::string& old_name, const std::
       ->group("");
 }
 
+void addDeprecatedOption(CLI::App* cmd, const std::string& old_name, const std::string& new_name,
+                         std::vector<std::string>* target) {
+  cmd->add_option_function<std::string>(
+         old_name,
+         [=](const std::string& v) {
+           fmt::print(stderr, "warning: {} is deprecated, use {}\n", old_name, new_name);
+           *target = splitEstimatorList(v);
+         },
+         "deprecated: use " + new_name)
+      ->group("");
+}
+
+void requireValue(const std::string& value, const std::string& flag) {
+  if (value.empty()) throw CLI::RequiredError(flag);
+}
+
 void addDeprecatedFlag(CLI::App* cmd, const std::string& old_name, const std::string& new_name,
                        bool* target) {
   cmd->add_flag_function(

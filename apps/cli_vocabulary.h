@@ -23,8 +23,14 @@ std::vector<std::string> splitEstimatorList(const std::string& list);
 // "warning: OLD is deprecated, use NEW" on stderr.
 void addDeprecatedOption(CLI::App* cmd, const std::string& old_name, const std::string& new_name,
                          std::string* target);
+void addDeprecatedOption(CLI::App* cmd, const std::string& old_name, const std::string& new_name,
+                         std::vector<std::string>* target);  // a comma list
 void addDeprecatedFlag(CLI::App* cmd, const std::string& old_name, const std::string& new_name,
                        bool* target);
+
+// For an option that is required but may come through a deprecated alias: throws
+// CLI::RequiredError naming `flag` when `value` is empty (call first in the callback).
+void requireValue(const std::string& value, const std::string& flag);
 
 // --start / --end (GNSS seconds of week) into a time range.
 void addTimeRangeOptions(CLI::App* cmd, TimeRangeConfig* range);

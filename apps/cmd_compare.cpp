@@ -25,6 +25,7 @@
 
 #include "commands.h"
 #include "case_loader.h"
+#include "cli_vocabulary.h"
 #include "estimators.h"
 #include "run_config.h"
 #include "script_locator.h"
@@ -39,12 +40,13 @@ namespace graftnav::app {
 namespace {
 
 struct CompareArgs {
-  std::string case_dir, out, imu = "tested";
+  std::string case_dir, out, imu = kDefaultImu;
   std::string estimators = "ekf,rts,fgo";
   std::string config, profile;
   double outage_length_s = 60.0, outage_period_s = 180.0, outage_start_s = 300.0;
   bool no_outages = false;
   bool lenient = false;
+  bool no_plots = false;
 };
 
 std::vector<std::string> splitList(const std::string& s) {
@@ -237,6 +239,7 @@ void runCompare(const CompareArgs& a) {
   text << back.rdbuf();
   fmt::print("{}", text.str());
   fmt::print("\nwrote {0}/compare.md, {0}/compare.csv, {0}/compare_errors.csv\n", a.out);
+  if (a.no_plots) return;
   const std::string w = runPythonScript("plot_compare.py", {a.out});
   if (!w.empty()) fmt::print(stderr, "warning: {}\n", w);
 }
@@ -249,9 +252,10 @@ void registerCompare(CLI::App& app) {
       "compare", "Run several estimators on one case; table and plot of outage errors and differences");
   cmd->add_option("case_dir", a->case_dir, "case directory")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("--out", a->out, "output directory")->required();
-  cmd->add_option("--estimators", a->estimators,
-                  "comma-separated names of the estimator table, plus fgo-noearth, fgo-window-noearth")
+  cmd->add_option("--estimator", a->estimators,
+                  "comma list of the estimator table's names, plus fgo-noearth, fgo-window-noearth")
       ->capture_default_str();
+  addDeprecatedOption(cmd, "--estimators", "--estimator", &a->estimators);
   cmd->add_option("--imu", a->imu, "ref | tested | FILE (an IMU text file, tested IMU's profile)")
       ->capture_default_str();
   cmd->add_option("--outage-length", a->outage_length_s, "outage length (s)")->capture_default_str();
@@ -259,9 +263,11 @@ void registerCompare(CLI::App& app) {
   cmd->add_option("--outage-start", a->outage_start_s, "first outage start after the first IMU epoch (s)")
       ->capture_default_str();
   cmd->add_flag("--no-outages", a->no_outages, "use every GNSS fix");
-  cmd->add_option("--config", a->config, "run config YAML (ekf:, fgo:, outages: sections; outages: "
+  cmd->add_option("--run-config", a->config, "run config YAML (ekf:, fgo:, outages: sections; outages: "
                   "there overrides the outage flags)")->check(CLI::ExistingFile);
+  addDeprecatedOption(cmd, "--config", "--run-config", &a->config);
   cmd->add_option("--profile", a->profile, "IMU profile YAML (default: from case.yaml)")->check(CLI::ExistingFile);
+  cmd->add_flag("--no-plots", a->no_plots, "do not call scripts/plot_compare.py");
   cmd->add_flag("--lenient", a->lenient, "real-data read policies (repair/warn instead of error)");
   cmd->callback([a]() { runCompare(*a); });
 }
