@@ -54,6 +54,14 @@ RunConfig loadRunConfig(const std::string& path, std::vector<std::string>* warni
   RunConfig c;
   if (!root || root.IsNull()) return c;
   if (!root.IsMap()) throw std::runtime_error(path + ": the run config must be a YAML map");
+  // A peer's set-up given as a run config would otherwise run with every key ignored.
+  for (const char* peer_key : {"imupath", "imufile"}) {
+    if (root[peer_key]) {
+      throw std::runtime_error(where(path, root[peer_key], peer_key) +
+                               ": this is a KF-GINS / OB_GINS set-up, not a run config; convert it with "
+                               "`graftnav import kf-gins|ob-gins " + path + " --out CASE`");
+    }
+  }
   warnUnknown(root, "", {"time_range", "outages", "ekf", "evaluation", "fgo", "gnss", "grafting"}, path,
               warnings);
 

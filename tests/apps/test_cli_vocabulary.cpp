@@ -99,6 +99,20 @@ TEST(CliVocabulary, OldSpellingsWarnAndStillWork) {
   EXPECT_THAT(s.text, HasSubstr("--sim-config"));
 }
 
+TEST(CliVocabulary, PeerSetupGivenAsRunConfigIsRefusedWithTheImportHint) {
+  const std::string sample = test::sourceDir() + "/data/sample_mems";
+  const std::string out = test::makeTempDir("cli_peer_config");
+  FILE* f = std::fopen((out + "/kf-gins.yaml").c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  std::fputs("imupath: imu.txt\ngnsspath: gnss.txt\nimudatarate: 200\n", f);
+  std::fclose(f);
+  const Output o = runCapture("navigate " + sample + " --out " + out + "/o --no-plots --run-config " + out +
+                              "/kf-gins.yaml");
+  EXPECT_NE(o.status, 0);
+  EXPECT_THAT(o.text, HasSubstr("graftnav import kf-gins|ob-gins"));
+  EXPECT_THAT(o.text, HasSubstr("kf-gins.yaml:1"));
+}
+
 TEST(CliVocabulary, RelativePathErrorNamesEveryPathTried) {
   const std::string sample = test::sourceDir() + "/data/sample_mems";
   const std::string out = test::makeTempDir("cli_paths");
