@@ -19,6 +19,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -27,6 +28,8 @@
 #include "case_loader.h"
 #include "cli_vocabulary.h"
 #include "estimators.h"
+#include "graftnav/io/atomic_file.h"
+#include "provenance.h"
 #include "run_config.h"
 #include "script_locator.h"
 #include "graftnav/eval/evaluation.h"
@@ -82,6 +85,14 @@ struct Row {
   int gnss_rejected = 0;
 };
 
+// One drift statistic as JSON (degrees for angles, null for a non-finite value).
+nlohmann::json driftJson(const DriftStats& d) {
+  auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  return {{"horizontal_m", num(d.horizontal_m)}, {"vertical_m", num(d.vertical_m)},
+          {"roll_deg", num(d.roll_rad * units::kRadToDeg)}, {"pitch_deg", num(d.pitch_rad * units::kRadToDeg)},
+          {"heading_deg", num(d.heading_rad * units::kRadToDeg)}};
+}
+
 std::string driftCells(const DriftStats& d) {
   return fmt::format("{:.3f} | {:.3f} | {:.4f} | {:.4f} | {:.4f}", d.horizontal_m, d.vertical_m,
                      d.roll_rad * units::kRadToDeg, d.pitch_rad * units::kRadToDeg,
@@ -99,6 +110,7 @@ void runCompare(const CompareArgs& a) {
   if (!a.config.empty()) {
     std::vector<std::string> warnings;
     cfg = loadRunConfig(a.config, &warnings);
+    recordConfigFile(a.config);
     for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
   }
   // The same inputs as `navigate` (apps/case_loader.h), so both commands agree to the digit.
@@ -208,6 +220,22 @@ void runCompare(const CompareArgs& a) {
     csv << fmt::format("difference,{}-{},outage_max_rms,{},,\n", q.a, q.b, driftCsv(q.max_rms));
   }
 
+  // compare.json: the numbers of compare.csv, and the run's provenance.
+  nlohmann::json js = {{"case", a.case_dir}, {"imu", a.imu}, {"outage_count", p.outages.size()},
+                       {"estimators", nlohmann::json::array()}, {"differences", nlohmann::json::array()},
+                       {"provenance", provenanceJson()}};
+  for (const Row& r : rows) {
+    js["estimators"].push_back({{"name", r.name}, {"run_s", r.seconds}, {"gnss_rejected", r.gnss_rejected},
+                                {"outage_rms", driftJson(r.eval.outage_rms)},
+                                {"outage_max_rms", driftJson(r.eval.outage_max_rms)},
+                                {"overall_rms", driftJson(r.eval.overall_rms)}});
+  }
+  for (const Pair& q : pairs) {
+    js["differences"].push_back({{"a", q.a}, {"b", q.b}, {"outage_rms", driftJson(q.rms)},
+                                 {"outage_max_rms", driftJson(q.max_rms)}});
+  }
+  writeFileAtomically(a.out + "/compare.json", js.dump(2) + "\n");
+
   // 1 Hz error series and outage windows for the plot.
   std::ofstream ser(a.out + "/compare_errors.csv");
   ser << "t_s";
@@ -238,7 +266,7 @@ void runCompare(const CompareArgs& a) {
   std::stringstream text;
   text << back.rdbuf();
   fmt::print("{}", text.str());
-  fmt::print("\nwrote {0}/compare.md, {0}/compare.csv, {0}/compare_errors.csv\n", a.out);
+  fmt::print("\nwrote {0}/compare.md, {0}/compare.json, {0}/compare.csv, {0}/compare_errors.csv\n", a.out);
   if (a.no_plots) return;
   const std::string w = runPythonScript("plot_compare.py", {a.out});
   if (!w.empty()) fmt::print(stderr, "warning: {}\n", w);
