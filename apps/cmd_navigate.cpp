@@ -44,6 +44,30 @@ struct NavigateArgs {
   TimeRangeConfig time_range;
 };
 
+// The error summary of a run against its truth or reference, on stdout.
+void printEvaluation(const Evaluation& ev) {
+  const double r2d = kRadToDeg;
+  fmt::print("  overall RMS: horizontal {:.3f} m, vertical {:.3f} m, roll {:.4f}, pitch {:.4f}, "
+             "heading {:.4f} deg\n",
+             ev.overall_rms.horizontal_m, ev.overall_rms.vertical_m, ev.overall_rms.roll_rad * r2d,
+             ev.overall_rms.pitch_rad * r2d, ev.overall_rms.heading_rad * r2d);
+  if (!ev.outages.empty()) {
+    fmt::print("  outages ({}): RMS over outage epochs: horizontal {:.3f} m, vertical {:.3f} m, "
+               "roll {:.4f}, pitch {:.4f}, heading {:.4f} deg\n",
+               ev.outages.size(), ev.outage_rms.horizontal_m, ev.outage_rms.vertical_m,
+               ev.outage_rms.roll_rad * r2d, ev.outage_rms.pitch_rad * r2d,
+               ev.outage_rms.heading_rad * r2d);
+    fmt::print("  outages: RMS of per-outage maxima: horizontal {:.3f} m, vertical {:.3f} m, "
+               "heading {:.4f} deg\n",
+               ev.outage_max_rms.horizontal_m, ev.outage_max_rms.vertical_m,
+               ev.outage_max_rms.heading_rad * r2d);
+  }
+  if (ev.nees_samples > 0) {
+    fmt::print("  NEES {:.2f} (9 PVA states, {} samples; 95% band [{:.2f}, {:.2f}])\n", ev.nees_mean,
+               ev.nees_samples, ev.nees_band_low, ev.nees_band_high);
+  }
+}
+
 void runNavigateOne(NavigateArgs a) {
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&]() {
@@ -141,26 +165,7 @@ void runNavigateOne(NavigateArgs a) {
   writeRunInfoJson((out / "run_info.json").string(), meta, ev, sol, pr.outages, notes, run_time);
   writeErrorsCsv((out / "errors.csv").string(), ev, 1.0 / rc.evaluation.csv_rate_hz);
   writeOutageCsv((out / "outage_drift.csv").string(), ev);
-  const double r2d = kRadToDeg;
-  fmt::print("  overall RMS: horizontal {:.3f} m, vertical {:.3f} m, roll {:.4f}, pitch {:.4f}, "
-             "heading {:.4f} deg\n",
-             ev.overall_rms.horizontal_m, ev.overall_rms.vertical_m, ev.overall_rms.roll_rad * r2d,
-             ev.overall_rms.pitch_rad * r2d, ev.overall_rms.heading_rad * r2d);
-  if (!ev.outages.empty()) {
-    fmt::print("  outages ({}): RMS over outage epochs: horizontal {:.3f} m, vertical {:.3f} m, "
-               "roll {:.4f}, pitch {:.4f}, heading {:.4f} deg\n",
-               ev.outages.size(), ev.outage_rms.horizontal_m, ev.outage_rms.vertical_m,
-               ev.outage_rms.roll_rad * r2d, ev.outage_rms.pitch_rad * r2d,
-               ev.outage_rms.heading_rad * r2d);
-    fmt::print("  outages: RMS of per-outage maxima: horizontal {:.3f} m, vertical {:.3f} m, "
-               "heading {:.4f} deg\n",
-               ev.outage_max_rms.horizontal_m, ev.outage_max_rms.vertical_m,
-               ev.outage_max_rms.heading_rad * r2d);
-  }
-  if (ev.nees_samples > 0) {
-    fmt::print("  NEES {:.2f} (9 PVA states, {} samples; 95% band [{:.2f}, {:.2f}])\n", ev.nees_mean,
-               ev.nees_samples, ev.nees_band_low, ev.nees_band_high);
-  }
+  printEvaluation(ev);
   fmt::print("  wrote errors.json, run_info.json, errors.csv, outage_drift.csv in {}\n", a.out);
   if (!a.no_plots) {
     const std::string w = runPythonScript("plot_errors.py", {a.out});

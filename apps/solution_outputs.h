@@ -4,7 +4,7 @@
 //   imu_errors.txt  time (s), gyro bias x y z (deg/h), accel bias x y z (mGal),
 //                   gyro scale x y z (ppm), accel scale x y z (ppm)
 //   state_std.txt   time (s), position std N E D (m), velocity std N E D (m/s),
-//                   attitude std roll pitch yaw (deg)  [about north, east, down]
+//                   attitude error std about north, east, down (deg)
 // docs/outputs.md lists them with every other output file.
 #include <string>
 

@@ -113,7 +113,7 @@ CaseConfig caseConfig(const PeerSetup& s, const NavState& initial, const ImportO
   return c;
 }
 
-void emitVector(YAML::Emitter& out, const char* key, double value) {
+void emitScalar(YAML::Emitter& out, const char* key, double value) {
   out << YAML::Key << key << YAML::Value << value;
 }
 
@@ -122,8 +122,8 @@ std::string runConfigYaml(const PeerSetup& s, const std::vector<TimeWindow>& out
   out.SetDoublePrecision(15);
   out << YAML::BeginMap;
   out << YAML::Key << "time_range" << YAML::Value << YAML::BeginMap;
-  emitVector(out, "start_s", s.start_s);
-  if (s.end_s) emitVector(out, "end_s", *s.end_s);
+  emitScalar(out, "start_s", s.start_s);
+  if (s.end_s) emitScalar(out, "end_s", *s.end_s);
   out << YAML::EndMap;
   if (!outages.empty()) {
     out << YAML::Key << "outages" << YAML::Value << YAML::BeginMap << YAML::Key << "windows" << YAML::Value
@@ -132,18 +132,18 @@ std::string runConfigYaml(const PeerSetup& s, const std::vector<TimeWindow>& out
     out << YAML::EndSeq << YAML::EndMap;
   }
   out << YAML::Key << "ekf" << YAML::Value << YAML::BeginMap;
-  if (s.initial_pos_std_m) emitVector(out, "init_pos_std_m", s.initial_pos_std_m->maxCoeff());
-  if (s.initial_vel_std_m_s) emitVector(out, "init_vel_std_m_s", s.initial_vel_std_m_s->maxCoeff());
+  if (s.initial_pos_std_m) emitScalar(out, "init_pos_std_m", s.initial_pos_std_m->maxCoeff());
+  if (s.initial_vel_std_m_s) emitScalar(out, "init_vel_std_m_s", s.initial_vel_std_m_s->maxCoeff());
   if (s.initial_att_std_rad) {
-    emitVector(out, "init_roll_pitch_std_deg", s.initial_att_std_rad->head<2>().maxCoeff() * units::kRadToDeg);
-    emitVector(out, "init_heading_std_deg", s.initial_att_std_rad->z() * units::kRadToDeg);
+    emitScalar(out, "init_roll_pitch_std_deg", s.initial_att_std_rad->head<2>().maxCoeff() * units::kRadToDeg);
+    emitScalar(out, "init_heading_std_deg", s.initial_att_std_rad->z() * units::kRadToDeg);
   }
-  emitVector(out, "gate_probability", 0.0);
+  emitScalar(out, "gate_probability", 0.0);
   out << YAML::EndMap;
   if (s.gnss_max_std_m) {
     out << YAML::Key << "gnss" << YAML::Value << YAML::BeginMap;
-    emitVector(out, "max_horizontal_std_m", *s.gnss_max_std_m);
-    emitVector(out, "max_vertical_std_m", *s.gnss_max_std_m);
+    emitScalar(out, "max_horizontal_std_m", *s.gnss_max_std_m);
+    emitScalar(out, "max_vertical_std_m", *s.gnss_max_std_m);
     out << YAML::EndMap;
   }
   if (s.window_nodes || s.earth_rotation) {
