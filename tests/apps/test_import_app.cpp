@@ -113,6 +113,18 @@ TEST(ImportApp, KfGinsSetupNavigatesWithinTwoPercentOfTheHandSetup) {
   EXPECT_NEAR(imported / hand, 1.0, 0.02) << "imported " << imported << " m, hand " << hand << " m";
   const auto info = nlohmann::json::parse(readAll(dir + "/imported/run_info.json"));
   EXPECT_EQ(info.at("outage_windows_s").size(), 2u);
+  // Provenance: the command line and a hash of each config the run read (case.yaml, run.yaml).
+  const auto& prov = info.at("provenance");
+  EXPECT_EQ(prov.at("command_line").at(1), "navigate");
+  EXPECT_THAT(prov.at("git_commit").get<std::string>(), ::testing::MatchesRegex("([0-9a-f]{12}(-dirty)?|unknown)"));
+  ASSERT_EQ(prov.at("configs").size(), 2u);
+  EXPECT_THAT(prov.at("configs")[1].at("path").get<std::string>(), ::testing::EndsWith("case/run.yaml"));
+  EXPECT_EQ(prov.at("configs")[1].at("fnv1a64").get<std::string>().size(), 16u);
+  // Per-epoch outputs in the i2Nav layouts, one row per solution epoch after the header.
+  std::ifstream std_file(dir + "/imported/state_std.txt");
+  std::string header;
+  std::getline(std_file, header);
+  EXPECT_EQ(header.rfind("# time_s pos_std_n_m", 0), 0u) << header;
 }
 
 TEST(ImportApp, MissingDataFileNamesEveryPathTried) {
