@@ -19,13 +19,17 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "commands.h"
 #include "case_loader.h"
+#include "cli_vocabulary.h"
 #include "estimators.h"
+#include "graftnav/io/atomic_file.h"
+#include "provenance.h"
 #include "run_config.h"
 #include "script_locator.h"
 #include "graftnav/eval/evaluation.h"
@@ -39,12 +43,13 @@ namespace graftnav::app {
 namespace {
 
 struct CompareArgs {
-  std::string case_dir, out, imu = "tested";
+  std::string case_dir, out, imu = kDefaultImu;
   std::string estimators = "ekf,rts,fgo";
   std::string config, profile;
   double outage_length_s = 60.0, outage_period_s = 180.0, outage_start_s = 300.0;
   bool no_outages = false;
   bool lenient = false;
+  bool no_plots = false;
 };
 
 std::vector<std::string> splitList(const std::string& s) {
@@ -80,6 +85,14 @@ struct Row {
   int gnss_rejected = 0;
 };
 
+// One drift statistic as JSON (degrees for angles, null for a non-finite value).
+nlohmann::json driftJson(const DriftStats& d) {
+  auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  return {{"horizontal_m", num(d.horizontal_m)}, {"vertical_m", num(d.vertical_m)},
+          {"roll_deg", num(d.roll_rad * units::kRadToDeg)}, {"pitch_deg", num(d.pitch_rad * units::kRadToDeg)},
+          {"heading_deg", num(d.heading_rad * units::kRadToDeg)}};
+}
+
 std::string driftCells(const DriftStats& d) {
   return fmt::format("{:.3f} | {:.3f} | {:.4f} | {:.4f} | {:.4f}", d.horizontal_m, d.vertical_m,
                      d.roll_rad * units::kRadToDeg, d.pitch_rad * units::kRadToDeg,
@@ -97,6 +110,7 @@ void runCompare(const CompareArgs& a) {
   if (!a.config.empty()) {
     std::vector<std::string> warnings;
     cfg = loadRunConfig(a.config, &warnings);
+    recordConfigFile(a.config);
     for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
   }
   // The same inputs as `navigate` (apps/case_loader.h), so both commands agree to the digit.
@@ -206,6 +220,22 @@ void runCompare(const CompareArgs& a) {
     csv << fmt::format("difference,{}-{},outage_max_rms,{},,\n", q.a, q.b, driftCsv(q.max_rms));
   }
 
+  // compare.json: the numbers of compare.csv, and the run's provenance.
+  nlohmann::json js = {{"case", a.case_dir}, {"imu", a.imu}, {"outage_count", p.outages.size()},
+                       {"estimators", nlohmann::json::array()}, {"differences", nlohmann::json::array()},
+                       {"provenance", provenanceJson()}};
+  for (const Row& r : rows) {
+    js["estimators"].push_back({{"name", r.name}, {"run_s", r.seconds}, {"gnss_rejected", r.gnss_rejected},
+                                {"outage_rms", driftJson(r.eval.outage_rms)},
+                                {"outage_max_rms", driftJson(r.eval.outage_max_rms)},
+                                {"overall_rms", driftJson(r.eval.overall_rms)}});
+  }
+  for (const Pair& q : pairs) {
+    js["differences"].push_back({{"a", q.a}, {"b", q.b}, {"outage_rms", driftJson(q.rms)},
+                                 {"outage_max_rms", driftJson(q.max_rms)}});
+  }
+  writeFileAtomically(a.out + "/compare.json", js.dump(2) + "\n");
+
   // 1 Hz error series and outage windows for the plot.
   std::ofstream ser(a.out + "/compare_errors.csv");
   ser << "t_s";
@@ -236,7 +266,8 @@ void runCompare(const CompareArgs& a) {
   std::stringstream text;
   text << back.rdbuf();
   fmt::print("{}", text.str());
-  fmt::print("\nwrote {0}/compare.md, {0}/compare.csv, {0}/compare_errors.csv\n", a.out);
+  fmt::print("\nwrote {0}/compare.md, {0}/compare.json, {0}/compare.csv, {0}/compare_errors.csv\n", a.out);
+  if (a.no_plots) return;
   const std::string w = runPythonScript("plot_compare.py", {a.out});
   if (!w.empty()) fmt::print(stderr, "warning: {}\n", w);
 }
@@ -249,9 +280,10 @@ void registerCompare(CLI::App& app) {
       "compare", "Run several estimators on one case; table and plot of outage errors and differences");
   cmd->add_option("case_dir", a->case_dir, "case directory")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("--out", a->out, "output directory")->required();
-  cmd->add_option("--estimators", a->estimators,
-                  "comma-separated names of the estimator table, plus fgo-noearth, fgo-window-noearth")
+  cmd->add_option("--estimator", a->estimators,
+                  "comma list of the estimator table's names, plus fgo-noearth, fgo-window-noearth")
       ->capture_default_str();
+  addDeprecatedOption(cmd, "--estimators", "--estimator", &a->estimators);
   cmd->add_option("--imu", a->imu, "ref | tested | FILE (an IMU text file, tested IMU's profile)")
       ->capture_default_str();
   cmd->add_option("--outage-length", a->outage_length_s, "outage length (s)")->capture_default_str();
@@ -259,9 +291,11 @@ void registerCompare(CLI::App& app) {
   cmd->add_option("--outage-start", a->outage_start_s, "first outage start after the first IMU epoch (s)")
       ->capture_default_str();
   cmd->add_flag("--no-outages", a->no_outages, "use every GNSS fix");
-  cmd->add_option("--config", a->config, "run config YAML (ekf:, fgo:, outages: sections; outages: "
+  cmd->add_option("--run-config", a->config, "run config YAML (ekf:, fgo:, outages: sections; outages: "
                   "there overrides the outage flags)")->check(CLI::ExistingFile);
+  addDeprecatedOption(cmd, "--config", "--run-config", &a->config);
   cmd->add_option("--profile", a->profile, "IMU profile YAML (default: from case.yaml)")->check(CLI::ExistingFile);
+  cmd->add_flag("--no-plots", a->no_plots, "do not call scripts/plot_compare.py");
   cmd->add_flag("--lenient", a->lenient, "real-data read policies (repair/warn instead of error)");
   cmd->callback([a]() { runCompare(*a); });
 }

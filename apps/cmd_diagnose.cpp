@@ -15,6 +15,7 @@
 #include <string>
 
 #include "case_loader.h"
+#include "cli_vocabulary.h"
 #include "commands.h"
 #include "script_locator.h"
 #include "estimators.h"
@@ -191,7 +192,8 @@ void registerDiagnose(CLI::App& app) {
   cmd->add_option("--out", args->out, "output directory")->required();
   cmd->add_option("--estimator", args->estimator,
                   "also navigate SG#2, SG#3 and REAL with this estimator (ekf|rts|fgo)");
-  cmd->add_option("--config", args->config, "options file (see configs/diagnose.yaml)");
+  cmd->add_option("--options", args->config, "diagnose options file (see configs/diagnose.yaml)");
+  addDeprecatedOption(cmd, "--config", "--options", &args->config);
   cmd->add_flag("--no-plots", args->no_plots, "do not run scripts/plot_diagnosis.py");
   cmd->add_option("--run-config", args->run_config,
                   "run config of the estimator (configs/navigate.yaml: ekf:, outages:, ...)");

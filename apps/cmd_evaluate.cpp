@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 
+#include "cli_vocabulary.h"
 #include "commands.h"
 #include "graftnav/nav/units.h"
 #include "sg_evaluate.h"
@@ -62,8 +63,9 @@ void registerEvaluate(CLI::App& app) {
   cmd->add_option("case_dir", o->case_dir, "case directory")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("--out", o->out_dir, "output directory")->required();
   cmd->add_option("--estimator", o->estimator, "ekf | rts | fgo | fgo-window")->capture_default_str();
-  cmd->add_option("--config", o->config_path, "run config YAML (outages:, ekf:, fgo:, evaluation:)")
+  cmd->add_option("--run-config", o->config_path, "run config YAML (outages:, ekf:, fgo:, evaluation:)")
       ->check(CLI::ExistingFile);
+  addDeprecatedOption(cmd, "--config", "--run-config", &o->config_path);
   cmd->add_option("--outage-length", *len, "outage length (s), default 60");
   cmd->add_option("--outage-period", *per, "outage start-to-start period (s), default 180");
   cmd->add_option("--outage-start", *st, "first outage start after the first IMU epoch (s), default 300");

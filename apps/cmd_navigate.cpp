@@ -1,6 +1,8 @@
 // graftnav navigate CASE_DIR --out OUT_DIR [--imu ref|tested|FILE] [--profile FILE]
-//   [--estimator ekf|rts|...] [--outage-length S --outage-period S --outage-start S]
-//   [--config FILE] [--free-inertial] [--decimate N] [--lenient] [--no-plots]
+//   [--estimator ekf,rts,...] [--outage-length S --outage-period S --outage-start S]
+//   [--run-config FILE] [--start T --end T] [--decimate N] [--lenient] [--no-plots]
+// Several estimators write OUT_DIR/<estimator>/. Without --run-config, CASE_DIR/run.yaml is used
+// when present (written by `graftnav import`).
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
@@ -22,7 +24,10 @@
 #include "graftnav/io/nav_io.h"
 #include "graftnav/nav/rotation.h"
 #include "graftnav/filters/alignment.h"
+#include "cli_vocabulary.h"
+#include "provenance.h"
 #include "report_io.h"
+#include "solution_outputs.h"
 #include "run_config.h"
 #include "script_locator.h"
 
@@ -32,30 +37,67 @@ namespace {
 namespace fs = std::filesystem;
 
 struct NavigateArgs {
-  std::string case_dir, out, imu = "ref", profile, estimator = "ekf", config;
+  std::string case_dir, out, imu = kDefaultImu, profile, estimator = "ekf", config;
   double outage_length = -1, outage_period = -1, outage_start = -1;
   bool free_inertial = false, lenient = false, no_plots = false;
   int decimate = 1;
+  TimeRangeConfig time_range;
 };
 
-void runNavigate(const NavigateArgs& a) {
+// The error summary of a run against its truth or reference, on stdout.
+void printEvaluation(const Evaluation& ev) {
+  const double r2d = kRadToDeg;
+  fmt::print("  overall RMS: horizontal {:.3f} m, vertical {:.3f} m, roll {:.4f}, pitch {:.4f}, "
+             "heading {:.4f} deg\n",
+             ev.overall_rms.horizontal_m, ev.overall_rms.vertical_m, ev.overall_rms.roll_rad * r2d,
+             ev.overall_rms.pitch_rad * r2d, ev.overall_rms.heading_rad * r2d);
+  if (!ev.outages.empty()) {
+    fmt::print("  outages ({}): RMS over outage epochs: horizontal {:.3f} m, vertical {:.3f} m, "
+               "roll {:.4f}, pitch {:.4f}, heading {:.4f} deg\n",
+               ev.outages.size(), ev.outage_rms.horizontal_m, ev.outage_rms.vertical_m,
+               ev.outage_rms.roll_rad * r2d, ev.outage_rms.pitch_rad * r2d,
+               ev.outage_rms.heading_rad * r2d);
+    fmt::print("  outages: RMS of per-outage maxima: horizontal {:.3f} m, vertical {:.3f} m, "
+               "heading {:.4f} deg\n",
+               ev.outage_max_rms.horizontal_m, ev.outage_max_rms.vertical_m,
+               ev.outage_max_rms.heading_rad * r2d);
+  }
+  if (ev.nees_samples > 0) {
+    fmt::print("  NEES {:.2f} (9 PVA states, {} samples; 95% band [{:.2f}, {:.2f}])\n", ev.nees_mean,
+               ev.nees_samples, ev.nees_band_low, ev.nees_band_high);
+  }
+}
+
+void runNavigateOne(NavigateArgs a) {
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&]() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
+  a.free_inertial = a.estimator == "free-inertial";
   CaseLoadOptions lo;
   lo.load_gnss = !a.free_inertial;
   lo.lenient = a.lenient;
-  const CaseInputs c = loadCaseInputs(a.case_dir, lo);
+  CaseInputs c = loadCaseInputs(a.case_dir, lo);
+  recordConfigFile(c.paths().caseYaml());
   std::vector<std::string> warnings = c.warnings, notes;
   RunConfig rc;
-  if (!a.config.empty()) rc = loadRunConfig(a.config, &warnings);
+  const std::string run_config = runConfigPathFor(a.config, a.case_dir);
+  if (!run_config.empty()) {
+    rc = loadRunConfig(run_config, &warnings);
+    recordConfigFile(run_config);
+    notes.push_back("run config: " + run_config);
+    if (a.config.empty()) fmt::print(stderr, "note: using the case's run config {}\n", run_config);
+  }
   for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
   rc.ekf.output_decimation = a.decimate;
   if (a.free_inertial) rc.alignment.mode = "given";
 
   fmt::print(stderr, "[{:6.1f} s] reading the {} IMU\n", elapsed(), a.imu);
-  const ImuSelection imu = selectImu(c, a.imu, a.profile, a.lenient);
+  const std::string imu_which = a.imu == "ref" || a.imu == "tested" ? a.imu : resolveUserPath(a.imu, a.case_dir, "IMU file");
+  const std::string profile = a.profile.empty() ? a.profile : resolveUserPath(a.profile, a.case_dir, "IMU profile");
+  if (!profile.empty()) recordConfigFile(profile);
+  ImuSelection imu = selectImu(c, imu_which, profile, a.lenient);
+  restrictToTimeRange(mergeTimeRange(rc.time_range, a.time_range), &c, &imu, &notes);
   if (!a.free_inertial && !imu.profile_given) {
     throw std::runtime_error("no noise parameters for IMU '" + a.imu +
                              "' in case.yaml: pass --profile FILE (configs/imu/*.yaml)");
@@ -75,7 +117,7 @@ void runNavigate(const NavigateArgs& a) {
   const EstimationProblem pr = makeProblem(c, imu, rc, outages, &notes);
   for (const auto& n : notes)
     if (n.find("alignment") != std::string::npos || n.find("lever") != std::string::npos ||
-        n.find("GNSS selection") != std::string::npos)
+        n.find("GNSS selection") != std::string::npos || n.find("time range") != std::string::npos)
       fmt::print(stderr, "note: {}\n", n);
 
   const std::string estimator = a.free_inertial ? "free-inertial" : a.estimator;
@@ -97,12 +139,17 @@ void runNavigate(const NavigateArgs& a) {
   const std::string nav_out = (fs::path(a.out) / "solution.nav").string();
   writeNav(nav_out, sol.states);
   fmt::print("{}: {} epochs -> {} ({:.2f} s)\n", estimator, sol.states.size(), nav_out, run_time);
+  const fs::path out_dir(a.out);
+  if (writeImuErrors((out_dir / "imu_errors.txt").string(), sol)) fmt::print("  wrote imu_errors.txt\n");
+  if (writeStateStd((out_dir / "state_std.txt").string(), sol)) fmt::print("  wrote state_std.txt\n");
   if (!a.free_inertial) {
     fmt::print("  GNSS used {}, rejected by the gate {}, withheld in outages {}\n", sol.gnss_used,
                sol.gnss_rejected, sol.gnss_withheld);
   }
   if (reference.empty()) {
-    fmt::print("  no field/truth.nav or reference solution: no errors written\n");
+    writeRunInfoJson((out_dir / "run_info.json").string(), ReportMeta{estimator, imu_label, 0, 0.0},
+                     Evaluation{}, sol, pr.outages, notes, run_time);
+    fmt::print("  no field/truth.nav or reference solution: no errors written (run_info.json only)\n");
     return;
   }
   const Evaluation ev = evaluateSolution(sol, reference, pr.outages, rc.evaluation.options);
@@ -118,26 +165,7 @@ void runNavigate(const NavigateArgs& a) {
   writeRunInfoJson((out / "run_info.json").string(), meta, ev, sol, pr.outages, notes, run_time);
   writeErrorsCsv((out / "errors.csv").string(), ev, 1.0 / rc.evaluation.csv_rate_hz);
   writeOutageCsv((out / "outage_drift.csv").string(), ev);
-  const double r2d = kRadToDeg;
-  fmt::print("  overall RMS: horizontal {:.3f} m, vertical {:.3f} m, roll {:.4f}, pitch {:.4f}, "
-             "heading {:.4f} deg\n",
-             ev.overall_rms.horizontal_m, ev.overall_rms.vertical_m, ev.overall_rms.roll_rad * r2d,
-             ev.overall_rms.pitch_rad * r2d, ev.overall_rms.heading_rad * r2d);
-  if (!ev.outages.empty()) {
-    fmt::print("  outages ({}): RMS over outage epochs: horizontal {:.3f} m, vertical {:.3f} m, "
-               "roll {:.4f}, pitch {:.4f}, heading {:.4f} deg\n",
-               ev.outages.size(), ev.outage_rms.horizontal_m, ev.outage_rms.vertical_m,
-               ev.outage_rms.roll_rad * r2d, ev.outage_rms.pitch_rad * r2d,
-               ev.outage_rms.heading_rad * r2d);
-    fmt::print("  outages: RMS of per-outage maxima: horizontal {:.3f} m, vertical {:.3f} m, "
-               "heading {:.4f} deg\n",
-               ev.outage_max_rms.horizontal_m, ev.outage_max_rms.vertical_m,
-               ev.outage_max_rms.heading_rad * r2d);
-  }
-  if (ev.nees_samples > 0) {
-    fmt::print("  NEES {:.2f} (9 PVA states, {} samples; 95% band [{:.2f}, {:.2f}])\n", ev.nees_mean,
-               ev.nees_samples, ev.nees_band_low, ev.nees_band_high);
-  }
+  printEvaluation(ev);
   fmt::print("  wrote errors.json, run_info.json, errors.csv, outage_drift.csv in {}\n", a.out);
   if (!a.no_plots) {
     const std::string w = runPythonScript("plot_errors.py", {a.out});
@@ -146,6 +174,17 @@ void runNavigate(const NavigateArgs& a) {
     } else {
       fmt::print("  wrote error plots (errors_*.png) in {}\n", a.out);
     }
+  }
+}
+
+void runNavigate(const NavigateArgs& a) {
+  const std::vector<std::string> estimators =
+      a.free_inertial ? std::vector<std::string>{"free-inertial"} : splitEstimatorList(a.estimator);
+  for (const auto& e : estimators) {
+    NavigateArgs one = a;
+    one.estimator = e;
+    if (estimators.size() > 1) one.out = (fs::path(a.out) / e).string();
+    runNavigateOne(one);
   }
 }
 
@@ -158,17 +197,17 @@ void registerNavigate(CLI::App& app) {
   cmd->add_option("case_dir", a->case_dir, "case directory (case.yaml, field/...)")->required();
   cmd->add_option("--out", a->out, "output directory")->required();
   cmd->add_option("--imu", a->imu, "ref | tested | path of an IMU file (default ref)");
-  cmd->add_option("--profile", a->profile, "IMU profile YAML (default: from case.yaml)")
-      ->check(CLI::ExistingFile);
+  cmd->add_option("--profile", a->profile, "IMU profile YAML (default: from case.yaml)");
   std::string names;
-  for (const auto& n : estimatorNames()) names += (names.empty() ? "" : " | ") + n;
-  cmd->add_option("--estimator", a->estimator, "estimator: " + names + " (default ekf)");
+  for (const auto& n : estimatorNames()) names += (names.empty() ? "" : ", ") + n;
+  cmd->add_option("--estimator", a->estimator, "comma list of " + names + " (default ekf)");
   cmd->add_option("--outage-length", a->outage_length, "GNSS outage length (s)");
   cmd->add_option("--outage-period", a->outage_period, "outage start-to-start period (s)");
   cmd->add_option("--outage-start", a->outage_start, "first outage start after the data start (s)");
-  cmd->add_option("--config", a->config, "run config YAML (configs/navigate.yaml)")
-      ->check(CLI::ExistingFile);
-  cmd->add_flag("--free-inertial", a->free_inertial, "mechanize from the initial state, no GNSS");
+  cmd->add_option("--run-config", a->config, "run config YAML (configs/navigate.yaml; default CASE/run.yaml)");
+  addDeprecatedOption(cmd, "--config", "--run-config", &a->config);
+  addDeprecatedFlag(cmd, "--free-inertial", "--estimator free-inertial", &a->free_inertial);
+  addTimeRangeOptions(cmd, &a->time_range);
   cmd->add_option("--decimate", a->decimate, "write every N-th IMU epoch (default 1)")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--lenient", a->lenient, "real-data read policies (repair/warn instead of error)");

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "graftnav/nav/units.h"
+#include "provenance.h"
 
 namespace graftnav::app {
 namespace {
@@ -78,6 +79,7 @@ void writeRunInfoJson(const std::string& path, const ReportMeta& m, const Evalua
   j["outage_epochs"] = ev.outage_epochs;
   j["run_time_s"] = run_time_s;
   j["notes"] = notes;
+  j["provenance"] = provenanceJson();
   writeText(path, j.dump(2) + "\n");
 }
 
