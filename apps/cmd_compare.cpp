@@ -13,10 +13,10 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -26,6 +26,8 @@
 #include "commands.h"
 #include "case_loader.h"
 #include "estimators.h"
+#include "graftnav/io/atomic_file.h"
+#include "input_checks.h"
 #include "run_config.h"
 #include "script_locator.h"
 #include "graftnav/eval/evaluation.h"
@@ -73,6 +75,16 @@ NavSolution runNamed(const std::string& name, const EstimationProblem& p, const 
   return runEstimator(name, p, cfg);
 }
 
+// Every name must be in the table (or a -noearth variant of fgo / fgo-window), before any run.
+void checkEstimatorNames(const std::vector<std::string>& names) {
+  std::vector<std::string> known = estimatorNames();
+  known.push_back("fgo-noearth");
+  known.push_back("fgo-window-noearth");
+  for (const auto& n : names)
+    if (std::find(known.begin(), known.end(), n) == known.end())
+      throw std::runtime_error("--estimators: unknown estimator '" + n + "'");
+}
+
 struct Row {
   std::string name;
   double seconds = 0.0;
@@ -80,19 +92,30 @@ struct Row {
   int gnss_rejected = 0;
 };
 
+// A statistic that cannot be computed (no outage epoch, a zero denominator) is written as absent:
+// "-" in Markdown, an empty CSV cell; runCompare warns once about it.
+int g_absent_cells = 0;
+std::string cell(double v, const char* f, const char* absent) {
+  if (std::isfinite(v)) return fmt::format(fmt::runtime(f), v);
+  ++g_absent_cells;
+  return absent;
+}
+
 std::string driftCells(const DriftStats& d) {
-  return fmt::format("{:.3f} | {:.3f} | {:.4f} | {:.4f} | {:.4f}", d.horizontal_m, d.vertical_m,
-                     d.roll_rad * units::kRadToDeg, d.pitch_rad * units::kRadToDeg,
-                     d.heading_rad * units::kRadToDeg);
+  return fmt::format("{} | {} | {} | {} | {}", cell(d.horizontal_m, "{:.3f}", "-"), cell(d.vertical_m, "{:.3f}", "-"),
+                     cell(d.roll_rad * units::kRadToDeg, "{:.4f}", "-"),
+                     cell(d.pitch_rad * units::kRadToDeg, "{:.4f}", "-"),
+                     cell(d.heading_rad * units::kRadToDeg, "{:.4f}", "-"));
 }
 std::string driftCsv(const DriftStats& d) {
-  return fmt::format("{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}", d.horizontal_m, d.vertical_m,
-                     d.roll_rad * units::kRadToDeg, d.pitch_rad * units::kRadToDeg,
-                     d.heading_rad * units::kRadToDeg);
+  return fmt::format("{},{},{},{},{}", cell(d.horizontal_m, "{:.6f}", ""), cell(d.vertical_m, "{:.6f}", ""),
+                     cell(d.roll_rad * units::kRadToDeg, "{:.6f}", ""),
+                     cell(d.pitch_rad * units::kRadToDeg, "{:.6f}", ""),
+                     cell(d.heading_rad * units::kRadToDeg, "{:.6f}", ""));
 }
 
 void runCompare(const CompareArgs& a) {
-  std::filesystem::create_directories(a.out);
+  if (!a.no_outages) validateOutageOptions(a.outage_length_s, a.outage_period_s, a.outage_start_s);
   RunConfig cfg;
   if (!a.config.empty()) {
     std::vector<std::string> warnings;
@@ -118,11 +141,18 @@ void runCompare(const CompareArgs& a) {
   if (!imu.profile_given) {
     throw std::runtime_error("no noise parameters for IMU '" + a.imu + "' in case.yaml: pass --profile FILE");
   }
+  for (const auto& w : checkGnssCoverage(c.gnss, c.paths().gnssPos(), imu.imu, false))
+    fmt::print(stderr, "warning: {}\n", w);
   const EstimationProblem problem = makeProblem(c, imu, cfg, oc, &notes);
   for (const auto& n : notes) fmt::print(stderr, "note: {}\n", n);
   const EstimationProblem& p = problem;
+  requireOutagesInsideData(oc, p.outages, p.imu.front().t_s - p.imu.front().dt_s, p.imu.back().t_s);
+  for (const auto& w : checkReferenceCoverage(c.reference, c.reference_name, p.imu, p.outages))
+    fmt::print(stderr, "warning: {}\n", w);
   const std::vector<std::string> names = splitList(a.estimators);
   if (names.empty()) throw std::invalid_argument("compare: --estimators is empty");
+  checkEstimatorNames(names);
+  std::filesystem::create_directories(a.out);
   fmt::print(stderr, "compare: {} IMU samples, {} GNSS fixes, {} outages of {:.0f} s\n",
              p.imu.size(), p.gnss.size(), p.outages.size(), a.outage_length_s);
 
@@ -156,7 +186,7 @@ void runCompare(const CompareArgs& a) {
   }
 
   // Markdown.
-  std::ofstream md(a.out + "/compare.md");
+  std::ostringstream md;
   md << fmt::format("# Estimator comparison: {}\n\nIMU: {} ({}), {} outages of {:.0f} s every "
                     "{:.0f} s from {:.0f} s; errors against the {}.\n\n",
                     a.case_dir, a.imu, p.imu_profile.name, p.outages.size(), a.outage_length_s,
@@ -180,8 +210,9 @@ void runCompare(const CompareArgs& a) {
     const DriftStats& b = rows.front().eval.outage_rms;
     for (const Row& r : rows) {
       const DriftStats& d = r.eval.outage_rms;
-      md << fmt::format("| {} | {:.3f} | {:.3f} | {:.3f} |\n", r.name, d.horizontal_m / b.horizontal_m,
-                        d.vertical_m / b.vertical_m, d.heading_rad / b.heading_rad);
+      md << fmt::format("| {} | {} | {} | {} |\n", r.name, cell(d.horizontal_m / b.horizontal_m, "{:.3f}", "-"),
+                        cell(d.vertical_m / b.vertical_m, "{:.3f}", "-"),
+                        cell(d.heading_rad / b.heading_rad, "{:.3f}", "-"));
     }
   }
   md << "\n## Differences between estimators inside outages (RMS over outage epochs)\n\n"
@@ -190,7 +221,7 @@ void runCompare(const CompareArgs& a) {
   for (const Pair& q : pairs) md << fmt::format("| {} - {} | {} |\n", q.a, q.b, driftCells(q.rms));
 
   // CSV: one row per estimator and per pair.
-  std::ofstream csv(a.out + "/compare.csv");
+  std::ostringstream csv;
   csv << "kind,name,statistic,horizontal_m,vertical_m,roll_deg,pitch_deg,heading_deg,run_s,"
          "gnss_rejected\n";
   for (const Row& r : rows) {
@@ -207,7 +238,7 @@ void runCompare(const CompareArgs& a) {
   }
 
   // 1 Hz error series and outage windows for the plot.
-  std::ofstream ser(a.out + "/compare_errors.csv");
+  std::ostringstream ser;
   ser << "t_s";
   for (const Row& r : rows) ser << fmt::format(",{0}_horizontal_m,{0}_vertical_m,{0}_heading_deg", r.name);
   ser << "\n";
@@ -222,20 +253,24 @@ void runCompare(const CompareArgs& a) {
       const auto& ep = rows[r].eval.epochs;
       while (idx[r] + 1 < ep.size() && ep[idx[r]].t_s < e0.t_s - 1e-9) ++idx[r];
       const EpochError& e = ep[idx[r]];
-      ser << fmt::format(",{:.4f},{:.4f},{:.5f}", e.pos_ned_m.head<2>().norm(),
-                         std::abs(e.pos_ned_m.z()), e.euler_rad.z() * units::kRadToDeg);
+      ser << fmt::format(",{},{},{}", cell(e.pos_ned_m.head<2>().norm(), "{:.4f}", ""),
+                         cell(std::abs(e.pos_ned_m.z()), "{:.4f}", ""),
+                         cell(e.euler_rad.z() * units::kRadToDeg, "{:.5f}", ""));
     }
     ser << "\n";
   }
-  std::ofstream ow(a.out + "/compare_outages.csv");
+  std::ostringstream ow;
   ow << "start_s,end_s\n";
   for (const TimeWindow& w : p.outages) ow << fmt::format("{:.3f},{:.3f}\n", w.start_s, w.end_s);
 
-  md.close();
-  std::ifstream back(a.out + "/compare.md");
-  std::stringstream text;
-  text << back.rdbuf();
-  fmt::print("{}", text.str());
+  writeFileAtomically(a.out + "/compare.md", md.str());
+  writeFileAtomically(a.out + "/compare.csv", csv.str());
+  writeFileAtomically(a.out + "/compare_errors.csv", ser.str());
+  writeFileAtomically(a.out + "/compare_outages.csv", ow.str());
+  fmt::print("{}", md.str());
+  if (g_absent_cells > 0)
+    fmt::print(stderr, "warning: {} statistics could not be computed (no outage epoch or a zero denominator): "
+                       "written as '-' in compare.md and empty cells in the CSV files\n", g_absent_cells);
   fmt::print("\nwrote {0}/compare.md, {0}/compare.csv, {0}/compare_errors.csv\n", a.out);
   const std::string w = runPythonScript("plot_compare.py", {a.out});
   if (!w.empty()) fmt::print(stderr, "warning: {}\n", w);
