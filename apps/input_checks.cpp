@@ -73,7 +73,7 @@ std::vector<std::string> checkGnssCoverage(const GnssSeries& gnss, const std::st
     what += fmt::format(" (GNSS span [{:.3f}, {:.3f}] s)", gnss.front().t_s, gnss.back().t_s);
   what += fmt::format("; at least {} are needed for GNSS/INS", o.min_gnss_epochs);
   if (!free_inertial) throw std::runtime_error(what + ": the run would be free-inertial (pass --free-inertial if that is meant)");
-  return {"WARNING: " + what + "; running free-inertial as asked"};
+  return {what + "; running FREE-INERTIAL as asked"};
 }
 
 std::vector<std::string> checkGnssUsed(int gnss_used, bool free_inertial, const InputCheckOptions& o) {
@@ -100,7 +100,7 @@ std::vector<std::string> checkReferenceCoverage(const NavSeries& ref, const std:
   const double t0 = imuBegin(imu), t1 = imu.back().t_s;
   const double covered = std::max(0.0, std::min(t1, r1) - std::max(t0, r0));
   if (covered < 0.99 * (t1 - t0))
-    return {fmt::format("WARNING: {} covers {:.1f} s of the {:.1f} s IMU span ([{:.3f}, {:.3f}] s vs [{:.3f}, {:.3f}] s): "
+    return {fmt::format("{} covers {:.1f} s of the {:.1f} s IMU span ([{:.3f}, {:.3f}] s vs [{:.3f}, {:.3f}] s): "
                         "errors are evaluated only where it exists",
                         path, covered, t1 - t0, r0, r1, t0, t1)};
   return {};
@@ -114,7 +114,7 @@ std::vector<std::string> checkLabStaticRecord(double record_s, const std::string
         "inside one outage; see InputCheckOptions)",
         path, record_s, o.lab_static_floor_s));
   if (record_s < o.lab_static_recommended_s)
-    return {fmt::format("WARNING: {}: the lab static record lasts {:.1f} s, below the recommended {:g} s: the "
+    return {fmt::format("{}: the lab static record lasts {:.1f} s, below the recommended {:g} s: the "
                         "grafted noise repeats every {:.1f} s of the field test",
                         path, record_s, o.lab_static_recommended_s, record_s)};
   return {};

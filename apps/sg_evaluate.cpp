@@ -10,6 +10,7 @@
 
 #include "case_loader.h"
 #include "estimators.h"
+#include "input_checks.h"
 #include "graftnav/calibration/calibration_io.h"
 #include "graftnav/calibration/lab_calibration.h"
 #include "graftnav/calibration/lab_data.h"
@@ -33,6 +34,7 @@ struct Job {
 
 SgEvaluationReport runSgEvaluation(const SgEvaluateOptions& o, const LogFn& log_in) {
   const LogFn log = log_in ? log_in : [](const std::string&) {};
+  for (const auto& w : checkEvaluationInputs(o)) log("warning: " + w);  // before any output
   fs::create_directories(o.out_dir);
   const std::string tag = fs::path(o.case_dir).filename().string();
 
