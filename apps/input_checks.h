@@ -22,15 +22,14 @@ struct InputCheckOptions {
   // initialisation, not the IMU. 10 epochs = 10 s of 1 Hz GNSS: a stated floor that catches the
   // "0 or 1 fix" runs, not a convergence criterion (that depends on motion and grade).
   int min_gnss_epochs = 10;
-  // Lab static record used for grafting (the basic error signal, tiled over the field test):
-  // below floor_s it is an error, below recommended_s a warning. 60 s = the seed's outage length:
-  // a shorter record repeats inside one outage, so the outage drift is built from copies of a few
-  // seconds of noise and its ARW mean (Eq. 12, D = sigma_RW / sqrt(t)) is a bias repeated in every
-  // tile. 300 s = five outage lengths: each outage of a 60 s / 180 s schedule then sees its own
-  // stretch of noise before the record repeats, and D falls to sqrt(60/300) = 0.45 of its 60-s
-  // value. Longer is better (the seed records hours).
+  // Lab static record used for grafting (the basic error signal, tiled forward, reversed, forward,
+  // ... over the field test): below lab_static_floor_s it is an error. 60 s = the seed's outage
+  // length: a shorter record repeats inside one outage, so the outage drift is built from copies
+  // of a few seconds of noise and the record's noise mean (Eq. 12, D = sigma_RW / sqrt(t)) comes
+  // back in every tile as a bias. A record shorter than the run's outage spacing (start to start)
+  // is a warning (checkLabStaticRecord): consecutive outages then draw overlapping stretches of
+  // the same noise, so the RMS over outages counts it more than once.
   double lab_static_floor_s = 60.0;
-  double lab_static_recommended_s = 300.0;
   void validate() const;  // throws std::invalid_argument naming the field
 };
 
@@ -58,9 +57,13 @@ std::vector<std::string> checkGnssUsed(int gnss_used, bool free_inertial, const 
 std::vector<std::string> checkReferenceCoverage(const NavSeries& reference, const std::string& reference_path,
                                                 const ImuSeries& imu, const std::vector<TimeWindow>& outages);
 
-// Length of the lab static record (options' floor and recommendation). Returns warnings.
-std::vector<std::string> checkLabStaticRecord(double record_s, const std::string& path,
+// Length of the lab static record: an error below options.lab_static_floor_s, a warning below
+// `outage_spacing_s` (the largest start-to-start spacing of the run's outages; 0: none). Returns
+// the warnings.
+std::vector<std::string> checkLabStaticRecord(double record_s, const std::string& path, double outage_spacing_s,
                                               const InputCheckOptions& options = {});
+// The largest start-to-start spacing of consecutive windows (the length for a single window; 0 for none).
+double outageSpacing(const std::vector<TimeWindow>& windows);
 
 // Every check above for `graftnav evaluate` (and batch), run before runSgEvaluation writes
 // anything: estimator name, outage options, the case's files (IMU range checks in the reader),
