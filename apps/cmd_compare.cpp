@@ -161,6 +161,7 @@ void runCompare(const CompareArgs& a) {
   for (const std::string& name : names) {
     const auto t0 = std::chrono::steady_clock::now();
     NavSolution sol = runNamed(name, p, cfg);
+    checkGnssUsed(sol.gnss_used, false);  // throws before any file is written
     Row r;
     r.name = name;
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

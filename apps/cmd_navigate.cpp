@@ -120,7 +120,9 @@ void writeEvaluation(const NavigateArgs& a, const NavigateSetup& s, const std::s
   notes.push_back("reference: " + s.c.reference_name);
   const fs::path out(a.out);
   std::vector<std::string> warnings = writeErrorsJson((out / "errors.json").string(), meta, ev);
-  writeRunInfoJson((out / "run_info.json").string(), meta, ev, sol, s.pr.outages, notes, run_time);
+  const auto run_info_warnings =
+      writeRunInfoJson((out / "run_info.json").string(), meta, ev, sol, s.pr.outages, notes, run_time);
+  warnings.insert(warnings.end(), run_info_warnings.begin(), run_info_warnings.end());
   writeErrorsCsv((out / "errors.csv").string(), ev, 1.0 / s.rc.evaluation.csv_rate_hz);
   writeOutageCsv((out / "outage_drift.csv").string(), ev);
   for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
