@@ -161,6 +161,9 @@ TEST(Faults, NegativeOrZeroOutageOptionsAreErrorsNamingTheFlag) {
     const RunResult r = run("navigate " + sample("tactical") + " --out " + out + " --no-plots " + flag + " " + value);
     expectFailedCleanly(r, out, {flag, value});
   }
+  const std::string out = test::makeTempDir("opt_compare") + "/out";
+  const RunResult r = run("compare " + sample("tactical") + " --estimators ekf --out " + out + " --outage-length -5");
+  expectFailedCleanly(r, out, {"--outage-length", "-5"});
 }
 
 TEST(Faults, UnknownEstimatorFailsBeforeEvaluateWritesAnything) {
@@ -252,6 +255,12 @@ TEST(Faults, ImuValueOutOfPhysicalRangeNamesFileAndLine) {
   setColumn(c2 + "/field/tested_imu.txt", 78, 6, "1e300");
   r = run("evaluate " + c2 + " --out " + out + " --config " + sampleConfig() + " --no-plots");
   expectFailedCleanly(r, out, {"tested_imu.txt:78", "dvel_z", " g,"});
+  // diagnose reads with the lenient policies: the physical range still holds (a 1e300 reaching the
+  // locator makes its noise limit NaN).
+  const std::string c3 = copyCase("mems", "imu_range3");
+  setColumn(c3 + "/field/tested_imu.txt", 321, 1, "1e300");
+  r = run("diagnose " + c3 + " --out " + out + " --no-plots");
+  expectFailedCleanly(r, out, {"tested_imu.txt:321", "dtheta_x"});
 }
 
 TEST(Faults, ImuRangeLimitsAreTheStatedOnes) {
