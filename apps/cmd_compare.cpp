@@ -92,27 +92,31 @@ struct Row {
   int gnss_rejected = 0;
 };
 
-// A statistic that cannot be computed (no outage epoch, a zero denominator) is written as absent:
-// "-" in Markdown, an empty CSV cell; runCompare warns once about it.
-int g_absent_cells = 0;
-std::string cell(double v, const char* f, const char* absent) {
-  if (std::isfinite(v)) return fmt::format(fmt::runtime(f), v);
-  ++g_absent_cells;
-  return absent;
-}
-
-std::string driftCells(const DriftStats& d) {
-  return fmt::format("{} | {} | {} | {} | {}", cell(d.horizontal_m, "{:.3f}", "-"), cell(d.vertical_m, "{:.3f}", "-"),
-                     cell(d.roll_rad * units::kRadToDeg, "{:.4f}", "-"),
-                     cell(d.pitch_rad * units::kRadToDeg, "{:.4f}", "-"),
-                     cell(d.heading_rad * units::kRadToDeg, "{:.4f}", "-"));
-}
-std::string driftCsv(const DriftStats& d) {
-  return fmt::format("{},{},{},{},{}", cell(d.horizontal_m, "{:.6f}", ""), cell(d.vertical_m, "{:.6f}", ""),
-                     cell(d.roll_rad * units::kRadToDeg, "{:.6f}", ""),
-                     cell(d.pitch_rad * units::kRadToDeg, "{:.6f}", ""),
-                     cell(d.heading_rad * units::kRadToDeg, "{:.6f}", ""));
-}
+// Formats table cells. A statistic that cannot be computed (no outage epoch, a zero denominator)
+// is written as absent, "-" in Markdown and an empty CSV cell, and counted so that runCompare
+// warns about it.
+struct Cells {
+  int absent = 0;
+  std::string operator()(double v, const char* f, const char* absent_text) {
+    if (std::isfinite(v)) return fmt::format(fmt::runtime(f), v);
+    ++absent;
+    return absent_text;
+  }
+  std::string driftMd(const DriftStats& d) {
+    Cells& c = *this;
+    return fmt::format("{} | {} | {} | {} | {}", c(d.horizontal_m, "{:.3f}", "-"), c(d.vertical_m, "{:.3f}", "-"),
+                       c(d.roll_rad * units::kRadToDeg, "{:.4f}", "-"),
+                       c(d.pitch_rad * units::kRadToDeg, "{:.4f}", "-"),
+                       c(d.heading_rad * units::kRadToDeg, "{:.4f}", "-"));
+  }
+  std::string driftCsv(const DriftStats& d) {
+    Cells& c = *this;
+    return fmt::format("{},{},{},{},{}", c(d.horizontal_m, "{:.6f}", ""), c(d.vertical_m, "{:.6f}", ""),
+                       c(d.roll_rad * units::kRadToDeg, "{:.6f}", ""),
+                       c(d.pitch_rad * units::kRadToDeg, "{:.6f}", ""),
+                       c(d.heading_rad * units::kRadToDeg, "{:.6f}", ""));
+  }
+};
 
 void runCompare(const CompareArgs& a) {
   if (!a.no_outages) validateOutageOptions(a.outage_length_s, a.outage_period_s, a.outage_start_s);
@@ -187,6 +191,7 @@ void runCompare(const CompareArgs& a) {
   }
 
   // Markdown.
+  Cells cell;
   std::ostringstream md;
   md << fmt::format("# Estimator comparison: {}\n\nIMU: {} ({}), {} outages of {:.0f} s every "
                     "{:.0f} s from {:.0f} s; errors against the {}.\n\n",
@@ -196,14 +201,14 @@ void runCompare(const CompareArgs& a) {
         "| estimator | horiz. (m) | vert. (m) | roll (deg) | pitch (deg) | heading (deg) | "
         "run (s) | GNSS rejected |\n|---|---|---|---|---|---|---|---|\n";
   for (const Row& r : rows) {
-    md << fmt::format("| {} | {} | {:.2f} | {} |\n", r.name, driftCells(r.eval.outage_rms),
+    md << fmt::format("| {} | {} | {:.2f} | {} |\n", r.name, cell.driftMd(r.eval.outage_rms),
                       r.seconds, r.gnss_rejected);
   }
   md << "\n## Outage errors, RMS over outages of the per-outage maximum (peers)\n\n"
         "| estimator | horiz. (m) | vert. (m) | roll (deg) | pitch (deg) | heading (deg) |\n"
         "|---|---|---|---|---|---|\n";
   for (const Row& r : rows) {
-    md << fmt::format("| {} | {} |\n", r.name, driftCells(r.eval.outage_max_rms));
+    md << fmt::format("| {} | {} |\n", r.name, cell.driftMd(r.eval.outage_max_rms));
   }
   if (!rows.empty()) {
     md << fmt::format("\n## Ratios to {} (outage RMS)\n\n| estimator | horiz. | vert. | heading |\n"
@@ -219,23 +224,23 @@ void runCompare(const CompareArgs& a) {
   md << "\n## Differences between estimators inside outages (RMS over outage epochs)\n\n"
         "| a - b | horiz. (m) | vert. (m) | roll (deg) | pitch (deg) | heading (deg) |\n"
         "|---|---|---|---|---|---|\n";
-  for (const Pair& q : pairs) md << fmt::format("| {} - {} | {} |\n", q.a, q.b, driftCells(q.rms));
+  for (const Pair& q : pairs) md << fmt::format("| {} - {} | {} |\n", q.a, q.b, cell.driftMd(q.rms));
 
   // CSV: one row per estimator and per pair.
   std::ostringstream csv;
   csv << "kind,name,statistic,horizontal_m,vertical_m,roll_deg,pitch_deg,heading_deg,run_s,"
          "gnss_rejected\n";
   for (const Row& r : rows) {
-    csv << fmt::format("error,{},outage_rms,{},{:.3f},{}\n", r.name, driftCsv(r.eval.outage_rms),
+    csv << fmt::format("error,{},outage_rms,{},{:.3f},{}\n", r.name, cell.driftCsv(r.eval.outage_rms),
                        r.seconds, r.gnss_rejected);
     csv << fmt::format("error,{},outage_max_rms,{},{:.3f},{}\n", r.name,
-                       driftCsv(r.eval.outage_max_rms), r.seconds, r.gnss_rejected);
-    csv << fmt::format("error,{},overall_rms,{},{:.3f},{}\n", r.name, driftCsv(r.eval.overall_rms),
+                       cell.driftCsv(r.eval.outage_max_rms), r.seconds, r.gnss_rejected);
+    csv << fmt::format("error,{},overall_rms,{},{:.3f},{}\n", r.name, cell.driftCsv(r.eval.overall_rms),
                        r.seconds, r.gnss_rejected);
   }
   for (const Pair& q : pairs) {
-    csv << fmt::format("difference,{}-{},outage_rms,{},,\n", q.a, q.b, driftCsv(q.rms));
-    csv << fmt::format("difference,{}-{},outage_max_rms,{},,\n", q.a, q.b, driftCsv(q.max_rms));
+    csv << fmt::format("difference,{}-{},outage_rms,{},,\n", q.a, q.b, cell.driftCsv(q.rms));
+    csv << fmt::format("difference,{}-{},outage_max_rms,{},,\n", q.a, q.b, cell.driftCsv(q.max_rms));
   }
 
   // 1 Hz error series and outage windows for the plot.
@@ -269,9 +274,9 @@ void runCompare(const CompareArgs& a) {
   writeFileAtomically(a.out + "/compare_errors.csv", ser.str());
   writeFileAtomically(a.out + "/compare_outages.csv", ow.str());
   fmt::print("{}", md.str());
-  if (g_absent_cells > 0)
+  if (cell.absent > 0)
     fmt::print(stderr, "warning: {} statistics could not be computed (no outage epoch or a zero denominator): "
-                       "written as '-' in compare.md and empty cells in the CSV files\n", g_absent_cells);
+                       "written as '-' in compare.md and empty cells in the CSV files\n", cell.absent);
   fmt::print("\nwrote {0}/compare.md, {0}/compare.csv, {0}/compare_errors.csv\n", a.out);
   const std::string w = runPythonScript("plot_compare.py", {a.out});
   if (!w.empty()) fmt::print(stderr, "warning: {}\n", w);
