@@ -25,6 +25,7 @@
 #include "graftnav/calibration/lab_calibration.h"
 #include "graftnav/calibration/lab_data.h"
 #include "graftnav/io/case_config.h"
+#include "graftnav/io/atomic_file.h"
 #include "graftnav/io/imu_io.h"
 #include "graftnav/sg/graft_case.h"
 #include "graftnav/mismatch/diagnosis.h"
@@ -328,7 +329,7 @@ void registerDiagnose(CLI::App& app) {
         csv += fmt::format("{:.3f},{:.3f},{:.4f},{:.4f},{:.4f},{:.4f}\n", o.window.start_s,
                            o.window.end_s, o.sg2_horizontal_m, o.sg3_horizontal_m,
                            o.real_horizontal_m, o.share);
-      std::ofstream(args->out + "/outages.csv") << csv;
+      writeFileAtomically(args->out + "/outages.csv", csv);
       const auto pct = [](const DriftStats& d) {
         return fmt::format("{:.1f} / {:.1f} / {:.1f} / {:.1f} / {:.1f} %", 100 * d.horizontal_m,
                            100 * d.vertical_m, 100 * d.roll_rad, 100 * d.pitch_rad, 100 * d.heading_rad);

@@ -6,9 +6,11 @@
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,9 +27,10 @@
 #include "graftnav/nav/rotation.h"
 #include "graftnav/filters/alignment.h"
 #include "cli_vocabulary.h"
+#include "input_checks.h"
 #include "provenance.h"
-#include "report_io.h"
 #include "solution_outputs.h"
+#include "report_io.h"
 #include "run_config.h"
 #include "script_locator.h"
 
@@ -38,7 +41,7 @@ namespace fs = std::filesystem;
 
 struct NavigateArgs {
   std::string case_dir, out, imu = kDefaultImu, profile, estimator = "ekf", config;
-  double outage_length = -1, outage_period = -1, outage_start = -1;
+  std::optional<double> outage_length, outage_period, outage_start;
   bool free_inertial = false, lenient = false, no_plots = false;
   int decimate = 1;
   TimeRangeConfig time_range;
@@ -68,61 +71,120 @@ void printEvaluation(const Evaluation& ev) {
   }
 }
 
-void runNavigateOne(NavigateArgs a) {
+// Prints the warnings and keeps them in the run's notes (run_info.json).
+void warnAll(const std::vector<std::string>& warnings, std::vector<std::string>* notes) {
+  for (const auto& w : warnings) {
+    fmt::print(stderr, "warning: {}\n", w);
+    notes->push_back(w);
+  }
+}
+
+// Everything the run needs, validated before any output is written.
+struct NavigateSetup {
+  CaseInputs c;
+  RunConfig rc;
+  ImuSelection imu;
+  OutageScheduleConfig oc;
+  EstimationProblem pr;
+  std::vector<std::string> notes;
+};
+
+NavigateSetup prepareNavigate(const NavigateArgs& a) {
+  validateOutageOptions(a.outage_length, a.outage_period, a.outage_start);
+  if (!a.free_inertial) {
+    const auto names = estimatorNames();
+    if (std::find(names.begin(), names.end(), a.estimator) == names.end())
+      throw std::runtime_error("--estimator '" + a.estimator + "': unknown estimator");
+  }
+  NavigateSetup s;
+  CaseLoadOptions lo;
+  lo.load_gnss = !a.free_inertial;
+  lo.lenient = a.lenient;
+  s.c = loadCaseInputs(a.case_dir, lo);
+  recordConfigFile(s.c.paths().caseYaml());
+  std::vector<std::string> warnings = s.c.warnings;
+  const std::string run_config = runConfigPathFor(a.config, a.case_dir);
+  if (!run_config.empty()) {
+    s.rc = loadRunConfig(run_config, &warnings);
+    recordConfigFile(run_config);
+    s.notes.push_back("run config: " + run_config);
+    if (a.config.empty()) fmt::print(stderr, "note: using the case's run config {}\n", run_config);
+  }
+  for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
+  s.rc.ekf.output_decimation = a.decimate;
+  if (a.free_inertial) s.rc.alignment.mode = "given";
+
+  const std::string imu_which =
+      a.imu == "ref" || a.imu == "tested" ? a.imu : resolveUserPath(a.imu, a.case_dir, "IMU file");
+  const std::string profile = a.profile.empty() ? a.profile : resolveUserPath(a.profile, a.case_dir, "IMU profile");
+  if (!profile.empty()) recordConfigFile(profile);
+  s.imu = selectImu(s.c, imu_which, profile, a.lenient);
+  restrictToTimeRange(mergeTimeRange(s.rc.time_range, a.time_range), &s.c, &s.imu, &s.notes);
+  if (!s.imu.read_summary.empty()) warnAll({s.imu.read_summary}, &s.notes);
+  if (!a.free_inertial && !s.imu.profile_given) {
+    throw std::runtime_error("no noise parameters for IMU '" + a.imu +
+                             "' in case.yaml: pass --profile FILE (configs/imu/*.yaml)");
+  }
+  if (!a.free_inertial) warnAll(checkGnssCoverage(s.c.gnss, s.c.paths().gnssPos(), s.imu.imu, false), &s.notes);
+
+  // Outages: config section, overridden by the command line; none for a free-inertial run.
+  const bool cli_outage = a.outage_length || a.outage_period || a.outage_start;
+  s.oc = s.rc.outages;
+  if (a.outage_length) s.oc.length_s = *a.outage_length;
+  if (a.outage_period) s.oc.period_s = *a.outage_period;
+  if (a.outage_start) s.oc.start_s = *a.outage_start;
+  std::optional<OutageScheduleConfig> outages;
+  if ((s.rc.outages_given || cli_outage) && !a.free_inertial) outages = s.oc;
+  s.pr = makeProblem(s.c, s.imu, s.rc, outages, &s.notes);
+  for (const auto& n : s.notes)
+    if (n.find("alignment") != std::string::npos || n.find("lever") != std::string::npos ||
+        n.find("GNSS selection") != std::string::npos || n.find("time range") != std::string::npos)
+      fmt::print(stderr, "note: {}\n", n);
+  if (outages) {
+    const double t0 = s.pr.imu.front().t_s - s.pr.imu.front().dt_s;
+    requireOutagesInsideData(*outages, s.pr.outages, t0, s.pr.imu.back().t_s);
+  }
+  warnAll(checkReferenceCoverage(s.c.reference, s.c.reference_name, s.pr.imu, s.pr.outages), &s.notes);
+  return s;
+}
+
+// errors.json, run_info.json, errors.csv, outage_drift.csv and the console summary.
+void writeEvaluation(const NavigateArgs& a, const NavigateSetup& s, const std::string& estimator,
+                     const NavSolution& sol, double run_time, std::vector<std::string> notes) {
+  const Evaluation ev = evaluateSolution(sol, s.c.reference, s.pr.outages, s.rc.evaluation.options);
+  ReportMeta meta;
+  meta.estimator = estimator;
+  meta.imu = s.imu.label;
+  meta.outage_count = static_cast<int>(s.pr.outages.size());
+  meta.outage_length_s = s.pr.outages.empty()            ? 0.0
+                         : s.oc.explicit_windows.empty() ? s.oc.length_s
+                                                         : s.pr.outages.front().length_s();
+  notes.push_back("reference: " + s.c.reference_name);
+  const fs::path out(a.out);
+  std::vector<std::string> warnings = writeErrorsJson((out / "errors.json").string(), meta, ev);
+  const auto run_info_warnings =
+      writeRunInfoJson((out / "run_info.json").string(), meta, ev, sol, s.pr.outages, notes, run_time);
+  warnings.insert(warnings.end(), run_info_warnings.begin(), run_info_warnings.end());
+  writeErrorsCsv((out / "errors.csv").string(), ev, 1.0 / s.rc.evaluation.csv_rate_hz);
+  writeOutageCsv((out / "outage_drift.csv").string(), ev);
+  for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
+  printEvaluation(ev);
+  fmt::print("  wrote errors.json, run_info.json, errors.csv, outage_drift.csv in {}\n", a.out);
+}
+
+void runNavigateOne(const NavigateArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&]() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
-  a.free_inertial = a.estimator == "free-inertial";
-  CaseLoadOptions lo;
-  lo.load_gnss = !a.free_inertial;
-  lo.lenient = a.lenient;
-  CaseInputs c = loadCaseInputs(a.case_dir, lo);
-  recordConfigFile(c.paths().caseYaml());
-  std::vector<std::string> warnings = c.warnings, notes;
-  RunConfig rc;
-  const std::string run_config = runConfigPathFor(a.config, a.case_dir);
-  if (!run_config.empty()) {
-    rc = loadRunConfig(run_config, &warnings);
-    recordConfigFile(run_config);
-    notes.push_back("run config: " + run_config);
-    if (a.config.empty()) fmt::print(stderr, "note: using the case's run config {}\n", run_config);
-  }
-  for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
-  rc.ekf.output_decimation = a.decimate;
-  if (a.free_inertial) rc.alignment.mode = "given";
-
-  fmt::print(stderr, "[{:6.1f} s] reading the {} IMU\n", elapsed(), a.imu);
-  const std::string imu_which = a.imu == "ref" || a.imu == "tested" ? a.imu : resolveUserPath(a.imu, a.case_dir, "IMU file");
-  const std::string profile = a.profile.empty() ? a.profile : resolveUserPath(a.profile, a.case_dir, "IMU profile");
-  if (!profile.empty()) recordConfigFile(profile);
-  ImuSelection imu = selectImu(c, imu_which, profile, a.lenient);
-  restrictToTimeRange(mergeTimeRange(rc.time_range, a.time_range), &c, &imu, &notes);
-  if (!a.free_inertial && !imu.profile_given) {
-    throw std::runtime_error("no noise parameters for IMU '" + a.imu +
-                             "' in case.yaml: pass --profile FILE (configs/imu/*.yaml)");
-  }
-  const std::string imu_label = imu.label;
-  const NavSeries& reference = c.reference;
-  const std::string& reference_name = c.reference_name;
-
-  // Outages: config section, overridden by the command line; none for a free-inertial run.
-  const bool cli_outage = a.outage_length >= 0 || a.outage_period >= 0 || a.outage_start >= 0;
-  OutageScheduleConfig oc = rc.outages;
-  if (a.outage_length >= 0) oc.length_s = a.outage_length;
-  if (a.outage_period >= 0) oc.period_s = a.outage_period;
-  if (a.outage_start >= 0) oc.start_s = a.outage_start;
-  std::optional<OutageScheduleConfig> outages;
-  if ((rc.outages_given || cli_outage) && !a.free_inertial) outages = oc;
-  const EstimationProblem pr = makeProblem(c, imu, rc, outages, &notes);
-  for (const auto& n : notes)
-    if (n.find("alignment") != std::string::npos || n.find("lever") != std::string::npos ||
-        n.find("GNSS selection") != std::string::npos || n.find("time range") != std::string::npos)
-      fmt::print(stderr, "note: {}\n", n);
+  fmt::print(stderr, "[{:6.1f} s] reading the case and the {} IMU\n", elapsed(), a.imu);
+  const NavigateSetup s = prepareNavigate(a);
+  // Created before the run so that an unusable --out fails now, not after the filter.
+  fs::create_directories(a.out);
 
   const std::string estimator = a.free_inertial ? "free-inertial" : a.estimator;
   fmt::print(stderr, "[{:6.1f} s] {} on {} IMU samples, {} GNSS fixes, {} outages\n", elapsed(),
-             estimator, pr.imu.size(), pr.gnss.size(), pr.outages.size());
+             estimator, s.pr.imu.size(), s.pr.gnss.size(), s.pr.outages.size());
   int last_decile = -1;
   const ProgressFn progress = [&](double f) {
     const int d = static_cast<int>(f * 10.0);
@@ -132,10 +194,11 @@ void runNavigateOne(NavigateArgs a) {
     }
   };
   const double t_run0 = elapsed();
-  const NavSolution sol = runEstimator(estimator, pr, rc, progress);
+  const NavSolution sol = runEstimator(estimator, s.pr, s.rc, progress);
   const double run_time = elapsed() - t_run0;
+  std::vector<std::string> notes = s.notes;
+  warnAll(checkGnssUsed(sol.gnss_used, a.free_inertial), &notes);
 
-  fs::create_directories(a.out);
   const std::string nav_out = (fs::path(a.out) / "solution.nav").string();
   writeNav(nav_out, sol.states);
   fmt::print("{}: {} epochs -> {} ({:.2f} s)\n", estimator, sol.states.size(), nav_out, run_time);
@@ -146,27 +209,15 @@ void runNavigateOne(NavigateArgs a) {
     fmt::print("  GNSS used {}, rejected by the gate {}, withheld in outages {}\n", sol.gnss_used,
                sol.gnss_rejected, sol.gnss_withheld);
   }
-  if (reference.empty()) {
-    writeRunInfoJson((out_dir / "run_info.json").string(), ReportMeta{estimator, imu_label, 0, 0.0},
-                     Evaluation{}, sol, pr.outages, notes, run_time);
+  if (s.c.reference.empty()) {
+    for (const auto& w : writeRunInfoJson((out_dir / "run_info.json").string(),
+                                          ReportMeta{estimator, s.imu.label, 0, 0.0}, Evaluation{}, sol,
+                                          s.pr.outages, notes, run_time))
+      fmt::print(stderr, "warning: {}\n", w);
     fmt::print("  no field/truth.nav or reference solution: no errors written (run_info.json only)\n");
     return;
   }
-  const Evaluation ev = evaluateSolution(sol, reference, pr.outages, rc.evaluation.options);
-  ReportMeta meta;
-  meta.estimator = estimator;
-  meta.imu = imu_label;
-  meta.outage_count = static_cast<int>(pr.outages.size());
-  meta.outage_length_s = pr.outages.empty() ? 0.0 : oc.explicit_windows.empty() ? oc.length_s
-                                                                                 : pr.outages.front().length_s();
-  notes.push_back("reference: " + reference_name);
-  const fs::path out(a.out);
-  writeErrorsJson((out / "errors.json").string(), meta, ev);
-  writeRunInfoJson((out / "run_info.json").string(), meta, ev, sol, pr.outages, notes, run_time);
-  writeErrorsCsv((out / "errors.csv").string(), ev, 1.0 / rc.evaluation.csv_rate_hz);
-  writeOutageCsv((out / "outage_drift.csv").string(), ev);
-  printEvaluation(ev);
-  fmt::print("  wrote errors.json, run_info.json, errors.csv, outage_drift.csv in {}\n", a.out);
+  writeEvaluation(a, s, estimator, sol, run_time, notes);
   if (!a.no_plots) {
     const std::string w = runPythonScript("plot_errors.py", {a.out});
     if (!w.empty()) {
@@ -177,12 +228,18 @@ void runNavigateOne(NavigateArgs a) {
   }
 }
 
+// Several estimators run one after the other into OUT/<estimator>/; every name is checked first.
 void runNavigate(const NavigateArgs& a) {
   const std::vector<std::string> estimators =
       a.free_inertial ? std::vector<std::string>{"free-inertial"} : splitEstimatorList(a.estimator);
+  const auto names = estimatorNames();
+  for (const auto& e : estimators)
+    if (e != "free-inertial" && std::find(names.begin(), names.end(), e) == names.end())
+      throw std::runtime_error("--estimator '" + e + "': unknown estimator");
   for (const auto& e : estimators) {
     NavigateArgs one = a;
     one.estimator = e;
+    one.free_inertial = e == "free-inertial";
     if (estimators.size() > 1) one.out = (fs::path(a.out) / e).string();
     runNavigateOne(one);
   }

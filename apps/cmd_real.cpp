@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -154,12 +153,12 @@ std::string fmtOr(double v, const char* f = "{:.2f}") {
 }
 
 void writeCheckpointCsv(const std::string& path, const CheckpointEvaluation& cp) {
-  std::ofstream o(path);
-  o << "start_s,end_s,n,rms_h_m,max_h_m,rms_v_m,max_v_m,last_h_m\n";
+  std::string o = "start_s,end_s,n,rms_h_m,max_h_m,rms_v_m,max_v_m,last_h_m\n";
   for (const auto& w : cp.windows) {
-    o << fmt::format("{:.3f},{:.3f},{},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}\n", w.window.start_s,
+    o += fmt::format("{:.3f},{:.3f},{},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}\n", w.window.start_s,
                      w.window.end_s, w.n, w.rms_h_m, w.max_h_m, w.rms_v_m, w.max_v_m, w.last_h_m);
   }
+  writeFileAtomically(path, o);
 }
 
 nlohmann::json numOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
@@ -291,8 +290,7 @@ void runReal(const RealArgs& a) {
     md += "\nGNSS time-tag latency (tau > 0: the fix is the position tau seconds BEFORE its stamp); "
           "grid = minimum of the horizontal residual RMS over shifts, slope = along-track least squares.\n\n";
     md += "| fix type | track | fixes used (slow, outliers) | tau grid (s) | tau slope (s) | RMS h at 0 (m) | RMS h at tau (m) |\n|---|---|---|---|---|---|---|\n";
-    std::ofstream csv((fs::path(a.out) / "latency_scan.csv").string());
-    csv << "fix_type,track,shift_s,rms_h_m\n";
+    std::string csv = "fix_type,track,shift_s,rms_h_m\n";
     struct Track { std::string name; const NavSeries* s; };
     const std::vector<Track> tracks = {{"RTS(fix 1 only)", &track.states}, {"reference.nav", &c.reference}};
     for (int ft : {4, 5, 1}) {
@@ -307,12 +305,13 @@ void runReal(const RealArgs& a) {
                             e.fixes_used, e.fixes_slow, e.fixes_outliers, e.grid_s, e.slope_s,
                             e.rms_h_at_zero_m, e.grid_rms_h_m);
           for (std::size_t i = 0; i < e.shift_s.size(); ++i)
-            csv << fmt::format("{},{},{:.3f},{:.4f}\n", ft, tr.name, e.shift_s[i], e.rms_h_m[i]);
+            csv += fmt::format("{},{},{:.3f},{:.4f}\n", ft, tr.name, e.shift_s[i], e.rms_h_m[i]);
         } catch (const std::exception& ex) {
           md += fmt::format("| {} | {} | not estimated: {} | | | | |\n", ft, tr.name, ex.what());
         }
       }
     }
+    writeFileAtomically((fs::path(a.out) / "latency_scan.csv").string(), csv);
   }
 
   if (!a.latency_grid.empty()) {
@@ -336,7 +335,7 @@ void runReal(const RealArgs& a) {
       }
     }
   }
-  std::ofstream((fs::path(a.out) / "summary.md").string()) << md;
+  writeFileAtomically((fs::path(a.out) / "summary.md").string(), md);
   writeRealSummaryJson((fs::path(a.out) / "summary.json").string(), rows, pr.outages, checkpoints_in_outages,
                        failed);
   fmt::print("{}", md);
@@ -482,9 +481,9 @@ void runRealSg(const RealSgArgs& a) {
     fmt::print(stderr, "  GNSS used {}, gated {}, withheld {}\n", s.gnss_used, s.gnss_rejected, s.gnss_withheld);
   }
   {
-    std::ofstream o((fs::path(a.out) / "outages.csv").string());
-    o << "start_s,end_s,data_start_s\n";
-    for (const auto& w : outages) o << fmt::format("{:.3f},{:.3f},{:.3f}\n", w.start_s, w.end_s, t_first);
+    std::string o = "start_s,end_s,data_start_s\n";
+    for (const auto& w : outages) o += fmt::format("{:.3f},{:.3f},{:.3f}\n", w.start_s, w.end_s, t_first);
+    writeFileAtomically((fs::path(a.out) / "outages.csv").string(), o);
   }
   md += fmt::format("ERR against SOL_REF (reference IMU, RTS, all GNSS), {} outages, {} estimator:\n\n", outages.size(), a.estimator);
   md += "| solution | outage RMS h (m) | RMS of per-outage max h (m) | RMS of max v (m) | RMS of max roll (deg) | RMS of max pitch (deg) | RMS of max heading (deg) |\n|---|---|---|---|---|---|---|\n";
@@ -513,7 +512,7 @@ void runRealSg(const RealSgArgs& a) {
     for (const auto& e : evs) md += w < e.outages.size() ? fmt::format(" {:.2f} |", e.outages[w].max.horizontal_m) : " - |";
     md += "\n";
   }
-  std::ofstream((fs::path(a.out) / "summary.md").string()) << md;
+  writeFileAtomically((fs::path(a.out) / "summary.md").string(), md);
   fmt::print("{}", md);
   fmt::print("wrote {}/summary.md, sol_ref.nav, solution_*.nav\n", a.out);
 }

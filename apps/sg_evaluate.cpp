@@ -12,6 +12,7 @@
 
 #include "case_loader.h"
 #include "estimators.h"
+#include "input_checks.h"
 #include "graftnav/calibration/calibration_io.h"
 #include "graftnav/calibration/lab_calibration.h"
 #include "graftnav/calibration/lab_data.h"
@@ -53,21 +54,13 @@ struct UnitResult {
   std::vector<std::string> notes;  // makeProblem's, kept for the representative unit only
 };
 
+// What checkEvaluationInputs (input_checks.h) does not: the realization options.
 void validateOptions(const SgEvaluateOptions& o, const RunConfig& rc) {
   if (o.realizations && *o.realizations < 1)
     throw std::invalid_argument("--realizations must be >= 1, got " + std::to_string(*o.realizations));
   if (o.outage_shifts && *o.outage_shifts < 1)
     throw std::invalid_argument("--outage-shifts must be >= 1, got " + std::to_string(*o.outage_shifts));
-  const std::vector<std::string> names = estimatorNames();
-  if (std::find(names.begin(), names.end(), o.estimator) == names.end())
-    throw std::invalid_argument("--estimator '" + o.estimator + "' is not one of: " + fmt::format("{}", fmt::join(names, ", ")));
-  const OutageScheduleConfig& oc = rc.outages;
-  if (o.outage_length_s && !(*o.outage_length_s > 0.0))
-    throw std::invalid_argument(fmt::format("--outage-length must be > 0 s, got {}", *o.outage_length_s));
-  if (o.outage_period_s && !(*o.outage_period_s > 0.0))
-    throw std::invalid_argument(fmt::format("--outage-period must be > 0 s, got {}", *o.outage_period_s));
-  if (o.outage_start_s && !(*o.outage_start_s >= 0.0))
-    throw std::invalid_argument(fmt::format("--outage-start must be >= 0 s, got {}", *o.outage_start_s));
+  // The estimator and the outage values are checked with the case by checkEvaluationInputs.
   if (o.outage_shifts.value_or(rc.grafting.outage_shifts) > 1 && !oc.explicit_windows.empty())
     throw std::invalid_argument("--outage-shifts needs a periodic schedule; the run config lists explicit windows");
 }
@@ -286,6 +279,7 @@ void writeSgOutputs(const SgEvaluateOptions& o, const SgEvaluationReport& rep, c
 
 SgEvaluationReport runSgEvaluation(const SgEvaluateOptions& o, const LogFn& log_in) {
   const LogFn log = log_in ? log_in : [](const std::string&) {};
+  for (const auto& w : checkEvaluationInputs(o)) log("warning: " + w);  // before any output
   const std::string tag = fs::path(o.case_dir).filename().string();
   Setup st;
   st.c = loadCaseInputs(o.case_dir);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "graftnav/io/atomic_file.h"
+#include "graftnav/nav/units.h"
 
 namespace graftnav {
 
@@ -30,6 +31,11 @@ void ImuReadPolicy::validate() const {
     throw std::invalid_argument("ImuReadPolicy.uneven_tolerance must be > 0, got " + std::to_string(uneven_tolerance));
   if (!(gap_factor > 1.0) || !std::isfinite(gap_factor))
     throw std::invalid_argument("ImuReadPolicy.gap_factor must be > 1, got " + std::to_string(gap_factor));
+  if (!(max_gyro_rate_deg_s > 0.0) || !std::isfinite(max_gyro_rate_deg_s))
+    throw std::invalid_argument("ImuReadPolicy.max_gyro_rate_deg_s must be > 0, got " +
+                                std::to_string(max_gyro_rate_deg_s));
+  if (!(max_accel_g > 0.0) || !std::isfinite(max_accel_g))
+    throw std::invalid_argument("ImuReadPolicy.max_accel_g must be > 0, got " + std::to_string(max_accel_g));
 }
 
 namespace {
@@ -38,6 +44,29 @@ const char* const kImuColumns[] = {"time", "dtheta_x", "dtheta_y", "dtheta_z",
 
 std::string fmtDt(double dt_s, double nominal_s) {
   return fmt::format("dt {:.6f} s = {:.3f} x nominal {:.6f} s", dt_s, dt_s / nominal_s, nominal_s);
+}
+
+// Physical range of the increments (ImuReadPolicy.max_*): an error naming path:line, column, value.
+void checkImuRange(const std::string& path, const ImuSeries& imu, const std::vector<int>& lines, double nominal_s,
+                   const ImuReadPolicy& policy) {
+  const double max_rate_rad_s = policy.max_gyro_rate_deg_s * units::kDegToRad;
+  const double max_accel_m_s2 = policy.max_accel_g * units::kStandardGravity_m_s2;
+  for (std::size_t k = 0; k < imu.size(); ++k) {
+    const double dt = std::max(imu[k].dt_s, nominal_s);
+    for (int a = 0; a < 3; ++a) {
+      const double w = imu[k].dtheta_rad[a], v = imu[k].dvel_m_s[a];
+      if (std::fabs(w) > max_rate_rad_s * dt)
+        throw std::runtime_error(fmt::format(
+            "{}:{}: {} {:g} rad over {:g} s is {:.4g} deg/s, beyond the physical limit {:g} deg/s "
+            "(corrupted or mis-scaled value)",
+            path, lines[k], kImuColumns[1 + a], w, dt, std::fabs(w) / dt / units::kDegToRad, policy.max_gyro_rate_deg_s));
+      if (std::fabs(v) > max_accel_m_s2 * dt)
+        throw std::runtime_error(fmt::format(
+            "{}:{}: {} {:g} m/s over {:g} s is {:.4g} g, beyond the physical limit {:g} g "
+            "(corrupted or mis-scaled value)",
+            path, lines[k], kImuColumns[4 + a], v, dt, std::fabs(v) / dt / units::kStandardGravity_m_s2, policy.max_accel_g));
+    }
+  }
 }
 }  // namespace
 
@@ -95,6 +124,7 @@ ImuSeries readImu(const std::string& path, const ImuReadOptions& options, ReadRe
   }
   imu[0].dt_s = options.nominal_rate_hz > 0.0 ? nominal_s : imu[1].dt_s;
 
+  checkImuRange(path, imu, lines, nominal_s, policy);
   // Interval checks (times already strictly increase).
   for (std::size_t k = 1; k < imu.size(); ++k) {
     const double dt = imu[k].dt_s;
