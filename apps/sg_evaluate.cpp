@@ -61,7 +61,7 @@ void validateOptions(const SgEvaluateOptions& o, const RunConfig& rc) {
   if (o.outage_shifts && *o.outage_shifts < 1)
     throw std::invalid_argument("--outage-shifts must be >= 1, got " + std::to_string(*o.outage_shifts));
   // The estimator and the outage values are checked with the case by checkEvaluationInputs.
-  if (o.outage_shifts.value_or(rc.grafting.outage_shifts) > 1 && !oc.explicit_windows.empty())
+  if (o.outage_shifts.value_or(rc.grafting.outage_shifts) > 1 && !rc.outages.explicit_windows.empty())
     throw std::invalid_argument("--outage-shifts needs a periodic schedule; the run config lists explicit windows");
 }
 
