@@ -162,7 +162,7 @@ class AtomicDatabase {
     db_->exec(kSchema);
     db_->exec(
         fmt::format("INSERT INTO meta VALUES ('schema_version', '{}'), ('graftnav_version', '{}');",
-                    kSchemaVersion, graftnavVersion()));
+                    kSchemaVersion, batchSoftwareVersion()));
   }
   ~AtomicDatabase() {
     db_.reset();
@@ -207,7 +207,7 @@ void insertResults(Database& db, const std::string& id, const BatchRunRecord& r)
       .bind(3, r.error)
       .bind(4, r.outage_count)
       .bind(5, r.reference);
-  run.bind(6, r.seconds).bind(7, graftnavVersion()).bind(8, r.realizations).run();
+  run.bind(6, r.seconds).bind(7, batchSoftwareVersion()).bind(8, r.realizations).run();
   Statement stat(db, "INSERT INTO run_statistics VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
   for (const auto& s : r.statistics) {
     stat.bind(1, id)

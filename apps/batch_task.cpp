@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 #ifndef GRAFTNAV_VERSION
 #error "GRAFTNAV_VERSION must be defined by the build (apps/CMakeLists.txt)"
 #endif
-const char* graftnavVersion() { return GRAFTNAV_VERSION; }
+const char* batchSoftwareVersion() { return GRAFTNAV_VERSION; }
 
 void Fnv1a64::add(const void* data, std::size_t size) {
   const auto* p = static_cast<const unsigned char*>(data);
@@ -83,7 +83,7 @@ std::vector<BatchTask> expandBatchTasks(const BatchManifest& m) {
 std::vector<BatchTask> expandBatchTasks(const BatchManifest& m, std::size_t first,
                                         std::size_t last) {
   Fnv1a64 options;
-  options.add(std::string(graftnavVersion()));
+  options.add(std::string(batchSoftwareVersion()));
   options.add(std::string(m.plots ? "plots" : "no-plots"));
   if (!m.config.empty()) {
     if (!fs::is_regular_file(m.config))

@@ -30,8 +30,9 @@ struct BatchTask {
   std::string out_dir;  // <manifest out>/tasks/<name>
 };
 
-// graftnav's version, part of every id.
-const char* graftnavVersion();
+// graftnav's project version (the same string as provenance.h's graftnavVersion(), which only the
+// executable links), part of every id.
+const char* batchSoftwareVersion();
 
 // Expands the manifest in the order cases > estimators > schedules > seeds and gives every task
 // its id (expandBatchTasks) or only tasks [first, last) (an array element needs no more, and
