@@ -81,6 +81,16 @@ DiagnoseOptions loadDiagnoseConfig(const std::string& path, std::vector<std::str
     else if (k == "holdout") flag(v, k, &o.holdout);
     else if (k == "detect_quantization") flag(v, k, &o.detect_quantization);
     else if (k == "random_walk_sandwich") flag(v, k, &o.selection.random_walk_sandwich);
+    else if (k == "quantization_min_step_over_resolution") num(v, k, &o.quantization.min_step_over_resolution);
+    else if (k == "quantization_resolvable_sigmas") num(v, k, &o.quantization.resolvable_sigmas);
+    else if (k == "max_claim_correlation") num(v, k, &o.max_claim_correlation);
+    else if (k == "separation_rate_deg_s") {
+      num(v, k, &d);
+      o.linear_response.excitation_rate_rad_s = d * units::kDegToRad;
+    } else if (k == "separation_tilt_deg") {
+      num(v, k, &d);
+      o.linear_response.excitation_tilt_rad = d * units::kDegToRad;
+    }
     else warnings->push_back(fmt::format("{}:{}: unknown key '{}' ignored", path, kv.first.Mark().line + 1, k));
   }
   try {
