@@ -27,6 +27,7 @@
 #include "graftnav/io/case_config.h"
 #include "graftnav/io/atomic_file.h"
 #include "graftnav/io/imu_io.h"
+#include "graftnav/io/imu_profile_io.h"
 #include "graftnav/sg/graft_case.h"
 #include "graftnav/mismatch/diagnosis.h"
 #include "graftnav/mismatch/diagnosis_report.h"
@@ -82,6 +83,16 @@ DiagnoseOptions loadDiagnoseConfig(const std::string& path, std::vector<std::str
     else if (k == "holdout") flag(v, k, &o.holdout);
     else if (k == "detect_quantization") flag(v, k, &o.detect_quantization);
     else if (k == "random_walk_sandwich") flag(v, k, &o.selection.random_walk_sandwich);
+    else if (k == "quantization_min_step_over_resolution") num(v, k, &o.quantization.min_step_over_resolution);
+    else if (k == "quantization_resolvable_sigmas") num(v, k, &o.quantization.resolvable_sigmas);
+    else if (k == "max_claim_correlation") num(v, k, &o.max_claim_correlation);
+    else if (k == "separation_rate_deg_s") {
+      num(v, k, &d);
+      o.linear_response.excitation_rate_rad_s = d * units::kDegToRad;
+    } else if (k == "separation_tilt_deg") {
+      num(v, k, &d);
+      o.linear_response.excitation_tilt_rad = d * units::kDegToRad;
+    }
     else warnings->push_back(fmt::format("{}:{}: unknown key '{}' ignored", path, kv.first.Mark().line + 1, k));
   }
   try {
@@ -182,7 +193,7 @@ NavigationComparison navigateComparison(const CaseInputs& c, const ImuSelection&
 
 void registerDiagnose(CLI::App& app) {
   struct Args {
-    std::string case_dir, out, estimator, config, run_config;
+    std::string case_dir, out, estimator, config, run_config, tested_profile;
     std::optional<double> outage_length_s, outage_period_s, outage_start_s;
     bool no_plots = false;
   };
@@ -198,6 +209,10 @@ void registerDiagnose(CLI::App& app) {
   cmd->add_flag("--no-plots", args->no_plots, "do not run scripts/plot_diagnosis.py");
   cmd->add_option("--run-config", args->run_config,
                   "run config of the estimator (configs/navigate.yaml: ekf:, outages:, ...)");
+  cmd->add_option("--tested-profile", args->tested_profile,
+                  "IMU profile of the tested IMU (configs/imu/*.yaml): its plausible_ranges "
+                  "replace those of case.yaml's tested_imu (default: the grade's class)")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--outage-length", args->outage_length_s, "outage length (s), with --estimator");
   cmd->add_option("--outage-period", args->outage_period_s, "outage start-to-start period (s)");
   cmd->add_option("--outage-start", args->outage_start_s, "first outage start after the first epoch (s)");
@@ -233,6 +248,15 @@ void registerDiagnose(CLI::App& app) {
     in.reference = ref;
     in.real = real;
     in.initial_state = cfg.initial_state;
+    // The ranges a claimed value must lie in: the tested profile's (its class, or its grade's).
+    if (!args->tested_profile.empty()) {
+      std::vector<std::string> profile_warnings;
+      in.tested_plausible_ranges = loadImuProfile(args->tested_profile, &profile_warnings).plausible_ranges;
+      for (const auto& w : profile_warnings) fmt::print(stderr, "warning: {}\n", w);
+    }
+    else if (cfg.tested_imu)
+      in.tested_plausible_ranges = cfg.tested_imu->plausible_ranges;
+    if (in.tested_plausible_ranges) in.tested_plausible_ranges->validate();
     // A case with a truth trajectory is simulated: its reference IMU may lack navigation physics.
     in.reference_is_simulated = c.reference_is_truth;
     if (in.reference_is_simulated) in.attitude = c.reference;

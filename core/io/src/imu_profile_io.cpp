@@ -31,6 +31,50 @@ std::optional<double> optionalNonNegative(const yf::Context& ctx, const YAML::No
              std::string(strictly_positive ? "must be > 0" : "must be >= 0") + ", got " + yf::describe(map[key]));
   return v;
 }
+// The optional `plausible_ranges:` block (plausible_ranges.h): a sensor class (default: the
+// grade's) and per-term overrides in unit-named keys. The only place their units are converted.
+PlausibleRanges parsePlausibleRanges(const yf::Context& ctx, const YAML::Node& node, const std::string& prefix,
+                                     const std::string& grade) {
+  const YAML::Node block = node["plausible_ranges"];
+  const std::string key = yf::join(prefix, "plausible_ranges");
+  std::string sensor_class = sensorClassForGrade(grade);
+  if (!yf::present(block)) return plausibleRangesForClass(sensor_class);
+  if (!block.IsMap()) yf::fail(ctx, block, key, "expected a map, got " + yf::describe(block));
+  struct Override {
+    const char* file_key;
+    double PlausibleRanges::*field;
+    double to_si;
+  };
+  const Override overrides[] = {
+      {"gyro_scale_max_ppm", &PlausibleRanges::gyro_scale_max, units::kPpmToFraction},
+      {"accel_scale_max_ppm", &PlausibleRanges::accel_scale_max, units::kPpmToFraction},
+      {"gyro_nonorthogonality_max_deg", &PlausibleRanges::gyro_nonorthogonality_max_rad, units::kDegToRad},
+      {"accel_nonorthogonality_max_deg", &PlausibleRanges::accel_nonorthogonality_max_rad, units::kDegToRad},
+      {"gyro_scale_asymmetry_max_ppm", &PlausibleRanges::gyro_scale_asymmetry_max, units::kPpmToFraction},
+      {"accel_scale_asymmetry_max_ppm", &PlausibleRanges::accel_scale_asymmetry_max, units::kPpmToFraction},
+      {"gyro_scale_nonlinearity_max_per_rad_s", &PlausibleRanges::gyro_scale_nonlinearity_max_per_rad_s, 1.0},
+      {"accel_scale_nonlinearity_max_per_m_s2", &PlausibleRanges::accel_scale_nonlinearity_max_per_m_s2, 1.0},
+      {"g_sensitivity_max_deg_h_per_g", &PlausibleRanges::g_sensitivity_max_rad_s_per_m_s2,
+       units::kDegPerHourToRadPerSec / units::kStandardGravity_m_s2}};
+  yf::warnUnknownKeys(ctx, block, key,
+                      {"sensor_class", "source", "gyro_scale_max_ppm", "accel_scale_max_ppm",
+                       "gyro_nonorthogonality_max_deg", "accel_nonorthogonality_max_deg",
+                       "gyro_scale_asymmetry_max_ppm", "accel_scale_asymmetry_max_ppm",
+                       "gyro_scale_nonlinearity_max_per_rad_s", "accel_scale_nonlinearity_max_per_m_s2",
+                       "g_sensitivity_max_deg_h_per_g"});
+  if (yf::present(block["sensor_class"]))
+    sensor_class = yf::asString(ctx, block["sensor_class"], yf::join(key, "sensor_class"));
+  PlausibleRanges r;
+  try {
+    r = plausibleRangesForClass(sensor_class);
+  } catch (const std::invalid_argument& e) {
+    yf::fail(ctx, block["sensor_class"], yf::join(key, "sensor_class"), e.what());
+  }
+  if (yf::present(block["source"])) r.source = yf::asString(ctx, block["source"], yf::join(key, "source"));
+  for (const Override& o : overrides)
+    if (const auto v = optionalNonNegative(ctx, block, key, o.file_key, true)) r.*(o.field) = *v * o.to_si;
+  return r;
+}
 }  // namespace
 
 ImuProfileParse parseImuProfileNode(const YAML::Node& node, const std::string& file_path, const std::string& prefix,
@@ -42,7 +86,7 @@ ImuProfileParse parseImuProfileNode(const YAML::Node& node, const std::string& f
                        "accel_bias_instability_mg", "gyro_scale_ppm", "accel_scale_ppm", "correlation_time_s",
                        "gyro_bias_correlation_time_s", "accel_bias_correlation_time_s", "scale_correlation_time_s",
                        "gyro_bias_initial_deg_h", "accel_bias_initial_mg", "gyro_bias_repeatability_deg_h",
-                       "accel_bias_repeatability_mg"});
+                       "accel_bias_repeatability_mg", "plausible_ranges"});
   ImuProfileParse out;
   ImuProfile& p = out.profile;
   if (yf::present(node["name"])) p.name = yf::asString(ctx, node["name"], yf::join(prefix, "name"));
@@ -77,6 +121,7 @@ ImuProfileParse parseImuProfileNode(const YAML::Node& node, const std::string& f
   const auto ar = optionalNonNegative(ctx, node, prefix, "accel_bias_repeatability_mg");
   if (gr) p.gyro_bias_repeatability_rad_s = *gr * units::kDegPerHourToRadPerSec;
   if (ar) p.accel_bias_repeatability_m_s2 = *ar * units::kMilliGToMPerSec2;
+  p.plausible_ranges = parsePlausibleRanges(ctx, node, prefix, p.grade);
   return out;
 }
 

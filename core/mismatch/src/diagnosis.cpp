@@ -12,6 +12,7 @@
 #include "graftnav/nav/earth.h"
 #include "graftnav/imu/imu_error_model.h"
 #include "graftnav/mismatch/diagnosis.h"
+#include "graftnav/mismatch/claim_checks.h"
 #include "graftnav/mismatch/gain_or_curvature.h"
 #include "graftnav/mismatch/joint_fit.h"
 #include "graftnav/nav/nav_interp.h"
@@ -35,6 +36,11 @@ void DiagnoseOptions::validate() const {
   time_offset.validate();
   library.validate();
   selection.validate();
+  quantization.validate();
+  linear_response.validate();
+  if (!(max_claim_correlation > 0.0 && max_claim_correlation <= 1.0))
+    throw std::invalid_argument("DiagnoseOptions: max_claim_correlation = " +
+                                std::to_string(max_claim_correlation) + " must be in (0, 1]");
 }
 
 namespace {
@@ -682,6 +688,25 @@ std::vector<Effect> labModelledTerms(const DiagnosisInputs& in,
 
 }  // namespace
 
+// Why a candidate left out of the model is below what this record shows: the limit of a column
+// scales as the residual's noise over the column's excitation (its RMS variation about its mean
+// times sqrt(record length)); the reader sees which of the two sets it.
+static std::string limitReason(const CandidateTerm& t, const SelectionResult& sel, double bin_s, int n) {
+  double excitation = 0.0, noise = 0.0;
+  for (const RegressorColumn& col : t.columns)
+    for (int c = 0; c < kMismatchChannels; ++c) {
+      if (!col.actsOn(c)) continue;
+      const Eigen::VectorXd& u = col.channel[c];
+      excitation = std::max(excitation, std::sqrt((u.array() - u.mean()).square().mean()));
+      noise = std::max(noise, sel.sigma(c) / (1.0 - std::min(sel.rho(c), 0.99)));
+    }
+  return fmt::format(
+      "not shown by this motion below the limit: its most excited column varies by {:.3g} (RMS "
+      "about its mean, SI) over {:.0f} s against a residual noise of {:.3g} per {:.3g}-s bin "
+      "(long-run); the limit falls as 1 / (excitation x sqrt(duration))",
+      excitation, n * bin_s, noise, bin_s);
+}
+
 DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& opt);
 
 DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt) {
@@ -1153,6 +1178,7 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
     e.delta_bic = kNaN;
     e.cv_gain = kNaN;
     e.evidence_method = "detection_limit";
+    e.explanation = limitReason(t, sel, grid.bin_s, n);
     out.detection_limits.push_back(e);
   }
   if (realign_s != 0.0 && !time_offset_claimed) {
@@ -1347,28 +1373,51 @@ DiagnosisResult diagnoseImpl(const DiagnosisInputs& in, const DiagnoseOptions& o
   out.nuisance_bias = sel.nuisance.theta.head<6>();
   if (sel.nuisance.theta.size() == 12) out.nuisance_drift = 2.0 * sel.nuisance.theta.segment<6>(6);
 
+  // Claims: a value lattice only beyond the printed resolution and with a resolvable noise
+  // (quantization_evidence.h); then correlations, plausible ranges and identifiability
+  // (claim_checks.h). Neither changes the model.
   if (opt.detect_quantization) {
-    for (int sidx = 0; sidx < 2; ++sidx) {
-      const Eigen::Vector3d q_real = detectQuantizationStep(*real, sidx == 0);
-      const Eigen::Vector3d q_sim = detectQuantizationStep(in.simulated, sidx == 0);
-      bool any = false;
-      for (int a = 0; a < 3; ++a)
-        any |= q_real(a) > 0.0 && std::abs(q_sim(a) - q_real(a)) > 1e-3 * q_real(a);
-      if (!any) continue;
+    for (const bool gyro : {true, false}) {
+      const QuantizationCheck q = checkQuantization(*real, in.simulated, gyro, opt.quantization);
+      out.quantization_checks.push_back(q);
       Effect e;
       e.name = "quantization";
-      e.sensor = sidx == 0 ? "gyro" : "accel";
-      e.evidence_method = "value_lattice";
+      e.sensor = q.sensor;
       EffectParameter p;
       p.key = "step";
-      p.values = {q_real(0), q_real(1), q_real(2)};
-      for (int a = 0; a < 3; ++a) p.sigma.push_back(1e-6 * q_real(a));
-      e.parameters.push_back(p);
-      e.explanation = std::string("the real ") + e.sensor +
-                      " increments are whole multiples of a step (pulse counting); the "
-                      "simulation's are not";
-      out.effects.push_back(e);
+      if (q.anyClaimed()) {
+        e.evidence_method = "value_lattice";
+        for (int a = 0; a < 3; ++a) {
+          p.values.push_back(q.claimed[a] ? q.step(a) : 0.0);
+          p.sigma.push_back(q.claimed[a] ? 1e-6 * q.step(a) : kNaN);
+        }
+        e.parameters.push_back(p);
+        e.explanation = "the real " + e.sensor + " increments are whole multiples of a step "
+                        "coarser than the file's printed resolution, and its noise is resolvable "
+                        "against the white noise; the simulation's are not (" + q.summary() + ")";
+        out.effects.push_back(e);
+      } else if (!q.simulation_on_same_lattice) {
+        e.evidence_method = "detection_limit";
+        e.delta_bic = e.cv_gain = kNaN;
+        for (int a = 0; a < 3; ++a) p.values.push_back(q.detectable_step(a));
+        p.sigma.assign(3, kNaN);
+        e.parameters.push_back(p);
+        e.explanation = q.summary();
+        out.detection_limits.push_back(e);
+      }
     }
+  }
+  {
+    ClaimCheckInputs cc;
+    cc.terms = &terms;
+    cc.selection = &sel;
+    cc.reference = &x;
+    cc.residual = &r;
+    cc.masked = &out.masked_bins;
+    cc.bin_s = grid.bin_s;
+    cc.lab_calibrated = in.lab_gyro_M_sigma.has_value() || in.lab_accel_M_sigma.has_value();
+    cc.ranges = in.tested_plausible_ranges;
+    checkClaims(cc, opt, &out);
   }
 
   // 6. Model and show.

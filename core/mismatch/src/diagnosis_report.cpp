@@ -96,6 +96,46 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
     ja["alternative"] = a.alternative;
     j["ambiguous"].push_back(std::move(ja));
   }
+  // Fitted, modelled in SG#3, not claimed: outside the sensor class's plausible range.
+  j["implausible"] = json::array();
+  for (const ImplausibleEffect& im : r.implausible) {
+    json ji = effectJson(im.effect, {{"delta_bic", num(im.effect.delta_bic)},
+                                     {"cv_gain", num(im.effect.cv_gain)},
+                                     {"method", im.effect.evidence_method}});
+    ji["range"] = {{"parameter", im.parameter}, {"max_abs_value", num(im.value)},
+                   {"bound", num(im.bound)}, {"sensor_class", im.sensor_class}};
+    ji["probably_absorbing"] = im.absorbing.empty() ? json(nullptr) : json(im.absorbing);
+    ji["correlation"] = num(im.correlation);
+    ji["reason"] = im.reason;
+    j["implausible"].push_back(std::move(ji));
+  }
+  j["term_correlations"] = json::array();
+  for (const TermCorrelation& c : r.term_correlations)
+    j["term_correlations"].push_back(
+        json{{"a", c.term_a}, {"b", c.term_b}, {"canonical_correlation", num(c.canonical)}});
+  if (r.separation)
+    j["separation_needed"] = {
+        {"roll_rate_s", num(r.separation->gyro_needed_s(0))},
+        {"pitch_rate_s", num(r.separation->gyro_needed_s(1))},
+        {"roll_rate_present_s", num(r.separation->gyro_present_s(0))},
+        {"pitch_rate_present_s", num(r.separation->gyro_present_s(1))},
+        {"rate_deg_s", num(r.separation->rate_rad_s * units::kRadToDeg)},
+        {"roll_tilt_s", num(r.separation->accel_needed_s(0))},
+        {"pitch_tilt_s", num(r.separation->accel_needed_s(1))},
+        {"tilt_deg", num(r.separation->tilt_rad * units::kRadToDeg)},
+        {"nonorthogonality_bound_deg", num(r.separation->bound_rad * units::kRadToDeg)}};
+  if (r.plausible_ranges)
+    j["plausible_ranges"] = {{"sensor_class", r.plausible_ranges->sensor_class},
+                             {"source", r.plausible_ranges->source}};
+  j["quantization_checks"] = json::array();
+  for (const QuantizationCheck& q : r.quantization_checks)
+    j["quantization_checks"].push_back(
+        json{{"sensor", q.sensor}, {"step", vec3(q.step)},
+             {"printed_resolution", vec3(q.printed_resolution)},
+             {"white_noise_sd_per_sample", vec3(q.white_noise_sd)},
+             {"noise_share", vec3(q.noise_share)}, {"resolvable_share", num(q.resolvable_share)},
+             {"detectable_step", vec3(q.detectable_step)},
+             {"claimed", json::array({q.claimed[0], q.claimed[1], q.claimed[2]})}});
   j["modelled_in_simulation"] = json::array();
   for (const Effect& e : r.in_simulation)
     j["modelled_in_simulation"].push_back(effectJson(e, {{"method", e.evidence_method}}));
@@ -109,6 +149,7 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
       lim[q.key] = q.scalar ? num(q.values[0]) : numList(q.values);
     }
     json entry{{"name", e.name}, {"sensor", e.sensor}, {"limit", lim}};
+    if (!e.explanation.empty()) entry["why"] = e.explanation;
     if (!e.parameters.empty() && !e.parameters.back().text.empty())
       entry["regressor"] = e.parameters.back().text;
     j["detection_limits"].push_back(entry);
@@ -201,6 +242,26 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparis
       m += fmt::format("| {} | {} | {} | {} | {} | {:.1f} | {:.1f} |\n", a.effect.name,
                        a.alternative, a.effect.sensor, p, s, a.effect.delta_bic, a.name_margin);
     }
+  }
+  if (!r.implausible.empty()) {
+    m += "\n## Fitted, implausible for this sensor class (modelled in SG#3, not claimed)\n\n"
+         "| term | sensor | parameters (SI) | 1-sigma | delta_bic | why not claimed |\n"
+         "|---|---|---|---|---|---|\n";
+    for (const ImplausibleEffect& im : r.implausible) {
+      const auto [p, s] = cells(im.effect);
+      m += fmt::format("| {} | {} | {} | {} | {:.1f} | {} |\n", im.effect.name, im.effect.sensor, p,
+                       s, im.effect.delta_bic, im.reason);
+    }
+  }
+  if (!r.term_correlations.empty()) {
+    m += "\n## Correlation between fitted terms (largest canonical correlation of their columns)\n\n"
+         "| term | term | correlation |\n|---|---|---|\n";
+    for (const TermCorrelation& c : r.term_correlations)
+      m += fmt::format("| {} | {} | {:.3f} |\n", c.term_a, c.term_b, c.canonical);
+  }
+  if (!r.quantization_checks.empty()) {
+    m += "\n## Value lattice of the tested increments\n\n";
+    for (const QuantizationCheck& q : r.quantization_checks) m += "- " + q.summary() + "\n";
   }
   if (!r.in_simulation.empty()) {
     m += "\n## Already in the simulation (measured in the lab, grafted into SG#2; not claimed)\n\n";

@@ -5,6 +5,8 @@
 
 #include <string>
 
+#include "graftnav/imu/plausible_ranges.h"
+
 namespace graftnav {
 
 struct ImuProfile {
@@ -32,6 +34,10 @@ struct ImuProfile {
   // distribution, as the simulator does).
   double gyro_bias_repeatability_rad_s = -1.0;
   double accel_bias_repeatability_m_s2 = -1.0;
+  // The largest value each error term can take for this sensor class (plausible_ranges.h): the
+  // grade's class defaults unless the profile's `plausible_ranges:` block names another class or
+  // overrides a bound. Not a noise figure; read by the mismatch finder only.
+  PlausibleRanges plausible_ranges;
 };
 
 }  // namespace graftnav

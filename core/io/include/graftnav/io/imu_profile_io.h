@@ -16,6 +16,13 @@
 //                                          # optional overrides of correlation_time_s
 //   gyro_bias_initial_deg_h / accel_bias_initial_mg: optional turn-on bias 1-sigma
 //                                          # (default: the bias instability)
+//   plausible_ranges:                      # optional (graftnav/imu/plausible_ranges.h)
+//     sensor_class: consumer_mems          # default from grade: mems -> consumer_mems
+//     source: "..."                        # optional: where overridden bounds come from
+//     gyro_scale_max_ppm / accel_scale_max_ppm, gyro_nonorthogonality_max_deg /
+//     accel_nonorthogonality_max_deg, gyro_scale_asymmetry_max_ppm / accel_..._ppm,
+//     gyro_scale_nonlinearity_max_per_rad_s, accel_scale_nonlinearity_max_per_m_s2,
+//     g_sensitivity_max_deg_h_per_g        # each optional, > 0: overrides the class's bound
 
 #include <string>
 #include <vector>

@@ -23,7 +23,11 @@
 #include "graftnav/mismatch/candidate_terms.h"
 #include "graftnav/mismatch/common_grid.h"
 #include "graftnav/mismatch/joint_fit.h"
+#include "graftnav/mismatch/linear_response.h"
 #include "graftnav/mismatch/locate.h"
+#include "graftnav/mismatch/quantization_evidence.h"
+#include "graftnav/mismatch/term_correlation.h"
+#include "graftnav/imu/plausible_ranges.h"
 #include "graftnav/mismatch/term_selection.h"
 #include "graftnav/mismatch/time_offset.h"
 #include "graftnav/mismatch/wander.h"
@@ -107,6 +111,9 @@ struct DiagnosisInputs {
   // uncertainty (calibration error, as for scale_factor; modelled in SG#3).
   std::optional<LabQuadratic> lab_gyro_quadratic;
   std::optional<LabQuadratic> lab_accel_quadratic;
+  // The tested IMU's plausible ranges (its profile's, or its grade's class defaults). A fitted
+  // value outside them is not claimed as that physics (claim_checks.h). Unset: no range check.
+  std::optional<PlausibleRanges> tested_plausible_ranges;
 };
 
 struct DiagnoseOptions {
@@ -124,6 +131,11 @@ struct DiagnoseOptions {
   bool holdout = true;       // first half fit, second half check
   double slow_block_s = 60.0;  // block of the slow-noise check (term_selection.h); 0 = off
   bool detect_quantization = true;
+  QuantizationEvidenceOptions quantization;  // when a value lattice is claimed (header there)
+  LinearResponseOptions linear_response;     // the excitation the split of E is stated for
+  // Two claimed terms whose columns correlate above this are reported with the correlation
+  // (claim_checks.h); the report lists every pair anyway.
+  double max_claim_correlation = 0.95;
   // When time_offset is selected, refit the final model with tau as a non-linear parameter in a
   // ceres::Problem (joint_fit.h); the reported parameters and covariances are then Ceres'.
   bool ceres_joint_fit = true;
@@ -161,6 +173,20 @@ struct AmbiguousEffect {
   double name_margin = 0.0;
 };
 
+// A fitted term whose value no sensor of the class can have (plausible_ranges.h): modelled in
+// SG#3, not claimed as that physics. `absorbing` names the fitted term its columns correlate with
+// most (canonical correlation `correlation`), empty when none above 0.3.
+struct ImplausibleEffect {
+  Effect effect;
+  std::string parameter;     // the parameter key out of range, e.g. "k" or "N"
+  double value = 0.0;        // its largest |element|
+  double bound = 0.0;        // the class's bound for it
+  std::string sensor_class;
+  std::string absorbing;
+  double correlation = 0.0;
+  std::string reason;        // the sentence the report shows
+};
+
 struct ChannelRms {
   Eigen::Vector3d gyro = Eigen::Vector3d::Zero();   // rad/s
   Eigen::Vector3d accel = Eigen::Vector3d::Zero();  // m/s^2
@@ -184,6 +210,15 @@ struct DiagnosisResult {
   // Every candidate left out of the final model, its parameters holding the detection limit
   // (each parameter alone, the others zero; about 50 % detection; term_selection.h TermLimit).
   std::vector<Effect> detection_limits;
+  // Fitted but outside the tested IMU's plausible ranges: not claimed (claim_checks.h).
+  std::vector<ImplausibleEffect> implausible;
+  // Largest canonical correlation between every pair of fitted terms (term_correlation.h).
+  std::vector<TermCorrelation> term_correlations;
+  // When mounting rotation, non-orthogonality and scale were reported as one effect
+  // (linear_response.h): the excitation their split would need.
+  std::optional<SeparationNeed> separation;
+  std::vector<QuantizationCheck> quantization_checks;  // per sensor, when detect_quantization
+  std::optional<PlausibleRanges> plausible_ranges;     // the ranges the claims were checked with
   std::vector<LocatedSpan> unexplained;   // still above noise after modelling
   std::vector<WanderCheck> wander;        // per channel, when the lab's noise figures are known
   // Per bin: 1 = left out (overlaps a sampling gap of a record; common_grid.h), and those spans.

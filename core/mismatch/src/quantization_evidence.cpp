@@ -1,0 +1,126 @@
+#include "graftnav/mismatch/quantization_evidence.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/core.h>
+
+#include "graftnav/mismatch/diagnosis.h"
+
+namespace graftnav {
+namespace {
+
+constexpr int kMaxPrintedDecimals = 12;
+
+Eigen::Vector3d increment(const ImuSample& s, bool gyro) { return gyro ? s.dtheta_rad : s.dvel_m_s; }
+
+bool allOnLattice(const ImuSeries& imu, bool gyro, int axis, double unit) {
+  for (const ImuSample& s : imu) {
+    const double f = increment(s, gyro)(axis) / unit;
+    if (std::abs(f - std::round(f)) > 1e-6 * std::max(1.0, std::abs(f) * 1e-9)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+void QuantizationEvidenceOptions::validate() const {
+  if (!(min_step_over_resolution >= 1.0) || !std::isfinite(min_step_over_resolution))
+    throw std::invalid_argument("QuantizationEvidenceOptions: min_step_over_resolution = " +
+                                std::to_string(min_step_over_resolution) + " must be >= 1");
+  if (!(resolvable_sigmas > 0.0) || !std::isfinite(resolvable_sigmas))
+    throw std::invalid_argument("QuantizationEvidenceOptions: resolvable_sigmas = " +
+                                std::to_string(resolvable_sigmas) + " must be > 0");
+}
+
+Eigen::Vector3d printedResolution(const ImuSeries& imu, bool gyro) {
+  Eigen::Vector3d res = Eigen::Vector3d::Zero();
+  if (imu.empty()) return res;
+  for (int a = 0; a < 3; ++a) {
+    for (int d = 0; d <= kMaxPrintedDecimals; ++d) {
+      const double unit = std::pow(10.0, -d);
+      if (allOnLattice(imu, gyro, a, unit)) {
+        res(a) = unit;
+        break;
+      }
+    }
+  }
+  return res;
+}
+
+Eigen::Vector3d sampleIncrementNoiseSd(const ImuSeries& imu, bool gyro) {
+  if (imu.size() < 3) throw std::invalid_argument("sampleIncrementNoiseSd: fewer than 3 samples");
+  const double span_s = imu.back().t_s - imu.front().t_s;
+  const double dt = span_s / static_cast<double>(imu.size() - 1);
+  const std::size_t block = std::max<std::size_t>(8, static_cast<std::size_t>(std::lround(1.0 / dt)));
+  std::vector<double> per_block[3];
+  Eigen::Vector3d acc = Eigen::Vector3d::Zero();
+  std::size_t count = 0;
+  for (std::size_t k = 1; k < imu.size(); ++k) {
+    acc += (increment(imu[k], gyro) - increment(imu[k - 1], gyro)).cwiseAbs2();
+    if (++count == block) {
+      for (int a = 0; a < 3; ++a) per_block[a].push_back(0.5 * acc(a) / count);
+      acc.setZero();
+      count = 0;
+    }
+  }
+  if (per_block[0].empty())
+    for (int a = 0; a < 3; ++a) per_block[a].push_back(0.5 * acc(a) / count);
+  Eigen::Vector3d sd;
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double>& v = per_block[a];
+    const std::size_t q = v.size() / 20;
+    std::nth_element(v.begin(), v.begin() + q, v.end());
+    sd(a) = std::sqrt(v[q]);
+  }
+  return sd;
+}
+
+QuantizationCheck checkQuantization(const ImuSeries& real, const ImuSeries& simulated, bool gyro,
+                                    const QuantizationEvidenceOptions& options) {
+  options.validate();
+  QuantizationCheck c;
+  c.sensor = gyro ? "gyro" : "accel";
+  c.min_step_over_resolution = options.min_step_over_resolution;
+  c.step = detectQuantizationStep(real, gyro);
+  c.printed_resolution = printedResolution(real, gyro);
+  c.white_noise_sd = sampleIncrementNoiseSd(real, gyro);
+  const Eigen::Vector3d sim_step = detectQuantizationStep(simulated, gyro);
+  c.resolvable_share =
+      options.resolvable_sigmas * std::sqrt(2.0 / static_cast<double>(real.size()));
+  for (int a = 0; a < 3; ++a) {
+    const double q = c.step(a), var_w = c.white_noise_sd(a) * c.white_noise_sd(a);
+    c.noise_share(a) = var_w > 0.0 ? q * q / 12.0 / var_w : 0.0;
+    c.detectable_step(a) = std::sqrt(12.0 * c.resolvable_share) * c.white_noise_sd(a);
+    const bool same_as_sim = q > 0.0 && std::abs(sim_step(a) - q) <= 1e-3 * q;
+    c.simulation_on_same_lattice |= same_as_sim;
+    const bool beyond_printing =
+        q > 0.0 && q > options.min_step_over_resolution * c.printed_resolution(a);
+    c.claimed[a] = beyond_printing && !same_as_sim && c.noise_share(a) >= c.resolvable_share;
+  }
+  return c;
+}
+
+std::string QuantizationCheck::summary() const {
+  std::string s;
+  const char* axes = "xyz";
+  for (int a = 0; a < 3; ++a) {
+    std::string v;
+    if (!(step(a) > 0.0))
+      v = "no lattice";
+    else if (printed_resolution(a) > 0.0 && !(step(a) > min_step_over_resolution * printed_resolution(a)))
+      v = fmt::format("step {:.3g} = the printed resolution {:.3g} (text format, not the sensor)",
+                      step(a), printed_resolution(a));
+    else
+      v = fmt::format("step {:.3g} (printed resolution {:.3g}), noise q^2/12 = {:.3g} of the white "
+                      "noise variance (resolvable from {:.3g}; step needed {:.3g}){}",
+                      step(a), printed_resolution(a), noise_share(a), resolvable_share,
+                      detectable_step(a), claimed[a] ? ": claimed" : ": not resolvable");
+    s += fmt::format("{}{} {}: {}", s.empty() ? "" : "; ", sensor, axes[a], v);
+  }
+  return s;
+}
+
+}  // namespace graftnav
