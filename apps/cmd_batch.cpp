@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "batch_db.h"
+#include "graftnav/io/atomic_file.h"
 #include "batch_manifest.h"
 #include "batch_slurm.h"
 #include "batch_summary.h"
@@ -84,6 +85,7 @@ BatchRunRecord runTask(const BatchManifest& m, const BatchTask& t) {
   BatchRunRecord rec;
   const auto t0 = std::chrono::steady_clock::now();
   removeStaleTemporaries(t);
+  std::string log_text;
   try {
     SgEvaluateOptions o;
     o.case_dir = t.case_dir;
@@ -100,17 +102,19 @@ BatchRunRecord runTask(const BatchManifest& m, const BatchTask& t) {
       o.outage_start_s = t.schedule->start_s;
     }
     fs::create_directories(t.out_dir);
-    std::ofstream log((fs::path(t.out_dir) / "log.txt").string());
-    rec = recordOf(runSgEvaluation(o, [&](const std::string& s) { log << s << "\n"; }));
+    rec = recordOf(runSgEvaluation(o, [&](const std::string& s) { log_text += s + "\n"; }));
     const BatchPredictive p = readPredictive((fs::path(t.out_dir) / "evaluation.json").string());
     rec.realizations = p.realizations;
     rec.predictive = p.rows;
   } catch (const std::exception& e) {
     rec = BatchRunRecord{};
     rec.error = e.what();
+    log_text += std::string("error: ") + e.what() + "\n";
   }
   rec.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   fs::create_directories(t.out_dir);
+  // The task's log, written once through the atomic writer like every other result.
+  writeFileAtomically((fs::path(t.out_dir) / "log.txt").string(), log_text);
   writeTaskDatabase(taskDatabasePath(t), t, rec);
   return rec;
 }

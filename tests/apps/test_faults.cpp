@@ -503,8 +503,7 @@ TEST(Faults, SigkillHalfwayThroughAWriteLeavesNoPartialResult) {
 TEST(Faults, NoWriterBypassesAtomicFile) {
   const std::regex opens_for_writing(
       R"(std::ofstream|std::fstream|fmt::output_file|fopen\s*\([^;]*"[wa]|open\s*\([^;]*O_(WRONLY|RDWR|CREAT))");
-  // Known exception outside this change's files: batch's per-task log.txt (cmd_batch.cpp).
-  const std::vector<std::string> allowed = {"core/io/src/atomic_file.cpp", "apps/cmd_batch.cpp"};
+  const std::vector<std::string> allowed = {"core/io/src/atomic_file.cpp"};
   std::vector<std::string> offenders;
   for (const std::string top : {"apps", "core", "filters", "graph"}) {
     for (const auto& e : fs::recursive_directory_iterator(test::sourceDir() + "/" + top)) {
