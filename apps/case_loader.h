@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "graftnav/io/case_config.h"
+#include "graftnav/io/imu_io.h"
 #include "graftnav/estimation/nav_solution.h"
 #include "run_config.h"
 
@@ -40,9 +41,11 @@ struct ImuSelection {
   std::string path;
   std::string label;
   std::string read_summary;  // the reader's conditions met (repairs/warnings); empty when clean
+  ImuReadOptions read_options;  // how the file is (or is to be) read
 };
+// read_samples = false leaves `imu` empty (for a run that streams the file with read_options).
 ImuSelection selectImu(const CaseInputs& c, const std::string& which, const std::string& profile_file = "",
-                       bool lenient = false);
+                       bool lenient = false, bool read_samples = true);
 
 // The estimator inputs for one IMU series: initial state from truth (at the start of the first
 // IMU interval), else case.yaml initial_state, else data alignment (rc.alignment); outages from

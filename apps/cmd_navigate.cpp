@@ -7,6 +7,7 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,37 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Writes solution.nav as the epochs come; also appends them to a NavSolution when given.
+class NavFileSink : public SolutionSink {
+ public:
+  NavFileSink(const std::string& path, NavSolution* keep) : writer_(path) {
+    if (keep) keep_.emplace(keep);
+  }
+  void add(const NavState& state, const PvaSigma& sigma, const ImuErrorEstimate& sensors) override {
+    writer_.add(state);
+    if (keep_) keep_->add(state, sigma, sensors);
+  }
+  std::size_t commit() {
+    writer_.commit();
+    return writer_.count();
+  }
+
+ private:
+  NavWriter writer_;
+  std::optional<NavSolutionSink> keep_;
+};
+
+// The first and last sample of a file that is to be streamed, for makeProblem (the initial
+// time, the outage schedule's span) without reading the rest.
+ImuSeries imuSpan(const ImuSelection& sel) {
+  ImuBlockReader head(sel.path, sel.read_options, 1);
+  ImuSeries first;
+  head.next(&first);
+  ImuSample last = first.front();
+  last.t_s = std::max(first.front().t_s, readLastImuTime(sel.path));
+  return {first.front(), last};
+}
+
 struct NavigateArgs {
   std::string case_dir, out, imu = "ref", profile, estimator = "ekf", config;
   double outage_length = -1, outage_period = -1, outage_start = -1;
@@ -54,8 +86,13 @@ void runNavigate(const NavigateArgs& a) {
   rc.ekf.output_decimation = a.decimate;
   if (a.free_inertial) rc.alignment.mode = "given";
 
-  fmt::print(stderr, "[{:6.1f} s] reading the {} IMU\n", elapsed(), a.imu);
-  const ImuSelection imu = selectImu(c, a.imu, a.profile, a.lenient);
+  // Estimators with a streamed form read the IMU in blocks and write the solution as they go,
+  // when nothing else needs the samples in memory (a data alignment does).
+  const std::string estimator = a.free_inertial ? "free-inertial" : a.estimator;
+  const bool stream = canStream(estimator) && rc.alignment.mode == "given";
+  fmt::print(stderr, "[{:6.1f} s] {} the {} IMU\n", elapsed(), stream ? "streaming" : "reading", a.imu);
+  ImuSelection imu = selectImu(c, a.imu, a.profile, a.lenient, !stream);
+  if (stream) imu.imu = imuSpan(imu);
   if (!a.free_inertial && !imu.profile_given) {
     throw std::runtime_error("no noise parameters for IMU '" + a.imu +
                              "' in case.yaml: pass --profile FILE (configs/imu/*.yaml)");
@@ -72,15 +109,20 @@ void runNavigate(const NavigateArgs& a) {
   if (a.outage_start >= 0) oc.start_s = a.outage_start;
   std::optional<OutageScheduleConfig> outages;
   if ((rc.outages_given || cli_outage) && !a.free_inertial) outages = oc;
-  const EstimationProblem pr = makeProblem(c, imu, rc, outages, &notes);
+  EstimationProblem pr = makeProblem(c, imu, rc, outages, &notes);
+  if (stream) pr.imu = {};  // read again in blocks
   for (const auto& n : notes)
     if (n.find("alignment") != std::string::npos || n.find("lever") != std::string::npos ||
         n.find("GNSS selection") != std::string::npos)
       fmt::print(stderr, "note: {}\n", n);
 
-  const std::string estimator = a.free_inertial ? "free-inertial" : a.estimator;
-  fmt::print(stderr, "[{:6.1f} s] {} on {} IMU samples, {} GNSS fixes, {} outages\n", elapsed(),
-             estimator, pr.imu.size(), pr.gnss.size(), pr.outages.size());
+  if (stream) {
+    fmt::print(stderr, "[{:6.1f} s] {} on {} in blocks, {} GNSS fixes, {} outages\n", elapsed(), estimator,
+               imu.path, pr.gnss.size(), pr.outages.size());
+  } else {
+    fmt::print(stderr, "[{:6.1f} s] {} on {} IMU samples, {} GNSS fixes, {} outages\n", elapsed(), estimator,
+               pr.imu.size(), pr.gnss.size(), pr.outages.size());
+  }
   int last_decile = -1;
   const ProgressFn progress = [&](double f) {
     const int d = static_cast<int>(f * 10.0);
@@ -89,14 +131,28 @@ void runNavigate(const NavigateArgs& a) {
       fmt::print(stderr, "[{:6.1f} s] {} {:3d} %\n", elapsed(), estimator, d * 10);
     }
   };
-  const double t_run0 = elapsed();
-  const NavSolution sol = runEstimator(estimator, pr, rc, progress);
-  const double run_time = elapsed() - t_run0;
-
   fs::create_directories(a.out);
   const std::string nav_out = (fs::path(a.out) / "solution.nav").string();
-  writeNav(nav_out, sol.states);
-  fmt::print("{}: {} epochs -> {} ({:.2f} s)\n", estimator, sol.states.size(), nav_out, run_time);
+  const double t_run0 = elapsed();
+  NavSolution sol;
+  std::size_t epochs = 0;
+  if (stream) {
+    // The epochs are kept in memory only for the errors against a reference.
+    NavFileSink sink(nav_out, reference.empty() ? nullptr : &sol);
+    const NavSolution book =
+        runEstimatorStreaming(estimator, pr, imuFilePass(imu.path, imu.read_options), rc, sink);
+    sol.estimator = book.estimator;
+    sol.gnss_used = book.gnss_used;
+    sol.gnss_rejected = book.gnss_rejected;
+    sol.gnss_withheld = book.gnss_withheld;
+    epochs = sink.commit();
+  } else {
+    sol = runEstimator(estimator, pr, rc, progress);
+    writeNav(nav_out, sol.states);
+    epochs = sol.states.size();
+  }
+  const double run_time = elapsed() - t_run0;
+  fmt::print("{}: {} epochs -> {} ({:.2f} s)\n", estimator, epochs, nav_out, run_time);
   if (!a.free_inertial) {
     fmt::print("  GNSS used {}, rejected by the gate {}, withheld in outages {}\n", sol.gnss_used,
                sol.gnss_rejected, sol.gnss_withheld);

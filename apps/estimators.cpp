@@ -13,23 +13,32 @@ const std::vector<EstimatorEntry>& estimatorTable() {
       {"ekf", "forward closed-loop 21-state GNSS/INS EKF",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn& f) {
          return runEkf(p, c.ekf, nullptr, f);
+       },
+       [](const EstimationProblem& p, const ImuPassFn& imu, const RunConfig& c, SolutionSink& sink) {
+         return runEkfStreaming(p, c.ekf, imu, sink);
        }},
       {"rts", "EKF + Rauch-Tung-Striebel smoother",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn& f) {
          return runRts(p, c.ekf, nullptr, nullptr, f);
+       },
+       [](const EstimationProblem& p, const ImuPassFn& imu, const RunConfig& c, SolutionSink& sink) {
+         return runRtsStreaming(p, c.ekf, imu, sink);
        }},
       {"fgo", "factor-graph batch smoother (Ceres, SuiteSparse), docs/fgo.md",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn&) {
          return solveBatchFgo(p, c.fgo);
-       }},
+       },
+       {}},
       {"fgo-window", "factor-graph sliding window with marginalization, causal output",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn&) {
          return solveWindowFgo(p, c.fgo);
-       }},
+       },
+       {}},
       {"free-inertial", "mechanization from the initial state, no GNSS",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn& f) {
          return runFreeInertial(p, c.ekf.output_decimation, f);
-       }},
+       },
+       {}},
   };
   return table;
 }
@@ -40,14 +49,38 @@ std::vector<std::string> estimatorNames() {
   return names;
 }
 
-NavSolution runEstimator(const std::string& name, const EstimationProblem& problem,
-                         const RunConfig& config, const ProgressFn& progress) {
+namespace {
+const EstimatorEntry& findEstimator(const std::string& name) {
   for (const auto& e : estimatorTable()) {
-    if (e.name == name) return e.run(problem, config, progress);
+    if (e.name == name) return e;
   }
   std::string known;
   for (const auto& n : estimatorNames()) known += (known.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown estimator '" + name + "' (known: " + known + ")");
+}
+}  // namespace
+
+NavSolution runEstimator(const std::string& name, const EstimationProblem& problem,
+                         const RunConfig& config, const ProgressFn& progress) {
+  return findEstimator(name).run(problem, config, progress);
+}
+
+bool canStream(const std::string& name) { return static_cast<bool>(findEstimator(name).stream); }
+
+ImuPassFn imuFilePass(const std::string& path, const ImuReadOptions& options, ReadReport* report) {
+  return [path, options, report](const ImuBlockFn& block) {
+    ImuBlockReader reader(path, options);
+    ImuSeries samples;
+    while (reader.next(&samples)) block(samples);
+    if (report) *report = reader.report();
+  };
+}
+
+NavSolution runEstimatorStreaming(const std::string& name, const EstimationProblem& problem,
+                                  const ImuPassFn& imu, const RunConfig& config, SolutionSink& sink) {
+  const EstimatorEntry& e = findEstimator(name);
+  if (!e.stream) throw std::invalid_argument("estimator '" + name + "' has no streamed form");
+  return e.stream(problem, imu, config, sink);
 }
 
 }  // namespace graftnav::app
