@@ -38,7 +38,7 @@ class NavFileSink : public SolutionSink {
   NavFileSink(const std::string& path, NavSolution* keep) : writer_(path) {
     if (keep) keep_.emplace(keep);
   }
-  void add(const NavState& state, const PvaSigma& sigma, const ImuErrorEstimate& sensors) override {
+  void add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate& sensors) override {
     writer_.add(state);
     if (keep_) keep_->add(state, sigma, sensors);
   }
@@ -140,7 +140,7 @@ void runNavigate(const NavigateArgs& a) {
     // The epochs are kept in memory only for the errors against a reference.
     NavFileSink sink(nav_out, reference.empty() ? nullptr : &sol);
     const NavSolution book =
-        runEstimatorStreaming(estimator, pr, imuFilePass(imu.path, imu.read_options), rc, sink);
+        runEstimatorStreaming(estimator, pr, imuFileStream(imu.path, imu.read_options), rc, sink);
     sol.estimator = book.estimator;
     sol.gnss_used = book.gnss_used;
     sol.gnss_rejected = book.gnss_rejected;

@@ -20,7 +20,11 @@ using EstimatorFn =
 // The streamed form: samples from `imu` (problem.imu is not read), output epochs into `sink`,
 // the GNSS bookkeeping returned. Same epochs as the in-memory form, memory not growing with the
 // recording (see docs/BENCHMARKS.md).
-using StreamingEstimatorFn = std::function<NavSolution(const EstimationProblem&, const ImuPassFn&,
+struct ImuStream {
+  ImuPassFn pass;                  // one pass over the samples; may be called more than once
+  std::size_t max_samples = 0;     // an upper bound of their number (reserve), 0 when unknown
+};
+using StreamingEstimatorFn = std::function<NavSolution(const EstimationProblem&, const ImuStream&,
                                                        const RunConfig&, SolutionSink&)>;
 
 struct EstimatorEntry {
@@ -39,13 +43,13 @@ NavSolution runEstimator(const std::string& name, const EstimationProblem& probl
 // True when `name` has a streamed form; throws like runEstimator for an unknown name.
 bool canStream(const std::string& name);
 
-// One pass over an IMU file in blocks (ImuBlockReader; options.nominal_rate_hz > 0). Each call
-// of the returned function reads the file again. *report (when given) receives the last pass's
+// An IMU file read in blocks (ImuBlockReader; options.nominal_rate_hz > 0); each pass reads the
+// file again, max_samples is its line count. *report (when given) receives the last pass's
 // reader report.
-ImuPassFn imuFilePass(const std::string& path, const ImuReadOptions& options, ReadReport* report = nullptr);
+ImuStream imuFileStream(const std::string& path, const ImuReadOptions& options, ReadReport* report = nullptr);
 
 // Runs the streamed form of `name`; throws std::invalid_argument when it has none.
 NavSolution runEstimatorStreaming(const std::string& name, const EstimationProblem& problem,
-                                  const ImuPassFn& imu, const RunConfig& config, SolutionSink& sink);
+                                  const ImuStream& imu, const RunConfig& config, SolutionSink& sink);
 
 }  // namespace graftnav::app

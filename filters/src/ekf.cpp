@@ -278,7 +278,7 @@ void EkfPass::add(const ImuSample& s, SolutionSink* sink) {
     NavState st = filter_.state();
     st.t_s = s.t_s;
     st.gnss_week = gnss_week_;
-    sink->add(st, filter_.pvaSigma(), filter_.sensors());
+    sink->add(st, &filter_.pvaSigma(), filter_.sensors());
   }
 }
 

@@ -98,7 +98,8 @@ void RtsOutputPass::closeInterval(SolutionSink& sink) {
     sensors.accel_bias_m_s2 = (1.0 - u) * a.sensors.accel_bias_m_s2 + u * b.sensors.accel_bias_m_s2;
     sensors.gyro_scale = (1.0 - u) * a.sensors.gyro_scale + u * b.sensors.gyro_scale;
     sensors.accel_scale = (1.0 - u) * a.sensors.accel_scale + u * b.sensors.accel_scale;
-    sink.add(out, (1.0 - u) * s0 + u * s1, sensors);
+    const PvaSigma sigma = (1.0 - u) * s0 + u * s1;
+    sink.add(out, &sigma, sensors);
   }
   buffer_.clear();
 }

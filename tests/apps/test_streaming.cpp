@@ -56,7 +56,7 @@ EstimationProblem sampleProblem() {
 class TeeSink : public SolutionSink {
  public:
   TeeSink(const std::string& path, NavSolution* keep) : writer_(path), keep_(keep) {}
-  void add(const NavState& s, const PvaSigma& sigma, const ImuErrorEstimate& e) override {
+  void add(const NavState& s, const PvaSigma* sigma, const ImuErrorEstimate& e) override {
     writer_.add(s);
     keep_.add(s, sigma, e);
   }

@@ -13,16 +13,17 @@ namespace graftnav {
 class SolutionSink {
  public:
   virtual ~SolutionSink() = default;
-  // One output epoch: the state, its PVA 1-sigma and the sensor-error estimates at that epoch.
-  virtual void add(const NavState& state, const PvaSigma& sigma, const ImuErrorEstimate& sensors) = 0;
+  // One output epoch: the state, its PVA 1-sigma (null when the estimator gives none) and the
+  // sensor-error estimates at that epoch.
+  virtual void add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate& sensors) = 0;
 };
 
-// Appends every epoch to the vectors of a NavSolution.
+// Appends every epoch to the vectors of a NavSolution (sigma only when given).
 class NavSolutionSink : public SolutionSink {
  public:
   explicit NavSolutionSink(NavSolution* solution) : sol_(solution) {}
   void reserve(std::size_t epochs);
-  void add(const NavState& state, const PvaSigma& sigma, const ImuErrorEstimate& sensors) override;
+  void add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate& sensors) override;
 
  private:
   NavSolution* sol_;
