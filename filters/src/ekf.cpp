@@ -282,7 +282,7 @@ void EkfPass::add(const ImuSample& s, SolutionSink* sink) {
   }
 }
 
-NavSolution EkfPass::finish(std::vector<SmootherRecord>* records) {
+NavSolution EkfPass::finish(SmootherRecords* records) {
   if (processed_ == 0) {
     throw std::invalid_argument("runEkf: no IMU sample after the initial time " + std::to_string(t_cur_));
   }
@@ -303,7 +303,7 @@ NavSolution runEkfStreaming(const EstimationProblem& problem, const EkfOptions& 
 }
 
 NavSolution runEkf(const EstimationProblem& problem, const EkfOptions& options,
-                   std::vector<SmootherRecord>* records, const ProgressFn& progress,
+                   SmootherRecords* records, const ProgressFn& progress,
                    bool keep_states) {
   options.validate();
   if (problem.imu.empty()) throw std::invalid_argument("runEkf: the IMU series is empty");

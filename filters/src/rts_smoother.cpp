@@ -28,7 +28,7 @@ PvaSigma sigmaOf(const SmoothedRecord& r) {
 }
 }  // namespace
 
-std::vector<SmoothedRecord> smoothRecords(const std::vector<SmootherRecord>& rec) {
+std::vector<SmoothedRecord> smoothRecords(const SmootherRecords& rec) {
   const size_t N = rec.size();
   std::vector<SmoothedRecord> out(N);
   if (N == 0) return out;
@@ -139,11 +139,11 @@ NavSolution runRtsStreaming(const EstimationProblem& problem, const EkfOptions& 
   imu([&](const ImuSeries& block) {
     for (const ImuSample& s : block) forward.add(s, nullptr);
   });
-  std::vector<SmootherRecord> records;
+  SmootherRecords records;
   NavSolution sol = forward.finish(&records);
   sol.estimator = "rts";
   std::vector<SmoothedRecord> smoothed = smoothRecords(records);
-  records = {};
+  SmootherRecords().swap(records);  // frees them before the output pass
   RtsOutputPass output(std::move(smoothed), options.output_decimation, problem.initial.gnss_week);
   imu([&](const ImuSeries& block) {
     for (const ImuSample& s : block) output.add(s, sink);
@@ -154,7 +154,7 @@ NavSolution runRtsStreaming(const EstimationProblem& problem, const EkfOptions& 
 
 NavSolution runRts(const EstimationProblem& problem, const EkfOptions& options, NavSolution* forward,
                    RtsStats* stats, const ProgressFn& progress) {
-  std::vector<SmootherRecord> records;
+  SmootherRecords records;
   ProgressFn fwd_progress;
   if (progress) fwd_progress = [&](double f) { progress(0.6 * f); };
   NavSolution fwd = runEkf(problem, options, &records, fwd_progress, forward != nullptr);
@@ -163,8 +163,7 @@ NavSolution runRts(const EstimationProblem& problem, const EkfOptions& options, 
     stats->record_bytes = records.size() * sizeof(SmootherRecord);
   }
   std::vector<SmoothedRecord> sm = smoothRecords(records);
-  records.clear();
-  records.shrink_to_fit();
+  SmootherRecords().swap(records);  // frees them before the output pass
   if (progress) progress(0.7);
 
   NavSolution sol;

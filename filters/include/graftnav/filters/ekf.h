@@ -10,6 +10,7 @@
 // symmetrized covariance, then the estimate is fed back (PVA reset, sensor estimates augmented)
 // and the error state is zero again.
 
+#include <deque>
 #include <functional>
 #include <vector>
 
@@ -48,6 +49,10 @@ struct SmootherRecord {
   ErrorCov Phi = ErrorCov::Identity();  // transition from the previous record to this one
 };
 
+// A deque: records are ~10 KB each and an hour holds thousands; growing a vector would hold
+// the old and the new copy at once.
+using SmootherRecords = std::deque<SmootherRecord>;
+
 class GnssInsEkf {
  public:
   GnssInsEkf(const NavState& initial, const ErrorCov& P0, const ImuProfile& profile,
@@ -74,7 +79,7 @@ class GnssInsEkf {
 
   // Records for the smoother (off by default).
   void enableRecording(bool on);
-  std::vector<SmootherRecord>& records() { return records_; }
+  SmootherRecords& records() { return records_; }
   // Appends a record at the current time (after flushing the covariance).
   void recordNow();
 
@@ -98,7 +103,7 @@ class GnssInsEkf {
   bool recording_ = false;
   ErrorCov Phi_since_record_ = ErrorCov::Identity();
   double last_record_t_ = 0.0;
-  std::vector<SmootherRecord> records_;
+  SmootherRecords records_;
   int rejected_ = 0;
   int consecutive_rejected_ = 0;
   double gate_threshold_ = 0.0;
@@ -128,7 +133,7 @@ class EkfPass {
   void add(const ImuSample& sample, SolutionSink* sink);
   // Closes the pass: throws std::invalid_argument when no sample came after the initial time;
   // returns the GNSS bookkeeping (no states) and moves the records into *records when given.
-  NavSolution finish(std::vector<SmootherRecord>* records = nullptr);
+  NavSolution finish(SmootherRecords* records = nullptr);
 
  private:
   void applyFix(std::size_t i);
@@ -159,7 +164,7 @@ NavSolution runEkfStreaming(const EstimationProblem& problem, const EkfOptions& 
 // recorded for the smoother. keep_states = false returns only the GNSS bookkeeping (the
 // smoother's forward pass).
 NavSolution runEkf(const EstimationProblem& problem, const EkfOptions& options,
-                   std::vector<SmootherRecord>* records = nullptr, const ProgressFn& progress = {},
+                   SmootherRecords* records = nullptr, const ProgressFn& progress = {},
                    bool keep_states = true);
 
 }  // namespace graftnav

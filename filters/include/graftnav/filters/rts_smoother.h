@@ -30,7 +30,7 @@ struct SmoothedRecord {
   ErrorCov P = ErrorCov::Zero();
 };
 
-std::vector<SmoothedRecord> smoothRecords(const std::vector<SmootherRecord>& records);
+std::vector<SmoothedRecord> smoothRecords(const SmootherRecords& records);
 
 // The IMU-rate output of the smoothed records, one IMU sample at a time (the second pass over
 // the samples, from memory or re-read from the file in blocks): holds the smoothed records and
