@@ -63,6 +63,27 @@ ImuSeries imuSpan(const ImuSelection& sel) {
   return {first.front(), last};
 }
 
+// Streamed run: the IMU read in blocks, solution.nav written as it goes; the epochs are kept in
+// the returned solution only when `keep` (the errors against a reference need them).
+NavSolution streamSolution(const std::string& estimator, const EstimationProblem& pr, const ImuSelection& imu,
+                           const RunConfig& rc, const std::string& nav_out, bool keep, std::size_t* epochs) {
+  NavSolution sol;
+  NavFileSink sink(nav_out, keep ? &sol : nullptr);
+  const NavSolution book = runEstimatorStreaming(estimator, pr, imuFileStream(imu.path, imu.read_options), rc, sink);
+  sol.estimator = book.estimator;
+  sol.gnss_used = book.gnss_used;
+  sol.gnss_rejected = book.gnss_rejected;
+  sol.gnss_withheld = book.gnss_withheld;
+  *epochs = sink.commit();
+  return sol;
+}
+
+NavSolution writeSolution(NavSolution sol, const std::string& nav_out, std::size_t* epochs) {
+  writeNav(nav_out, sol.states);
+  *epochs = sol.states.size();
+  return sol;
+}
+
 struct NavigateArgs {
   std::string case_dir, out, imu = "ref", profile, estimator = "ekf", config;
   double outage_length = -1, outage_period = -1, outage_start = -1;
@@ -134,23 +155,9 @@ void runNavigate(const NavigateArgs& a) {
   fs::create_directories(a.out);
   const std::string nav_out = (fs::path(a.out) / "solution.nav").string();
   const double t_run0 = elapsed();
-  NavSolution sol;
   std::size_t epochs = 0;
-  if (stream) {
-    // The epochs are kept in memory only for the errors against a reference.
-    NavFileSink sink(nav_out, reference.empty() ? nullptr : &sol);
-    const NavSolution book =
-        runEstimatorStreaming(estimator, pr, imuFileStream(imu.path, imu.read_options), rc, sink);
-    sol.estimator = book.estimator;
-    sol.gnss_used = book.gnss_used;
-    sol.gnss_rejected = book.gnss_rejected;
-    sol.gnss_withheld = book.gnss_withheld;
-    epochs = sink.commit();
-  } else {
-    sol = runEstimator(estimator, pr, rc, progress);
-    writeNav(nav_out, sol.states);
-    epochs = sol.states.size();
-  }
+  const NavSolution sol = stream ? streamSolution(estimator, pr, imu, rc, nav_out, !reference.empty(), &epochs)
+                                 : writeSolution(runEstimator(estimator, pr, rc, progress), nav_out, &epochs);
   const double run_time = elapsed() - t_run0;
   fmt::print("{}: {} epochs -> {} ({:.2f} s)\n", estimator, epochs, nav_out, run_time);
   if (!a.free_inertial) {

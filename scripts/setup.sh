@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 PACKAGES=(build-essential cmake ninja-build ccache pkg-config
   libeigen3-dev libceres-dev libsuitesparse-dev libgeographiclib-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libfmt-dev nlohmann-json3-dev
-  python3 python3-matplotlib)
+  python3 python3-matplotlib time)  # time: /usr/bin/time -v for scripts/bench_memory.sh
 
 missing=()
 for p in "${PACKAGES[@]}"; do
