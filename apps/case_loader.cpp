@@ -90,6 +90,27 @@ ImuSelection selectImu(const CaseInputs& c, const std::string& which, const std:
   return s;
 }
 
+void restrictToTimeRange(const TimeRangeConfig& range, CaseInputs* c, ImuSelection* imu,
+                         std::vector<std::string>* notes) {
+  if (range.empty()) return;
+  const double t0 = range.start_s.value_or(-1e300), t1 = range.end_s.value_or(1e300);
+  ImuSeries kept;
+  for (const auto& s : imu->imu)
+    if (s.t_s - s.dt_s >= t0 - 1e-6 && s.t_s <= t1) kept.push_back(s);
+  if (kept.empty()) {
+    throw std::runtime_error(fmt::format("time range [{}, {}] holds no sample of '{}' ({:.3f} .. {:.3f})",
+                                         t0, t1, imu->path, imu->imu.front().t_s, imu->imu.back().t_s));
+  }
+  GnssSeries gnss;
+  for (const auto& f : c->gnss)
+    if (f.t_s >= t0 && f.t_s <= t1) gnss.push_back(f);
+  notes->push_back(fmt::format("time range {:.3f} .. {:.3f}: {} of {} IMU samples, {} of {} GNSS epochs",
+                               kept.front().t_s - kept.front().dt_s, kept.back().t_s, kept.size(),
+                               imu->imu.size(), gnss.size(), c->gnss.size()));
+  imu->imu = std::move(kept);
+  c->gnss = std::move(gnss);
+}
+
 EstimationProblem makeProblem(const CaseInputs& c, const ImuSelection& sel, const RunConfig& rc,
                               const std::optional<OutageScheduleConfig>& outages,
                               std::vector<std::string>* notes) {

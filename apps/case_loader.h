@@ -47,6 +47,11 @@ struct ImuSelection {
 ImuSelection selectImu(const CaseInputs& c, const std::string& which, const std::string& profile_file = "",
                        bool lenient = false, bool read_samples = true);
 
+// Keeps the IMU samples whose interval lies in the range (end time > start, <= end) and the GNSS
+// epochs inside it. Throws std::runtime_error naming the range when no IMU sample is left.
+void restrictToTimeRange(const TimeRangeConfig& range, CaseInputs* c, ImuSelection* imu,
+                         std::vector<std::string>* notes);
+
 // The estimator inputs for one IMU series: initial state from truth (at the start of the first
 // IMU interval), else case.yaml initial_state, else data alignment (rc.alignment); outages from
 // `outages` when given. Notes on what was assumed are appended to *notes.

@@ -13,7 +13,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,6 +23,7 @@
 #include "graftnav/calibration/calibration_io.h"
 #include "graftnav/calibration/lab_calibration.h"
 #include "graftnav/calibration/multi_position.h"
+#include "graftnav/io/atomic_file.h"
 #include "graftnav/io/imu_io.h"
 #include "graftnav/nav/units.h"
 
@@ -65,7 +66,7 @@ std::string vec(const Eigen::Vector3d& v, double scale, const char* f) {
                      fmt::format(fmt::runtime(f), v[1] * scale), fmt::format(fmt::runtime(f), v[2] * scale));
 }
 
-void writeSensorSection(std::ofstream& md, const char* title, const SensorCalibration& s, bool gyro,
+void writeSensorSection(std::ostringstream& md, const char* title, const SensorCalibration& s, bool gyro,
                         const PoseDriftEstimate& pose_drift, double drift_window_s, double drift_separation_s,
                         const PolynomialFitOptions& poly) {
   const double bs = gyro ? units::kRadToDeg * 3600.0 : 1.0 / units::kMilliGToMPerSec2;
@@ -112,7 +113,7 @@ void writeSensorSection(std::ofstream& md, const char* title, const SensorCalibr
 }
 
 void writeAllanCsv(const std::string& path, const AllanCurve& c, const AllanFit& f) {
-  std::ofstream o(path);
+  std::ostringstream o;
   o << "tau_s,adev_x,adev_y,adev_z,rel_error,model_x,model_y,model_z,N_x,N_y,N_z,B_x,B_y,B_z,K_x,K_y,K_z\n";
   for (std::size_t i = 0; i < c.tau_s.size(); ++i) {
     o << fmt::format("{:.6g},{:.8e},{:.8e},{:.8e},{:.5f}", c.tau_s[i], c.adev[i][0], c.adev[i][1], c.adev[i][2],
@@ -122,11 +123,12 @@ void writeAllanCsv(const std::string& path, const AllanCurve& c, const AllanFit&
       for (int a = 0; a < 3; ++a) o << fmt::format(",{:.8e}", (*v)[a]);
     o << "\n";
   }
+  writeFileAtomically(path, o.str());
 }
 
 void writeFitCsv(const std::string& path, const std::vector<LinearObservation>& obs, const SensorCalibration& s,
                  const PoseDriftEstimate& pose_drift) {
-  std::ofstream o(path);
+  std::ostringstream o;
   o << "axis,x_true,y_measured_own_axis,sigma,sigma_with_drift,fit,linear_M\n";
   for (int a = 0; a < 3; ++a)
     for (const auto& ob : obs) {
@@ -137,6 +139,7 @@ void writeFitCsv(const std::string& path, const std::vector<LinearObservation>& 
       o << fmt::format("{},{:.10e},{:.10e},{:.4e},{:.4e},{:.10e},{:.10e}\n", a, ob.true_value[a], y, ob.sigma[a],
                        std::hypot(ob.sigma[a], pose_drift.sigma[a]), fit, s.M(a, a) * ob.true_value[a] + s.bias[a]);
     }
+  writeFileAtomically(path, o.str());
 }
 
 void runLab(const CalibArgs& a) {
@@ -156,10 +159,10 @@ void runLab(const CalibArgs& a) {
   if (rep.has_accel) writeFitCsv(a.out + "/fit_accel.csv", rep.accel_obs, rep.result.accel, rep.accel_pose_drift);
   if (rep.has_gyro_lsq) writeFitCsv(a.out + "/fit_gyro.csv", rep.gyro_obs, rep.result.gyro, rep.gyro_pose_drift);
   if (!rep.norm_checks.empty()) {
-    std::ofstream o(a.out + "/pose_norms.csv");
-    o << "pose,raw_norm,calibrated_norm,gravity\n";
+    std::string o = "pose,raw_norm,calibrated_norm,gravity\n";
     for (const auto& c : rep.norm_checks)
-      o << fmt::format("{},{:.6f},{:.6f},{:.6f}\n", c.name, c.raw_norm, c.calibrated_norm, data.gravity_m_s2);
+      o += fmt::format("{},{:.6f},{:.6f},{:.6f}\n", c.name, c.raw_norm, c.calibrated_norm, data.gravity_m_s2);
+    writeFileAtomically(a.out + "/pose_norms.csv", o);
   }
   std::vector<std::string> plots;
   if (!a.no_plots) {
@@ -168,7 +171,7 @@ void runLab(const CalibArgs& a) {
     runPlot("plot_calibration.py", a.out, plots);
   }
 
-  std::ofstream md(a.out + "/report.md");
+  std::ostringstream md;
   md << "# Lab calibration: " << data.name << "\n\n";
   md << "Case `" << a.case_dir << "`; gravity " << fmt::format("{:.5f}", data.gravity_m_s2) << " m/s^2"
      << (data.latitude_known ? fmt::format(", latitude {:.4f} deg", data.lab.lat_rad * units::kRadToDeg)
@@ -231,6 +234,7 @@ void runLab(const CalibArgs& a) {
     for (const char* p : {"allan_gyro.png", "allan_accel.png", "fit_gyro.png", "fit_accel.png", "pose_norms.png"})
       if (fs::exists(a.out + "/" + p)) md << "![" << p << "](" << p << ")\n\n";
   }
+  writeFileAtomically(a.out + "/report.md", md.str());
   fmt::print("calibrated '{}' -> {}/calibration.yaml\n", data.name, a.out);
   if (rep.has_accel)
     fmt::print("  accel: |f|-g RMS {:.5f} -> {:.5f} m/s^2 over {} poses\n", rep.norm_rms_before, rep.norm_rms_after,
@@ -266,7 +270,7 @@ void runMultiPosition(const CalibArgs& a) {
   res.gyro = r.gyro;
   fs::create_directories(a.out);
   writeCalibrationYaml(a.out + "/calibration.yaml", res);
-  std::ofstream md(a.out + "/report.md");
+  std::ostringstream md;
   md << "# Multi-position calibration: " << src << "\n\n";
   md << fmt::format("- gravity {:.5f} m/s^2{}\n", o.gravity_m_s2, a.gravity > 0.0 ? "" : " (standard: latitude unknown)");
   md << fmt::format("- static intervals found: {} (thresholds gyro {:.4f} rad/s, accel {:.4f} m/s^2)\n",
@@ -282,12 +286,13 @@ void runMultiPosition(const CalibArgs& a) {
                      PolynomialFitOptions{});
   writeSensorSection(md, "Gyro", res.gyro, true, PoseDriftEstimate{}, 0.0, 0.0,
                      PolynomialFitOptions{});
+  writeFileAtomically(a.out + "/report.md", md.str());
   {
-    std::ofstream o2(a.out + "/static_intervals.csv");
-    o2 << "index,t_begin_s,t_end_s,samples\n";
+    std::string o2 = "index,t_begin_s,t_end_s,samples\n";
     for (std::size_t k = 0; k < r.intervals.size(); ++k)
-      o2 << fmt::format("{},{:.3f},{:.3f},{}\n", k + 1, r.intervals[k].t_begin_s, r.intervals[k].t_end_s,
+      o2 += fmt::format("{},{:.3f},{:.3f},{}\n", k + 1, r.intervals[k].t_begin_s, r.intervals[k].t_end_s,
                         r.intervals[k].end - r.intervals[k].begin);
+    writeFileAtomically(a.out + "/static_intervals.csv", o2);
   }
   fmt::print("multi-position calibration of {} -> {}/calibration.yaml\n", src, a.out);
   fmt::print("  {} static intervals; |f|-g RMS {:.5f} -> {:.5f} m/s^2; gravity direction RMS {:.3f} -> {:.3f} deg\n",

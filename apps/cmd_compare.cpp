@@ -1,4 +1,4 @@
-// graftnav compare CASE_DIR --out OUT_DIR [--estimators ekf,rts,fgo] [--imu ref|tested|FILE]
+// graftnav compare CASE_DIR --out OUT_DIR [--estimator ekf,rts,fgo] [--imu ref|tested|FILE]
 //                  [--outage-length S --outage-period S --outage-start S]
 // Runs several estimators on one case and writes a side-by-side table of their outage errors
 // (seed: RMS over outage epochs; peers: RMS of per-outage maxima) and of their differences from
@@ -13,19 +13,24 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "commands.h"
 #include "case_loader.h"
+#include "cli_vocabulary.h"
 #include "estimators.h"
+#include "provenance.h"
+#include "graftnav/io/atomic_file.h"
+#include "input_checks.h"
 #include "run_config.h"
 #include "script_locator.h"
 #include "graftnav/eval/evaluation.h"
@@ -39,12 +44,13 @@ namespace graftnav::app {
 namespace {
 
 struct CompareArgs {
-  std::string case_dir, out, imu = "tested";
+  std::string case_dir, out, imu = kDefaultImu;
   std::string estimators = "ekf,rts,fgo";
   std::string config, profile;
   double outage_length_s = 60.0, outage_period_s = 180.0, outage_start_s = 300.0;
   bool no_outages = false;
   bool lenient = false;
+  bool no_plots = false;
 };
 
 std::vector<std::string> splitList(const std::string& s) {
@@ -73,6 +79,16 @@ NavSolution runNamed(const std::string& name, const EstimationProblem& p, const 
   return runEstimator(name, p, cfg);
 }
 
+// Every name must be in the table (or a -noearth variant of fgo / fgo-window), before any run.
+void checkEstimatorNames(const std::vector<std::string>& names) {
+  std::vector<std::string> known = estimatorNames();
+  known.push_back("fgo-noearth");
+  known.push_back("fgo-window-noearth");
+  for (const auto& n : names)
+    if (std::find(known.begin(), known.end(), n) == known.end())
+      throw std::runtime_error("--estimators: unknown estimator '" + n + "'");
+}
+
 struct Row {
   std::string name;
   double seconds = 0.0;
@@ -80,23 +96,47 @@ struct Row {
   int gnss_rejected = 0;
 };
 
-std::string driftCells(const DriftStats& d) {
-  return fmt::format("{:.3f} | {:.3f} | {:.4f} | {:.4f} | {:.4f}", d.horizontal_m, d.vertical_m,
-                     d.roll_rad * units::kRadToDeg, d.pitch_rad * units::kRadToDeg,
-                     d.heading_rad * units::kRadToDeg);
-}
-std::string driftCsv(const DriftStats& d) {
-  return fmt::format("{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}", d.horizontal_m, d.vertical_m,
-                     d.roll_rad * units::kRadToDeg, d.pitch_rad * units::kRadToDeg,
-                     d.heading_rad * units::kRadToDeg);
+// Formats table cells. A statistic that cannot be computed (no outage epoch, a zero denominator)
+// is written as absent, "-" in Markdown and an empty CSV cell, and counted so that runCompare
+// warns about it.
+// One drift statistic as JSON (degrees for angles, null for a non-finite value).
+nlohmann::json driftJson(const DriftStats& d) {
+  auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  return {{"horizontal_m", num(d.horizontal_m)}, {"vertical_m", num(d.vertical_m)},
+          {"roll_deg", num(d.roll_rad * units::kRadToDeg)}, {"pitch_deg", num(d.pitch_rad * units::kRadToDeg)},
+          {"heading_deg", num(d.heading_rad * units::kRadToDeg)}};
 }
 
+struct Cells {
+  int absent = 0;
+  std::string operator()(double v, const char* f, const char* absent_text) {
+    if (std::isfinite(v)) return fmt::format(fmt::runtime(f), v);
+    ++absent;
+    return absent_text;
+  }
+  std::string driftMd(const DriftStats& d) {
+    Cells& c = *this;
+    return fmt::format("{} | {} | {} | {} | {}", c(d.horizontal_m, "{:.3f}", "-"), c(d.vertical_m, "{:.3f}", "-"),
+                       c(d.roll_rad * units::kRadToDeg, "{:.4f}", "-"),
+                       c(d.pitch_rad * units::kRadToDeg, "{:.4f}", "-"),
+                       c(d.heading_rad * units::kRadToDeg, "{:.4f}", "-"));
+  }
+  std::string driftCsv(const DriftStats& d) {
+    Cells& c = *this;
+    return fmt::format("{},{},{},{},{}", c(d.horizontal_m, "{:.6f}", ""), c(d.vertical_m, "{:.6f}", ""),
+                       c(d.roll_rad * units::kRadToDeg, "{:.6f}", ""),
+                       c(d.pitch_rad * units::kRadToDeg, "{:.6f}", ""),
+                       c(d.heading_rad * units::kRadToDeg, "{:.6f}", ""));
+  }
+};
+
 void runCompare(const CompareArgs& a) {
-  std::filesystem::create_directories(a.out);
+  if (!a.no_outages) validateOutageOptions(a.outage_length_s, a.outage_period_s, a.outage_start_s);
   RunConfig cfg;
   if (!a.config.empty()) {
     std::vector<std::string> warnings;
     cfg = loadRunConfig(a.config, &warnings);
+    recordConfigFile(a.config);
     for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
   }
   // The same inputs as `navigate` (apps/case_loader.h), so both commands agree to the digit.
@@ -118,11 +158,18 @@ void runCompare(const CompareArgs& a) {
   if (!imu.profile_given) {
     throw std::runtime_error("no noise parameters for IMU '" + a.imu + "' in case.yaml: pass --profile FILE");
   }
+  for (const auto& w : checkGnssCoverage(c.gnss, c.paths().gnssPos(), imu.imu, false))
+    fmt::print(stderr, "warning: {}\n", w);
   const EstimationProblem problem = makeProblem(c, imu, cfg, oc, &notes);
   for (const auto& n : notes) fmt::print(stderr, "note: {}\n", n);
   const EstimationProblem& p = problem;
+  requireOutagesInsideData(oc, p.outages, p.imu.front().t_s - p.imu.front().dt_s, p.imu.back().t_s);
+  for (const auto& w : checkReferenceCoverage(c.reference, c.reference_name, p.imu, p.outages))
+    fmt::print(stderr, "warning: {}\n", w);
   const std::vector<std::string> names = splitList(a.estimators);
   if (names.empty()) throw std::invalid_argument("compare: --estimators is empty");
+  checkEstimatorNames(names);
+  std::filesystem::create_directories(a.out);
   fmt::print(stderr, "compare: {} IMU samples, {} GNSS fixes, {} outages of {:.0f} s\n",
              p.imu.size(), p.gnss.size(), p.outages.size(), a.outage_length_s);
 
@@ -131,6 +178,7 @@ void runCompare(const CompareArgs& a) {
   for (const std::string& name : names) {
     const auto t0 = std::chrono::steady_clock::now();
     NavSolution sol = runNamed(name, p, cfg);
+    checkGnssUsed(sol.gnss_used, false);  // throws before any file is written
     Row r;
     r.name = name;
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -156,7 +204,8 @@ void runCompare(const CompareArgs& a) {
   }
 
   // Markdown.
-  std::ofstream md(a.out + "/compare.md");
+  Cells cell;
+  std::ostringstream md;
   md << fmt::format("# Estimator comparison: {}\n\nIMU: {} ({}), {} outages of {:.0f} s every "
                     "{:.0f} s from {:.0f} s; errors against the {}.\n\n",
                     a.case_dir, a.imu, p.imu_profile.name, p.outages.size(), a.outage_length_s,
@@ -165,14 +214,14 @@ void runCompare(const CompareArgs& a) {
         "| estimator | horiz. (m) | vert. (m) | roll (deg) | pitch (deg) | heading (deg) | "
         "run (s) | GNSS rejected |\n|---|---|---|---|---|---|---|---|\n";
   for (const Row& r : rows) {
-    md << fmt::format("| {} | {} | {:.2f} | {} |\n", r.name, driftCells(r.eval.outage_rms),
+    md << fmt::format("| {} | {} | {:.2f} | {} |\n", r.name, cell.driftMd(r.eval.outage_rms),
                       r.seconds, r.gnss_rejected);
   }
   md << "\n## Outage errors, RMS over outages of the per-outage maximum (peers)\n\n"
         "| estimator | horiz. (m) | vert. (m) | roll (deg) | pitch (deg) | heading (deg) |\n"
         "|---|---|---|---|---|---|\n";
   for (const Row& r : rows) {
-    md << fmt::format("| {} | {} |\n", r.name, driftCells(r.eval.outage_max_rms));
+    md << fmt::format("| {} | {} |\n", r.name, cell.driftMd(r.eval.outage_max_rms));
   }
   if (!rows.empty()) {
     md << fmt::format("\n## Ratios to {} (outage RMS)\n\n| estimator | horiz. | vert. | heading |\n"
@@ -180,34 +229,35 @@ void runCompare(const CompareArgs& a) {
     const DriftStats& b = rows.front().eval.outage_rms;
     for (const Row& r : rows) {
       const DriftStats& d = r.eval.outage_rms;
-      md << fmt::format("| {} | {:.3f} | {:.3f} | {:.3f} |\n", r.name, d.horizontal_m / b.horizontal_m,
-                        d.vertical_m / b.vertical_m, d.heading_rad / b.heading_rad);
+      md << fmt::format("| {} | {} | {} | {} |\n", r.name, cell(d.horizontal_m / b.horizontal_m, "{:.3f}", "-"),
+                        cell(d.vertical_m / b.vertical_m, "{:.3f}", "-"),
+                        cell(d.heading_rad / b.heading_rad, "{:.3f}", "-"));
     }
   }
   md << "\n## Differences between estimators inside outages (RMS over outage epochs)\n\n"
         "| a - b | horiz. (m) | vert. (m) | roll (deg) | pitch (deg) | heading (deg) |\n"
         "|---|---|---|---|---|---|\n";
-  for (const Pair& q : pairs) md << fmt::format("| {} - {} | {} |\n", q.a, q.b, driftCells(q.rms));
+  for (const Pair& q : pairs) md << fmt::format("| {} - {} | {} |\n", q.a, q.b, cell.driftMd(q.rms));
 
   // CSV: one row per estimator and per pair.
-  std::ofstream csv(a.out + "/compare.csv");
+  std::ostringstream csv;
   csv << "kind,name,statistic,horizontal_m,vertical_m,roll_deg,pitch_deg,heading_deg,run_s,"
          "gnss_rejected\n";
   for (const Row& r : rows) {
-    csv << fmt::format("error,{},outage_rms,{},{:.3f},{}\n", r.name, driftCsv(r.eval.outage_rms),
+    csv << fmt::format("error,{},outage_rms,{},{:.3f},{}\n", r.name, cell.driftCsv(r.eval.outage_rms),
                        r.seconds, r.gnss_rejected);
     csv << fmt::format("error,{},outage_max_rms,{},{:.3f},{}\n", r.name,
-                       driftCsv(r.eval.outage_max_rms), r.seconds, r.gnss_rejected);
-    csv << fmt::format("error,{},overall_rms,{},{:.3f},{}\n", r.name, driftCsv(r.eval.overall_rms),
+                       cell.driftCsv(r.eval.outage_max_rms), r.seconds, r.gnss_rejected);
+    csv << fmt::format("error,{},overall_rms,{},{:.3f},{}\n", r.name, cell.driftCsv(r.eval.overall_rms),
                        r.seconds, r.gnss_rejected);
   }
   for (const Pair& q : pairs) {
-    csv << fmt::format("difference,{}-{},outage_rms,{},,\n", q.a, q.b, driftCsv(q.rms));
-    csv << fmt::format("difference,{}-{},outage_max_rms,{},,\n", q.a, q.b, driftCsv(q.max_rms));
+    csv << fmt::format("difference,{}-{},outage_rms,{},,\n", q.a, q.b, cell.driftCsv(q.rms));
+    csv << fmt::format("difference,{}-{},outage_max_rms,{},,\n", q.a, q.b, cell.driftCsv(q.max_rms));
   }
 
   // 1 Hz error series and outage windows for the plot.
-  std::ofstream ser(a.out + "/compare_errors.csv");
+  std::ostringstream ser;
   ser << "t_s";
   for (const Row& r : rows) ser << fmt::format(",{0}_horizontal_m,{0}_vertical_m,{0}_heading_deg", r.name);
   ser << "\n";
@@ -222,21 +272,41 @@ void runCompare(const CompareArgs& a) {
       const auto& ep = rows[r].eval.epochs;
       while (idx[r] + 1 < ep.size() && ep[idx[r]].t_s < e0.t_s - 1e-9) ++idx[r];
       const EpochError& e = ep[idx[r]];
-      ser << fmt::format(",{:.4f},{:.4f},{:.5f}", e.pos_ned_m.head<2>().norm(),
-                         std::abs(e.pos_ned_m.z()), e.euler_rad.z() * units::kRadToDeg);
+      ser << fmt::format(",{},{},{}", cell(e.pos_ned_m.head<2>().norm(), "{:.4f}", ""),
+                         cell(std::abs(e.pos_ned_m.z()), "{:.4f}", ""),
+                         cell(e.euler_rad.z() * units::kRadToDeg, "{:.5f}", ""));
     }
     ser << "\n";
   }
-  std::ofstream ow(a.out + "/compare_outages.csv");
+  std::ostringstream ow;
   ow << "start_s,end_s\n";
   for (const TimeWindow& w : p.outages) ow << fmt::format("{:.3f},{:.3f}\n", w.start_s, w.end_s);
 
-  md.close();
-  std::ifstream back(a.out + "/compare.md");
-  std::stringstream text;
-  text << back.rdbuf();
-  fmt::print("{}", text.str());
-  fmt::print("\nwrote {0}/compare.md, {0}/compare.csv, {0}/compare_errors.csv\n", a.out);
+  writeFileAtomically(a.out + "/compare.md", md.str());
+  writeFileAtomically(a.out + "/compare.csv", csv.str());
+  writeFileAtomically(a.out + "/compare_errors.csv", ser.str());
+  writeFileAtomically(a.out + "/compare_outages.csv", ow.str());
+  // compare.json: the numbers of compare.csv, and the run's provenance.
+  nlohmann::json js = {{"case", a.case_dir}, {"imu", a.imu}, {"outage_count", p.outages.size()},
+                       {"estimators", nlohmann::json::array()}, {"differences", nlohmann::json::array()},
+                       {"provenance", provenanceJson()}};
+  for (const Row& r : rows) {
+    js["estimators"].push_back({{"name", r.name}, {"run_s", r.seconds}, {"gnss_rejected", r.gnss_rejected},
+                                {"outage_rms", driftJson(r.eval.outage_rms)},
+                                {"outage_max_rms", driftJson(r.eval.outage_max_rms)},
+                                {"overall_rms", driftJson(r.eval.overall_rms)}});
+  }
+  for (const Pair& q : pairs) {
+    js["differences"].push_back({{"a", q.a}, {"b", q.b}, {"outage_rms", driftJson(q.rms)},
+                                 {"outage_max_rms", driftJson(q.max_rms)}});
+  }
+  writeFileAtomically(a.out + "/compare.json", js.dump(2) + "\n");
+  fmt::print("{}", md.str());
+  if (cell.absent > 0)
+    fmt::print(stderr, "warning: {} statistics could not be computed (no outage epoch or a zero denominator): "
+                       "written as '-' in compare.md and empty cells in the CSV files\n", cell.absent);
+  fmt::print("\nwrote {0}/compare.md, {0}/compare.json, {0}/compare.csv, {0}/compare_errors.csv\n", a.out);
+  if (a.no_plots) return;
   const std::string w = runPythonScript("plot_compare.py", {a.out});
   if (!w.empty()) fmt::print(stderr, "warning: {}\n", w);
 }
@@ -249,9 +319,10 @@ void registerCompare(CLI::App& app) {
       "compare", "Run several estimators on one case; table and plot of outage errors and differences");
   cmd->add_option("case_dir", a->case_dir, "case directory")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("--out", a->out, "output directory")->required();
-  cmd->add_option("--estimators", a->estimators,
-                  "comma-separated names of the estimator table, plus fgo-noearth, fgo-window-noearth")
+  cmd->add_option("--estimator", a->estimators,
+                  "comma list of the estimator table's names, plus fgo-noearth, fgo-window-noearth")
       ->capture_default_str();
+  addDeprecatedOption(cmd, "--estimators", "--estimator", &a->estimators);
   cmd->add_option("--imu", a->imu, "ref | tested | FILE (an IMU text file, tested IMU's profile)")
       ->capture_default_str();
   cmd->add_option("--outage-length", a->outage_length_s, "outage length (s)")->capture_default_str();
@@ -259,9 +330,11 @@ void registerCompare(CLI::App& app) {
   cmd->add_option("--outage-start", a->outage_start_s, "first outage start after the first IMU epoch (s)")
       ->capture_default_str();
   cmd->add_flag("--no-outages", a->no_outages, "use every GNSS fix");
-  cmd->add_option("--config", a->config, "run config YAML (ekf:, fgo:, outages: sections; outages: "
+  cmd->add_option("--run-config", a->config, "run config YAML (ekf:, fgo:, outages: sections; outages: "
                   "there overrides the outage flags)")->check(CLI::ExistingFile);
+  addDeprecatedOption(cmd, "--config", "--run-config", &a->config);
   cmd->add_option("--profile", a->profile, "IMU profile YAML (default: from case.yaml)")->check(CLI::ExistingFile);
+  cmd->add_flag("--no-plots", a->no_plots, "do not call scripts/plot_compare.py");
   cmd->add_flag("--lenient", a->lenient, "real-data read policies (repair/warn instead of error)");
   cmd->callback([a]() { runCompare(*a); });
 }

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "case_loader.h"
+#include "cli_vocabulary.h"
 #include "commands.h"
 #include "script_locator.h"
 #include "estimators.h"
@@ -24,6 +25,7 @@
 #include "graftnav/calibration/lab_calibration.h"
 #include "graftnav/calibration/lab_data.h"
 #include "graftnav/io/case_config.h"
+#include "graftnav/io/atomic_file.h"
 #include "graftnav/io/imu_io.h"
 #include "graftnav/sg/graft_case.h"
 #include "graftnav/mismatch/diagnosis.h"
@@ -191,7 +193,8 @@ void registerDiagnose(CLI::App& app) {
   cmd->add_option("--out", args->out, "output directory")->required();
   cmd->add_option("--estimator", args->estimator,
                   "also navigate SG#2, SG#3 and REAL with this estimator (ekf|rts|fgo)");
-  cmd->add_option("--config", args->config, "options file (see configs/diagnose.yaml)");
+  cmd->add_option("--options", args->config, "diagnose options file (see configs/diagnose.yaml)");
+  addDeprecatedOption(cmd, "--config", "--options", &args->config);
   cmd->add_flag("--no-plots", args->no_plots, "do not run scripts/plot_diagnosis.py");
   cmd->add_option("--run-config", args->run_config,
                   "run config of the estimator (configs/navigate.yaml: ekf:, outages:, ...)");
@@ -326,7 +329,7 @@ void registerDiagnose(CLI::App& app) {
         csv += fmt::format("{:.3f},{:.3f},{:.4f},{:.4f},{:.4f},{:.4f}\n", o.window.start_s,
                            o.window.end_s, o.sg2_horizontal_m, o.sg3_horizontal_m,
                            o.real_horizontal_m, o.share);
-      std::ofstream(args->out + "/outages.csv") << csv;
+      writeFileAtomically(args->out + "/outages.csv", csv);
       const auto pct = [](const DriftStats& d) {
         return fmt::format("{:.1f} / {:.1f} / {:.1f} / {:.1f} / {:.1f} %", 100 * d.horizontal_m,
                            100 * d.vertical_m, 100 * d.roll_rad, 100 * d.pitch_rad, 100 * d.heading_rad);

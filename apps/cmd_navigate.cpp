@@ -1,11 +1,16 @@
 // graftnav navigate CASE_DIR --out OUT_DIR [--imu ref|tested|FILE] [--profile FILE]
-//   [--estimator ekf|rts|...] [--outage-length S --outage-period S --outage-start S]
-//   [--config FILE] [--free-inertial] [--decimate N] [--lenient] [--no-plots]
+//   [--estimator ekf,rts,...] [--outage-length S --outage-period S --outage-start S]
+//   [--run-config FILE] [--start T --end T] [--decimate N] [--lenient] [--no-plots]
+// Several estimators write OUT_DIR/<estimator>/. Without --run-config, CASE_DIR/run.yaml is used
+// when present (written by `graftnav import`). Estimators with a streamed form (ekf, rts, fgo,
+// fgo-window) read the IMU in blocks and write their per-epoch files as they go (streamedRun).
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -23,6 +28,10 @@
 #include "graftnav/io/nav_io.h"
 #include "graftnav/nav/rotation.h"
 #include "graftnav/filters/alignment.h"
+#include "cli_vocabulary.h"
+#include "input_checks.h"
+#include "provenance.h"
+#include "solution_outputs.h"
 #include "report_io.h"
 #include "run_config.h"
 #include "script_locator.h"
@@ -32,155 +41,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Writes solution.nav as the epochs come; also appends them to a NavSolution when given.
-class NavFileSink : public SolutionSink {
- public:
-  NavFileSink(const std::string& path, NavSolution* keep) : writer_(path) {
-    if (keep) keep_.emplace(keep);
-  }
-  void add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate& sensors) override {
-    writer_.add(state);
-    if (keep_) keep_->add(state, sigma, sensors);
-  }
-  std::size_t commit() {
-    writer_.commit();
-    return writer_.count();
-  }
-
- private:
-  NavWriter writer_;
-  std::optional<NavSolutionSink> keep_;
-};
-
-// The first and last sample of a file that is to be streamed, for makeProblem (the initial
-// time, the outage schedule's span) without reading the rest.
-ImuSeries imuSpan(const ImuSelection& sel) {
-  ImuBlockReader head(sel.path, sel.read_options, 1);
-  ImuSeries first;
-  head.next(&first);
-  ImuSample last = first.front();
-  last.t_s = std::max(first.front().t_s, readLastImuTime(sel.path));
-  return {first.front(), last};
-}
-
-// Streamed run: the IMU read in blocks, solution.nav written as it goes; the epochs are kept in
-// the returned solution only when `keep` (the errors against a reference need them).
-NavSolution streamSolution(const std::string& estimator, const EstimationProblem& pr, const ImuSelection& imu,
-                           const RunConfig& rc, const std::string& nav_out, bool keep, std::size_t* epochs) {
-  NavSolution sol;
-  NavFileSink sink(nav_out, keep ? &sol : nullptr);
-  const NavSolution book = runEstimatorStreaming(estimator, pr, imuFileStream(imu.path, imu.read_options), rc, sink);
-  sol.estimator = book.estimator;
-  sol.gnss_used = book.gnss_used;
-  sol.gnss_rejected = book.gnss_rejected;
-  sol.gnss_withheld = book.gnss_withheld;
-  *epochs = sink.commit();
-  return sol;
-}
-
-NavSolution writeSolution(NavSolution sol, const std::string& nav_out, std::size_t* epochs) {
-  writeNav(nav_out, sol.states);
-  *epochs = sol.states.size();
-  return sol;
-}
-
 struct NavigateArgs {
-  std::string case_dir, out, imu = "ref", profile, estimator = "ekf", config;
-  double outage_length = -1, outage_period = -1, outage_start = -1;
+  std::string case_dir, out, imu = kDefaultImu, profile, estimator = "ekf", config;
+  std::optional<double> outage_length, outage_period, outage_start;
   bool free_inertial = false, lenient = false, no_plots = false;
   int decimate = 1;
+  TimeRangeConfig time_range;
 };
 
-void runNavigate(const NavigateArgs& a) {
-  const auto t0 = std::chrono::steady_clock::now();
-  auto elapsed = [&]() {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  };
-  CaseLoadOptions lo;
-  lo.load_gnss = !a.free_inertial;
-  lo.lenient = a.lenient;
-  const CaseInputs c = loadCaseInputs(a.case_dir, lo);
-  std::vector<std::string> warnings = c.warnings, notes;
-  RunConfig rc;
-  if (!a.config.empty()) rc = loadRunConfig(a.config, &warnings);
-  for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
-  rc.ekf.output_decimation = a.decimate;
-  if (a.free_inertial) rc.alignment.mode = "given";
-
-  // Estimators with a streamed form read the IMU in blocks and write the solution as they go,
-  // when nothing else needs the samples in memory (a data alignment does).
-  const std::string estimator = a.free_inertial ? "free-inertial" : a.estimator;
-  const bool stream = canStream(estimator) && rc.alignment.mode == "given";
-  fmt::print(stderr, "[{:6.1f} s] {} the {} IMU\n", elapsed(), stream ? "streaming" : "reading", a.imu);
-  ImuSelection imu = selectImu(c, a.imu, a.profile, a.lenient, !stream);
-  if (stream) imu.imu = imuSpan(imu);
-  if (!a.free_inertial && !imu.profile_given) {
-    throw std::runtime_error("no noise parameters for IMU '" + a.imu +
-                             "' in case.yaml: pass --profile FILE (configs/imu/*.yaml)");
-  }
-  const std::string imu_label = imu.label;
-  const NavSeries& reference = c.reference;
-  const std::string& reference_name = c.reference_name;
-
-  // Outages: config section, overridden by the command line; none for a free-inertial run.
-  const bool cli_outage = a.outage_length >= 0 || a.outage_period >= 0 || a.outage_start >= 0;
-  OutageScheduleConfig oc = rc.outages;
-  if (a.outage_length >= 0) oc.length_s = a.outage_length;
-  if (a.outage_period >= 0) oc.period_s = a.outage_period;
-  if (a.outage_start >= 0) oc.start_s = a.outage_start;
-  std::optional<OutageScheduleConfig> outages;
-  if ((rc.outages_given || cli_outage) && !a.free_inertial) outages = oc;
-  EstimationProblem pr = makeProblem(c, imu, rc, outages, &notes);
-  if (stream) pr.imu = {};  // read again in blocks
-  for (const auto& n : notes)
-    if (n.find("alignment") != std::string::npos || n.find("lever") != std::string::npos ||
-        n.find("GNSS selection") != std::string::npos)
-      fmt::print(stderr, "note: {}\n", n);
-
-  if (stream) {
-    fmt::print(stderr, "[{:6.1f} s] {} on {} in blocks, {} GNSS fixes, {} outages\n", elapsed(), estimator,
-               imu.path, pr.gnss.size(), pr.outages.size());
-  } else {
-    fmt::print(stderr, "[{:6.1f} s] {} on {} IMU samples, {} GNSS fixes, {} outages\n", elapsed(), estimator,
-               pr.imu.size(), pr.gnss.size(), pr.outages.size());
-  }
-  int last_decile = -1;
-  const ProgressFn progress = [&](double f) {
-    const int d = static_cast<int>(f * 10.0);
-    if (d != last_decile) {
-      last_decile = d;
-      fmt::print(stderr, "[{:6.1f} s] {} {:3d} %\n", elapsed(), estimator, d * 10);
-    }
-  };
-  fs::create_directories(a.out);
-  const std::string nav_out = (fs::path(a.out) / "solution.nav").string();
-  const double t_run0 = elapsed();
-  std::size_t epochs = 0;
-  const NavSolution sol = stream ? streamSolution(estimator, pr, imu, rc, nav_out, !reference.empty(), &epochs)
-                                 : writeSolution(runEstimator(estimator, pr, rc, progress), nav_out, &epochs);
-  const double run_time = elapsed() - t_run0;
-  fmt::print("{}: {} epochs -> {} ({:.2f} s)\n", estimator, epochs, nav_out, run_time);
-  if (!a.free_inertial) {
-    fmt::print("  GNSS used {}, rejected by the gate {}, withheld in outages {}\n", sol.gnss_used,
-               sol.gnss_rejected, sol.gnss_withheld);
-  }
-  if (reference.empty()) {
-    fmt::print("  no field/truth.nav or reference solution: no errors written\n");
-    return;
-  }
-  const Evaluation ev = evaluateSolution(sol, reference, pr.outages, rc.evaluation.options);
-  ReportMeta meta;
-  meta.estimator = estimator;
-  meta.imu = imu_label;
-  meta.outage_count = static_cast<int>(pr.outages.size());
-  meta.outage_length_s = pr.outages.empty() ? 0.0 : oc.explicit_windows.empty() ? oc.length_s
-                                                                                 : pr.outages.front().length_s();
-  notes.push_back("reference: " + reference_name);
-  const fs::path out(a.out);
-  writeErrorsJson((out / "errors.json").string(), meta, ev);
-  writeRunInfoJson((out / "run_info.json").string(), meta, ev, sol, pr.outages, notes, run_time);
-  writeErrorsCsv((out / "errors.csv").string(), ev, 1.0 / rc.evaluation.csv_rate_hz);
-  writeOutageCsv((out / "outage_drift.csv").string(), ev);
+// The error summary of a run against its truth or reference, on stdout.
+void printEvaluation(const Evaluation& ev) {
   const double r2d = kRadToDeg;
   fmt::print("  overall RMS: horizontal {:.3f} m, vertical {:.3f} m, roll {:.4f}, pitch {:.4f}, "
              "heading {:.4f} deg\n",
@@ -201,7 +71,269 @@ void runNavigate(const NavigateArgs& a) {
     fmt::print("  NEES {:.2f} (9 PVA states, {} samples; 95% band [{:.2f}, {:.2f}])\n", ev.nees_mean,
                ev.nees_samples, ev.nees_band_low, ev.nees_band_high);
   }
+}
+
+// Prints the warnings and keeps them in the run's notes (run_info.json).
+void warnAll(const std::vector<std::string>& warnings, std::vector<std::string>* notes) {
+  for (const auto& w : warnings) {
+    fmt::print(stderr, "warning: {}\n", w);
+    notes->push_back(w);
+  }
+}
+
+// Everything the run needs, validated before any output is written.
+struct NavigateSetup {
+  CaseInputs c;
+  RunConfig rc;
+  ImuSelection imu;
+  OutageScheduleConfig oc;
+  EstimationProblem pr;
+  std::vector<std::string> notes;
+  bool stream = false;  // the IMU read in blocks during the run; imu.imu and pr.imu not held
+};
+
+// Whether the run streams the IMU (read in blocks, the per-epoch files written as they go).
+// In memory instead when the estimator has no streamed form or something needs the samples: a
+// data alignment (rc.alignment.mode other than "given"), or a --start/--end time range
+// (restrictToTimeRange cuts the series in memory).
+bool streamable(const std::string& estimator, const RunConfig& rc, const TimeRangeConfig& range) {
+  return canStream(estimator) && rc.alignment.mode == "given" && range.empty();
+}
+
+// A streamed IMU file read once through the block reader before anything is written, so that its
+// errors (physical range, time order, intervals) stop the run here as readImu's would, the
+// --lenient repair report is known, and makeProblem and the input checks get the first and last
+// samples (initial time, span). Memory stays flat; the run reads the file again.
+ImuSeries scanStreamedImu(ImuSelection* sel) {
+  ImuBlockReader reader(sel->path, sel->read_options);
+  ImuSeries block, span;
+  while (reader.next(&block)) {
+    if (span.empty()) span = {block.front(), block.back()};
+    span.back() = block.back();
+  }
+  sel->read_summary = reader.report().summary();
+  return span;
+}
+
+// The IMU and its profile (paths relative to the case or the working directory), read in memory
+// and cut to the time range, or scanned for a streamed run.
+void selectNavigateImu(const NavigateArgs& a, NavigateSetup* s) {
+  const std::string imu_which =
+      a.imu == "ref" || a.imu == "tested" ? a.imu : resolveUserPath(a.imu, a.case_dir, "IMU file");
+  const std::string profile = a.profile.empty() ? a.profile : resolveUserPath(a.profile, a.case_dir, "IMU profile");
+  if (!profile.empty()) recordConfigFile(profile);
+  const TimeRangeConfig range = mergeTimeRange(s->rc.time_range, a.time_range);
+  s->stream = streamable(a.free_inertial ? "free-inertial" : a.estimator, s->rc, range);
+  s->imu = selectImu(s->c, imu_which, profile, a.lenient, !s->stream);
+  if (s->stream) {
+    s->imu.imu = scanStreamedImu(&s->imu);
+  } else {
+    restrictToTimeRange(range, &s->c, &s->imu, &s->notes);
+  }
+  if (!s->imu.read_summary.empty()) warnAll({s->imu.read_summary}, &s->notes);
+  if (!a.free_inertial && !s->imu.profile_given) {
+    throw std::runtime_error("no noise parameters for IMU '" + a.imu +
+                             "' in case.yaml: pass --profile FILE (configs/imu/*.yaml)");
+  }
+}
+
+NavigateSetup prepareNavigate(const NavigateArgs& a) {
+  validateOutageOptions(a.outage_length, a.outage_period, a.outage_start);
+  if (!a.free_inertial) {
+    const auto names = estimatorNames();
+    if (std::find(names.begin(), names.end(), a.estimator) == names.end())
+      throw std::runtime_error("--estimator '" + a.estimator + "': unknown estimator");
+  }
+  NavigateSetup s;
+  CaseLoadOptions lo;
+  lo.load_gnss = !a.free_inertial;
+  lo.lenient = a.lenient;
+  s.c = loadCaseInputs(a.case_dir, lo);
+  recordConfigFile(s.c.paths().caseYaml());
+  std::vector<std::string> warnings = s.c.warnings;
+  const std::string run_config = runConfigPathFor(a.config, a.case_dir);
+  if (!run_config.empty()) {
+    s.rc = loadRunConfig(run_config, &warnings);
+    recordConfigFile(run_config);
+    s.notes.push_back("run config: " + run_config);
+    if (a.config.empty()) fmt::print(stderr, "note: using the case's run config {}\n", run_config);
+  }
+  for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
+  s.rc.ekf.output_decimation = a.decimate;
+  if (a.free_inertial) s.rc.alignment.mode = "given";
+
+  selectNavigateImu(a, &s);
+  if (!a.free_inertial) warnAll(checkGnssCoverage(s.c.gnss, s.c.paths().gnssPos(), s.imu.imu, false), &s.notes);
+
+  // Outages: config section, overridden by the command line; none for a free-inertial run.
+  const bool cli_outage = a.outage_length || a.outage_period || a.outage_start;
+  s.oc = s.rc.outages;
+  if (a.outage_length) s.oc.length_s = *a.outage_length;
+  if (a.outage_period) s.oc.period_s = *a.outage_period;
+  if (a.outage_start) s.oc.start_s = *a.outage_start;
+  std::optional<OutageScheduleConfig> outages;
+  if ((s.rc.outages_given || cli_outage) && !a.free_inertial) outages = s.oc;
+  s.pr = makeProblem(s.c, s.imu, s.rc, outages, &s.notes);
+  for (const auto& n : s.notes)
+    if (n.find("alignment") != std::string::npos || n.find("lever") != std::string::npos ||
+        n.find("GNSS selection") != std::string::npos || n.find("time range") != std::string::npos)
+      fmt::print(stderr, "note: {}\n", n);
+  if (outages) {
+    const double t0 = s.pr.imu.front().t_s - s.pr.imu.front().dt_s;
+    requireOutagesInsideData(*outages, s.pr.outages, t0, s.pr.imu.back().t_s);
+  }
+  warnAll(checkReferenceCoverage(s.c.reference, s.c.reference_name, s.pr.imu, s.pr.outages), &s.notes);
+  if (s.stream) {  // the checks above needed only the span; the run reads the file in blocks
+    s.pr.imu = {};
+    s.imu.imu = {};
+  }
+  return s;
+}
+
+// errors.json, run_info.json, errors.csv, outage_drift.csv and the console summary.
+void writeEvaluation(const NavigateArgs& a, const NavigateSetup& s, const std::string& estimator,
+                     const NavSolution& sol, double run_time, std::vector<std::string> notes) {
+  const Evaluation ev = evaluateSolution(sol, s.c.reference, s.pr.outages, s.rc.evaluation.options);
+  ReportMeta meta;
+  meta.estimator = estimator;
+  meta.imu = s.imu.label;
+  meta.outage_count = static_cast<int>(s.pr.outages.size());
+  meta.outage_length_s = s.pr.outages.empty()            ? 0.0
+                         : s.oc.explicit_windows.empty() ? s.oc.length_s
+                                                         : s.pr.outages.front().length_s();
+  notes.push_back("reference: " + s.c.reference_name);
+  const fs::path out(a.out);
+  std::vector<std::string> warnings = writeErrorsJson((out / "errors.json").string(), meta, ev);
+  const auto run_info_warnings =
+      writeRunInfoJson((out / "run_info.json").string(), meta, ev, sol, s.pr.outages, notes, run_time);
+  warnings.insert(warnings.end(), run_info_warnings.begin(), run_info_warnings.end());
+  writeErrorsCsv((out / "errors.csv").string(), ev, 1.0 / s.rc.evaluation.csv_rate_hz);
+  writeOutageCsv((out / "outage_drift.csv").string(), ev);
+  for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
+  printEvaluation(ev);
   fmt::print("  wrote errors.json, run_info.json, errors.csv, outage_drift.csv in {}\n", a.out);
+}
+
+// The per-epoch files of a run (solution.nav, imu_errors.txt, state_std.txt): what was written.
+struct RunFiles {
+  std::size_t epochs = 0;
+  bool imu_errors = false, state_std = false;
+};
+// Called on the finished run before its files are committed (a failing check leaves none).
+using BeforeCommitFn = std::function<void(const NavSolution&)>;
+
+// Writes the per-epoch files as the epochs come; also appends them to a NavSolution when given
+// (the evaluation against a reference needs them).
+class NavFileSink : public SolutionSink {
+ public:
+  NavFileSink(const fs::path& out, bool with_imu_errors, NavSolution* keep)
+      : nav_((out / "solution.nav").string()),
+        outputs_((out / "imu_errors.txt").string(), (out / "state_std.txt").string(), with_imu_errors) {
+    if (keep) keep_.emplace(keep);
+  }
+  void add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate& sensors) override {
+    nav_.add(state);
+    outputs_.add(state, sigma, sensors);
+    if (keep_) keep_->add(state, sigma, sensors);
+  }
+  RunFiles commit() {
+    RunFiles f;
+    nav_.commit();
+    f.epochs = nav_.count();
+    outputs_.commit(&f.imu_errors, &f.state_std);
+    return f;
+  }
+
+ private:
+  NavWriter nav_;
+  SolutionOutputsSink outputs_;
+  std::optional<NavSolutionSink> keep_;
+};
+
+// Streamed run: the IMU read in blocks, the files written as it goes; the epochs are kept in the
+// returned solution only when `keep`. Byte-identical files to inMemoryRun's.
+NavSolution streamedRun(const std::string& estimator, const NavigateSetup& s, const fs::path& out, bool keep,
+                        const BeforeCommitFn& before_commit, RunFiles* files) {
+  NavSolution sol;
+  // The factor graphs give no scale-factor series: no imu_errors.txt, as in memory.
+  const bool with_imu_errors = estimator != "fgo" && estimator != "fgo-window";
+  NavFileSink sink(out, with_imu_errors, keep ? &sol : nullptr);
+  const NavSolution book =
+      runEstimatorStreaming(estimator, s.pr, imuFileStream(s.imu.path, s.imu.read_options), s.rc, sink);
+  sol.estimator = book.estimator;
+  sol.gnss_used = book.gnss_used;
+  sol.gnss_rejected = book.gnss_rejected;
+  sol.gnss_withheld = book.gnss_withheld;
+  before_commit(sol);
+  *files = sink.commit();
+  return sol;
+}
+
+NavSolution inMemoryRun(const std::string& estimator, const NavigateSetup& s, const fs::path& out,
+                        const ProgressFn& progress, const BeforeCommitFn& before_commit, RunFiles* files) {
+  NavSolution sol = runEstimator(estimator, s.pr, s.rc, progress);
+  before_commit(sol);
+  writeNav((out / "solution.nav").string(), sol.states);
+  files->epochs = sol.states.size();
+  files->imu_errors = writeImuErrors((out / "imu_errors.txt").string(), sol);
+  files->state_std = writeStateStd((out / "state_std.txt").string(), sol);
+  return sol;
+}
+
+void runNavigateOne(const NavigateArgs& a) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto elapsed = [&]() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  fmt::print(stderr, "[{:6.1f} s] reading the case and the {} IMU\n", elapsed(), a.imu);
+  const NavigateSetup s = prepareNavigate(a);
+  // Created before the run so that an unusable --out fails now, not after the filter.
+  fs::create_directories(a.out);
+
+  const std::string estimator = a.free_inertial ? "free-inertial" : a.estimator;
+  if (s.stream) {
+    fmt::print(stderr, "[{:6.1f} s] streaming the {} IMU: {} on {} in blocks, {} GNSS fixes, {} outages\n",
+               elapsed(), a.imu, estimator, s.imu.path, s.pr.gnss.size(), s.pr.outages.size());
+  } else {
+    fmt::print(stderr, "[{:6.1f} s] {} on {} IMU samples, {} GNSS fixes, {} outages\n", elapsed(), estimator,
+               s.pr.imu.size(), s.pr.gnss.size(), s.pr.outages.size());
+  }
+  int last_decile = -1;
+  const ProgressFn progress = [&](double f) {
+    const int d = static_cast<int>(f * 10.0);
+    if (d != last_decile) {
+      last_decile = d;
+      fmt::print(stderr, "[{:6.1f} s] {} {:3d} %\n", elapsed(), estimator, d * 10);
+    }
+  };
+  std::vector<std::string> notes = s.notes;
+  const BeforeCommitFn check = [&](const NavSolution& sol) {
+    warnAll(checkGnssUsed(sol.gnss_used, a.free_inertial), &notes);
+  };
+  const fs::path out_dir(a.out);
+  const double t_run0 = elapsed();
+  RunFiles files;
+  const NavSolution sol = s.stream ? streamedRun(estimator, s, out_dir, !s.c.reference.empty(), check, &files)
+                                   : inMemoryRun(estimator, s, out_dir, progress, check, &files);
+  const double run_time = elapsed() - t_run0;
+
+  fmt::print("{}: {} epochs -> {} ({:.2f} s)\n", estimator, files.epochs, (out_dir / "solution.nav").string(),
+             run_time);
+  if (files.imu_errors) fmt::print("  wrote imu_errors.txt\n");
+  if (files.state_std) fmt::print("  wrote state_std.txt\n");
+  if (!a.free_inertial) {
+    fmt::print("  GNSS used {}, rejected by the gate {}, withheld in outages {}\n", sol.gnss_used,
+               sol.gnss_rejected, sol.gnss_withheld);
+  }
+  if (s.c.reference.empty()) {
+    for (const auto& w : writeRunInfoJson((out_dir / "run_info.json").string(),
+                                          ReportMeta{estimator, s.imu.label, 0, 0.0}, Evaluation{}, sol,
+                                          s.pr.outages, notes, run_time))
+      fmt::print(stderr, "warning: {}\n", w);
+    fmt::print("  no field/truth.nav or reference solution: no errors written (run_info.json only)\n");
+    return;
+  }
+  writeEvaluation(a, s, estimator, sol, run_time, notes);
   if (!a.no_plots) {
     const std::string w = runPythonScript("plot_errors.py", {a.out});
     if (!w.empty()) {
@@ -209,6 +341,23 @@ void runNavigate(const NavigateArgs& a) {
     } else {
       fmt::print("  wrote error plots (errors_*.png) in {}\n", a.out);
     }
+  }
+}
+
+// Several estimators run one after the other into OUT/<estimator>/; every name is checked first.
+void runNavigate(const NavigateArgs& a) {
+  const std::vector<std::string> estimators =
+      a.free_inertial ? std::vector<std::string>{"free-inertial"} : splitEstimatorList(a.estimator);
+  const auto names = estimatorNames();
+  for (const auto& e : estimators)
+    if (e != "free-inertial" && std::find(names.begin(), names.end(), e) == names.end())
+      throw std::runtime_error("--estimator '" + e + "': unknown estimator");
+  for (const auto& e : estimators) {
+    NavigateArgs one = a;
+    one.estimator = e;
+    one.free_inertial = e == "free-inertial";
+    if (estimators.size() > 1) one.out = (fs::path(a.out) / e).string();
+    runNavigateOne(one);
   }
 }
 
@@ -221,17 +370,17 @@ void registerNavigate(CLI::App& app) {
   cmd->add_option("case_dir", a->case_dir, "case directory (case.yaml, field/...)")->required();
   cmd->add_option("--out", a->out, "output directory")->required();
   cmd->add_option("--imu", a->imu, "ref | tested | path of an IMU file (default ref)");
-  cmd->add_option("--profile", a->profile, "IMU profile YAML (default: from case.yaml)")
-      ->check(CLI::ExistingFile);
+  cmd->add_option("--profile", a->profile, "IMU profile YAML (default: from case.yaml)");
   std::string names;
-  for (const auto& n : estimatorNames()) names += (names.empty() ? "" : " | ") + n;
-  cmd->add_option("--estimator", a->estimator, "estimator: " + names + " (default ekf)");
+  for (const auto& n : estimatorNames()) names += (names.empty() ? "" : ", ") + n;
+  cmd->add_option("--estimator", a->estimator, "comma list of " + names + " (default ekf)");
   cmd->add_option("--outage-length", a->outage_length, "GNSS outage length (s)");
   cmd->add_option("--outage-period", a->outage_period, "outage start-to-start period (s)");
   cmd->add_option("--outage-start", a->outage_start, "first outage start after the data start (s)");
-  cmd->add_option("--config", a->config, "run config YAML (configs/navigate.yaml)")
-      ->check(CLI::ExistingFile);
-  cmd->add_flag("--free-inertial", a->free_inertial, "mechanize from the initial state, no GNSS");
+  cmd->add_option("--run-config", a->config, "run config YAML (configs/navigate.yaml; default CASE/run.yaml)");
+  addDeprecatedOption(cmd, "--config", "--run-config", &a->config);
+  addDeprecatedFlag(cmd, "--free-inertial", "--estimator free-inertial", &a->free_inertial);
+  addTimeRangeOptions(cmd, &a->time_range);
   cmd->add_option("--decimate", a->decimate, "write every N-th IMU epoch (default 1)")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--lenient", a->lenient, "real-data read policies (repair/warn instead of error)");

@@ -14,12 +14,13 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "case_loader.h"
+#include "cli_vocabulary.h"
 #include "commands.h"
 #include "estimators.h"
 #include "graftnav/calibration/static_detector.h"
@@ -28,10 +29,13 @@
 #include "graftnav/eval/gnss_latency.h"
 #include "graftnav/eval/gnss_selection.h"
 #include "graftnav/sg/grafting.h"
+#include "graftnav/io/atomic_file.h"
 #include "graftnav/io/nav_io.h"
 #include "graftnav/nav/rotation.h"
 #include "graftnav/filters/alignment.h"
+#include "provenance.h"
 #include "run_config.h"
+#include "script_locator.h"
 
 namespace graftnav::app {
 namespace {
@@ -40,12 +44,13 @@ namespace fs = std::filesystem;
 constexpr double kR2D = 57.29577951308232;
 
 struct RealArgs {
-  std::string case_dir, out, config, profile, imu = "tested";
+  std::string case_dir, out, config, profile, imu = kDefaultImu;
   std::vector<std::string> estimators{"ekf", "rts", "fgo"};
   bool latency_scan = false;
   std::vector<double> latency_grid;
   std::vector<int> latency_types{4, 5};
   std::vector<std::string> latency_estimators{"ekf", "rts"};
+  bool no_plots = false;
 };
 
 void printLines(const std::string& prefix, const std::string& text) {
@@ -148,18 +153,50 @@ std::string fmtOr(double v, const char* f = "{:.2f}") {
 }
 
 void writeCheckpointCsv(const std::string& path, const CheckpointEvaluation& cp) {
-  std::ofstream o(path);
-  o << "start_s,end_s,n,rms_h_m,max_h_m,rms_v_m,max_v_m,last_h_m\n";
+  std::string o = "start_s,end_s,n,rms_h_m,max_h_m,rms_v_m,max_v_m,last_h_m\n";
   for (const auto& w : cp.windows) {
-    o << fmt::format("{:.3f},{:.3f},{},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}\n", w.window.start_s,
+    o += fmt::format("{:.3f},{:.3f},{},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}\n", w.window.start_s,
                      w.window.end_s, w.n, w.rms_h_m, w.max_h_m, w.rms_v_m, w.max_v_m, w.last_h_m);
   }
+  writeFileAtomically(path, o);
+}
+
+nlohmann::json numOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+// summary.json: the numbers of summary.md's main table, one object per estimator, plus the run's
+// provenance (version, commit, command line, config hashes). Angles in degrees; NaN as null.
+void writeRealSummaryJson(const std::string& path, const std::vector<RunRow>& rows,
+                          const std::vector<TimeWindow>& outages, int checkpoints_in_outages,
+                          const std::vector<std::string>& failed) {
+  nlohmann::json est = nlohmann::json::array();
+  for (const auto& r : rows) {
+    nlohmann::json e = {{"estimator", r.label},
+                        {"gnss", {{"used", r.sol.gnss_used}, {"rejected", r.sol.gnss_rejected},
+                                  {"withheld", r.sol.gnss_withheld}}},
+                        {"checkpoints", {{"n", r.cp.n},
+                                         {"rms_h_m", numOrNull(r.cp.n ? r.cp.rms_h_m : std::nan(""))},
+                                         {"rms_of_max_h_m", numOrNull(r.cp.n ? r.cp.rms_of_max_h_m : std::nan(""))},
+                                         {"rms_v_m", numOrNull(r.cp.n ? r.cp.rms_v_m : std::nan(""))}}},
+                        {"run_time_s", r.seconds}};
+    if (r.ref) {
+      e["reference"] = {{"outage_rms_h_m", numOrNull(r.ref->outage_rms.horizontal_m)},
+                        {"outage_max_rms_h_m", numOrNull(r.ref->outage_max_rms.horizontal_m)},
+                        {"heading_rms_deg", numOrNull(r.ref->overall_rms.heading_rad * kR2D)}};
+    }
+    est.push_back(e);
+  }
+  nlohmann::json w = nlohmann::json::array();
+  for (const auto& t : outages) w.push_back({t.start_s, t.end_s});
+  const nlohmann::json j = {{"outage_windows_s", w}, {"checkpoints_in_outages", checkpoints_in_outages},
+                            {"estimators", est}, {"failed", failed}, {"provenance", provenanceJson()}};
+  writeFileAtomically(path, j.dump(2) + "\n");
 }
 
 void runReal(const RealArgs& a) {
   const CaseInputs c = loadReal(a.case_dir);
   std::vector<std::string> warnings;
   const RunConfig rc = loadRunConfig(a.config, &warnings);
+  recordConfigFile(a.config);
   for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
   if (!rc.outages_given) throw std::runtime_error(a.config + ": an outages: section is required");
   const ImuSelection imu = loadImuReal(c, a.imu, a.profile);
@@ -167,10 +204,14 @@ void runReal(const RealArgs& a) {
   const EstimationProblem pr = problemReal(c, imu, rc, true, true);
   const GnssSeries checkpoints =
       gnssOfFixTypes(c.gnss, rc.gnss.checkpoint_fix_types, rc.gnss.selection);
-  fmt::print(stderr, "  {} outages; {} check points (fix types in gnss.checkpoint_fix_types, time tags "
-             "corrected like the navigation's), lever arm [{:.2f} {:.2f} {:.2f}] m\n",
-             pr.outages.size(), checkpoints.size(), pr.lever_arm_b_m.x(), pr.lever_arm_b_m.y(),
-             pr.lever_arm_b_m.z());
+  int checkpoints_in_outages = 0;
+  for (const auto& f : checkpoints)
+    for (const auto& w : pr.outages) checkpoints_in_outages += w.contains(f.t_s) ? 1 : 0;
+  fmt::print(stderr, "  {} outages; {} check points inside them (of {} epochs of the fix types in "
+             "gnss.checkpoint_fix_types, time tags corrected like the navigation's), lever arm "
+             "[{:.2f} {:.2f} {:.2f}] m\n",
+             pr.outages.size(), checkpoints_in_outages, checkpoints.size(), pr.lever_arm_b_m.x(),
+             pr.lever_arm_b_m.y(), pr.lever_arm_b_m.z());
   fs::create_directories(a.out);
   std::vector<RunRow> rows;
   std::vector<std::string> failed;
@@ -198,7 +239,7 @@ void runReal(const RealArgs& a) {
     rows.push_back(std::move(r));
   }
   std::string md;
-  md += fmt::format("Outage errors, {} outages of {} s; check points = withheld GNSS epochs of fix types",
+  md += fmt::format("Outage errors, {} outages of {:.1f} s; check points = withheld GNSS epochs of fix types",
                     pr.outages.size(), pr.outages.empty() ? 0.0 : pr.outages.front().length_s());
   for (int t : rc.gnss.checkpoint_fix_types) md += fmt::format(" {}", t);
   md += " inside the outages.\n\n";
@@ -249,8 +290,7 @@ void runReal(const RealArgs& a) {
     md += "\nGNSS time-tag latency (tau > 0: the fix is the position tau seconds BEFORE its stamp); "
           "grid = minimum of the horizontal residual RMS over shifts, slope = along-track least squares.\n\n";
     md += "| fix type | track | fixes used (slow, outliers) | tau grid (s) | tau slope (s) | RMS h at 0 (m) | RMS h at tau (m) |\n|---|---|---|---|---|---|---|\n";
-    std::ofstream csv((fs::path(a.out) / "latency_scan.csv").string());
-    csv << "fix_type,track,shift_s,rms_h_m\n";
+    std::string csv = "fix_type,track,shift_s,rms_h_m\n";
     struct Track { std::string name; const NavSeries* s; };
     const std::vector<Track> tracks = {{"RTS(fix 1 only)", &track.states}, {"reference.nav", &c.reference}};
     for (int ft : {4, 5, 1}) {
@@ -265,12 +305,13 @@ void runReal(const RealArgs& a) {
                             e.fixes_used, e.fixes_slow, e.fixes_outliers, e.grid_s, e.slope_s,
                             e.rms_h_at_zero_m, e.grid_rms_h_m);
           for (std::size_t i = 0; i < e.shift_s.size(); ++i)
-            csv << fmt::format("{},{},{:.3f},{:.4f}\n", ft, tr.name, e.shift_s[i], e.rms_h_m[i]);
+            csv += fmt::format("{},{},{:.3f},{:.4f}\n", ft, tr.name, e.shift_s[i], e.rms_h_m[i]);
         } catch (const std::exception& ex) {
           md += fmt::format("| {} | {} | not estimated: {} | | | | |\n", ft, tr.name, ex.what());
         }
       }
     }
+    writeFileAtomically((fs::path(a.out) / "latency_scan.csv").string(), csv);
   }
 
   if (!a.latency_grid.empty()) {
@@ -294,9 +335,15 @@ void runReal(const RealArgs& a) {
       }
     }
   }
-  std::ofstream((fs::path(a.out) / "summary.md").string()) << md;
+  writeFileAtomically((fs::path(a.out) / "summary.md").string(), md);
+  writeRealSummaryJson((fs::path(a.out) / "summary.json").string(), rows, pr.outages, checkpoints_in_outages,
+                       failed);
   fmt::print("{}", md);
-  fmt::print("wrote {}/summary.md and per-estimator solution.nav/checkpoints.csv\n", a.out);
+  fmt::print("wrote {0}/summary.md, {0}/summary.json and per-estimator solution.nav/checkpoints.csv\n", a.out);
+  if (a.latency_scan && !a.no_plots) {
+    const std::string w = runPythonScript("real_plots.py", {"latency", a.out, (fs::path(a.out) / "latency.png").string()});
+    if (!w.empty()) fmt::print(stderr, "warning: {}\n", w);
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -307,6 +354,7 @@ struct RealSgArgs {
   std::uint64_t seed = 1;
   double detector_gyro_rad_s = 0.05, detector_accel_m_s2 = 0.3, min_static_s = 2.0;
   double max_static_speed_m_s = 0.3;
+  bool no_plots = false;  // real-sg writes no plots; accepted for one vocabulary
 };
 
 // Basic error increments of `imu` over its standstill spans: measured minus the theoretical
@@ -433,9 +481,9 @@ void runRealSg(const RealSgArgs& a) {
     fmt::print(stderr, "  GNSS used {}, gated {}, withheld {}\n", s.gnss_used, s.gnss_rejected, s.gnss_withheld);
   }
   {
-    std::ofstream o((fs::path(a.out) / "outages.csv").string());
-    o << "start_s,end_s,data_start_s\n";
-    for (const auto& w : outages) o << fmt::format("{:.3f},{:.3f},{:.3f}\n", w.start_s, w.end_s, t_first);
+    std::string o = "start_s,end_s,data_start_s\n";
+    for (const auto& w : outages) o += fmt::format("{:.3f},{:.3f},{:.3f}\n", w.start_s, w.end_s, t_first);
+    writeFileAtomically((fs::path(a.out) / "outages.csv").string(), o);
   }
   md += fmt::format("ERR against SOL_REF (reference IMU, RTS, all GNSS), {} outages, {} estimator:\n\n", outages.size(), a.estimator);
   md += "| solution | outage RMS h (m) | RMS of per-outage max h (m) | RMS of max v (m) | RMS of max roll (deg) | RMS of max pitch (deg) | RMS of max heading (deg) |\n|---|---|---|---|---|---|---|\n";
@@ -464,7 +512,7 @@ void runRealSg(const RealSgArgs& a) {
     for (const auto& e : evs) md += w < e.outages.size() ? fmt::format(" {:.2f} |", e.outages[w].max.horizontal_m) : " - |";
     md += "\n";
   }
-  std::ofstream((fs::path(a.out) / "summary.md").string()) << md;
+  writeFileAtomically((fs::path(a.out) / "summary.md").string(), md);
   fmt::print("{}", md);
   fmt::print("wrote {}/summary.md, sol_ref.nav, solution_*.nav\n", a.out);
 }
@@ -477,22 +525,32 @@ void registerReal(CLI::App& app) {
       "real", "real recording: estimators, errors at withheld GNSS check points and vs the reference, GNSS latency");
   cmd->add_option("case_dir", a->case_dir, "case directory")->required();
   cmd->add_option("--out", a->out, "output directory")->required();
-  cmd->add_option("--config", a->config, "run config YAML (outages:, gnss:, ekf:, fgo:)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--imu", a->imu, "ref | tested | FILE (default tested)");
+  cmd->add_option("--run-config", a->config, "run config YAML (outages:, gnss:, ekf:, fgo:); required")
+      ->check(CLI::ExistingFile);
+  addDeprecatedOption(cmd, "--config", "--run-config", &a->config);
+  cmd->add_option("--imu", a->imu, "ref | tested | FILE (default ref)");
   cmd->add_option("--profile", a->profile, "IMU profile YAML")->check(CLI::ExistingFile);
-  cmd->add_option("--estimators", a->estimators, "comma-separated estimators (default ekf,rts,fgo)")->delimiter(',');
+  cmd->add_option("--estimator", a->estimators, "comma list of estimators (default ekf,rts,fgo)")->delimiter(',');
+  addDeprecatedOption(cmd, "--estimators", "--estimator", &a->estimators);
+  cmd->add_flag("--no-plots", a->no_plots, "do not call scripts/real_plots.py");
   cmd->add_flag("--latency-scan", a->latency_scan, "estimate the GNSS time-tag latency per fix type");
   cmd->add_option("--latency-grid", a->latency_grid, "latencies (s) applied to --latency-types, outage errors for each")->delimiter(',');
   cmd->add_option("--latency-types", a->latency_types, "fix types the latency grid applies to (default 4,5)")->delimiter(',');
   cmd->add_option("--latency-estimators", a->latency_estimators, "estimators of the latency grid (default ekf,rts)")->delimiter(',');
-  cmd->callback([a]() { runReal(*a); });
+  cmd->callback([a]() {
+    requireValue(a->config, "--run-config");
+    runReal(*a);
+  });
 
   auto s = std::make_shared<RealSgArgs>();
   CLI::App* sg = app.add_subcommand(
       "real-sg", "real-data signal grafting: tested IMU errors from its own standstill spans onto the reference IMU");
   sg->add_option("case_dir", s->case_dir, "case directory (ref_imu.txt and tested_imu.txt)")->required();
   sg->add_option("--out", s->out, "output directory")->required();
-  sg->add_option("--config", s->config, "run config YAML (outages:, gnss:, ekf:)")->required()->check(CLI::ExistingFile);
+  sg->add_option("--run-config", s->config, "run config YAML (outages:, gnss:, ekf:); required")
+      ->check(CLI::ExistingFile);
+  addDeprecatedOption(sg, "--config", "--run-config", &s->config);
+  sg->add_flag("--no-plots", s->no_plots, "accepted for a uniform vocabulary (real-sg writes no plots)");
   sg->add_option("--ref-profile", s->ref_profile, "reference IMU profile")->required()->check(CLI::ExistingFile);
   sg->add_option("--tested-profile", s->tested_profile, "tested IMU profile")->required()->check(CLI::ExistingFile);
   sg->add_option("--estimator", s->estimator, "estimator (default rts)");
@@ -501,7 +559,10 @@ void registerReal(CLI::App& app) {
   sg->add_option("--static-accel-threshold", s->detector_accel_m_s2, "static detector accel threshold (m/s^2)");
   sg->add_option("--min-static", s->min_static_s, "minimum standstill span (s)");
   sg->add_option("--max-static-speed", s->max_static_speed_m_s, "median GNSS speed (1-s chords) above which a detected span is not a standstill (m/s)");
-  sg->callback([s]() { runRealSg(*s); });
+  sg->callback([s]() {
+    requireValue(s->config, "--run-config");
+    runRealSg(*s);
+  });
 }
 
 }  // namespace graftnav::app

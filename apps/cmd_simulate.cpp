@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_vocabulary.h"
 #include "commands.h"
 #include "graftnav/sim/case_simulator.h"
 #include "graftnav/sim/sim_config.h"
@@ -24,9 +25,9 @@ void registerSimulate(CLI::App& app) {
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
       "simulate", "Simulate a whole case (field IMUs, GNSS, truth, lab sessions) from a sim config");
-  cmd->add_option("--config", args->config, "sim config YAML (configs/sim/*.yaml)")
-      ->required()
+  cmd->add_option("--sim-config", args->config, "sim config YAML (configs/sim/*.yaml); required")
       ->check(CLI::ExistingFile);
+  addDeprecatedOption(cmd, "--config", "--sim-config", &args->config);
   cmd->add_option("--out", args->out, "case directory to write")->required();
   auto* seed_opt = cmd->add_option("--seed", args->seed, "random seed (default: the config's)");
   cmd->add_option("--track", args->track, "use this .pos track instead of the config's trajectory")
@@ -35,6 +36,7 @@ void registerSimulate(CLI::App& app) {
   cmd->add_flag("--common-random-numbers", args->common_random_numbers,
                 "lab noise = the field tested IMU's noise stream (sets lab.common_random_numbers)");
   cmd->callback([args, seed_opt]() {
+    requireValue(args->config, "--sim-config");
     const auto t_start = std::chrono::steady_clock::now();
     std::vector<std::string> warnings;
     SimConfig cfg = loadSimConfig(args->config, &warnings);

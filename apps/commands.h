@@ -15,5 +15,6 @@ void registerCompare(CLI::App& app);  // cmd_compare.cpp
 void registerNavigate(CLI::App& app);  // cmd_navigate.cpp
 void registerDiagnose(CLI::App& app);  // cmd_diagnose.cpp
 void registerReal(CLI::App& app);  // cmd_real.cpp (real and real-sg)
+void registerImport(CLI::App& app);  // cmd_import.cpp (kf-gins, ob-gins)
 
 }  // namespace graftnav::app

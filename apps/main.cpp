@@ -5,11 +5,13 @@
 #include <exception>
 
 #include "commands.h"
+#include "provenance.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"graftnav: IMU evaluation by signal grafting (Niu et al., Sensors 2016)"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "graftnav 0.1.0");
+  graftnav::app::setCommandLine(argc, argv);
+  app.set_version_flag("--version", graftnav::app::versionLine());
   graftnav::app::registerSimulate(app);
   graftnav::app::registerGraft(app);
   graftnav::app::registerEvaluate(app);
@@ -19,6 +21,7 @@ int main(int argc, char** argv) {
   graftnav::app::registerNavigate(app);
   graftnav::app::registerDiagnose(app);
   graftnav::app::registerReal(app);
+  graftnav::app::registerImport(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

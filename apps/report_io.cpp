@@ -3,14 +3,16 @@
 #include <fmt/core.h>
 #include <fmt/os.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "graftnav/io/atomic_file.h"
 #include "graftnav/nav/units.h"
+#include "provenance.h"
 
 namespace graftnav::app {
 namespace {
@@ -27,24 +29,58 @@ json drift(const DriftStats& s) {
           {"heading_deg", num(s.heading_rad * units::kRadToDeg)}};
 }
 
-void writeText(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp);
-    if (!f) throw std::runtime_error(path + ": cannot open for writing");
-    f << text;
-    if (!f) throw std::runtime_error(path + ": write failed");
+void writeText(const std::string& path, const std::string& text) { writeFileAtomically(path, text); }
+
+// Depth-first walk: a non-finite number throws, a null is listed by its JSON pointer.
+void scanJson(const json& j, const std::string& pointer, const std::string& path, std::vector<std::string>* nulls) {
+  if (j.is_null()) {
+    nulls->push_back(pointer.empty() ? "/" : pointer);
+  } else if (j.is_number_float()) {
+    if (!std::isfinite(j.get<double>()))
+      throw std::runtime_error(path + ": result field " + pointer + " is not finite (" +
+                               fmt::format("{}", j.get<double>()) + "); refusing to write it");
+  } else if (j.is_object()) {
+    const bool all_null = !j.empty() && std::all_of(j.begin(), j.end(), [](const json& v) { return v.is_null(); });
+    if (all_null) {
+      nulls->push_back(pointer + "/*");
+      return;
+    }
+    for (const auto& [k, v] : j.items()) scanJson(v, pointer + "/" + k, path, nulls);
+  } else if (j.is_array()) {
+    for (std::size_t i = 0; i < j.size(); ++i) scanJson(j[i], pointer + "/" + std::to_string(i), path, nulls);
   }
-  std::filesystem::rename(tmp, path);
 }
 
 }  // namespace
 
-void writeErrorsJson(const std::string& path, const ReportMeta& m, const Evaluation& ev) {
+std::vector<std::string> writeJsonResult(const std::string& path, const json& j, const std::string& why_null) {
+  std::vector<std::string> nulls;
+  scanJson(j, "", path, &nulls);
+  writeFileAtomically(path, j.dump(2) + "\n");
+  if (nulls.empty()) return {};
+  std::string fields;
+  for (const std::string& n : nulls) fields += (fields.empty() ? "" : ", ") + n;
+  return {path + ": absent (null): " + fields + (why_null.empty() ? "" : " (" + why_null + ")")};
+}
+
+std::string missingStatisticsReason(const Evaluation& ev) {
+  std::vector<std::string> why;
+  if (ev.epochs.empty()) why.push_back("no solution epoch inside the reference span");
+  if (ev.outages.empty())
+    why.push_back("no outage statistics: no outage window with a reference epoch");
+  else if (ev.outage_epochs == 0)
+    why.push_back("no outage statistics: no reference epoch inside the outages");
+  if (ev.nees_samples == 0) why.push_back("no NEES: no epoch with a solution sigma and a reference");
+  std::string s;
+  for (const auto& w : why) s += (s.empty() ? "" : "; ") + w;
+  return s;
+}
+
+std::vector<std::string> writeErrorsJson(const std::string& path, const ReportMeta& m, const Evaluation& ev) {
   json j;
   j["estimator"] = m.estimator;
   j["imu"] = m.imu;
-  j["outages"] = {{"count", m.outage_count}, {"length_s", m.outage_length_s}};
+  j["outages"] = {{"count", m.outage_count}, {"length_s", num(m.outage_length_s)}};
   const DriftStats& o = ev.overall_rms;
   j["overall"] = {{"horizontal_rms_m", num(o.horizontal_m)},
                   {"vertical_rms_m", num(o.vertical_m)},
@@ -54,10 +90,10 @@ void writeErrorsJson(const std::string& path, const ReportMeta& m, const Evaluat
   j["outage"] = drift(ev.outage_rms);
   j["outage_max"] = drift(ev.outage_max_rms);
   j["nees"] = num(ev.nees_mean);
-  writeText(path, j.dump(2) + "\n");
+  return writeJsonResult(path, j, missingStatisticsReason(ev));
 }
 
-void writeRunInfoJson(const std::string& path, const ReportMeta& m, const Evaluation& ev,
+std::vector<std::string> writeRunInfoJson(const std::string& path, const ReportMeta& m, const Evaluation& ev,
                       const NavSolution& sol, const std::vector<TimeWindow>& outages,
                       const std::vector<std::string>& notes, double run_time_s) {
   json j;
@@ -76,9 +112,10 @@ void writeRunInfoJson(const std::string& path, const ReportMeta& m, const Evalua
   j["outage_windows_s"] = w;
   j["epochs_evaluated"] = ev.epochs.size();
   j["outage_epochs"] = ev.outage_epochs;
-  j["run_time_s"] = run_time_s;
+  j["run_time_s"] = num(run_time_s);
   j["notes"] = notes;
-  writeText(path, j.dump(2) + "\n");
+  j["provenance"] = provenanceJson();
+  return writeJsonResult(path, j, missingStatisticsReason(ev));
 }
 
 void writeErrorsCsv(const std::string& path, const Evaluation& ev, double min_interval_s) {
@@ -90,11 +127,16 @@ void writeErrorsCsv(const std::string& path, const Evaluation& ev, double min_in
   for (const EpochError& e : ev.epochs) {
     if (e.t_s - last < min_interval_s - 1e-9) continue;
     last = e.t_s;
-    out += fmt::format("{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.5f},{:.5f},{:.5f},{:.6f},{:.6f},{:.6f},{:.4g},{}\n",
+    if (!e.pos_ned_m.allFinite() || !e.vel_ned_m_s.allFinite() || !e.euler_rad.allFinite())
+      throw std::runtime_error(fmt::format("{}: the error at t = {:.4f} s is not finite; refusing to write it", path,
+                                           e.t_s));
+    // A NEES without a solution sigma is absent (empty cell), as in errors.json.
+    const std::string nees = std::isfinite(e.nees) ? fmt::format("{:.4g}", e.nees) : std::string();
+    out += fmt::format("{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.5f},{:.5f},{:.5f},{:.6f},{:.6f},{:.6f},{},{}\n",
                        e.t_s, e.pos_ned_m.x(), e.pos_ned_m.y(), e.pos_ned_m.z(),
                        e.pos_ned_m.head<2>().norm(), e.vel_ned_m_s.x(), e.vel_ned_m_s.y(),
                        e.vel_ned_m_s.z(), e.euler_rad.x() * r2d, e.euler_rad.y() * r2d,
-                       e.euler_rad.z() * r2d, e.nees, e.outage);
+                       e.euler_rad.z() * r2d, nees, e.outage);
   }
   writeText(path, out);
 }
@@ -106,6 +148,9 @@ void writeOutageCsv(const std::string& path, const Evaluation& ev) {
   const double r2d = units::kRadToDeg;
   for (size_t i = 0; i < ev.outages.size(); ++i) {
     const OutageDrift& d = ev.outages[i];
+    if (!std::isfinite(d.max.horizontal_m) || !std::isfinite(d.max.vertical_m) || !std::isfinite(d.max.roll_rad) ||
+        !std::isfinite(d.max.pitch_rad) || !std::isfinite(d.max.heading_rad))
+      throw std::runtime_error(fmt::format("{}: the maxima of outage {} are not finite; refusing to write them", path, i));
     out += fmt::format("{},{:.3f},{:.3f},{},{:.4f},{:.4f},{:.6f},{:.6f},{:.6f}\n", i,
                        d.window.start_s, d.window.end_s, d.epochs, d.max.horizontal_m,
                        d.max.vertical_m, d.max.roll_rad * r2d, d.max.pitch_rad * r2d,

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "graftnav/eval/evaluation.h"
 #include "graftnav/estimation/nav_solution.h"
 
@@ -18,11 +20,22 @@ struct ReportMeta {
   double outage_length_s = 0.0;  // nominal length (0 when none)
 };
 
+// Every JSON result goes through this: throws std::runtime_error naming the file and the field
+// (JSON pointer) when a number is NaN or inf, then writes it atomically (atomic_file.h). Returns one
+// warning listing the fields written as null ("path: absent (null): /outage/*, /nees (why)"), `why`
+// saying why such a statistic could not be computed; the caller prints them.
+std::vector<std::string> writeJsonResult(const std::string& path, const nlohmann::json& j,
+                                         const std::string& why_null = "");
+// Why the statistics of `ev` that are NaN could not be computed ("" when all are finite).
+std::string missingStatisticsReason(const Evaluation& ev);
+
 // errors.json, exactly: {"estimator", "imu", "outages": {"count", "length_s"}, "overall": {...},
-// "outage": S, "outage_max": S, "nees"}; degrees for angles, NaN written as null.
-void writeErrorsJson(const std::string& path, const ReportMeta& meta, const Evaluation& ev);
+// "outage": S, "outage_max": S, "nees"}; degrees for angles, a statistic that cannot be computed
+// written as null. Returns the warnings of writeJsonResult.
+std::vector<std::string> writeErrorsJson(const std::string& path, const ReportMeta& meta, const Evaluation& ev);
 // run_info.json: NEES band and sample count, GNSS used/rejected/withheld, outage windows, notes.
-void writeRunInfoJson(const std::string& path, const ReportMeta& meta, const Evaluation& ev,
+// Returns the warnings of writeJsonResult.
+std::vector<std::string> writeRunInfoJson(const std::string& path, const ReportMeta& meta, const Evaluation& ev,
                       const NavSolution& sol, const std::vector<TimeWindow>& outages,
                       const std::vector<std::string>& notes, double run_time_s);
 // Per-epoch errors every `min_interval_s` (0: every epoch); columns carry their units.

@@ -54,7 +54,31 @@ RunConfig loadRunConfig(const std::string& path, std::vector<std::string>* warni
   RunConfig c;
   if (!root || root.IsNull()) return c;
   if (!root.IsMap()) throw std::runtime_error(path + ": the run config must be a YAML map");
-  warnUnknown(root, "", {"outages", "ekf", "evaluation", "fgo", "gnss", "grafting"}, path, warnings);
+  // A peer's set-up given as a run config would otherwise run with every key ignored.
+  for (const char* peer_key : {"imupath", "imufile"}) {
+    if (root[peer_key]) {
+      throw std::runtime_error(where(path, root[peer_key], peer_key) +
+                               ": this is a KF-GINS / OB_GINS set-up, not a run config; convert it with "
+                               "`graftnav import kf-gins|ob-gins " + path + " --out CASE`");
+    }
+  }
+  warnUnknown(root, "", {"time_range", "outages", "ekf", "evaluation", "fgo", "gnss", "grafting"}, path,
+              warnings);
+
+  if (const YAML::Node t = root["time_range"]) {
+    auto bound = [&](const char* key, std::optional<double>* out) {
+      if (!t[key]) return;
+      double v = 0.0;
+      read(t, "time_range", key, &v, path);
+      *out = v;
+    };
+    bound("start_s", &c.time_range.start_s);
+    bound("end_s", &c.time_range.end_s);
+    if (c.time_range.start_s && c.time_range.end_s && !(*c.time_range.end_s > *c.time_range.start_s)) {
+      throw std::runtime_error(where(path, t, "time_range") + ": end_s must be > start_s");
+    }
+    warnUnknown(t, "time_range", {"start_s", "end_s"}, path, warnings);
+  }
 
   if (const YAML::Node o = root["outages"]) {
     c.outages_given = true;
@@ -141,8 +165,14 @@ RunConfig loadRunConfig(const std::string& path, std::vector<std::string>* warni
                 path, warnings);
   }
   if (const YAML::Node g = root["grafting"]) {
-    warnUnknown(g, "grafting", {"start_offset_s"}, path, warnings);
+    warnUnknown(g, "grafting", {"start_offset_s", "realizations", "outage_shifts"}, path, warnings);
     read(g, "grafting", "start_offset_s", &c.grafting.start_offset_s, path);
+    read(g, "grafting", "realizations", &c.grafting.realizations, path);
+    read(g, "grafting", "outage_shifts", &c.grafting.outage_shifts, path);
+    for (const char* key : {"realizations", "outage_shifts"}) {
+      const int v = std::string(key) == "realizations" ? c.grafting.realizations : c.grafting.outage_shifts;
+      if (v < 1) throw std::runtime_error(where(path, g[key], std::string("grafting.") + key) + ": must be >= 1, got " + std::to_string(v));
+    }
   }
   if (const YAML::Node g = root["fgo"]) {
     FgoOptions& f = c.fgo;

@@ -43,10 +43,14 @@
 //     latency_s_by_fix_type: {4: 0.4, 5: 0.4}
 //     checkpoint_fix_types: [4]     # withheld epochs of these types = outage check points
 //     min_spacing_s: 0.05           # of two epochs closer than this keep the more precise one
+//   time_range:           # optional: navigate only [start_s, end_s] (s of week; either may be absent)
+//     start_s: 456300
+//     end_s: 457000
 //   evaluation:
 //     nees_interval_s: 1.0
 //     csv_rate_hz: 10     # per-epoch error CSV rate (statistics always use every epoch)
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -84,9 +88,20 @@ struct GraftingConfig {
   // grafting seed. 0 pairs field sample k with lab static sample k, for common-random-number
   // experiments whose lab record shares the field noise (sim key lab.common_random_numbers).
   double start_offset_s = -1.0;
+  // Grafted realizations per strategy (K) and outage-schedule shifts (N) of `evaluate`; the
+  // command-line flags override them. sg/realization.h says what a realization varies.
+  int realizations = 20;
+  int outage_shifts = 1;
+};
+
+// The part of the data to navigate (GNSS seconds of week); absent bounds mean the data's own.
+struct TimeRangeConfig {
+  std::optional<double> start_s, end_s;
+  bool empty() const { return !start_s && !end_s; }
 };
 
 struct RunConfig {
+  TimeRangeConfig time_range;
   OutageScheduleConfig outages;
   bool outages_given = false;  // an outages: section was present
   EkfOptions ekf;

@@ -1,8 +1,11 @@
 #pragma once
-// The main job: calibrate the tested IMU from its lab data, graft SG#1 and SG#2 onto the reference
-// field IMU, navigate SG#1, SG#2 and (when recorded) the real tested IMU with one outage schedule,
-// and compare their errors against SOL_REF (truth, an external reference, or the smoothed
-// reference IMU). Used by `graftnav evaluate` and, in-process, by `graftnav batch`.
+// The main job: calibrate the tested IMU from its lab data, graft K realizations of SG#1 and SG#2
+// onto the reference field IMU (sg/realization.h), navigate each and (when recorded) the real
+// tested IMU with one outage schedule, optionally repeated at N shifted starts, and compare their
+// errors against SOL_REF (truth, an external reference, or the smoothed reference IMU). ERR_SGx is
+// the mean over realizations; the realizations' spread gives the predictive interval in which
+// ERR_REAL should fall when grafting lacks no physics (sg/predictive.h). Used by `graftnav
+// evaluate` and, in-process, by `graftnav batch`.
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -18,19 +21,22 @@ struct SgEvaluateOptions {
   std::string estimator = "ekf";
   std::string config_path;  // --config YAML (run_config.h); empty: defaults
   std::optional<double> outage_length_s, outage_period_s, outage_start_s;
+  std::optional<int> realizations;   // K; default from the run config (20)
+  std::optional<int> outage_shifts;  // N; default from the run config (1)
   std::string sol_ref = "auto";  // auto: truth > reference_solution > smoothed; "smooth": always smooth
   std::uint64_t seed = 1;
   bool use_cross_axis = true;
-  bool write_grafted_imu = true;  // IMU_SG1.txt / IMU_SG2.txt in out_dir
+  bool write_grafted_imu = true;  // IMU_SG1.txt / IMU_SG2.txt (realization 0) in out_dir
   bool plots = true;
-  int jobs = 0;  // solutions navigated in parallel; 0 = all cores
+  int jobs = 0;  // navigations in parallel; 0 = all cores
 };
 
 using LogFn = std::function<void(const std::string&)>;
 
 // Throws std::runtime_error naming the file or key for a bad case (missing lab file, mismatched
-// rates, no reference, ...). Writes evaluation.json, tables.md, evaluation.csv,
-// outage_drift.csv, errors_<LABEL>.csv and plots into out_dir.
+// rates, no reference, no outage inside the data, ...) before writing any result. Writes
+// evaluation.json, tables.md, evaluation.csv, predictive.csv, outage_drift.csv,
+// errors_<LABEL>.csv and plots into out_dir.
 SgEvaluationReport runSgEvaluation(const SgEvaluateOptions& options, const LogFn& log = {});
 
 }  // namespace graftnav::app

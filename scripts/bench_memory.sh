@@ -110,7 +110,7 @@ for L in $lengths; do
     fi
     sim_config "$L" "$out/cases/bench_${L}min.yaml"
     read -r rss cpu wall < <(runs=1 measure simulate "$out/runs/sim_${L}.log" -- \
-        "$bin" simulate --config "$out/cases/bench_${L}min.yaml" --out "$case_dir")
+        "$bin" simulate --sim-config "$out/cases/bench_${L}min.yaml" --out "$case_dir")
     echo "$rss $cpu $wall" > "$case_dir.sim"
     sim_mb_per_min=$(awk -v r="$rss" -v l="$L" -v a="$sim_mb_per_min" 'BEGIN {x = r / l; print (x > a ? x : a)}')
     printf "%s\t-\tsimulate\t%s\t%s\t%s\n" "$L" "$rss" "$cpu" "$wall" >> "$tsv"

@@ -7,7 +7,7 @@ bash scripts/setup.sh
 mkdir -p out
 for grade in tactical mems; do
   echo "== graftnav evaluate data/sample_${grade} -> out/${grade}"
-  ./build/graftnav evaluate "data/sample_${grade}" --out "out/${grade}" --config configs/evaluate_sample.yaml
+  ./build/graftnav evaluate "data/sample_${grade}" --out "out/${grade}" --run-config configs/evaluate_sample.yaml
 done
 echo
 echo "Done. Tables: out/tactical/tables.md, out/mems/tables.md; plots: out/*/*.png"

@@ -11,8 +11,8 @@ cd "$(dirname "$0")/.."
 BIN=${1:-./build/graftnav}
 
 rm -rf data/sample_tactical data/sample_mems
-"$BIN" simulate --config configs/sim/sample_tactical.yaml --out data/sample_tactical
-"$BIN" simulate --config configs/sim/sample_mems.yaml --out data/sample_mems
+"$BIN" simulate --sim-config configs/sim/sample_tactical.yaml --out data/sample_tactical
+"$BIN" simulate --sim-config configs/sim/sample_mems.yaml --out data/sample_mems
 for f in field/ref_imu.txt field/gnss.pos field/truth.nav; do
   if ! cmp -s "data/sample_tactical/$f" "data/sample_mems/$f"; then
     echo "make_sample: $f differs between the two cases; configs out of step" >&2

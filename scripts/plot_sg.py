@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Plots of `graftnav evaluate`: outage errors of SG1, SG2 (SG3) and REAL overlaid with the
-outages shaded (the seed's Figs. 7-12), and a bar chart of DIFF.
+outages shaded (the seed's Figs. 7-12), a bar chart of DIFF, and (with realizations) each
+statistic's predictive interval with ERR_REAL marked (intervals.png).
 
 usage: plot_sg.py OUT_DIR   (reads evaluation.json and errors_<LABEL>.csv written there)
 """
@@ -25,6 +26,41 @@ def read_csv(path):
     with open(path) as f:
         rows = list(csv.DictReader(f))
     return {k: [float(r[k]) for r in rows] for k in rows[0]} if rows else {}
+
+
+def plot_intervals(ev, out):
+    """One panel per statistic: SG#1's and SG#2's realizations (dots), their mean and 90 %
+    interval (bar), and ERR_REAL (line), so a reader sees at once whether REAL falls inside."""
+    pred = ev.get("predictive", {})
+    if not pred or ev.get("realizations", 1) < 2:
+        return
+    real = ev.get("err", {}).get("REAL")
+    sols = [s for s in ["SG1", "SG2"] if s in pred]
+    fig, axes = plt.subplots(1, len(STATS), figsize=(14, 3.8))
+    for ax, (key, _, title) in zip(axes, STATS):
+        for i, s in enumerate(sols):
+            q = pred[s][key]
+            ax.errorbar([i], [q["mean"]], yerr=[[q["mean"] - q["p05"]], [q["p95"] - q["mean"]]], fmt="o",
+                        color=COLORS[s], capsize=6, lw=2, label=f"{s} mean, 90 % interval")
+            verdict = ev.get("verdict", {}).get(s, {}).get(key)
+            if verdict:
+                pct = ev["real_percentile"][s][key]
+                ax.annotate(f"REAL at {100 * pct:.0f} %\n{verdict}", (i, q["p95"]), textcoords="offset points",
+                            xytext=(0, 8), ha="center", fontsize=8)
+        if real and real.get(key) is not None:
+            ax.axhline(real[key], color="black", lw=1.5, ls="--", label="ERR_REAL")
+        ax.set_xticks(range(len(sols)))
+        ax.set_xticklabels([f"SG#{s[2:]}" for s in sols])
+        ax.set_xlim(-0.6, len(sols) - 0.4)
+        ax.set_title(title)
+        ax.grid(axis="y", alpha=0.3)
+        ax.margins(y=0.25)
+    handles, names = axes[0].get_legend_handles_labels()
+    fig.legend(handles, names, loc="lower center", ncol=len(names), fontsize=8)
+    fig.suptitle(f"{ev['case']}: ERR of {ev['realizations']} grafted realizations against ERR_REAL ({ev['estimator']})")
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
+    fig.savefig(os.path.join(out, "intervals.png"), dpi=110)
+    plt.close(fig)
 
 
 def main(out):
@@ -59,6 +95,8 @@ def main(out):
     fig.tight_layout()
     fig.savefig(os.path.join(out, "outage_errors.png"), dpi=110)
     plt.close(fig)
+
+    plot_intervals(ev, out)
 
     if "diff" in ev:
         fig, ax = plt.subplots(figsize=(8, 4))

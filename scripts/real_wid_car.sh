@@ -20,7 +20,7 @@ mkdir -p "$OUT"
 # The DOT at standstill vibrates with the engine (gyro 0.014 rad/s, accel 0.57 m/s^2 std over 1 s):
 # detector thresholds just above that; spans with a median GNSS speed > 0.3 m/s are dropped.
 for EST in rts ekf; do
-  "$GN" real-sg "$CASE" --out "$OUT/sg_$EST" --estimator "$EST" --config "$ROOT/configs/real/wid_car.yaml" \
+  "$GN" real-sg "$CASE" --out "$OUT/sg_$EST" --estimator "$EST" --run-config "$ROOT/configs/real/wid_car.yaml" \
     --ref-profile "$ROOT/configs/real/wid_mrup.yaml" --tested-profile "$ROOT/configs/real/wid_dot.yaml" \
     --static-gyro-threshold 0.02 --static-accel-threshold 0.65 2>&1 | tee "$OUT/sg_$EST.log"
 done

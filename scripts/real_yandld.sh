@@ -21,13 +21,13 @@ mkdir -p "$OUT"
 CFG="$ROOT/configs/real/yandld.yaml"
 PROF="$ROOT/configs/real/yandld_mems.yaml"
 # 1. estimators, check points, latency scan and latency grid (tables in $OUT/real/summary.md)
-"$GN" real "$CASE" --out "$OUT/real" --config "$CFG" --profile "$PROF" --estimators ekf,rts,fgo \
+"$GN" real "$CASE" --out "$OUT/real" --run-config "$CFG" --imu tested --profile "$PROF" --estimator ekf,rts,fgo \
   --latency-scan --latency-grid 0,0.2,0.4,0.6 --latency-types 4,5 2>&1 | tee "$OUT/real.log"
 # 2. graftnav compare against reference.nav (three estimators: table; EKF and RTS: plot)
-"$GN" compare "$CASE" --out "$OUT/compare" --config "$CFG" --profile "$PROF" --lenient --imu tested \
-  --estimators ekf,rts,fgo 2>&1 | tee "$OUT/compare.log"
-"$GN" compare "$CASE" --out "$OUT/compare_plot" --config "$CFG" --profile "$PROF" --lenient --imu tested \
-  --estimators ekf,rts > "$OUT/compare_plot.log" 2>&1
+"$GN" compare "$CASE" --out "$OUT/compare" --run-config "$CFG" --profile "$PROF" --lenient --imu tested \
+  --estimator ekf,rts,fgo 2>&1 | tee "$OUT/compare.log"
+"$GN" compare "$CASE" --out "$OUT/compare_plot" --run-config "$CFG" --profile "$PROF" --lenient --imu tested \
+  --estimator ekf,rts > "$OUT/compare_plot.log" 2>&1
 "$PY" "$ROOT/scripts/plot_compare.py" "$OUT/compare_plot"
 "$PY" "$ROOT/scripts/real_plots.py" latency "$OUT/real" "$OUT/yandld_latency.png"
 if [ -n "${DOCS_IMG:-}" ]; then

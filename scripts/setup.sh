@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
 # Installs the Debian packages graftnav needs (only those missing), then configures (Release)
 # and builds into ./build. Safe to run again; used by the README commands and by .ci/run.
+# munge and slurm-wlm are for the batch test on a localhost Slurm cluster (docs/batch.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PACKAGES=(build-essential cmake ninja-build ccache pkg-config
   libeigen3-dev libceres-dev libsuitesparse-dev libgeographiclib-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libfmt-dev nlohmann-json3-dev
-  python3 python3-matplotlib time)  # time: /usr/bin/time -v for scripts/bench_memory.sh
+  python3 python3-matplotlib dpkg-dev
+  libsqlite3-dev sqlite3 munge slurm-wlm
+  time)  # time: /usr/bin/time -v for scripts/bench_memory.sh
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -23,12 +23,12 @@ for seed in "${SEEDS[@]}"; do
   for cfg in configs/sg/tactical_modelled.yaml configs/sg/mems_modelled.yaml \
              configs/sim/tactical_57min.yaml configs/sim/mems_57min.yaml; do
     name=$(basename "$cfg" .yaml)_seed${seed}
-    [[ -f "$OUT/cases/$name/case.yaml" ]] || ./build/graftnav simulate --config "$cfg" --out "$OUT/cases/$name" --seed "$seed" > /dev/null
+    [[ -f "$OUT/cases/$name/case.yaml" ]] || ./build/graftnav simulate --sim-config "$cfg" --out "$OUT/cases/$name" --seed "$seed" > /dev/null
     cases+=("$(realpath "$OUT/cases/$name")")
   done
   for cfg in configs/sg/tactical_modelled.yaml configs/sg/mems_modelled.yaml; do
     name=$(basename "$cfg" .yaml)_crn_seed${seed}
-    [[ -f "$OUT/cases/$name/case.yaml" ]] || ./build/graftnav simulate --config "$cfg" --out "$OUT/cases/$name" --seed "$seed" --common-random-numbers > /dev/null
+    [[ -f "$OUT/cases/$name/case.yaml" ]] || ./build/graftnav simulate --sim-config "$cfg" --out "$OUT/cases/$name" --seed "$seed" --common-random-numbers > /dev/null
     crn_cases+=("$(realpath "$OUT/cases/$name")")
   done
 done
@@ -44,7 +44,7 @@ manifest() {  # OUT_SUBDIR RUN_CONFIG CASES...
   echo "outage_schedules:"
   echo "  - {length_s: 60, period_s: 180, start_s: 300}"
 }
-manifest runs "" "${cases[@]}" > "$OUT/manifest.yaml"
+manifest runs configs/sg/single_realization_run.yaml "${cases[@]}" > "$OUT/manifest.yaml"
 manifest runs_crn configs/sg/crn_run.yaml "${crn_cases[@]}" > "$OUT/manifest_crn.yaml"
 ./build/graftnav batch "$OUT/manifest.yaml"
 ./build/graftnav batch "$OUT/manifest_crn.yaml"

@@ -19,7 +19,7 @@ TEST(CompareApp, WritesTableAndSmoothersAgree) {
   if (!std::filesystem::exists(bin)) GTEST_SKIP() << "graftnav binary not built: " << bin;
   const std::string out = test::makeTempDir("compare_app");
   const std::string cmd = bin + " compare " + test::sourceDir() +
-                          "/data/sample_mems --out " + out +
+                          "/data/sample_mems --imu tested --out " + out +
                           " --estimators rts,fgo,fgo-window --outage-start 120 --outage-period 150"
                           " > " + out + "/stdout.txt 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;

@@ -47,7 +47,7 @@ std::string copyCase(const std::string& src, const std::string& tag) {
 
 TEST(Evaluate, WritesTheContractShapeAndConsistentDiff) {
   const std::string out = test::makeTempDir("eval") + "/out";
-  const RunResult r = run("evaluate " + sample("tactical") + " --out " + out + " --config " + sampleConfig() +
+  const RunResult r = run("evaluate " + sample("tactical") + " --out " + out + " --run-config " + sampleConfig() +
                           " --no-plots");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto j = readJson(out + "/evaluation.json");
@@ -80,7 +80,7 @@ TEST(Evaluate, MakesBothPlotsWhenMatplotlibIsThere) {
     GTEST_SKIP() << "Debian's python3-matplotlib is not installed: the plots are skipped by design";
   }
   const std::string out = test::makeTempDir("eval_plots") + "/out";
-  const RunResult r = run("evaluate " + sample("mems") + " --out " + out + " --config " + sampleConfig());
+  const RunResult r = run("evaluate " + sample("mems") + " --out " + out + " --run-config " + sampleConfig());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output.find("warning"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(out + "/outage_errors.png"));
@@ -91,7 +91,7 @@ TEST(Evaluate, WithoutARealRecordingStillGivesSgErrors) {
   const std::string c = copyCase(sample("tactical"), "noreal");
   fs::remove(c + "/field/tested_imu.txt");
   const std::string out = c + "/../out";
-  const RunResult r = run("evaluate " + c + " --out " + out + " --config " + sampleConfig() + " --no-plots");
+  const RunResult r = run("evaluate " + c + " --out " + out + " --run-config " + sampleConfig() + " --no-plots");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto j = readJson(out + "/evaluation.json");
   EXPECT_TRUE(j["err"].contains("SG1"));
@@ -168,7 +168,7 @@ TEST(Diagnose, BadConfigSwitchNamesFileLineKeyAndValue) {
   const std::string dir = test::makeTempDir("diag_bad_cfg");
   std::ofstream(dir + "/cfg.yaml") << "bin_s: 0.05\nrandom_walk_sandwich: maybe\n";
   const RunResult r =
-      run("diagnose " + sample("mems") + " --out " + dir + "/out --config " + dir + "/cfg.yaml");
+      run("diagnose " + sample("mems") + " --out " + dir + "/out --options " + dir + "/cfg.yaml");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("cfg.yaml:2"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("'random_walk_sandwich'"), std::string::npos) << r.output;
@@ -187,7 +187,7 @@ TEST(Batch, MonteCarloSummaryGroupsSeedsAndAveragesThem) {
                                         << "estimators: [ekf]\n";
   const RunResult r = run("batch " + dir + "/manifest.yaml --jobs 2");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const auto single = readJson(dir + "/out/exp_seed1__ekf__config/evaluation.json");
+  const auto single = readJson(dir + "/out/tasks/exp_seed1__ekf__config__seed1/evaluation.json");
   std::ifstream f(dir + "/out/summary_monte_carlo.csv");
   ASSERT_TRUE(f.good());
   std::string line;

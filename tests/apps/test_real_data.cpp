@@ -88,7 +88,7 @@ TEST(RealData, WidCarGraftedDotFromItsOwnStandstill) {
   const std::string out = test::makeTempDir("real_sg");
   const std::string log = out + "/log.txt";
   const std::string cmd = test::graftnavBinary() + " real-sg '" + dir + "' --out '" + out +
-                          "' --estimator ekf --config '" + src + "/configs/real/wid_car.yaml' --ref-profile '" +
+                          "' --estimator ekf --run-config '" + src + "/configs/real/wid_car.yaml' --ref-profile '" +
                           src + "/configs/real/wid_mrup.yaml' --tested-profile '" + src +
                           "/configs/real/wid_dot.yaml' --static-gyro-threshold 0.02 --static-accel-threshold 0.65 > '" +
                           log + "' 2>&1";
@@ -186,7 +186,7 @@ TEST(RealData, DiagnoseConfigOutOfRangeNamesFileKeyAndValue) {
   }
   const std::string log = out + "/log.txt";
   const std::string cmd = test::graftnavBinary() + " diagnose '" + dir + "' --out '" + out +
-                          "/o' --no-plots --config '" + out + "/bad.yaml' > '" + log + "' 2>&1";
+                          "/o' --no-plots --options '" + out + "/bad.yaml' > '" + log + "' 2>&1";
   EXPECT_NE(std::system(cmd.c_str()), 0);
   std::ifstream lf(log);
   std::stringstream ls;
@@ -206,7 +206,7 @@ TEST(RealData, RunConfigGnssSectionIsValidatedWithFileAndKey) {
   }
   const std::string log = out + "/log.txt";
   const std::string cmd = test::graftnavBinary() + " real '" + dir + "' --out '" + out + "/o' --imu ref --profile '" +
-                          test::sourceDir() + "/configs/real/wid_mrup.yaml' --estimators ekf --config '" + out +
+                          test::sourceDir() + "/configs/real/wid_mrup.yaml' --estimator ekf --run-config '" + out +
                           "/bad.yaml' > '" + log + "' 2>&1";
   EXPECT_NE(std::system(cmd.c_str()), 0);
   std::ifstream lf(log);

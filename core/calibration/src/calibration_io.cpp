@@ -1,10 +1,11 @@
 #include <yaml-cpp/yaml.h>
 
+#include <cctype>
 #include <cmath>
-#include <fstream>
 #include <stdexcept>
 
 #include "graftnav/calibration/calibration_io.h"
+#include "graftnav/io/atomic_file.h"
 
 namespace graftnav {
 namespace {
@@ -70,6 +71,27 @@ YAML::Node sensorNode(const SensorCalibration& s) {
     n["fit"] = fit;
   }
   return n;
+}
+
+// yaml-cpp writes NaN and inf as .nan / .inf; readCalibrationYaml rejects them, so the writer refuses
+// them first, naming the key, rather than leave a file no command can read.
+void requireFiniteScalars(const YAML::Node& n, const std::string& key, const std::string& path) {
+  if (n.IsScalar()) {
+    std::string v = n.Scalar();
+    for (char& ch : v) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (!v.empty() && (v[0] == '+' || v[0] == '-')) v.erase(0, 1);
+    if (v == ".nan" || v == "nan" || v == ".inf" || v == "inf")
+      throw std::runtime_error("writeCalibrationYaml: " + path + ": key '" + key + "' is not finite (" + n.Scalar() +
+                               "); refusing to write it");
+  } else if (n.IsSequence()) {
+    for (std::size_t i = 0; i < n.size(); ++i) requireFiniteScalars(n[i], key + "[" + std::to_string(i) + "]", path);
+  } else if (n.IsMap()) {
+    for (const auto& kv : n) {
+      const std::string k = kv.first.as<std::string>();
+      if (k == "model" || k == "method" || k == "case") continue;  // text
+      requireFiniteScalars(kv.second, key.empty() ? k : key + "." + k, path);
+    }
+  }
 }
 
 [[noreturn]] void fail(const std::string& path, const std::string& key, const std::string& why) {
@@ -172,11 +194,9 @@ void writeCalibrationYaml(const std::string& path, const CalibrationResult& resu
   YAML::Emitter out;
   out.SetDoublePrecision(12);
   out << root;
-  std::ofstream f(path);
-  if (!f) throw std::runtime_error("writeCalibrationYaml: cannot open " + path);
-  f << "# graftnav lab calibration (graftnav calibrate); see docs/calibration.md\n"
-    << out.c_str() << "\n";
-  if (!f) throw std::runtime_error("writeCalibrationYaml: write failed: " + path);
+  requireFiniteScalars(root, "", path);
+  writeFileAtomically(path, std::string("# graftnav lab calibration (graftnav calibrate); see docs/calibration.md\n") +
+                                out.c_str() + "\n");
 }
 
 CalibrationResult readCalibrationYaml(const std::string& path) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "graftnav/io/atomic_file.h"
+#include "graftnav/nav/units.h"
 
 namespace graftnav {
 
@@ -33,6 +34,11 @@ void ImuReadPolicy::validate() const {
     throw std::invalid_argument("ImuReadPolicy.uneven_tolerance must be > 0, got " + std::to_string(uneven_tolerance));
   if (!(gap_factor > 1.0) || !std::isfinite(gap_factor))
     throw std::invalid_argument("ImuReadPolicy.gap_factor must be > 1, got " + std::to_string(gap_factor));
+  if (!(max_gyro_rate_deg_s > 0.0) || !std::isfinite(max_gyro_rate_deg_s))
+    throw std::invalid_argument("ImuReadPolicy.max_gyro_rate_deg_s must be > 0, got " +
+                                std::to_string(max_gyro_rate_deg_s));
+  if (!(max_accel_g > 0.0) || !std::isfinite(max_accel_g))
+    throw std::invalid_argument("ImuReadPolicy.max_accel_g must be > 0, got " + std::to_string(max_accel_g));
 }
 
 namespace {
@@ -85,6 +91,28 @@ void validateReadOptions(const std::string& path, const ImuReadOptions& options)
     throw std::invalid_argument(path + ": ImuReadOptions.nominal_rate_hz must be >= 0, got " +
                                 std::to_string(options.nominal_rate_hz));
 }
+
+// Physical range of one sample's increments (ImuReadPolicy.max_*) over dt_s (at least the nominal
+// interval): an error naming path:line, column, value. Shared by readImu and ImuBlockReader.
+void checkImuRange(const std::string& path, int line, const ImuSample& s, double nominal_s,
+                   const ImuReadPolicy& policy) {
+  const double max_rate_rad_s = policy.max_gyro_rate_deg_s * units::kDegToRad;
+  const double max_accel_m_s2 = policy.max_accel_g * units::kStandardGravity_m_s2;
+  const double dt = std::max(s.dt_s, nominal_s);
+  for (int a = 0; a < 3; ++a) {
+    const double w = s.dtheta_rad[a], v = s.dvel_m_s[a];
+    if (std::fabs(w) > max_rate_rad_s * dt)
+      throw std::runtime_error(fmt::format(
+          "{}:{}: {} {:g} rad over {:g} s is {:.4g} deg/s, beyond the physical limit {:g} deg/s "
+          "(corrupted or mis-scaled value)",
+          path, line, kImuColumns[1 + a], w, dt, std::fabs(w) / dt / units::kDegToRad, policy.max_gyro_rate_deg_s));
+    if (std::fabs(v) > max_accel_m_s2 * dt)
+      throw std::runtime_error(fmt::format(
+          "{}:{}: {} {:g} m/s over {:g} s is {:.4g} g, beyond the physical limit {:g} g "
+          "(corrupted or mis-scaled value)",
+          path, line, kImuColumns[4 + a], v, dt, std::fabs(v) / dt / units::kStandardGravity_m_s2, policy.max_accel_g));
+  }
+}
 }  // namespace
 
 ImuSeries readImu(const std::string& path, const ImuReadOptions& options, ReadReport* report_out) {
@@ -126,6 +154,7 @@ ImuSeries readImu(const std::string& path, const ImuReadOptions& options, ReadRe
   }
   imu[0].dt_s = options.nominal_rate_hz > 0.0 ? nominal_s : imu[1].dt_s;
 
+  for (std::size_t k = 0; k < imu.size(); ++k) checkImuRange(path, lines[k], imu[k], nominal_s, policy);
   // Interval checks (times already strictly increase).
   for (std::size_t k = 1; k < imu.size(); ++k)
     checkInterval(path, lines[k], imu[k].dt_s, imu[k - 1].t_s, nominal_s, policy, report);
@@ -151,12 +180,11 @@ bool ImuBlockReader::next(ImuSeries* block) {
   ImuSample s;
   while (block->size() < block_samples_ && reader_.next()) {
     if (!parseImuLine(reader_, first_column_count_, order_, report_, &s)) continue;
-    if (report_.records_kept == 0) {
-      s.dt_s = nominal_s_;
-    } else {
-      s.dt_s = s.t_s - t_prev_s_;
+    const bool first = report_.records_kept == 0;
+    s.dt_s = first ? nominal_s_ : s.t_s - t_prev_s_;
+    checkImuRange(reader_.path(), reader_.lineNumber(), s, nominal_s_, options_.policy);
+    if (!first)
       checkInterval(reader_.path(), reader_.lineNumber(), s.dt_s, t_prev_s_, nominal_s_, options_.policy, report_);
-    }
     t_prev_s_ = s.t_s;
     ++report_.records_kept;
     block->push_back(s);

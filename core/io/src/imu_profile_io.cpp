@@ -41,7 +41,8 @@ ImuProfileParse parseImuProfileNode(const YAML::Node& node, const std::string& f
                       {"name", "grade", "arw_deg_rt_h", "vrw_m_s_rt_h", "gyro_bias_instability_deg_h",
                        "accel_bias_instability_mg", "gyro_scale_ppm", "accel_scale_ppm", "correlation_time_s",
                        "gyro_bias_correlation_time_s", "accel_bias_correlation_time_s", "scale_correlation_time_s",
-                       "gyro_bias_initial_deg_h", "accel_bias_initial_mg"});
+                       "gyro_bias_initial_deg_h", "accel_bias_initial_mg", "gyro_bias_repeatability_deg_h",
+                       "accel_bias_repeatability_mg"});
   ImuProfileParse out;
   ImuProfile& p = out.profile;
   if (yf::present(node["name"])) p.name = yf::asString(ctx, node["name"], yf::join(prefix, "name"));
@@ -72,6 +73,10 @@ ImuProfileParse parseImuProfileNode(const YAML::Node& node, const std::string& f
   const auto a0 = optionalNonNegative(ctx, node, prefix, "accel_bias_initial_mg");
   p.gyro_bias_initial_std_rad_s = g0 ? *g0 * units::kDegPerHourToRadPerSec : p.gyro_bias_instability_rad_s;
   p.accel_bias_initial_std_m_s2 = a0 ? *a0 * units::kMilliGToMPerSec2 : p.accel_bias_instability_m_s2;
+  const auto gr = optionalNonNegative(ctx, node, prefix, "gyro_bias_repeatability_deg_h");
+  const auto ar = optionalNonNegative(ctx, node, prefix, "accel_bias_repeatability_mg");
+  if (gr) p.gyro_bias_repeatability_rad_s = *gr * units::kDegPerHourToRadPerSec;
+  if (ar) p.accel_bias_repeatability_m_s2 = *ar * units::kMilliGToMPerSec2;
   return out;
 }
 
@@ -98,6 +103,14 @@ void emitImuProfile(YAML::Emitter& out, const ImuProfile& p, bool with_noise) {
         << p.gyro_bias_initial_std_rad_s / units::kDegPerHourToRadPerSec;
     out << YAML::Key << "accel_bias_initial_mg" << YAML::Value
         << p.accel_bias_initial_std_m_s2 / units::kMilliGToMPerSec2;
+    if (p.gyro_bias_repeatability_rad_s >= 0.0) {
+      out << YAML::Key << "gyro_bias_repeatability_deg_h" << YAML::Value
+          << p.gyro_bias_repeatability_rad_s / units::kDegPerHourToRadPerSec;
+    }
+    if (p.accel_bias_repeatability_m_s2 >= 0.0) {
+      out << YAML::Key << "accel_bias_repeatability_mg" << YAML::Value
+          << p.accel_bias_repeatability_m_s2 / units::kMilliGToMPerSec2;
+    }
   }
   if (!with_noise) {  // a grade-only section ({grade: mems}): the other fields mean "unknown"
     out << YAML::EndMap;

@@ -219,6 +219,28 @@ TEST(IoRobust, ImuBlockReaderEqualsReadImu) {
               ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("no IMU samples")));
 }
 
+// The physical range check (ImuReadPolicy.max_*) holds in the block reader as in readImu, under
+// both policies: the same error naming the file, line and column.
+TEST(IoRobust, ImuBlockReaderAppliesThePhysicalRange) {
+  const std::string dir = test::makeTempDir("io_block_range");
+  std::vector<std::string> l;
+  for (int k = 1; k <= 300; ++k) l.push_back(std::to_string(100.0 + 0.01 * k) + " 0.001 0 0 0 0 0.098");
+  l[200] = std::to_string(100.0 + 0.01 * 201) + " 0.001 0 0 0 0 1e300";
+  writeLines(dir + "/imu.txt", l);
+  for (const bool lenient : {false, true}) {
+    ImuReadOptions o;
+    o.nominal_rate_hz = 100.0;
+    if (lenient) o.policy = ImuReadPolicy::real();
+    const auto error = ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("imu.txt:201: dvel_z"));
+    EXPECT_THAT([&] { readImu(dir + "/imu.txt", o); }, error);
+    for (std::size_t block : {std::size_t{1}, std::size_t{64}, std::size_t{4096}}) {
+      ImuBlockReader reader(dir + "/imu.txt", o, block);
+      ImuSeries samples;
+      EXPECT_THAT([&] { while (reader.next(&samples)) {} }, error) << block;
+    }
+  }
+}
+
 // Chunks shorter than a line: every line still comes whole, with its number.
 TEST(IoRobust, StreamingTextReaderEqualsWholeFileReader) {
   const std::string dir = test::makeTempDir("io_chunks");

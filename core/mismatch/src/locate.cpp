@@ -2,6 +2,7 @@
 #include <cmath>
 #include <map>
 #include <stdexcept>
+#include <string>
 
 #include "graftnav/eval/evaluation.h"
 #include "graftnav/mismatch/locate.h"
@@ -143,9 +144,16 @@ std::vector<LocatedSpan> locateResidual(const Eigen::MatrixXd& residual, const G
   for (int c = 0; c < 6; ++c) {
     const WindowStats w = windowStats(residual.col(c), grid, options.window_s);
     const double limit = noise(c) * chiSquareQuantile(1.0 - options.false_alarm, w.n_eff) / w.n_eff;
+    // A non-finite residual (an input value out of range upstream) makes every comparison false: the
+    // span search below would never advance. Refuse it, naming the channel.
+    const bool finite_ms = std::all_of(w.ms.begin(), w.ms.end(), [](double v) { return std::isfinite(v); });
+    if (!std::isfinite(limit) || !finite_ms)
+      throw std::invalid_argument(std::string("locateResidual: channel ") + mismatchChannelNames()[c] +
+                                  ": the residual's window mean squares or their noise limit are not finite (limit " +
+                                  std::to_string(limit) + "); check the IMU inputs for out-of-range values");
     int k = 0;
     while (k < w.windows) {
-      if (w.ms[k] <= limit) {
+      if (!(w.ms[k] > limit)) {
         ++k;
         continue;
       }

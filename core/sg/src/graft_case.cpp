@@ -19,29 +19,45 @@ SensorDynamicFit dynamicFitFromCalibration(const SensorCalibration& cal, bool us
   return fit;
 }
 
-GraftedCase graftCase(const ImuSeries& ref, const LabCalibrationReport& lab,
-                      const GraftCaseOptions& options) {
+const char* sgLabel(SgStrategy s) { return s == SgStrategy::kBasic ? "SG1" : "SG2"; }
+
+GraftPlan makeGraftPlan(const LabCalibrationReport& lab, bool use_cross_axis) {
   if (!lab.has_basic) {
     throw std::invalid_argument(
         "graftCase: the lab session has no static record (lab/static.txt), so there is no basic "
         "error signal to graft");
   }
-  if (ref.empty()) throw std::invalid_argument("graftCase: the reference IMU series is empty");
-  const BasicErrorSignal basic(lab.basic.error);
-  GraftedCase out;
-  out.gyro_fit = dynamicFitFromCalibration(lab.result.gyro, options.use_cross_axis);
-  out.accel_fit = dynamicFitFromCalibration(lab.result.accel, options.use_cross_axis);
+  GraftPlan plan{BasicErrorSignal(lab.basic.error),
+                 dynamicFitFromCalibration(lab.result.gyro, use_cross_axis),
+                 dynamicFitFromCalibration(lab.result.accel, use_cross_axis)};
   // The basic error signal holds the dynamic error at the static attitude already.
-  out.gyro_fit.static_point = lab.basic.omega_ie_b;
-  out.accel_fit.static_point = lab.basic.f_b;
+  plan.gyro_fit.static_point = lab.basic.omega_ie_b;
+  plan.accel_fit.static_point = lab.basic.f_b;
+  return plan;
+}
+
+ImuSeries graftSeries(const ImuSeries& ref, const GraftPlan& plan, SgStrategy strategy,
+                      const GraftOptions& options) {
+  return strategy == SgStrategy::kBasic
+             ? graftBasic(ref, plan.basic, options)
+             : graftFull(ref, plan.basic, plan.gyro_fit, plan.accel_fit, options);
+}
+
+GraftedCase graftCase(const ImuSeries& ref, const LabCalibrationReport& lab,
+                      const GraftCaseOptions& options) {
+  const GraftPlan plan = makeGraftPlan(lab, options.use_cross_axis);
+  if (ref.empty()) throw std::invalid_argument("graftCase: the reference IMU series is empty");
+  GraftedCase out;
+  out.gyro_fit = plan.gyro_fit;
+  out.accel_fit = plan.accel_fit;
   GraftOptions g = options.graft;
-  g.start_offset_s = graftStartOffset(g, basic);
+  g.start_offset_s = graftStartOffset(g, plan.basic);
   out.start_offset_s = g.start_offset_s;
-  out.static_record_s = basic.recordLength_s();
+  out.static_record_s = plan.basic.recordLength_s();
   const double span = ref.back().t_s - (ref.front().t_s - ref.front().dt_s);
-  out.tiles = static_cast<int>(std::ceil((span + g.start_offset_s) / basic.recordLength_s()));
-  out.sg1 = graftBasic(ref, basic, g);
-  out.sg2 = graftFull(ref, basic, out.gyro_fit, out.accel_fit, g);
+  out.tiles = static_cast<int>(std::ceil((span + g.start_offset_s) / plan.basic.recordLength_s()));
+  out.sg1 = graftSeries(ref, plan, SgStrategy::kBasic, g);
+  out.sg2 = graftSeries(ref, plan, SgStrategy::kFull, g);
   return out;
 }
 

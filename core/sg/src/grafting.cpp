@@ -95,6 +95,25 @@ Vec6 BasicErrorSignal::cumulative(double u) const {
 
 Vec6 BasicErrorSignal::integral(double u0, double u1) const { return cumulative(u1) - cumulative(u0); }
 
+double BasicErrorSignal::sampleBoundaryAtOrBefore(double u) const {
+  if (u <= 0.0) return 0.0;
+  const double T = record_length_s_;
+  const double m = std::floor(u / T);
+  const double tau = u - m * T;
+  const long tile = static_cast<long>(m);
+  if (tile % 2 == 0) {
+    // Forward tile: the last sample end at or before tau (sample starts are the previous ends).
+    const auto it = std::upper_bound(tau_end_s_.begin(), tau_end_s_.end(), tau);
+    const double b = it == tau_end_s_.begin() ? 0.0 : *(it - 1);
+    return m * T + b;
+  }
+  // Mirrored tile: boundaries at T - tau_end_j; the largest one <= tau is T minus the smallest
+  // tau_end_j >= T - tau.
+  const auto it = std::lower_bound(tau_end_s_.begin(), tau_end_s_.end(), T - tau);
+  const double b = it == tau_end_s_.end() ? 0.0 : T - *it;
+  return m * T + std::max(0.0, b);
+}
+
 double graftStartOffset(const GraftOptions& opt, const BasicErrorSignal& basic) {
   if (opt.start_offset_s >= 0.0) return opt.start_offset_s;
   std::mt19937_64 rng(opt.seed);
@@ -117,7 +136,8 @@ ImuSeries graftImpl(const ImuSeries& ref, const BasicErrorSignal& basic, const G
     ImuSample& y = out[k];
     y = r;
     const double u1 = r.t_s - t0 + offset;
-    const Vec6 e = basic.integral(u1 - r.dt_s, u1);
+    Vec6 e = basic.integral(u1 - r.dt_s, u1);
+    if (!opt.power_on.empty()) e += opt.power_on.integral(r.t_s - t0 - r.dt_s, r.t_s - t0);
     Eigen::Vector3d dg, da;
     dynamic(r, dg, da);
     y.dtheta_rad = r.dtheta_rad + dg + e.head<3>();

@@ -26,6 +26,12 @@ struct ImuProfile {
   // the bias instability when not given.
   double gyro_bias_initial_std_rad_s = 0.0;
   double accel_bias_initial_std_m_s2 = 0.0;
+  // Bias repeatability, turn-on to turn-on (1-sigma, SI): how far the field's bias is from the
+  // lab's, drawn per grafted realization (sg/realization.h). Negative: not given, and the bias
+  // instability is used (each power-on restarts the Gauss-Markov bias from its stationary
+  // distribution, as the simulator does).
+  double gyro_bias_repeatability_rad_s = -1.0;
+  double accel_bias_repeatability_m_s2 = -1.0;
 };
 
 }  // namespace graftnav

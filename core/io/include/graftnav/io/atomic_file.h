@@ -1,7 +1,9 @@
 #pragma once
-// Atomic file output: data goes to a temporary file in the destination's directory and is renamed
-// onto the destination only by commit(), so a reader never sees a half-written file and a failure
-// (exception, crash) leaves any previous file untouched.
+// Atomic file output, the one writer of every result file: data go to a temporary file with a
+// unique name in the destination's folder; commit() flushes and fsyncs it, renames it onto the
+// destination and fsyncs the folder. A reader never sees a half-written file; a failure (full
+// disk, exception, SIGKILL) leaves any previous file untouched, and every failure except a kill
+// removes the temporary file. Errors throw std::runtime_error with the path and errno's text.
 
 #include <cstdio>
 #include <string>
@@ -21,8 +23,9 @@ class AtomicFile {
 
   // Buffered write; throws std::runtime_error on an I/O error (e.g. disk full).
   void write(std::string_view data);
-  // Flushes, closes and renames the temporary file onto the destination. Throws on failure (the
-  // destination then keeps its previous content).
+  // Flushes, fsyncs, closes and renames the temporary file onto the destination, then fsyncs the
+  // folder. Throws on failure (the destination then keeps its previous content and the temporary
+  // file is removed by the destructor).
   void commit();
 
   const std::string& path() const { return path_; }

@@ -27,6 +27,13 @@ struct ImuReadPolicy {
   ReadRule duplicate_stamp = ReadRule::kError;
   // Time before the previous: kError or kRepair (drop the line, at most 100 in a row).
   ReadRule backwards_stamp = ReadRule::kError;
+  // Physical range of an increment divided by its interval (max(dt_s, nominal interval)), per
+  // axis; beyond it the line is an input error under every policy (a corrupted or mis-scaled
+  // value, not a motion). 1e4 deg/s and 100 g lie far above the range of any navigation IMU
+  // (MEMS gyros saturate at 2000-4000 deg/s, accelerometers at 16-50 g), so they never reject a
+  // real recording but catch a 1e300 before it turns into a NaN solution.
+  double max_gyro_rate_deg_s = 1e4;
+  double max_accel_g = 100.0;
 
   static ImuReadPolicy strict() { return {}; }
   // For real recordings: warn on uneven intervals and gaps, repair duplicates and backwards stamps.

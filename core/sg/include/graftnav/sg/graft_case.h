@@ -16,6 +16,24 @@ namespace graftnav {
 // off-diagonal for the cross-axis terms.
 SensorDynamicFit dynamicFitFromCalibration(const SensorCalibration& cal, bool use_cross_axis = true);
 
+// Which of the seed's grafting strategies.
+enum class SgStrategy {
+  kBasic,  // SG#1: reference + basic error signal
+  kFull,   // SG#2: reference + dynamic errors + basic error signal
+};
+const char* sgLabel(SgStrategy s);  // "SG1", "SG2"
+
+// Everything grafting needs from the lab, built once and shared by every realization.
+struct GraftPlan {
+  BasicErrorSignal basic;
+  SensorDynamicFit gyro_fit, accel_fit;
+};
+// Throws std::invalid_argument when the lab report has no basic error signal (no static record).
+GraftPlan makeGraftPlan(const LabCalibrationReport& lab, bool use_cross_axis = true);
+// One grafted series; options.start_offset_s must be resolved (>= 0) or is drawn from its seed.
+ImuSeries graftSeries(const ImuSeries& reference_imu, const GraftPlan& plan, SgStrategy strategy,
+                      const GraftOptions& options);
+
 struct GraftedCase {
   ImuSeries sg1;  // IMU_SG#1: reference + basic error signal
   ImuSeries sg2;  // IMU_SG#2: reference + dynamic errors + basic error signal

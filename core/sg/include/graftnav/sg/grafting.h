@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "graftnav/imu/imu_profile.h"
+#include "graftnav/sg/power_on_errors.h"
 #include "graftnav/nav/types.h"
 
 namespace graftnav {
@@ -69,6 +70,10 @@ class BasicErrorSignal {
   // Integral of the tiled error rates over (u0, u1], u measured in seconds from the tiling origin.
   // Returns [dtheta (rad); dvel (m/s)].
   Eigen::Matrix<double, 6, 1> integral(double u0_s, double u1_s) const;
+  // The last lab-sample boundary at or before u_s in the tiled record (forward tiles: the record's
+  // sample starts; mirrored tiles: the same boundaries read backwards). Grafting from a boundary
+  // gives each field interval whole lab samples when the rates are equal.
+  double sampleBoundaryAtOrBefore(double u_s) const;
 
  private:
   Eigen::Matrix<double, 6, 1> cumulative(double u_s) const;  // integral over (0, u], u >= 0
@@ -89,6 +94,8 @@ struct GraftOptions {
   // to 1/sqrt(2), 26 % on average) while keeping its random walk.
   double start_offset_s = -1.0;
   std::uint64_t seed = 1;
+  // Turn-on bias change and bias wander of one power-on (zero: the seed's grafting).
+  PowerOnErrors power_on;
 };
 
 // Resolves GraftOptions::start_offset_s (deterministic for a given seed).

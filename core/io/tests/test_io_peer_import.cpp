@@ -1,0 +1,160 @@
+// KF-GINS / OB_GINS set-ups: unit conversion of every noise key, per-axis values, path rules,
+// OB_GINS's outage schedule and missing initial position, GNSS gap windows, the written case.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "graftnav/io/case_config.h"
+#include "graftnav/io/peer_config.h"
+#include "graftnav/io/peer_import.h"
+#include "test_support.h"
+
+namespace graftnav {
+namespace {
+
+using ::testing::HasSubstr;
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+
+void writeText(const std::string& path, const std::string& text) {
+  std::ofstream f(path);
+  f << text;
+}
+
+// Two small data files (content only matters to the importer's GNSS read).
+void writeData(const std::string& dir) {
+  writeText(dir + "/imu.txt", "100.01 0 0 0 0 0 -0.098\n100.02 0 0 0 0 0 -0.098\n");
+  std::string gnss;
+  for (int t : {100, 101, 102, 103, 120, 121, 122})
+    gnss += std::to_string(t) + " 30.0 114.0 20.0 0.01 0.01 0.02\n";
+  writeText(dir + "/gnss.pos", gnss);
+}
+
+const char* kKfGins = R"(imupath: "imu.txt"
+gnsspath: "gnss.pos"
+outputpath: "./out"
+imudatalen: 7
+imudatarate: 100
+starttime: 100
+endtime: -1
+initpos: [30.0, 114.0, 20.0]
+initvel: [1.0, 2.0, 0.0]
+initatt: [1.0, -2.0, 90.0]
+initgyrbias: [0, 0, 5]
+initposstd: [0.1, 0.2, 0.3]
+initvelstd: [0.01, 0.01, 0.01]
+initattstd: [0.1, 0.1, 0.5]
+imunoise:
+  arw: [0.2, 0.2, 0.2]
+  vrw: [0.06, 0.06, 0.06]
+  gbstd: [10.0, 10.0, 20.0]
+  abstd: [500.0, 500.0, 500.0]
+  gsstd: [300.0, 300.0, 300.0]
+  asstd: [100.0, 100.0, 100.0]
+  corrtime: 2.0
+antlever: [0.1, -0.3, -0.2]
+)";
+
+TEST(PeerConfig, KfGinsUnitsConvertedToSi) {
+  const std::string dir = test::makeTempDir("peer_kf");
+  writeData(dir);
+  writeText(dir + "/kf.yaml", kKfGins);
+  std::vector<std::string> warnings;
+  const PeerSetup s = loadPeerConfig(PeerFormat::kKfGins, dir + "/kf.yaml", &warnings);
+  EXPECT_TRUE(warnings.empty());
+  EXPECT_NEAR(s.profile.arw_rad_sqrt_s, 0.2 * kDeg / 60.0, 1e-15);
+  EXPECT_NEAR(s.profile.vrw_m_s_sqrt_s, 0.06 / 60.0, 1e-15);
+  EXPECT_NEAR(s.profile.gyro_bias_instability_rad_s, std::sqrt((100.0 + 100.0 + 400.0) / 3.0) * kDeg / 3600.0, 1e-15);
+  EXPECT_NEAR(s.profile.accel_bias_instability_m_s2, 500e-5, 1e-15);  // mGal
+  EXPECT_NEAR(s.profile.gyro_scale_std, 300e-6, 1e-15);
+  EXPECT_NEAR(s.profile.accel_scale_std, 100e-6, 1e-15);
+  EXPECT_DOUBLE_EQ(s.profile.gyro_bias_corr_time_s, 7200.0);
+  EXPECT_NEAR(s.initial_position->lat_rad, 30.0 * kDeg, 1e-15);
+  EXPECT_NEAR(s.initial_euler_rad.z(), 90.0 * kDeg, 1e-15);
+  EXPECT_EQ(*s.lever_arm_m, Eigen::Vector3d(0.1, -0.3, -0.2));
+  EXPECT_FALSE(s.end_s);
+  std::string notes;
+  for (const auto& n : s.notes) notes += n + "\n";
+  EXPECT_THAT(notes, HasSubstr("imunoise.gbstd: per-axis values"));
+  EXPECT_THAT(notes, HasSubstr("NOT CONVERTED: initgyrbias"));
+}
+
+TEST(PeerConfig, ErrorsNameKeyAndLine) {
+  const std::string dir = test::makeTempDir("peer_err");
+  writeData(dir);
+  std::string bad = kKfGins;
+  bad.replace(bad.find("corrtime: 2.0"), 13, "corrtime: soon");
+  writeText(dir + "/kf.yaml", bad);
+  try {
+    loadPeerConfig(PeerFormat::kKfGins, dir + "/kf.yaml");
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("imunoise.corrtime"));
+    EXPECT_THAT(e.what(), HasSubstr("kf.yaml:22"));
+  }
+  EXPECT_THROW(peerFormatFromName("kf_gins"), std::invalid_argument);
+}
+
+TEST(PeerConfig, ObGinsScheduleAndInitialPositionFromGnss) {
+  const std::string dir = test::makeTempDir("peer_ob");
+  writeData(dir);
+  writeText(dir + "/ob.yaml",
+            "imufile: imu.txt\ngnssfile: gnss.pos\nwindows: 20\nstarttime: 100\nendtime: 0\n"
+            "initvel: [0, 0, 0]\ninitatt: [0, 0, 0]\nimudatalen: 7\nimudatarate: 100\nisearth: true\n"
+            "antlever: [0, 0, -1.0]\nimumodel: {arw: 0.24, vrw: 0.24, gbstd: 50.0, abstd: 250.0, corrtime: 1.0}\n"
+            "isuseoutage: true\noutagetime: 10\noutagelen: 5\noutageperiod: 8\ngnssthreshold: 20.0\n");
+  const PeerSetup s = loadPeerConfig(PeerFormat::kObGins, dir + "/ob.yaml");
+  ASSERT_TRUE(s.outage_schedule);
+  EXPECT_DOUBLE_EQ(s.outage_schedule->first_start_s, 110.0);  // below starttime: counted from it
+  EXPECT_EQ(*s.window_nodes, 20);
+  EXPECT_FALSE(s.initial_position);
+  const ImportResult r = importPeerSetup(s, dir + "/case");
+  ASSERT_EQ(r.outages.size(), 1u);  // 110-115; 118-123 ends after the last GNSS epoch (122)
+  EXPECT_DOUBLE_EQ(r.outages[0].start_s, 110.0);
+  const CaseConfig c = loadCaseConfig(dir + "/case/case.yaml");
+  // The antenna is 1 m above the IMU: the IMU is 1 m below the first fix.
+  EXPECT_NEAR(c.initial_state->pos.h_m, 19.0, 1e-6);
+}
+
+TEST(PeerImport, GnssGapsBecomeWindowsThatKeepTheBoundingFixes) {
+  GnssSeries g;
+  for (double t : {0.0, 1.0, 2.0, 3.0, 5.0, 6.0, 30.0, 31.0, 32.0}) {
+    GnssFix f;
+    f.t_s = t;
+    g.push_back(f);
+  }
+  const auto w = gnssGapWindows(g, 0.0, 100.0, ImportOptions{});
+  ASSERT_EQ(w.size(), 1u);  // the 2 s gap is below min_gap_s = 3 s
+  EXPECT_GT(w[0].start_s, 6.0);
+  EXPECT_LT(w[0].end_s, 30.0);
+  EXPECT_NEAR(w[0].length_s(), 24.0, 0.01);
+  EXPECT_TRUE(gnssGapWindows(g, 7.0, 100.0, ImportOptions{}).empty());  // gap starts before the range
+  ImportOptions bad;
+  bad.min_gap_s = 0.0;
+  EXPECT_THROW(bad.validate(), std::invalid_argument);
+}
+
+TEST(PeerImport, KfGinsCaseLoadsBackWithItsRunConfig) {
+  const std::string dir = test::makeTempDir("peer_case");
+  writeData(dir);
+  writeText(dir + "/kf.yaml", kKfGins);
+  const PeerSetup s = loadPeerConfig(PeerFormat::kKfGins, dir + "/kf.yaml");
+  const ImportResult r = importPeerSetup(s, dir + "/case");
+  ASSERT_EQ(r.outages.size(), 1u);  // 103 .. 120
+  const CaseConfig c = loadCaseConfig(dir + "/case/case.yaml");
+  EXPECT_DOUBLE_EQ(c.imu_rate_hz, 100.0);
+  EXPECT_NEAR(c.reference_imu->accel_bias_instability_m_s2, 500e-5, 1e-12);
+  EXPECT_NEAR(c.initial_state->v_n.y(), 2.0, 1e-12);
+  EXPECT_TRUE(std::filesystem::is_symlink(dir + "/case/field/ref_imu.txt"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/case/source/kf.yaml"));
+  std::ifstream run(dir + "/case/run.yaml");
+  std::stringstream ss;
+  ss << run.rdbuf();
+  EXPECT_THAT(ss.str(), HasSubstr("init_pos_std_m: 0.3"));
+  EXPECT_THAT(ss.str(), HasSubstr("103.001"));
+}
+
+}  // namespace
+}  // namespace graftnav
