@@ -53,7 +53,7 @@ CaseInputs loadCaseInputs(const std::string& case_dir, const CaseLoadOptions& o)
 }
 
 ImuSelection selectImu(const CaseInputs& c, const std::string& which, const std::string& profile_file,
-                       bool lenient) {
+                       bool lenient, bool read_samples) {
   const CasePaths paths = c.paths();
   const CaseConfig& cfg = c.config;
   ImuSelection s;
@@ -77,13 +77,15 @@ ImuSelection selectImu(const CaseInputs& c, const std::string& which, const std:
   }
   if (profile) s.profile = *profile;
   if (!CasePaths::exists(s.path)) throw std::runtime_error("IMU file '" + s.path + "' not found");
-  ImuReadOptions ro;
+  ImuReadOptions& ro = s.read_options;
   ro.nominal_rate_hz = rate_hz;
   if (lenient) ro.policy = ImuReadPolicy::real();
-  ReadReport rep;
-  s.imu = readImu(s.path, ro, &rep);
-  s.read_summary = rep.summary();
-  if (s.imu.empty()) throw std::runtime_error("IMU file '" + s.path + "' holds no sample");
+  if (read_samples) {
+    ReadReport rep;
+    s.imu = readImu(s.path, ro, &rep);
+    s.read_summary = rep.summary();
+    if (s.imu.empty()) throw std::runtime_error("IMU file '" + s.path + "' holds no sample");
+  }
   s.label = profile && !profile->name.empty() ? profile->name : which;
   return s;
 }

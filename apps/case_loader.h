@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "graftnav/io/case_config.h"
+#include "graftnav/io/imu_io.h"
 #include "graftnav/estimation/nav_solution.h"
 #include "run_config.h"
 
@@ -40,9 +41,11 @@ struct ImuSelection {
   std::string path;
   std::string label;
   std::string read_summary;  // the reader's conditions met (repairs/warnings); empty when clean
+  ImuReadOptions read_options;  // how the file is (or is to be) read
 };
+// read_samples = false leaves `imu` empty (for a run that streams the file with read_options).
 ImuSelection selectImu(const CaseInputs& c, const std::string& which, const std::string& profile_file = "",
-                       bool lenient = false);
+                       bool lenient = false, bool read_samples = true);
 
 // Keeps the IMU samples whose interval lies in the range (end time > start, <= end) and the GNSS
 // epochs inside it. Throws std::runtime_error naming the range when no IMU sample is left.

@@ -2,13 +2,15 @@
 //   [--estimator ekf,rts,...] [--outage-length S --outage-period S --outage-start S]
 //   [--run-config FILE] [--start T --end T] [--decimate N] [--lenient] [--no-plots]
 // Several estimators write OUT_DIR/<estimator>/. Without --run-config, CASE_DIR/run.yaml is used
-// when present (written by `graftnav import`).
+// when present (written by `graftnav import`). Estimators with a streamed form (ekf, rts, fgo,
+// fgo-window) read the IMU in blocks and write their per-epoch files as they go (streamedRun).
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -87,7 +89,53 @@ struct NavigateSetup {
   OutageScheduleConfig oc;
   EstimationProblem pr;
   std::vector<std::string> notes;
+  bool stream = false;  // the IMU read in blocks during the run; imu.imu and pr.imu not held
 };
+
+// Whether the run streams the IMU (read in blocks, the per-epoch files written as they go).
+// In memory instead when the estimator has no streamed form or something needs the samples: a
+// data alignment (rc.alignment.mode other than "given"), or a --start/--end time range
+// (restrictToTimeRange cuts the series in memory).
+bool streamable(const std::string& estimator, const RunConfig& rc, const TimeRangeConfig& range) {
+  return canStream(estimator) && rc.alignment.mode == "given" && range.empty();
+}
+
+// A streamed IMU file read once through the block reader before anything is written, so that its
+// errors (physical range, time order, intervals) stop the run here as readImu's would, the
+// --lenient repair report is known, and makeProblem and the input checks get the first and last
+// samples (initial time, span). Memory stays flat; the run reads the file again.
+ImuSeries scanStreamedImu(ImuSelection* sel) {
+  ImuBlockReader reader(sel->path, sel->read_options);
+  ImuSeries block, span;
+  while (reader.next(&block)) {
+    if (span.empty()) span = {block.front(), block.back()};
+    span.back() = block.back();
+  }
+  sel->read_summary = reader.report().summary();
+  return span;
+}
+
+// The IMU and its profile (paths relative to the case or the working directory), read in memory
+// and cut to the time range, or scanned for a streamed run.
+void selectNavigateImu(const NavigateArgs& a, NavigateSetup* s) {
+  const std::string imu_which =
+      a.imu == "ref" || a.imu == "tested" ? a.imu : resolveUserPath(a.imu, a.case_dir, "IMU file");
+  const std::string profile = a.profile.empty() ? a.profile : resolveUserPath(a.profile, a.case_dir, "IMU profile");
+  if (!profile.empty()) recordConfigFile(profile);
+  const TimeRangeConfig range = mergeTimeRange(s->rc.time_range, a.time_range);
+  s->stream = streamable(a.free_inertial ? "free-inertial" : a.estimator, s->rc, range);
+  s->imu = selectImu(s->c, imu_which, profile, a.lenient, !s->stream);
+  if (s->stream) {
+    s->imu.imu = scanStreamedImu(&s->imu);
+  } else {
+    restrictToTimeRange(range, &s->c, &s->imu, &s->notes);
+  }
+  if (!s->imu.read_summary.empty()) warnAll({s->imu.read_summary}, &s->notes);
+  if (!a.free_inertial && !s->imu.profile_given) {
+    throw std::runtime_error("no noise parameters for IMU '" + a.imu +
+                             "' in case.yaml: pass --profile FILE (configs/imu/*.yaml)");
+  }
+}
 
 NavigateSetup prepareNavigate(const NavigateArgs& a) {
   validateOutageOptions(a.outage_length, a.outage_period, a.outage_start);
@@ -114,17 +162,7 @@ NavigateSetup prepareNavigate(const NavigateArgs& a) {
   s.rc.ekf.output_decimation = a.decimate;
   if (a.free_inertial) s.rc.alignment.mode = "given";
 
-  const std::string imu_which =
-      a.imu == "ref" || a.imu == "tested" ? a.imu : resolveUserPath(a.imu, a.case_dir, "IMU file");
-  const std::string profile = a.profile.empty() ? a.profile : resolveUserPath(a.profile, a.case_dir, "IMU profile");
-  if (!profile.empty()) recordConfigFile(profile);
-  s.imu = selectImu(s.c, imu_which, profile, a.lenient);
-  restrictToTimeRange(mergeTimeRange(s.rc.time_range, a.time_range), &s.c, &s.imu, &s.notes);
-  if (!s.imu.read_summary.empty()) warnAll({s.imu.read_summary}, &s.notes);
-  if (!a.free_inertial && !s.imu.profile_given) {
-    throw std::runtime_error("no noise parameters for IMU '" + a.imu +
-                             "' in case.yaml: pass --profile FILE (configs/imu/*.yaml)");
-  }
+  selectNavigateImu(a, &s);
   if (!a.free_inertial) warnAll(checkGnssCoverage(s.c.gnss, s.c.paths().gnssPos(), s.imu.imu, false), &s.notes);
 
   // Outages: config section, overridden by the command line; none for a free-inertial run.
@@ -145,6 +183,10 @@ NavigateSetup prepareNavigate(const NavigateArgs& a) {
     requireOutagesInsideData(*outages, s.pr.outages, t0, s.pr.imu.back().t_s);
   }
   warnAll(checkReferenceCoverage(s.c.reference, s.c.reference_name, s.pr.imu, s.pr.outages), &s.notes);
+  if (s.stream) {  // the checks above needed only the span; the run reads the file in blocks
+    s.pr.imu = {};
+    s.imu.imu = {};
+  }
   return s;
 }
 
@@ -172,6 +214,72 @@ void writeEvaluation(const NavigateArgs& a, const NavigateSetup& s, const std::s
   fmt::print("  wrote errors.json, run_info.json, errors.csv, outage_drift.csv in {}\n", a.out);
 }
 
+// The per-epoch files of a run (solution.nav, imu_errors.txt, state_std.txt): what was written.
+struct RunFiles {
+  std::size_t epochs = 0;
+  bool imu_errors = false, state_std = false;
+};
+// Called on the finished run before its files are committed (a failing check leaves none).
+using BeforeCommitFn = std::function<void(const NavSolution&)>;
+
+// Writes the per-epoch files as the epochs come; also appends them to a NavSolution when given
+// (the evaluation against a reference needs them).
+class NavFileSink : public SolutionSink {
+ public:
+  NavFileSink(const fs::path& out, bool with_imu_errors, NavSolution* keep)
+      : nav_((out / "solution.nav").string()),
+        outputs_((out / "imu_errors.txt").string(), (out / "state_std.txt").string(), with_imu_errors) {
+    if (keep) keep_.emplace(keep);
+  }
+  void add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate& sensors) override {
+    nav_.add(state);
+    outputs_.add(state, sigma, sensors);
+    if (keep_) keep_->add(state, sigma, sensors);
+  }
+  RunFiles commit() {
+    RunFiles f;
+    nav_.commit();
+    f.epochs = nav_.count();
+    outputs_.commit(&f.imu_errors, &f.state_std);
+    return f;
+  }
+
+ private:
+  NavWriter nav_;
+  SolutionOutputsSink outputs_;
+  std::optional<NavSolutionSink> keep_;
+};
+
+// Streamed run: the IMU read in blocks, the files written as it goes; the epochs are kept in the
+// returned solution only when `keep`. Byte-identical files to inMemoryRun's.
+NavSolution streamedRun(const std::string& estimator, const NavigateSetup& s, const fs::path& out, bool keep,
+                        const BeforeCommitFn& before_commit, RunFiles* files) {
+  NavSolution sol;
+  // The factor graphs give no scale-factor series: no imu_errors.txt, as in memory.
+  const bool with_imu_errors = estimator != "fgo" && estimator != "fgo-window";
+  NavFileSink sink(out, with_imu_errors, keep ? &sol : nullptr);
+  const NavSolution book =
+      runEstimatorStreaming(estimator, s.pr, imuFileStream(s.imu.path, s.imu.read_options), s.rc, sink);
+  sol.estimator = book.estimator;
+  sol.gnss_used = book.gnss_used;
+  sol.gnss_rejected = book.gnss_rejected;
+  sol.gnss_withheld = book.gnss_withheld;
+  before_commit(sol);
+  *files = sink.commit();
+  return sol;
+}
+
+NavSolution inMemoryRun(const std::string& estimator, const NavigateSetup& s, const fs::path& out,
+                        const ProgressFn& progress, const BeforeCommitFn& before_commit, RunFiles* files) {
+  NavSolution sol = runEstimator(estimator, s.pr, s.rc, progress);
+  before_commit(sol);
+  writeNav((out / "solution.nav").string(), sol.states);
+  files->epochs = sol.states.size();
+  files->imu_errors = writeImuErrors((out / "imu_errors.txt").string(), sol);
+  files->state_std = writeStateStd((out / "state_std.txt").string(), sol);
+  return sol;
+}
+
 void runNavigateOne(const NavigateArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&]() {
@@ -183,8 +291,13 @@ void runNavigateOne(const NavigateArgs& a) {
   fs::create_directories(a.out);
 
   const std::string estimator = a.free_inertial ? "free-inertial" : a.estimator;
-  fmt::print(stderr, "[{:6.1f} s] {} on {} IMU samples, {} GNSS fixes, {} outages\n", elapsed(),
-             estimator, s.pr.imu.size(), s.pr.gnss.size(), s.pr.outages.size());
+  if (s.stream) {
+    fmt::print(stderr, "[{:6.1f} s] streaming the {} IMU: {} on {} in blocks, {} GNSS fixes, {} outages\n",
+               elapsed(), a.imu, estimator, s.imu.path, s.pr.gnss.size(), s.pr.outages.size());
+  } else {
+    fmt::print(stderr, "[{:6.1f} s] {} on {} IMU samples, {} GNSS fixes, {} outages\n", elapsed(), estimator,
+               s.pr.imu.size(), s.pr.gnss.size(), s.pr.outages.size());
+  }
   int last_decile = -1;
   const ProgressFn progress = [&](double f) {
     const int d = static_cast<int>(f * 10.0);
@@ -193,18 +306,21 @@ void runNavigateOne(const NavigateArgs& a) {
       fmt::print(stderr, "[{:6.1f} s] {} {:3d} %\n", elapsed(), estimator, d * 10);
     }
   };
-  const double t_run0 = elapsed();
-  const NavSolution sol = runEstimator(estimator, s.pr, s.rc, progress);
-  const double run_time = elapsed() - t_run0;
   std::vector<std::string> notes = s.notes;
-  warnAll(checkGnssUsed(sol.gnss_used, a.free_inertial), &notes);
-
-  const std::string nav_out = (fs::path(a.out) / "solution.nav").string();
-  writeNav(nav_out, sol.states);
-  fmt::print("{}: {} epochs -> {} ({:.2f} s)\n", estimator, sol.states.size(), nav_out, run_time);
+  const BeforeCommitFn check = [&](const NavSolution& sol) {
+    warnAll(checkGnssUsed(sol.gnss_used, a.free_inertial), &notes);
+  };
   const fs::path out_dir(a.out);
-  if (writeImuErrors((out_dir / "imu_errors.txt").string(), sol)) fmt::print("  wrote imu_errors.txt\n");
-  if (writeStateStd((out_dir / "state_std.txt").string(), sol)) fmt::print("  wrote state_std.txt\n");
+  const double t_run0 = elapsed();
+  RunFiles files;
+  const NavSolution sol = s.stream ? streamedRun(estimator, s, out_dir, !s.c.reference.empty(), check, &files)
+                                   : inMemoryRun(estimator, s, out_dir, progress, check, &files);
+  const double run_time = elapsed() - t_run0;
+
+  fmt::print("{}: {} epochs -> {} ({:.2f} s)\n", estimator, files.epochs, (out_dir / "solution.nav").string(),
+             run_time);
+  if (files.imu_errors) fmt::print("  wrote imu_errors.txt\n");
+  if (files.state_std) fmt::print("  wrote state_std.txt\n");
   if (!a.free_inertial) {
     fmt::print("  GNSS used {}, rejected by the gate {}, withheld in outages {}\n", sol.gnss_used,
                sol.gnss_rejected, sol.gnss_withheld);

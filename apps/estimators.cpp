@@ -1,5 +1,8 @@
 #include "estimators.h"
 
+#include <algorithm>
+#include <cstdio>
+#include <memory>
 #include <stdexcept>
 
 #include "graftnav/filters/free_inertial.h"
@@ -8,28 +11,75 @@
 
 namespace graftnav::app {
 
+namespace {
+// The factor graphs re-preintegrate any interval: they hold the samples (read in blocks, so no
+// copy of the file's text) but write their output as it goes.
+EstimationProblem withSamples(const EstimationProblem& header, const ImuStream& imu) {
+  EstimationProblem p = header;
+  p.imu.reserve(imu.max_samples);  // no reallocation: the series is the largest thing held
+  imu.pass([&](const ImuSeries& block) { p.imu.insert(p.imu.end(), block.begin(), block.end()); });
+  return p;
+}
+
+// Number of '\n' in a file (plus one for a last line without it), read in chunks.
+std::size_t countLines(const std::string& path) {
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) throw std::runtime_error(path + ": cannot open file (missing or unreadable)");
+  std::vector<char> buf(1 << 16);
+  std::size_t lines = 0, n = 0;
+  char last = '\n';
+  while ((n = std::fread(buf.data(), 1, buf.size(), f.get())) > 0) {
+    lines += static_cast<std::size_t>(std::count(buf.data(), buf.data() + n, '\n'));
+    last = buf[n - 1];
+  }
+  return lines + (last != '\n' ? 1 : 0);
+}
+
+FgoEpochFn toSink(SolutionSink& sink) {
+  return [&sink](const NavState& s, const PvaSigma* sigma, const Eigen::Vector3d& bg, const Eigen::Vector3d& ba) {
+    ImuErrorEstimate e;
+    e.gyro_bias_rad_s = bg;
+    e.accel_bias_m_s2 = ba;
+    sink.add(s, sigma, e);
+  };
+}
+}  // namespace
+
 const std::vector<EstimatorEntry>& estimatorTable() {
   static const std::vector<EstimatorEntry> table = {
       {"ekf", "forward closed-loop 21-state GNSS/INS EKF",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn& f) {
          return runEkf(p, c.ekf, nullptr, f);
+       },
+       [](const EstimationProblem& p, const ImuStream& imu, const RunConfig& c, SolutionSink& sink) {
+         return runEkfStreaming(p, c.ekf, imu.pass, sink);
        }},
       {"rts", "EKF + Rauch-Tung-Striebel smoother",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn& f) {
          return runRts(p, c.ekf, nullptr, nullptr, f);
+       },
+       [](const EstimationProblem& p, const ImuStream& imu, const RunConfig& c, SolutionSink& sink) {
+         return runRtsStreaming(p, c.ekf, imu.pass, sink);
        }},
       {"fgo", "factor-graph batch smoother (Ceres, SuiteSparse), docs/fgo.md",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn&) {
          return solveBatchFgo(p, c.fgo);
+       },
+       [](const EstimationProblem& p, const ImuStream& imu, const RunConfig& c, SolutionSink& sink) {
+         return solveBatchFgo(withSamples(p, imu), c.fgo, nullptr, toSink(sink));
        }},
       {"fgo-window", "factor-graph sliding window with marginalization, causal output",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn&) {
          return solveWindowFgo(p, c.fgo);
+       },
+       [](const EstimationProblem& p, const ImuStream& imu, const RunConfig& c, SolutionSink& sink) {
+         return solveWindowFgo(withSamples(p, imu), c.fgo, nullptr, toSink(sink));
        }},
       {"free-inertial", "mechanization from the initial state, no GNSS",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn& f) {
          return runFreeInertial(p, c.ekf.output_decimation, f);
-       }},
+       },
+       {}},
   };
   return table;
 }
@@ -40,14 +90,42 @@ std::vector<std::string> estimatorNames() {
   return names;
 }
 
-NavSolution runEstimator(const std::string& name, const EstimationProblem& problem,
-                         const RunConfig& config, const ProgressFn& progress) {
+namespace {
+
+const EstimatorEntry& findEstimator(const std::string& name) {
   for (const auto& e : estimatorTable()) {
-    if (e.name == name) return e.run(problem, config, progress);
+    if (e.name == name) return e;
   }
   std::string known;
   for (const auto& n : estimatorNames()) known += (known.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown estimator '" + name + "' (known: " + known + ")");
+}
+}  // namespace
+
+NavSolution runEstimator(const std::string& name, const EstimationProblem& problem,
+                         const RunConfig& config, const ProgressFn& progress) {
+  return findEstimator(name).run(problem, config, progress);
+}
+
+bool canStream(const std::string& name) { return static_cast<bool>(findEstimator(name).stream); }
+
+ImuStream imuFileStream(const std::string& path, const ImuReadOptions& options, ReadReport* report) {
+  ImuStream s;
+  s.pass = [path, options, report](const ImuBlockFn& block) {
+    ImuBlockReader reader(path, options);
+    ImuSeries samples;
+    while (reader.next(&samples)) block(samples);
+    if (report) *report = reader.report();
+  };
+  s.max_samples = countLines(path);
+  return s;
+}
+
+NavSolution runEstimatorStreaming(const std::string& name, const EstimationProblem& problem,
+                                  const ImuStream& imu, const RunConfig& config, SolutionSink& sink) {
+  const EstimatorEntry& e = findEstimator(name);
+  if (!e.stream) throw std::invalid_argument("estimator '" + name + "' has no streamed form");
+  return e.stream(problem, imu, config, sink);
 }
 
 }  // namespace graftnav::app

@@ -8,6 +8,8 @@
 
 #include "graftnav/estimation/nav_solution.h"
 #include "graftnav/filters/ekf.h"
+#include "graftnav/filters/solution_sink.h"
+#include "graftnav/io/imu_io.h"
 #include "run_config.h"
 
 namespace graftnav::app {
@@ -15,10 +17,21 @@ namespace graftnav::app {
 using EstimatorFn =
     std::function<NavSolution(const EstimationProblem&, const RunConfig&, const ProgressFn&)>;
 
+// The streamed form: samples from `imu` (problem.imu is not read), output epochs into `sink`,
+// the GNSS bookkeeping returned. Same epochs as the in-memory form, memory not growing with the
+// recording (see docs/BENCHMARKS.md).
+struct ImuStream {
+  ImuPassFn pass;                  // one pass over the samples; may be called more than once
+  std::size_t max_samples = 0;     // an upper bound of their number (reserve), 0 when unknown
+};
+using StreamingEstimatorFn = std::function<NavSolution(const EstimationProblem&, const ImuStream&,
+                                                       const RunConfig&, SolutionSink&)>;
+
 struct EstimatorEntry {
   std::string name;
   std::string description;
   EstimatorFn run;
+  StreamingEstimatorFn stream;  // empty when the estimator holds its input in memory
 };
 
 const std::vector<EstimatorEntry>& estimatorTable();
@@ -26,5 +39,17 @@ std::vector<std::string> estimatorNames();
 // Throws std::invalid_argument listing the known names when `name` is not in the table.
 NavSolution runEstimator(const std::string& name, const EstimationProblem& problem,
                          const RunConfig& config, const ProgressFn& progress = {});
+
+// True when `name` has a streamed form; throws like runEstimator for an unknown name.
+bool canStream(const std::string& name);
+
+// An IMU file read in blocks (ImuBlockReader; options.nominal_rate_hz > 0); each pass reads the
+// file again, max_samples is its line count. *report (when given) receives the last pass's
+// reader report.
+ImuStream imuFileStream(const std::string& path, const ImuReadOptions& options, ReadReport* report = nullptr);
+
+// Runs the streamed form of `name`; throws std::invalid_argument when it has none.
+NavSolution runEstimatorStreaming(const std::string& name, const EstimationProblem& problem,
+                                  const ImuStream& imu, const RunConfig& config, SolutionSink& sink);
 
 }  // namespace graftnav::app

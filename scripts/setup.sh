@@ -9,7 +9,8 @@ PACKAGES=(build-essential cmake ninja-build ccache pkg-config
   libeigen3-dev libceres-dev libsuitesparse-dev libgeographiclib-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   python3 python3-matplotlib dpkg-dev
-  libsqlite3-dev sqlite3 munge slurm-wlm)
+  libsqlite3-dev sqlite3 munge slurm-wlm
+  time)  # time: /usr/bin/time -v for scripts/bench_memory.sh
 
 missing=()
 for p in "${PACKAGES[@]}"; do

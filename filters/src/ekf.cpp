@@ -242,73 +242,86 @@ void GnssInsEkf::pushRecord(const ErrorState& dx, const ErrorCov& P_prior) {
   last_record_t_ = nav_.t_s;
 }
 
+EkfPass::EkfPass(const EstimationProblem& problem, const EkfOptions& options, bool record)
+    : options_(options),
+      gnss_(withholdGnss(problem.gnss, problem.outages)),
+      lever_arm_b_m_(problem.lever_arm_b_m),
+      gnss_week_(problem.initial.gnss_week),
+      filter_(problem.initial, initialCovariance(problem, options), problem.imu_profile, options),
+      t_cur_(problem.initial.t_s) {
+  bookkeeping_.estimator = "ekf";
+  bookkeeping_.gnss_withheld = static_cast<int>(problem.gnss.size() - gnss_.size());
+  filter_.enableRecording(record);
+  while (next_fix_ < gnss_.size() && gnss_[next_fix_].t_s < t_cur_ - kTimeTol_s) ++next_fix_;  // before the start
+  while (next_fix_ < gnss_.size() && gnss_[next_fix_].t_s <= t_cur_ + kTimeTol_s) applyFix(next_fix_++);  // at it
+}
+
+void EkfPass::applyFix(std::size_t i) {
+  if (filter_.updatePosition(gnss_[i], lever_arm_b_m_)) ++bookkeeping_.gnss_used;
+}
+
+void EkfPass::add(const ImuSample& s, SolutionSink* sink) {
+  if (s.t_s <= t_cur_ + kTimeTol_s) return;
+  double piece_start = std::max(s.t_s - s.dt_s, t_cur_);
+  while (next_fix_ < gnss_.size() && gnss_[next_fix_].t_s < s.t_s - kTimeTol_s) {
+    const double tg = gnss_[next_fix_].t_s;
+    if (tg > piece_start + kTimeTol_s) {
+      filter_.propagate(sliceImuSample(s, piece_start, tg));
+      piece_start = tg;
+    }
+    applyFix(next_fix_++);
+  }
+  filter_.propagate(sliceImuSample(s, piece_start, s.t_s));
+  while (next_fix_ < gnss_.size() && gnss_[next_fix_].t_s <= s.t_s + kTimeTol_s) applyFix(next_fix_++);
+  t_cur_ = s.t_s;
+  if (++processed_ % static_cast<size_t>(options_.output_decimation) == 0 && sink) {
+    NavState st = filter_.state();
+    st.t_s = s.t_s;
+    st.gnss_week = gnss_week_;
+    sink->add(st, &filter_.pvaSigma(), filter_.sensors());
+  }
+}
+
+NavSolution EkfPass::finish(SmootherRecords* records) {
+  if (processed_ == 0) {
+    throw std::invalid_argument("runEkf: no IMU sample after the initial time " + std::to_string(t_cur_));
+  }
+  filter_.recordNow();
+  bookkeeping_.gnss_rejected = filter_.rejected();
+  if (records) *records = std::move(filter_.records());
+  return bookkeeping_;
+}
+
+NavSolution runEkfStreaming(const EstimationProblem& problem, const EkfOptions& options,
+                            const ImuPassFn& imu, SolutionSink& sink) {
+  options.validate();
+  EkfPass pass(problem, options, false);
+  imu([&](const ImuSeries& block) {
+    for (const ImuSample& s : block) pass.add(s, &sink);
+  });
+  return pass.finish();
+}
+
 NavSolution runEkf(const EstimationProblem& problem, const EkfOptions& options,
-                   std::vector<SmootherRecord>* records, const ProgressFn& progress,
+                   SmootherRecords* records, const ProgressFn& progress,
                    bool keep_states) {
   options.validate();
   if (problem.imu.empty()) throw std::invalid_argument("runEkf: the IMU series is empty");
-  const GnssSeries gnss = withholdGnss(problem.gnss, problem.outages);
-
+  EkfPass pass(problem, options, records != nullptr);
   NavSolution sol;
-  sol.estimator = "ekf";
-  sol.gnss_withheld = static_cast<int>(problem.gnss.size() - gnss.size());
-  GnssInsEkf f(problem.initial, initialCovariance(problem, options), problem.imu_profile,
-               options);
-  f.enableRecording(records != nullptr);
-
+  NavSolutionSink sink(&sol);
   const size_t n = problem.imu.size();
-  const size_t reserve = keep_states ? n / static_cast<size_t>(options.output_decimation) + 1 : 0;
-  sol.states.reserve(reserve);
-  sol.sigma.reserve(reserve);
-  sol.gyro_bias_rad_s.reserve(reserve);
-  sol.accel_bias_m_s2.reserve(reserve);
-  sol.gyro_scale.reserve(reserve);
-  sol.accel_scale.reserve(reserve);
-
-  double t_cur = problem.initial.t_s;
-  size_t gi = 0;
-  while (gi < gnss.size() && gnss[gi].t_s < t_cur - kTimeTol_s) ++gi;  // before the start
-  auto doUpdate = [&](size_t i) {
-    if (f.updatePosition(gnss[i], problem.lever_arm_b_m)) ++sol.gnss_used;
-  };
-  while (gi < gnss.size() && gnss[gi].t_s <= t_cur + kTimeTol_s) doUpdate(gi++);  // at the start
-  size_t processed = 0;
+  if (keep_states) sink.reserve(n / static_cast<size_t>(options.output_decimation) + 1);
   const size_t progress_step = std::max<size_t>(1, n / 100);
   for (size_t j = 0; j < n; ++j) {
-    const ImuSample& s = problem.imu[j];
     if (progress && j % progress_step == 0) progress(static_cast<double>(j) / n);
-    if (s.t_s <= t_cur + kTimeTol_s) continue;
-    double piece_start = std::max(s.t_s - s.dt_s, t_cur);
-    while (gi < gnss.size() && gnss[gi].t_s < s.t_s - kTimeTol_s) {
-      const double tg = gnss[gi].t_s;
-      if (tg > piece_start + kTimeTol_s) {
-        f.propagate(sliceImuSample(s, piece_start, tg));
-        piece_start = tg;
-      }
-      doUpdate(gi++);
-    }
-    f.propagate(sliceImuSample(s, piece_start, s.t_s));
-    while (gi < gnss.size() && gnss[gi].t_s <= s.t_s + kTimeTol_s) doUpdate(gi++);
-    t_cur = s.t_s;
-    if (++processed % static_cast<size_t>(options.output_decimation) == 0 && keep_states) {
-      NavState st = f.state();
-      st.t_s = s.t_s;
-      st.gnss_week = problem.initial.gnss_week;
-      sol.states.push_back(st);
-      sol.sigma.push_back(f.pvaSigma());
-      sol.gyro_bias_rad_s.push_back(f.sensors().gyro_bias_rad_s);
-      sol.accel_bias_m_s2.push_back(f.sensors().accel_bias_m_s2);
-      sol.gyro_scale.push_back(f.sensors().gyro_scale);
-      sol.accel_scale.push_back(f.sensors().accel_scale);
-    }
+    pass.add(problem.imu[j], keep_states ? &sink : nullptr);
   }
-  if (processed == 0) {
-    throw std::invalid_argument("runEkf: no IMU sample after the initial time " +
-                                std::to_string(problem.initial.t_s));
-  }
-  f.recordNow();
-  sol.gnss_rejected = f.rejected();
-  if (records) *records = std::move(f.records());
+  const NavSolution book = pass.finish(records);
+  sol.estimator = book.estimator;
+  sol.gnss_used = book.gnss_used;
+  sol.gnss_rejected = book.gnss_rejected;
+  sol.gnss_withheld = book.gnss_withheld;
   if (progress) progress(1.0);
   return sol;
 }

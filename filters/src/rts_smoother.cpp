@@ -1,6 +1,7 @@
 #include "graftnav/filters/rts_smoother.h"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <stdexcept>
 
 #include "graftnav/nav/mechanization.h"
@@ -27,7 +28,7 @@ PvaSigma sigmaOf(const SmoothedRecord& r) {
 }
 }  // namespace
 
-std::vector<SmoothedRecord> smoothRecords(const std::vector<SmootherRecord>& rec) {
+std::vector<SmoothedRecord> smoothRecords(const SmootherRecords& rec) {
   const size_t N = rec.size();
   std::vector<SmoothedRecord> out(N);
   if (N == 0) return out;
@@ -61,9 +62,99 @@ std::vector<SmoothedRecord> smoothRecords(const std::vector<SmootherRecord>& rec
   return out;
 }
 
+RtsOutputPass::RtsOutputPass(std::vector<SmoothedRecord> smoothed, int output_decimation, int gnss_week)
+    : sm_(std::move(smoothed)),
+      decimation_(static_cast<std::size_t>(std::max(output_decimation, 1))),
+      gnss_week_(gnss_week),
+      strapdown_(sm_.empty() ? NavState{} : sm_.front().nav) {
+  buffer_.reserve(1024);
+}
+
+bool RtsOutputPass::openInterval(std::size_t k) {
+  while (k + 1 < sm_.size() && !(sm_[k + 1].t_s > sm_[k].t_s + kTimeTol_s)) ++k;
+  k_ = k;
+  open_ = k + 1 < sm_.size();
+  if (open_) strapdown_ = Strapdown(sm_[k].nav);
+  buffer_.clear();
+  return open_;
+}
+
+void RtsOutputPass::closeInterval(SolutionSink& sink) {
+  if (!open_ || buffer_.empty()) return;
+  const SmoothedRecord& a = sm_[k_];
+  const SmoothedRecord& b = sm_[k_ + 1];
+  const double t0 = a.t_s, t1 = b.t_s;
+  ErrorState mismatch = ErrorState::Zero();
+  mismatch.head<9>() = navErrorPsi(strapdown_.state(), b.nav);
+  const PvaSigma s0 = sigmaOf(a), s1 = sigmaOf(b);
+  for (const NavState& st : buffer_) {
+    if (++processed_ % decimation_ != 0) continue;  // keep the N-th, 2N-th, ... epoch
+    const double u = std::clamp((st.t_s - t0) / (t1 - t0), 0.0, 1.0);
+    NavState out = correctNavState(st, u * mismatch);
+    out.t_s = st.t_s;
+    out.gnss_week = gnss_week_;
+    ImuErrorEstimate sensors;
+    sensors.gyro_bias_rad_s = (1.0 - u) * a.sensors.gyro_bias_rad_s + u * b.sensors.gyro_bias_rad_s;
+    sensors.accel_bias_m_s2 = (1.0 - u) * a.sensors.accel_bias_m_s2 + u * b.sensors.accel_bias_m_s2;
+    sensors.gyro_scale = (1.0 - u) * a.sensors.gyro_scale + u * b.sensors.gyro_scale;
+    sensors.accel_scale = (1.0 - u) * a.sensors.accel_scale + u * b.sensors.accel_scale;
+    const PvaSigma sigma = (1.0 - u) * s0 + u * s1;
+    sink.add(out, &sigma, sensors);
+  }
+  buffer_.clear();
+}
+
+void RtsOutputPass::add(const ImuSample& s, SolutionSink& sink) {
+  if (sm_.empty()) return;
+  if (!started_) {
+    if (s.t_s <= sm_.front().t_s + kTimeTol_s) return;
+    started_ = true;
+    openInterval(0);
+  }
+  // From each smoothed record the IMU (corrected with that record's sensor errors) is
+  // re-mechanized to the next; a sample straddling a record has its remainder in the next interval.
+  while (open_) {
+    const double t0 = sm_[k_].t_s, t1 = sm_[k_ + 1].t_s;
+    if (s.t_s - s.dt_s < t1 - kTimeTol_s) {
+      const ImuSample piece = sliceImuSample(s, t0, t1);
+      if (piece.dt_s > 0.0) strapdown_.step(correctImuSample(piece, sm_[k_].sensors));
+      if (s.t_s <= t1 + kTimeTol_s) {
+        NavState st = strapdown_.state();
+        st.t_s = s.t_s;
+        buffer_.push_back(st);
+        return;
+      }
+    }
+    closeInterval(sink);
+    openInterval(k_ + 1);
+  }
+}
+
+void RtsOutputPass::finish(SolutionSink& sink) { closeInterval(sink); }
+
+NavSolution runRtsStreaming(const EstimationProblem& problem, const EkfOptions& options,
+                            const ImuPassFn& imu, SolutionSink& sink) {
+  options.validate();
+  EkfPass forward(problem, options, true);
+  imu([&](const ImuSeries& block) {
+    for (const ImuSample& s : block) forward.add(s, nullptr);
+  });
+  SmootherRecords records;
+  NavSolution sol = forward.finish(&records);
+  sol.estimator = "rts";
+  std::vector<SmoothedRecord> smoothed = smoothRecords(records);
+  SmootherRecords().swap(records);  // frees them before the output pass
+  RtsOutputPass output(std::move(smoothed), options.output_decimation, problem.initial.gnss_week);
+  imu([&](const ImuSeries& block) {
+    for (const ImuSample& s : block) output.add(s, sink);
+  });
+  output.finish(sink);
+  return sol;
+}
+
 NavSolution runRts(const EstimationProblem& problem, const EkfOptions& options, NavSolution* forward,
                    RtsStats* stats, const ProgressFn& progress) {
-  std::vector<SmootherRecord> records;
+  SmootherRecords records;
   ProgressFn fwd_progress;
   if (progress) fwd_progress = [&](double f) { progress(0.6 * f); };
   NavSolution fwd = runEkf(problem, options, &records, fwd_progress, forward != nullptr);
@@ -71,9 +162,8 @@ NavSolution runRts(const EstimationProblem& problem, const EkfOptions& options, 
     stats->records = records.size();
     stats->record_bytes = records.size() * sizeof(SmootherRecord);
   }
-  const std::vector<SmoothedRecord> sm = smoothRecords(records);
-  records.clear();
-  records.shrink_to_fit();
+  std::vector<SmoothedRecord> sm = smoothRecords(records);
+  SmootherRecords().swap(records);  // frees them before the output pass
   if (progress) progress(0.7);
 
   NavSolution sol;
@@ -81,59 +171,13 @@ NavSolution runRts(const EstimationProblem& problem, const EkfOptions& options, 
   sol.gnss_used = fwd.gnss_used;
   sol.gnss_rejected = fwd.gnss_rejected;
   sol.gnss_withheld = fwd.gnss_withheld;
-  const size_t reserve =
-      problem.imu.size() / static_cast<size_t>(options.output_decimation) + 1;
-  sol.states.reserve(reserve);
-  sol.sigma.reserve(reserve);
-  sol.gyro_bias_rad_s.reserve(reserve);
-  sol.accel_bias_m_s2.reserve(reserve);
-  sol.gyro_scale.reserve(reserve);
-  sol.accel_scale.reserve(reserve);
+  NavSolutionSink sink(&sol);
+  sink.reserve(problem.imu.size() / static_cast<size_t>(options.output_decimation) + 1);
   if (forward) *forward = std::move(fwd);
 
-  const ImuSeries& imu = problem.imu;
-  size_t j = 0;
-  while (j < imu.size() && imu[j].t_s <= sm.front().t_s + kTimeTol_s) ++j;
-  std::vector<NavState> buffer;
-  size_t processed = 0;
-  const auto decim = static_cast<size_t>(options.output_decimation);
-  for (size_t k = 0; k + 1 < sm.size(); ++k) {
-    const double t0 = sm[k].t_s, t1 = sm[k + 1].t_s;
-    if (!(t1 > t0 + kTimeTol_s)) continue;
-    Strapdown sd(sm[k].nav);
-    buffer.clear();
-    while (j < imu.size() && imu[j].t_s - imu[j].dt_s < t1 - kTimeTol_s) {
-      const ImuSample piece = sliceImuSample(imu[j], t0, t1);
-      if (piece.dt_s > 0.0) sd.step(correctImuSample(piece, sm[k].sensors));
-      if (imu[j].t_s <= t1 + kTimeTol_s) {
-        NavState st = sd.state();
-        st.t_s = imu[j].t_s;
-        buffer.push_back(st);
-        ++j;
-      } else {
-        break;  // the sample straddles t1: its remainder belongs to the next interval
-      }
-    }
-    if (buffer.empty()) continue;
-    ErrorState mismatch = ErrorState::Zero();
-    mismatch.head<9>() = navErrorPsi(sd.state(), sm[k + 1].nav);
-    const PvaSigma s0 = sigmaOf(sm[k]), s1 = sigmaOf(sm[k + 1]);
-    for (const NavState& st : buffer) {
-      if (++processed % decim != 0) continue;  // keep the N-th, 2N-th, ... epoch
-      const double u = std::clamp((st.t_s - t0) / (t1 - t0), 0.0, 1.0);
-      NavState out = correctNavState(st, u * mismatch);
-      out.t_s = st.t_s;
-      out.gnss_week = problem.initial.gnss_week;
-      sol.states.push_back(out);
-      sol.sigma.push_back((1.0 - u) * s0 + u * s1);
-      const ImuErrorEstimate& a = sm[k].sensors;
-      const ImuErrorEstimate& b = sm[k + 1].sensors;
-      sol.gyro_bias_rad_s.push_back((1.0 - u) * a.gyro_bias_rad_s + u * b.gyro_bias_rad_s);
-      sol.accel_bias_m_s2.push_back((1.0 - u) * a.accel_bias_m_s2 + u * b.accel_bias_m_s2);
-      sol.gyro_scale.push_back((1.0 - u) * a.gyro_scale + u * b.gyro_scale);
-      sol.accel_scale.push_back((1.0 - u) * a.accel_scale + u * b.accel_scale);
-    }
-  }
+  RtsOutputPass output(std::move(sm), options.output_decimation, problem.initial.gnss_week);
+  for (const ImuSample& s : problem.imu) output.add(s, sink);
+  output.finish(sink);
   if (progress) progress(1.0);
   return sol;
 }

@@ -286,34 +286,50 @@ void FgoGraph::predictNode(size_t k) {
 
 NavSolution FgoGraph::integrateOutput(const std::string& estimator,
                                       const std::vector<PvaSigma>& sigma_nodes) const {
-  const ImuSeries& imu = problem_.imu;
   NavSolution sol;
   sol.estimator = estimator;
-  const size_t n_out = imu.size() - first_sample_ + 1;
+  const size_t n_out = problem_.imu.size() - first_sample_ + 1;
   sol.states.reserve(n_out);
   sol.gyro_bias_rad_s.reserve(n_out);
   sol.accel_bias_m_s2.reserve(n_out);
   if (!sigma_nodes.empty()) sol.sigma.reserve(n_out);
+  integrateOutput(sigma_nodes, [&](const NavState& s, const PvaSigma* sigma, const Eigen::Vector3d& bg,
+                                   const Eigen::Vector3d& ba) {
+    sol.states.push_back(s);
+    sol.gyro_bias_rad_s.push_back(bg);
+    sol.accel_bias_m_s2.push_back(ba);
+    if (sigma) sol.sigma.push_back(*sigma);
+  });
+  sol.gnss_withheld = gnss_withheld_;
+  return sol;
+}
+
+void FgoGraph::integrateOutput(const std::vector<PvaSigma>& sigma_nodes, const FgoEpochFn& output) const {
+  const ImuSeries& imu = problem_.imu;
+  const bool with_sigma = !sigma_nodes.empty();
+  // Each epoch is held back by one: a node's own epoch, already output as the end of the
+  // previous interval, is replaced by the node estimate so the solution passes exactly through
+  // the optimized nodes.
+  struct Pending {
+    NavState state;
+    Eigen::Vector3d bg, ba;
+    size_t node = 0;
+  } pending;
+  auto emit = [&]() {
+    output(pending.state, with_sigma ? &sigma_nodes[pending.node] : nullptr, pending.bg, pending.ba);
+  };
   const NodeValue x0 = blocks_[0].value();
   NavState s0 = frame_.toNavState(nodes_[0].t_s, x0.p_w, x0.v_w, x0.q_wb);
   s0.gnss_week = problem_.initial.gnss_week;
   Strapdown sd(s0);
-  sol.states.push_back(s0);
-  sol.gyro_bias_rad_s.push_back(x0.bg);
-  sol.accel_bias_m_s2.push_back(x0.ba);
-  if (!sigma_nodes.empty()) sol.sigma.push_back(sigma_nodes[0]);
+  pending = {s0, x0.bg, x0.ba, 0};
   for (size_t k = 0; k < nodes_.size(); ++k) {
     const NodeValue x = blocks_[k].value();
     if (k > 0) {
       NavState s = frame_.toNavState(nodes_[k].t_s, x.p_w, x.v_w, x.q_wb);
       s.gnss_week = s0.gnss_week;
       sd.setState(s);
-      // The node's own epoch was already output from the previous interval: replace it by the
-      // node estimate so the solution passes exactly through the optimized nodes.
-      sol.states.back() = s;
-      sol.gyro_bias_rad_s.back() = x.bg;
-      sol.accel_bias_m_s2.back() = x.ba;
-      if (!sigma_nodes.empty()) sol.sigma.back() = sigma_nodes[k];
+      pending = {s, x.bg, x.ba, k};
     }
     const size_t end = (k + 1 < nodes_.size()) ? nodes_[k + 1].sample_end : imu.size();
     for (size_t i = nodes_[k].sample_end; i < end; ++i) {
@@ -321,14 +337,11 @@ NavSolution FgoGraph::integrateOutput(const std::string& estimator,
       c.dtheta_rad -= x.bg * c.dt_s;
       c.dvel_m_s -= x.ba * c.dt_s;
       sd.step(c);
-      sol.states.push_back(sd.state());
-      sol.gyro_bias_rad_s.push_back(x.bg);
-      sol.accel_bias_m_s2.push_back(x.ba);
-      if (!sigma_nodes.empty()) sol.sigma.push_back(sigma_nodes[k]);
+      emit();
+      pending = {sd.state(), x.bg, x.ba, k};
     }
   }
-  sol.gnss_withheld = gnss_withheld_;
-  return sol;
+  emit();
 }
 
 }  // namespace graftnav

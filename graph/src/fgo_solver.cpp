@@ -53,10 +53,21 @@ std::vector<PvaSigma> nodeSigmas(FgoGraph& graph, ceres::Problem& problem, int n
   return out;
 }
 
+// The output into the solution, or to `output` when given (the solution then has no states).
+NavSolution integrate(const FgoGraph& graph, const std::string& estimator,
+                      const std::vector<PvaSigma>& sigma, const FgoEpochFn& output) {
+  if (!output) return graph.integrateOutput(estimator, sigma);
+  graph.integrateOutput(sigma, output);
+  NavSolution sol;
+  sol.estimator = estimator;
+  sol.gnss_withheld = graph.gnssWithheld();
+  return sol;
+}
+
 }  // namespace
 
 NavSolution solveWindowFgo(const EstimationProblem& problem, const FgoOptions& options,
-                           FgoReport* report) {
+                           FgoReport* report, const FgoEpochFn& output) {
   FgoReport local;
   FgoReport& rep = report ? *report : local;
   auto t0 = std::chrono::steady_clock::now();
@@ -69,7 +80,7 @@ NavSolution solveWindowFgo(const EstimationProblem& problem, const FgoOptions& o
   rep.nodes = static_cast<int>(graph.nodes().size());
   rep.gnss_factors = static_cast<int>(graph.fixes().size());
   t0 = std::chrono::steady_clock::now();
-  NavSolution sol = graph.integrateOutput("fgo-window", {});
+  NavSolution sol = integrate(graph, "fgo-window", {}, output);
   rep.output_time_s = secondsSince(t0);
   sol.gnss_used = rep.gnss_factors - rep.gnss_culled;
   sol.gnss_rejected = rep.gnss_culled;
@@ -81,7 +92,7 @@ NavSolution solveWindowFgo(const EstimationProblem& problem, const FgoOptions& o
 }
 
 NavSolution solveBatchFgo(const EstimationProblem& problem, const FgoOptions& options,
-                          FgoReport* report) {
+                          FgoReport* report, const FgoEpochFn& output) {
   FgoReport local;
   FgoReport& rep = report ? *report : local;
   auto t0 = std::chrono::steady_clock::now();
@@ -204,7 +215,7 @@ NavSolution solveBatchFgo(const EstimationProblem& problem, const FgoOptions& op
     rep.covariance_time_s = secondsSince(t0);
   }
   t0 = std::chrono::steady_clock::now();
-  NavSolution sol = graph.integrateOutput("fgo", sig);
+  NavSolution sol = integrate(graph, "fgo", sig, output);
   rep.output_time_s = secondsSince(t0);
   sol.gnss_used = rep.gnss_factors - rep.gnss_culled;
   sol.gnss_rejected = rep.gnss_culled;

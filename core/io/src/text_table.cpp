@@ -1,5 +1,6 @@
 #include "graftnav/io/text_table.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -46,14 +47,40 @@ TextTableReader::TextTableReader(std::string path) : path_(std::move(path)) {
   buffer_ = readWholeFile(path_);
 }
 
+TextTableReader TextTableReader::streaming(std::string path, std::size_t chunk_bytes) {
+  TextTableReader r;
+  r.path_ = std::move(path);
+  r.chunk_bytes_ = std::max<std::size_t>(chunk_bytes, 64);
+  r.file_.reset(std::fopen(r.path_.c_str(), "rb"));
+  if (!r.file_) throw std::runtime_error(r.path_ + ": cannot open file (missing or unreadable)");
+  r.buffer_.reserve(2 * r.chunk_bytes_);
+  return r;
+}
+
+void TextTableReader::readMore() {
+  buffer_.erase(0, pos_);
+  pos_ = 0;
+  const std::size_t old = buffer_.size();
+  buffer_.resize(old + chunk_bytes_);
+  const std::size_t n = std::fread(buffer_.data() + old, 1, chunk_bytes_, file_.get());
+  buffer_.resize(old + n);
+  if (n < chunk_bytes_) {
+    if (std::ferror(file_.get()) != 0) throw std::runtime_error(path_ + ": read error");
+    file_.reset();
+  }
+}
+
 namespace {
 inline bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 }  // namespace
 
 bool TextTableReader::next() {
-  const std::size_t size = buffer_.size();
-  const char* const data = buffer_.data();
-  while (pos_ < size) {
+  for (;;) {
+    // Streaming: make sure a whole line (or the rest of the file) is in the buffer.
+    while (file_ && std::memchr(buffer_.data() + pos_, '\n', buffer_.size() - pos_) == nullptr) readMore();
+    const std::size_t size = buffer_.size();
+    if (pos_ >= size) break;
+    const char* const data = buffer_.data();
     const char* start = data + pos_;
     const char* nl = static_cast<const char*>(std::memchr(start, '\n', size - pos_));
     const char* end = nl ? nl : data + size;
@@ -126,6 +153,7 @@ int TextTableReader::integerValue(int column, const char* column_name) const {
 }
 
 std::size_t TextTableReader::physicalLineCount() const {
+  if (chunk_bytes_ > 0) throw std::logic_error(path_ + ": physicalLineCount() of a streaming reader");
   std::size_t n = 1;
   const char* p = buffer_.data();
   const char* const e = p + buffer_.size();

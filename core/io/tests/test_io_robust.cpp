@@ -11,6 +11,7 @@
 #include "graftnav/io/gnss_io.h"
 #include "graftnav/io/imu_io.h"
 #include "graftnav/io/nav_io.h"
+#include "graftnav/io/text_table.h"
 #include "test_support.h"
 
 namespace graftnav {
@@ -159,6 +160,109 @@ TEST(IoRobust, ImuFaultsAreCountedWithLinesUnderRealPolicy) {
   writeLines(dir + "/back_run.txt", b);
   EXPECT_THAT([&] { readImu(dir + "/back_run.txt", real); },
               ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("not repairable")));
+}
+
+// The block reader (and the chunked text reader under it) returns what readImu returns: the same
+// samples, intervals, counted conditions and errors, whatever the block size.
+TEST(IoRobust, ImuBlockReaderEqualsReadImu) {
+  const std::string dir = test::makeTempDir("io_block");
+  REQUIRE_REAL_FILE(realDir() + "tested_imu.txt");
+  std::vector<std::string> l = headLines(realDir() + "tested_imu.txt", 3000);
+  l.erase(l.begin() + 2500, l.begin() + 2503);    // a gap
+  l.insert(l.begin() + 1200, l[1196]);            // a backwards stamp
+  l.insert(l.begin() + 400, l[399]);              // a duplicate
+  l.insert(l.begin() + 10, "# a comment line");  // skipped by both
+  writeLines(dir + "/imu.txt", l);
+  ImuReadOptions real;
+  real.nominal_rate_hz = 100.0;
+  real.policy = ImuReadPolicy::real();
+  ReadReport expected_report;
+  const ImuSeries expected = readImu(dir + "/imu.txt", real, &expected_report);
+  ASSERT_GT(expected.size(), 2900u);
+  EXPECT_EQ(readLastImuTime(dir + "/imu.txt"), expected.back().t_s);
+  for (std::size_t block : {std::size_t{1}, std::size_t{7}, std::size_t{4096}}) {
+    ImuBlockReader reader(dir + "/imu.txt", real, block);
+    ImuSeries got, samples;
+    while (reader.next(&samples)) {
+      EXPECT_LE(samples.size(), block);
+      got.insert(got.end(), samples.begin(), samples.end());
+    }
+    ASSERT_EQ(got.size(), expected.size()) << "block " << block;
+    for (std::size_t k = 0; k < got.size(); ++k) {
+      ASSERT_EQ(got[k].t_s, expected[k].t_s) << k;
+      ASSERT_EQ(got[k].dt_s, expected[k].dt_s) << k;
+      ASSERT_EQ(got[k].dtheta_rad, expected[k].dtheta_rad) << k;
+      ASSERT_EQ(got[k].dvel_m_s, expected[k].dvel_m_s) << k;
+    }
+    const ReadReport& r = reader.report();
+    EXPECT_EQ(r.counts, expected_report.counts);
+    EXPECT_EQ(r.data_lines, expected_report.data_lines);
+    EXPECT_EQ(r.records_kept, expected_report.records_kept);
+    EXPECT_EQ(r.records_dropped, expected_report.records_dropped);
+    EXPECT_EQ(r.summary(), expected_report.summary());
+  }
+  // Strict: the same error, naming the file and line.
+  ImuReadOptions strict;
+  strict.nominal_rate_hz = 100.0;
+  ImuBlockReader reader(dir + "/imu.txt", strict, 64);
+  ImuSeries samples;
+  EXPECT_THAT([&] { while (reader.next(&samples)) {} },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("imu.txt:402: time")));
+  EXPECT_THAT([&] { readImu(dir + "/imu.txt", strict); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("imu.txt:402: time")));
+  // Without a nominal rate the block reader cannot check the first intervals: refused.
+  EXPECT_THROW(ImuBlockReader(dir + "/imu.txt", ImuReadOptions{}), std::invalid_argument);
+  // An empty file is an error, as for readImu.
+  writeLines(dir + "/empty.txt", {});
+  ImuBlockReader empty(dir + "/empty.txt", strict);
+  EXPECT_THAT([&] { empty.next(&samples); },
+              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("no IMU samples")));
+}
+
+// The physical range check (ImuReadPolicy.max_*) holds in the block reader as in readImu, under
+// both policies: the same error naming the file, line and column.
+TEST(IoRobust, ImuBlockReaderAppliesThePhysicalRange) {
+  const std::string dir = test::makeTempDir("io_block_range");
+  std::vector<std::string> l;
+  for (int k = 1; k <= 300; ++k) l.push_back(std::to_string(100.0 + 0.01 * k) + " 0.001 0 0 0 0 0.098");
+  l[200] = std::to_string(100.0 + 0.01 * 201) + " 0.001 0 0 0 0 1e300";
+  writeLines(dir + "/imu.txt", l);
+  for (const bool lenient : {false, true}) {
+    ImuReadOptions o;
+    o.nominal_rate_hz = 100.0;
+    if (lenient) o.policy = ImuReadPolicy::real();
+    const auto error = ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("imu.txt:201: dvel_z"));
+    EXPECT_THAT([&] { readImu(dir + "/imu.txt", o); }, error);
+    for (std::size_t block : {std::size_t{1}, std::size_t{64}, std::size_t{4096}}) {
+      ImuBlockReader reader(dir + "/imu.txt", o, block);
+      ImuSeries samples;
+      EXPECT_THAT([&] { while (reader.next(&samples)) {} }, error) << block;
+    }
+  }
+}
+
+// Chunks shorter than a line: every line still comes whole, with its number.
+TEST(IoRobust, StreamingTextReaderEqualsWholeFileReader) {
+  const std::string dir = test::makeTempDir("io_chunks");
+  writeLines(dir + "/t.txt", {"1 2 3", "", "# comment", "4 5.5 -6e-3 7 8 9 10 11 12 13 14 15", "  \t", "16"});
+  {
+    std::ofstream f(dir + "/t.txt", std::ios::app | std::ios::binary);
+    f << "17 18";  // no newline at the end
+  }
+  TextTableReader whole(dir + "/t.txt");
+  TextTableReader chunked = TextTableReader::streaming(dir + "/t.txt", 1);
+  int lines = 0;
+  while (whole.next()) {
+    ASSERT_TRUE(chunked.next());
+    ++lines;
+    EXPECT_EQ(chunked.lineNumber(), whole.lineNumber());
+    EXPECT_EQ(chunked.lineText(), whole.lineText());
+    ASSERT_EQ(chunked.columnCount(), whole.columnCount());
+    for (int c = 0; c < whole.columnCount(); ++c) EXPECT_EQ(chunked.value(c), whole.value(c));
+  }
+  EXPECT_FALSE(chunked.next());
+  EXPECT_EQ(lines, 4);
+  EXPECT_THROW(chunked.physicalLineCount(), std::logic_error);
 }
 
 TEST(IoRobust, GnssFaultsAreCountedUnderRealPolicy) {

@@ -10,12 +10,14 @@
 // symmetrized covariance, then the estimate is fed back (PVA reset, sensor estimates augmented)
 // and the error state is zero again.
 
+#include <deque>
 #include <functional>
 #include <vector>
 
 #include "graftnav/nav/mechanization.h"
 #include "graftnav/estimation/nav_solution.h"
 #include "graftnav/filters/ins_error_model.h"
+#include "graftnav/filters/solution_sink.h"
 
 namespace graftnav {
 
@@ -47,6 +49,10 @@ struct SmootherRecord {
   ErrorCov Phi = ErrorCov::Identity();  // transition from the previous record to this one
 };
 
+// A deque: records are ~10 KB each and an hour holds thousands; growing a vector would hold
+// the old and the new copy at once.
+using SmootherRecords = std::deque<SmootherRecord>;
+
 class GnssInsEkf {
  public:
   GnssInsEkf(const NavState& initial, const ErrorCov& P0, const ImuProfile& profile,
@@ -73,7 +79,7 @@ class GnssInsEkf {
 
   // Records for the smoother (off by default).
   void enableRecording(bool on);
-  std::vector<SmootherRecord>& records() { return records_; }
+  SmootherRecords& records() { return records_; }
   // Appends a record at the current time (after flushing the covariance).
   void recordNow();
 
@@ -97,7 +103,7 @@ class GnssInsEkf {
   bool recording_ = false;
   ErrorCov Phi_since_record_ = ErrorCov::Identity();
   double last_record_t_ = 0.0;
-  std::vector<SmootherRecord> records_;
+  SmootherRecords records_;
   int rejected_ = 0;
   int consecutive_rejected_ = 0;
   double gate_threshold_ = 0.0;
@@ -113,10 +119,52 @@ ImuSample sliceImuSample(const ImuSample& s, double t_from, double t_to);
 
 using ProgressFn = std::function<void(double fraction_done)>;
 
-// Forward EKF over the problem. With `records`, the forward pass is recorded for the smoother.
-// keep_states = false returns only the GNSS bookkeeping (the smoother's forward pass).
+// The forward EKF run, one IMU sample at a time: GNSS updates at their epochs (a sample that
+// straddles a fix is split there), output every output_decimation-th sample into a sink. The
+// problem supplies everything but the samples (problem.imu is not read), so the samples may come
+// from memory or from a file in blocks; the result is the same either way.
+class EkfPass {
+ public:
+  // Applies the fixes at (or before, within 1 us) the initial time. With `record`, the forward
+  // pass is recorded for the smoother.
+  EkfPass(const EstimationProblem& problem, const EkfOptions& options, bool record);
+  // Processes the next sample (times increasing); samples not after the current time are skipped.
+  // `sink` (may be null) receives the output epochs.
+  void add(const ImuSample& sample, SolutionSink* sink);
+  // Closes the pass: throws std::invalid_argument when no sample came after the initial time;
+  // returns the GNSS bookkeeping (no states) and moves the records into *records when given.
+  NavSolution finish(SmootherRecords* records = nullptr);
+
+ private:
+  void applyFix(std::size_t i);
+
+  EkfOptions options_;
+  GnssSeries gnss_;  // after withholding the outages
+  Eigen::Vector3d lever_arm_b_m_;
+  int gnss_week_ = 0;
+  GnssInsEkf filter_;
+  NavSolution bookkeeping_;
+  double t_cur_ = 0.0;
+  std::size_t next_fix_ = 0;
+  std::size_t processed_ = 0;
+};
+
+// One pass over an IMU that is not held in memory: calls `block` with consecutive blocks of
+// samples in time order until the recording ends. A smoother calls it twice.
+using ImuBlockFn = std::function<void(const ImuSeries& block)>;
+using ImuPassFn = std::function<void(const ImuBlockFn& block)>;
+
+// The forward EKF with the samples from `imu` (problem.imu is not read) and the output epochs
+// given to `sink`: memory does not depend on the recording's length. Returns the GNSS
+// bookkeeping (no states); the epochs equal runEkf's for the same samples.
+NavSolution runEkfStreaming(const EstimationProblem& problem, const EkfOptions& options,
+                            const ImuPassFn& imu, SolutionSink& sink);
+
+// Forward EKF over the problem's samples (an EkfPass). With `records`, the forward pass is
+// recorded for the smoother. keep_states = false returns only the GNSS bookkeeping (the
+// smoother's forward pass).
 NavSolution runEkf(const EstimationProblem& problem, const EkfOptions& options,
-                   std::vector<SmootherRecord>* records = nullptr, const ProgressFn& progress = {},
+                   SmootherRecords* records = nullptr, const ProgressFn& progress = {},
                    bool keep_states = true);
 
 }  // namespace graftnav

@@ -18,6 +18,8 @@
 #include <vector>
 
 #include "graftnav/filters/ekf.h"
+#include "graftnav/filters/solution_sink.h"
+#include "graftnav/nav/mechanization.h"
 
 namespace graftnav {
 
@@ -28,7 +30,41 @@ struct SmoothedRecord {
   ErrorCov P = ErrorCov::Zero();
 };
 
-std::vector<SmoothedRecord> smoothRecords(const std::vector<SmootherRecord>& records);
+std::vector<SmoothedRecord> smoothRecords(const SmootherRecords& records);
+
+// The IMU-rate output of the smoothed records, one IMU sample at a time (the second pass over
+// the samples, from memory or re-read from the file in blocks): holds the smoothed records and
+// the states of one record interval, never every sample's state.
+class RtsOutputPass {
+ public:
+  RtsOutputPass(std::vector<SmoothedRecord> smoothed, int output_decimation, int gnss_week);
+  // Next sample (times increasing). Samples up to the first record and after the last are not
+  // output. The epochs of a record interval go to `sink` when the interval is complete.
+  void add(const ImuSample& sample, SolutionSink& sink);
+  // Emits the last open interval.
+  void finish(SolutionSink& sink);
+
+ private:
+  // Moves to the next record interval of positive length at or after k (false: none left).
+  bool openInterval(std::size_t k);
+  void closeInterval(SolutionSink& sink);
+
+  std::vector<SmoothedRecord> sm_;
+  std::size_t decimation_;
+  int gnss_week_;
+  std::size_t k_ = 0;     // current interval [sm_[k_], sm_[k_ + 1]]
+  bool started_ = false;  // the samples up to the first record are behind
+  bool open_ = false;
+  Strapdown strapdown_;
+  std::vector<NavState> buffer_;  // this interval's mechanized states
+  std::size_t processed_ = 0;
+};
+
+// Forward EKF, smoother and IMU-rate output with two passes over `imu` (problem.imu is not read):
+// memory holds the records (one per GNSS update or record_interval_s), never every sample's
+// state. Returns the GNSS bookkeeping (no states); the epochs equal runRts's.
+NavSolution runRtsStreaming(const EstimationProblem& problem, const EkfOptions& options,
+                            const ImuPassFn& imu, SolutionSink& sink);
 
 struct RtsStats {
   size_t records = 0;

@@ -11,6 +11,7 @@
 #include <ceres/loss_function.h>
 #include <ceres/problem.h>
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -25,6 +26,12 @@
 #include "graftnav/graph/right_quaternion_manifold.h"
 
 namespace graftnav {
+
+// One output epoch of a factor-graph solution: state, PVA 1-sigma (null when not computed), and
+// the gyro and accelerometer bias estimates.
+using FgoEpochFn = std::function<void(const NavState& state, const PvaSigma* sigma,
+                                      const Eigen::Vector3d& gyro_bias_rad_s,
+                                      const Eigen::Vector3d& accel_bias_m_s2)>;
 
 // Parameter blocks of one node, laid out as Ceres wants them (q in Eigen order x, y, z, w).
 struct NodeBlocks {
@@ -100,6 +107,9 @@ class FgoGraph {
   // `sigma_nodes`, when not empty, holds each node's PvaSigma, copied to the epochs it starts.
   NavSolution integrateOutput(const std::string& estimator,
                               const std::vector<PvaSigma>& sigma_nodes) const;
+  // The same epochs given one at a time to `output` (nothing held): sigma is null when
+  // sigma_nodes is empty.
+  void integrateOutput(const std::vector<PvaSigma>& sigma_nodes, const FgoEpochFn& output) const;
 
   const EstimationProblem& problem() const { return problem_; }
   const FgoOptions& options() const { return options_; }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "graftnav/estimation/nav_solution.h"
+#include "graftnav/graph/fgo_graph.h"
 #include "graftnav/graph/fgo_options.h"
 
 namespace graftnav {
@@ -34,13 +35,15 @@ struct FgoReport {
 // Batch: initializes the nodes with a sliding-window (fixed-lag) pass, then solves the full
 // graph with Levenberg-Marquardt on SPARSE_NORMAL_CHOLESKY (SuiteSparse), culls GNSS outliers by
 // chi-square and re-solves, re-preintegrates intervals whose bias moved far and re-solves.
+// With `output`, the IMU-rate epochs go there one at a time instead of into the returned
+// solution (which then holds only the GNSS bookkeeping).
 NavSolution solveBatchFgo(const EstimationProblem& problem, const FgoOptions& options,
-                          FgoReport* report = nullptr);
+                          FgoReport* report = nullptr, const FgoEpochFn& output = {});
 
 // Sliding window of options.window_nodes nodes; the oldest node is marginalized into a
 // Schur-complement prior on the next. Output is causal (each node as estimated when it entered
 // the window) unless options.window_fixed_lag_output.
 NavSolution solveWindowFgo(const EstimationProblem& problem, const FgoOptions& options,
-                           FgoReport* report = nullptr);
+                           FgoReport* report = nullptr, const FgoEpochFn& output = {});
 
 }  // namespace graftnav

@@ -54,6 +54,39 @@ struct ImuReadOptions {
 // malformed line, column count not 7/8, NaN/inf, and the conditions whose rule is kError).
 ImuSeries readImu(const std::string& path, const ImuReadOptions& options = {}, ReadReport* report = nullptr);
 
+// Reads an IMU file in blocks of at most block_samples samples, in a chunk of text at a time:
+// memory does not grow with the file. The samples, their dt_s and the report equal readImu's for
+// the same options; options.nominal_rate_hz must be > 0 (std::invalid_argument otherwise), since
+// the first interval and the interval checks cannot wait for the file's median interval. Errors
+// are thrown as readImu throws them, when the block holding the offending line is read (so a
+// caller may have processed earlier blocks already).
+class ImuBlockReader {
+ public:
+  ImuBlockReader(const std::string& path, const ImuReadOptions& options, std::size_t block_samples = 4096);
+  // Replaces *block with the next samples; returns false (block empty) at the end of the file.
+  // Throws std::runtime_error "path: no IMU samples in the file" when the file holds none.
+  bool next(ImuSeries* block);
+  // Counts so far; complete once next() has returned false.
+  const ReadReport& report() const { return report_; }
+
+ private:
+  ImuReadOptions options_;
+  std::size_t block_samples_;
+  TextTableReader reader_;
+  TimeOrderGuard order_;
+  ReadReport report_;
+  double nominal_s_ = 0.0;
+  double t_prev_s_ = 0.0;
+  int first_column_count_ = 0;
+};
+
+// Time of the last sample readImu would return, from the file's last 64 KiB only: the largest
+// time among the data lines there (a line the repair rule drops is never later than the last
+// kept one, and at most 100 are dropped in a row). For the span of a recording that is streamed.
+// Throws std::runtime_error naming the path when the file cannot be read or its tail holds no
+// data line.
+double readLastImuTime(const std::string& path);
+
 // Writes an IMU file atomically: time %.9f, increments %.16e (17 significant digits: exact round
 // trip), temperature %.4f as an 8th column when every sample has one (all or none, else throws
 // std::invalid_argument). Throws std::invalid_argument on non-finite values or times not strictly

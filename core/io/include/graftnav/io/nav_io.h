@@ -4,6 +4,8 @@
 // NavState.t_s is the seconds of week, NavState.gnss_week the week. Times must increase
 // (compared as week * 604800 + sow, so a week rollover is allowed).
 
+#include <cstddef>
+#include <memory>
 #include <string>
 
 #include "graftnav/io/text_table.h"
@@ -28,5 +30,27 @@ NavSeries readNav(const std::string& path, const NavReadPolicy& policy = {}, Rea
 // pitch %.9f deg, yaw %.9f deg in [0, 360). Throws std::invalid_argument on non-finite values or
 // times not strictly increasing.
 void writeNav(const std::string& path, const NavSeries& nav);
+
+class AtomicFile;
+
+// writeNav one epoch at a time, for output that is not held in memory: the same checks (named
+// by the epoch's index) and byte-identical text. The file appears at the destination only on
+// commit(); if an exception leaves it uncommitted, the destination keeps its previous content.
+class NavWriter {
+ public:
+  explicit NavWriter(const std::string& path);  // throws std::runtime_error like AtomicFile
+  ~NavWriter();
+  NavWriter(const NavWriter&) = delete;
+  NavWriter& operator=(const NavWriter&) = delete;
+  void add(const NavState& state);
+  void commit();  // throws std::invalid_argument when no epoch was added
+  std::size_t count() const { return count_; }
+
+ private:
+  std::unique_ptr<AtomicFile> file_;
+  std::string buffer_;
+  NavState prev_;
+  std::size_t count_ = 0;
+};
 
 }  // namespace graftnav

@@ -1,11 +1,14 @@
 #pragma once
 // Fast reader of whitespace-separated numeric text tables (the i2Nav formats of dataset.md).
-// The whole file is read in one go and numbers are parsed with std::from_chars; no iostreams.
+// By default the whole file is read in one go; TextTableReader::streaming() reads it in chunks so
+// that memory does not grow with the file. Numbers are parsed with std::from_chars; no iostreams.
 // Blank lines and lines whose first non-blank character is '#' are skipped (dataset files have
 // none, but hand-edited slices may). Every error names "path:line: ..." and the offending text.
 
 #include <array>
+#include <cstdio>
 #include <initializer_list>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,6 +24,10 @@ class TextTableReader {
 
   // Reads the file; throws std::runtime_error when it cannot be opened.
   explicit TextTableReader(std::string path);
+  // Reads the file in chunks of about chunk_bytes (a line longer than that is still read whole):
+  // memory is one chunk plus one line, whatever the file's length. Lines, tokens and line numbers
+  // are the same as the whole-file reader's. Throws std::runtime_error when it cannot be opened.
+  static TextTableReader streaming(std::string path, std::size_t chunk_bytes = std::size_t{1} << 20);
 
   // Advances to the next data line and parses its numbers. Returns false at the end of the file.
   // Throws (naming path, line and token) when a token is not a number or the line has more than
@@ -35,6 +42,7 @@ class TextTableReader {
   std::string_view token(int column) const { return tokens_[column]; }
   const std::string& path() const { return path_; }
   // Number of physical lines in the file (an upper bound of the data lines, for reserve()).
+  // Whole-file reader only: throws std::logic_error on a streaming reader.
   std::size_t physicalLineCount() const;
 
   // Throws std::runtime_error "path:line: <what>".
@@ -47,8 +55,18 @@ class TextTableReader {
   int integerValue(int column, const char* column_name) const;
 
  private:
+  struct FileCloser {
+    void operator()(std::FILE* f) const { std::fclose(f); }
+  };
+  TextTableReader() = default;
+  // Streaming: drops the consumed part of the buffer and appends the next chunk; closes the file
+  // at its end. Throws std::runtime_error on a read error.
+  void readMore();
+
   std::string path_;
   std::string buffer_;
+  std::unique_ptr<std::FILE, FileCloser> file_;  // open only while streaming
+  std::size_t chunk_bytes_ = 0;
   std::size_t pos_ = 0;
   int line_number_ = 0;
   int column_count_ = 0;
@@ -123,7 +141,7 @@ class TimeOrderGuard {
   double t_prev_ = 0.0;
   int prev_line_ = 0;
   int prev_count_ = 0;
-  std::string_view prev_time_text_;
+  std::string prev_time_text_;  // a copy: a streaming reader's buffer moves
   std::array<double, TextTableReader::kMaxColumns> prev_values_{};
   int consecutive_drops_ = 0;
 };
