@@ -5,6 +5,7 @@
 # refactoring leaves the results unchanged.
 #
 # Usage: scripts/compare_binaries.sh BINARY_A BINARY_B OUT_DIR [--concealed] [--rtol R]
+# The flags are the spellings every build understands (--config), so an older build can be A.
 set -euo pipefail
 repo="$(cd "$(dirname "$0")/.." && pwd)"
 a="$(realpath "$1")"; b="$(realpath "$2")"; out="$3"; shift 3

@@ -43,8 +43,8 @@ run_one() {  # config seed
   local cfg="$1" s="$2" name
   name="$(basename "$cfg" .yaml)_s$s"
   [ -f "$out/runs/$name/evaluation.json" ] && return 0
-  "$bin" simulate --config "$cfg" --out "$out/cases/$name" --seed $((5000 + s)) > "$out/logs/$name.sim.log" 2>&1
-  "$bin" evaluate "$out/cases/$name" --out "$out/runs/$name" --config "$repo/configs/sg/calibration_run.yaml" \
+  "$bin" simulate --sim-config "$cfg" --out "$out/cases/$name" --seed $((5000 + s)) > "$out/logs/$name.sim.log" 2>&1
+  "$bin" evaluate "$out/cases/$name" --out "$out/runs/$name" --run-config "$repo/configs/sg/calibration_run.yaml" \
     --estimator "$estimator" --realizations "$K" --seed "$s" --jobs 1 --no-plots > "$out/logs/$name.eval.log" 2>&1
   rm -rf "$out/cases/$name" "$out/runs/$name"/IMU_SG*.txt "$out/runs/$name"/errors_*.csv
   echo "sg_calibration: $name done"
