@@ -5,7 +5,7 @@
 // Every term is linear in its parameters: r ~= sum_j theta_j u_j(t), where each regressor u_j is
 // built from the reference signals x (the true inputs: omega, f), their derivatives, temperature,
 // a vibration level or the attitude. A term's names and parameter keys are those of
-// diagnosis.json (issue 7 item 5) and of ImuErrorModel (imu_error_terms.h). First-order forms:
+// diagnosis.json (docs/outputs.md) and of ImuErrorModel (imu_error_terms.h). First-order forms:
 //
 //  bias_instability        r_i = b_i(t), piecewise linear in time with knots every knot_s
 //                          (the first knot is spanned by the nuisance constant)
