@@ -7,6 +7,7 @@
 
 #include "graftnav/imu/imu_error_terms.h"
 #include "graftnav/mismatch/candidate_terms.h"
+#include "graftnav/mismatch/sample_noise.h"
 #include "graftnav/nav/rotation.h"
 
 namespace graftnav {
@@ -47,35 +48,6 @@ Eigen::VectorXd vibrationLevelPerBin(const ImuSeries& imu, const GridSpec& grid,
 }
 
 
-Eigen::Vector3d sampleRateNoiseSd(const ImuSeries& imu) {
-  if (imu.size() < 3) throw std::invalid_argument("sampleRateNoiseSd: fewer than 3 samples");
-  const double dt = medianSampleInterval(imu);
-  const std::size_t block = std::max<std::size_t>(8, static_cast<std::size_t>(std::lround(1.0 / dt)));
-  std::vector<double> per_block[3];
-  Eigen::Vector3d acc = Eigen::Vector3d::Zero();
-  std::size_t count = 0;
-  for (std::size_t k = 1; k < imu.size(); ++k) {
-    const Eigen::Vector3d d =
-        imu[k].dtheta_rad / imu[k].dt_s - imu[k - 1].dtheta_rad / imu[k - 1].dt_s;
-    acc += d.cwiseAbs2();
-    if (++count == block) {
-      for (int a = 0; a < 3; ++a) per_block[a].push_back(0.5 * acc(a) / count);
-      acc.setZero();
-      count = 0;
-    }
-  }
-  if (count > 0 && per_block[0].empty())
-    for (int a = 0; a < 3; ++a) per_block[a].push_back(0.5 * acc(a) / count);
-  Eigen::Vector3d sd;
-  for (int a = 0; a < 3; ++a) {
-    std::vector<double>& v = per_block[a];
-    const std::size_t q = v.size() / 20;
-    std::nth_element(v.begin(), v.begin() + q, v.end());
-    sd(a) = std::sqrt(v[q]);
-  }
-  return sd;
-}
-
 AngularAccelerationBins angularAccelerationPerBin(const ImuSeries& imu, const GridSpec& grid,
                                                   double max_noise_fraction) {
   if (imu.size() < 2) throw std::invalid_argument("angularAccelerationPerBin: fewer than 2 samples");
@@ -92,7 +64,10 @@ AngularAccelerationBins angularAccelerationPerBin(const ImuSeries& imu, const Gr
   const CumulativeImu cum(imu);
   const double h = grid.bin_s;
   const double dt = medianSampleInterval(imu);
-  const Eigen::Vector3d sigma = imu.size() >= 3 ? sampleRateNoiseSd(imu) : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d sigma =
+      imu.size() >= 3 ? blockDifferenceNoiseSd(imu, SampleQuantity::angular_rate,
+                                               samplesPerSecond(medianSampleInterval(imu)))
+                      : Eigen::Vector3d::Zero();
 
   const auto regressor = [&](double w) {
     const auto windowMean = [&](double t, double width) -> Eigen::Vector3d {

@@ -8,6 +8,7 @@
 #include <fmt/core.h>
 
 #include "graftnav/mismatch/diagnosis.h"
+#include "graftnav/mismatch/sample_noise.h"
 
 namespace graftnav {
 namespace {
@@ -50,34 +51,6 @@ Eigen::Vector3d printedResolution(const ImuSeries& imu, bool gyro) {
   return res;
 }
 
-Eigen::Vector3d sampleIncrementNoiseSd(const ImuSeries& imu, bool gyro) {
-  if (imu.size() < 3) throw std::invalid_argument("sampleIncrementNoiseSd: fewer than 3 samples");
-  const double span_s = imu.back().t_s - imu.front().t_s;
-  const double dt = span_s / static_cast<double>(imu.size() - 1);
-  const std::size_t block = std::max<std::size_t>(8, static_cast<std::size_t>(std::lround(1.0 / dt)));
-  std::vector<double> per_block[3];
-  Eigen::Vector3d acc = Eigen::Vector3d::Zero();
-  std::size_t count = 0;
-  for (std::size_t k = 1; k < imu.size(); ++k) {
-    acc += (increment(imu[k], gyro) - increment(imu[k - 1], gyro)).cwiseAbs2();
-    if (++count == block) {
-      for (int a = 0; a < 3; ++a) per_block[a].push_back(0.5 * acc(a) / count);
-      acc.setZero();
-      count = 0;
-    }
-  }
-  if (per_block[0].empty())
-    for (int a = 0; a < 3; ++a) per_block[a].push_back(0.5 * acc(a) / count);
-  Eigen::Vector3d sd;
-  for (int a = 0; a < 3; ++a) {
-    std::vector<double>& v = per_block[a];
-    const std::size_t q = v.size() / 20;
-    std::nth_element(v.begin(), v.begin() + q, v.end());
-    sd(a) = std::sqrt(v[q]);
-  }
-  return sd;
-}
-
 QuantizationCheck checkQuantization(const ImuSeries& real, const ImuSeries& simulated, bool gyro,
                                     const QuantizationEvidenceOptions& options) {
   options.validate();
@@ -86,7 +59,11 @@ QuantizationCheck checkQuantization(const ImuSeries& real, const ImuSeries& simu
   c.min_step_over_resolution = options.min_step_over_resolution;
   c.step = detectQuantizationStep(real, gyro);
   c.printed_resolution = printedResolution(real, gyro);
-  c.white_noise_sd = sampleIncrementNoiseSd(real, gyro);
+  // One-second blocks at the record's mean sample interval.
+  const double span_s = real.back().t_s - real.front().t_s;
+  c.white_noise_sd = blockDifferenceNoiseSd(
+      real, gyro ? SampleQuantity::angle_increment : SampleQuantity::velocity_increment,
+      samplesPerSecond(span_s / static_cast<double>(real.size() - 1)));
   const Eigen::Vector3d sim_step = detectQuantizationStep(simulated, gyro);
   c.resolvable_share =
       options.resolvable_sigmas * std::sqrt(2.0 / static_cast<double>(real.size()));

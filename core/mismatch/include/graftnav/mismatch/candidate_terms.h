@@ -174,11 +174,6 @@ struct AngularAccelerationBins {
 AngularAccelerationBins angularAccelerationPerBin(const ImuSeries& imu, const GridSpec& grid,
                                                   double max_noise_fraction = 0.01);
 
-// Per-axis white noise (standard deviation per sample) of the angular rates dtheta / dt of
-// `imu`: half the mean squared first difference over 1-s blocks, the 5th percentile over the
-// blocks (the quietest, e.g. standstills; an upper bound when the record never rests).
-Eigen::Vector3d sampleRateNoiseSd(const ImuSeries& imu);
-
 // Contribution sum_j theta_j u_j of a term on the grid (n x 6). theta has one value per column
 // (ignored for fixed terms, whose coefficients are 1).
 Eigen::MatrixXd termContribution(const CandidateTerm& term, const Eigen::VectorXd& theta, int n);

@@ -51,10 +51,6 @@ struct QuantizationCheck {
 // (relative tolerance 1e-6 of the printed unit), 0 when there is none.
 Eigen::Vector3d printedResolution(const ImuSeries& imu, bool gyro);
 
-// Per-sample white noise (sd) of the increments: half the mean squared first difference over
-// 1-s blocks, the 5th percentile over the blocks (the quietest; a standstill when there is one).
-Eigen::Vector3d sampleIncrementNoiseSd(const ImuSeries& imu, bool gyro);
-
 // The verdict for one sensor: `real` is the tested record, `simulated` the simulation (a lattice
 // both share is not missing from the simulation). Throws std::invalid_argument with fewer than
 // 3 samples.

@@ -1,0 +1,60 @@
+#include "graftnav/mismatch/sample_noise.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace graftnav {
+namespace {
+
+Eigen::Vector3d valueOf(const ImuSample& s, SampleQuantity quantity) {
+  switch (quantity) {
+    case SampleQuantity::angular_rate:
+      return s.dtheta_rad / s.dt_s;
+    case SampleQuantity::angle_increment:
+      return s.dtheta_rad;
+    case SampleQuantity::velocity_increment:
+      return s.dvel_m_s;
+  }
+  return s.dvel_m_s;
+}
+
+}  // namespace
+
+Eigen::Vector3d blockDifferenceNoiseSd(const ImuSeries& imu, SampleQuantity quantity,
+                                       std::size_t block_samples) {
+  if (imu.size() < 3)
+    throw std::invalid_argument("blockDifferenceNoiseSd: " + std::to_string(imu.size()) +
+                                " samples, at least 3 needed");
+  if (block_samples == 0) throw std::invalid_argument("blockDifferenceNoiseSd: block_samples = 0");
+  std::vector<double> per_block[3];
+  Eigen::Vector3d acc = Eigen::Vector3d::Zero();
+  std::size_t count = 0;
+  for (std::size_t k = 1; k < imu.size(); ++k) {
+    const Eigen::Vector3d d = valueOf(imu[k], quantity) - valueOf(imu[k - 1], quantity);
+    acc += d.cwiseAbs2();
+    if (++count == block_samples) {
+      for (int a = 0; a < 3; ++a) per_block[a].push_back(0.5 * acc(a) / count);
+      acc.setZero();
+      count = 0;
+    }
+  }
+  if (count > 0 && per_block[0].empty())
+    for (int a = 0; a < 3; ++a) per_block[a].push_back(0.5 * acc(a) / count);
+  Eigen::Vector3d sd;
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double>& v = per_block[a];
+    const std::size_t q = v.size() / 20;
+    std::nth_element(v.begin(), v.begin() + q, v.end());
+    sd(a) = std::sqrt(v[q]);
+  }
+  return sd;
+}
+
+std::size_t samplesPerSecond(double dt_s) {
+  return std::max<std::size_t>(8, static_cast<std::size_t>(std::lround(1.0 / dt_s)));
+}
+
+}  // namespace graftnav
