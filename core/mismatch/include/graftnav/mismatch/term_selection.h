@@ -106,9 +106,9 @@ struct SelectionOptions {
   // wavelet coefficients as independent across levels, which they are not, and states a
   // regressor on the wander's scales too certain; the sandwich trusts the law's 4^j part to be
   // a random walk, which a quiet residual's slow misfit is not, and can state a direction far
-  // too certain (docs/mismatch.md, Gaps). Sigma = white + the random walk whose Haar variances
-  // the law's 4^j part fits (step variance 12 b) + the 2^j part on the diagonal. Needs
-  // slow_block_bins.
+  // too certain (docs/mismatch.md, Known limits). Sigma = white + the random walk whose Haar
+  // variances the law's 4^j part fits (step variance 12 b) + the 2^j part on the diagonal.
+  // Needs slow_block_bins.
   bool random_walk_sandwich = true;
   void validate() const;
 };
