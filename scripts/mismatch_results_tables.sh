@@ -16,7 +16,7 @@
 #   --jobs J   cases run in parallel (default 2).
 #   --work     where the cases and diagnoses go (default /tmp/graftnav_mismatch_results).
 #   --binary   the graftnav binary (default build/graftnav).
-# Single-seed run: about 2-4 min on two shared cores.
+# Single-seed run: 2-6 min on two shared cores (126 s and 314 s measured, depending on the load).
 set -euo pipefail
 repo="$(cd "$(dirname "$0")/.." && pwd)"
 seeds=0
