@@ -9,6 +9,7 @@
 #include <string>
 
 #include "graftnav/io/imu_profile_io.h"
+#include "graftnav/io/yaml_fields.h"
 #include "graftnav/sim/imu_simulator.h"
 #include "graftnav/nav/units.h"
 
@@ -16,41 +17,27 @@ namespace graftnav {
 namespace {
 
 namespace fs = std::filesystem;
+namespace yf = yaml_fields;
 
+// The simulation config's view of the YAML field helper (graftnav/io/yaml_fields.h): defaults
+// for absent keys, errors naming the file, line and dotted key.
 class Reader {
  public:
-  Reader(std::string path, std::vector<std::string>* warnings)
-      : path_(std::move(path)), warnings_(warnings) {}
+  Reader(std::string path, std::vector<std::string>* warnings) : ctx_{std::move(path), warnings} {}
 
   [[noreturn]] void fail(const YAML::Node& n, const std::string& key, const std::string& msg) const {
-    const int line = n.IsDefined() ? n.Mark().line + 1 : 0;
-    throw std::runtime_error(path_ + ":" + std::to_string(line) + ": " + key + ": " + msg);
+    yf::fail(ctx_, n, key, msg);
   }
 
-  void checkKeys(const YAML::Node& map, const std::string& prefix,
-                 const std::set<std::string>& known) const {
+  template <typename Known = std::initializer_list<const char*>>
+  void checkKeys(const YAML::Node& map, const std::string& prefix, const Known& known) const {
     if (!map.IsMap()) fail(map, prefix.empty() ? "(top level)" : prefix, "expected a map");
-    for (const auto& kv : map) {
-      const std::string k = kv.first.as<std::string>();
-      if (!known.count(k) && warnings_) {
-        warnings_->push_back(path_ + ":" + std::to_string(kv.first.Mark().line + 1) +
-                             ": unknown key '" + (prefix.empty() ? k : prefix + "." + k) +
-                             "' ignored");
-      }
-    }
+    yf::warnUnknownKeys(ctx_, map, prefix, known);
   }
 
-  double num(const YAML::Node& map, const std::string& key, const std::string& full,
-             double def) const {
+  double num(const YAML::Node& map, const std::string& key, const std::string& full, double def) const {
     const YAML::Node n = map[key];
-    if (!n) return def;
-    try {
-      const double v = n.as<double>();
-      if (!std::isfinite(v)) fail(n, full, "not a finite number");
-      return v;
-    } catch (const YAML::Exception&) {
-      fail(n, full, "expected a number");
-    }
+    return n ? yf::asDouble(ctx_, n, full) : def;
   }
   double requiredNum(const YAML::Node& map, const std::string& key, const std::string& full) const {
     if (!map[key]) fail(map, full, "required key missing");
@@ -59,55 +46,31 @@ class Reader {
   std::string str(const YAML::Node& map, const std::string& key, const std::string& full,
                   const std::string& def) const {
     const YAML::Node n = map[key];
-    if (!n) return def;
-    if (!n.IsScalar()) fail(n, full, "expected a string");
-    return n.as<std::string>();
+    return n ? yf::asString(ctx_, n, full) : def;
   }
-  bool boolean(const YAML::Node& map, const std::string& key, const std::string& full,
-               bool def) const {
+  bool boolean(const YAML::Node& map, const std::string& key, const std::string& full, bool def) const {
     const YAML::Node n = map[key];
-    if (!n) return def;
-    try {
-      return n.as<bool>();
-    } catch (const YAML::Exception&) {
-      fail(n, full, "expected true or false");
-    }
+    return n ? yf::asBool(ctx_, n, full) : def;
   }
-  std::vector<double> list(const YAML::Node& map, const std::string& key, const std::string& full,
-                           int size) const {
+  // An absent key gives an empty list; `size` > 0 requires exactly that many numbers.
+  std::vector<double> list(const YAML::Node& map, const std::string& key, const std::string& full, int size) const {
     const YAML::Node n = map[key];
-    if (!n) return {};
-    if (!n.IsSequence()) fail(n, full, "expected a list");
-    if (size > 0 && static_cast<int>(n.size()) != size) {
-      fail(n, full, "expected " + std::to_string(size) + " numbers, got " +
-                        std::to_string(n.size()));
-    }
-    std::vector<double> v;
-    for (const auto& e : n) {
-      try {
-        v.push_back(e.as<double>());
-      } catch (const YAML::Exception&) {
-        fail(e, full, "expected a number");
-      }
-      if (!std::isfinite(v.back())) fail(e, full, "not a finite number");
-    }
-    return v;
+    return n ? yf::asDoubleList(ctx_, n, full, size > 0 ? size : -1) : std::vector<double>{};
   }
   std::optional<Eigen::Vector3d> vec3(const YAML::Node& map, const std::string& key,
                                       const std::string& full) const {
-    const auto v = list(map, key, full, 3);
-    if (v.empty()) return std::nullopt;
-    return Eigen::Vector3d(v[0], v[1], v[2]);
+    const YAML::Node n = map[key];
+    if (!n) return std::nullopt;
+    return yf::asVector3(ctx_, n, full);
   }
   std::string resolve(const std::string& p) const {
     if (p.empty() || fs::path(p).is_absolute()) return p;
-    return (fs::path(path_).parent_path() / p).lexically_normal().string();
+    return (fs::path(ctx_.path).parent_path() / p).lexically_normal().string();
   }
-  const std::string& path() const { return path_; }
+  const std::string& path() const { return ctx_.path; }
 
  private:
-  std::string path_;
-  std::vector<std::string>* warnings_;
+  yf::Context ctx_;
 };
 
 Eigen::Matrix3d offDiagonal(const std::vector<double>& v, double scale) {
@@ -386,13 +349,7 @@ void SimConfig::validate() const {
 
 SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warnings) {
   if (!fs::exists(path)) throw std::runtime_error(path + ": sim config file not found");
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(path + ":" + std::to_string(e.mark.line + 1) + ": YAML error: " +
-                             e.msg);
-  }
+  const YAML::Node root = yf::loadFile(path);
   const Reader r(path, warnings);
   r.checkKeys(root, "",
               {"name", "seed", "gnss_week", "imu_rate_hz", "quadrature_nodes", "truth_rate_hz",
