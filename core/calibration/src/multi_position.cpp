@@ -27,7 +27,8 @@ void lowerK(const T* p, T K[3][3]) {
 
 // (|K (u - b)| - g) / sigma for one static interval.
 struct AccelNormResidual {
-  AccelNormResidual(const Eigen::Vector3d& u, double g, double sigma) : u(u), g(g), w(1.0 / sigma) {}
+  AccelNormResidual(const Eigen::Vector3d& f_mean, double gravity, double sigma)
+      : u(f_mean), g(gravity), w(1.0 / sigma) {}
   template <typename T>
   bool operator()(const T* k, const T* b, T* r) const {
     T K[3][3];
@@ -47,9 +48,9 @@ struct AccelNormResidual {
 
 // Gravity-direction residual of one motion between static intervals (see the header).
 struct GyroMotionResidual {
-  GyroMotionResidual(std::vector<Eigen::Vector3d> dtheta, const Eigen::Vector3d& u0,
-                     const Eigen::Vector3d& u1)
-      : dtheta(std::move(dtheta)), u0(u0), u1(u1) {}
+  GyroMotionResidual(std::vector<Eigen::Vector3d> increments, const Eigen::Vector3d& up_before,
+                     const Eigen::Vector3d& up_after)
+      : dtheta(std::move(increments)), u0(up_before), u1(up_after) {}
   template <typename T>
   bool operator()(const T* k, T* r) const {
     T q[4] = {T(1), T(0), T(0), T(0)};  // q_{b_k b}: body now -> body at interval k
