@@ -7,6 +7,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "graftnav/io/yaml_fields.h"
+
 namespace graftnav::app {
 namespace fs = std::filesystem;
 
@@ -16,44 +18,24 @@ std::string OutageScheduleSpec::label() const {
 
 namespace {
 
-std::string where(const std::string& file, const YAML::Node& n) {
-  return fmt::format("{}:{}", file, n.Mark().line + 1);
-}
-
-template <typename T>
-T get(const std::string& file, const YAML::Node& n, const std::string& key) {
-  try {
-    return n.as<T>();
-  } catch (const YAML::Exception&) {
-    throw std::runtime_error(
-        fmt::format("{}: key '{}' has a value of the wrong type", where(file, n), key));
-  }
-}
-
-std::vector<std::string> stringList(const std::string& file, const YAML::Node& n,
-                                    const std::string& key) {
-  if (!n.IsSequence())
-    throw std::runtime_error(fmt::format("{}: '{}' must be a list", where(file, n), key));
-  std::vector<std::string> v;
-  for (const auto& e : n) v.push_back(get<std::string>(file, e, key));
-  return v;
-}
+namespace yf = yaml_fields;
 
 // Throws naming the file, line and key when `value` was seen before in this list.
-void requireUnique(std::set<std::string>& seen, const std::string& value, const std::string& file,
+void requireUnique(std::set<std::string>& seen, const std::string& value, const yf::Context& ctx,
                    const YAML::Node& n, const std::string& key) {
   if (!seen.insert(value).second) {
     throw std::runtime_error(
         fmt::format("{}: '{}' lists '{}' twice; every task needs its own name and output folder",
-                    where(file, n), key, value));
+                    yf::where(ctx, n), key, value));
   }
 }
 
-OutageScheduleSpec parseSchedule(const std::string& path, const YAML::Node& s) {
+OutageScheduleSpec parseSchedule(const yf::Context& ctx, const YAML::Node& s) {
+  if (!s.IsMap()) yf::fail(ctx, s, "outage_schedules", "expected a map, got " + yf::describe(s));
   OutageScheduleSpec o;
   for (const auto& f : s) {
-    const std::string k = f.first.as<std::string>();
-    const double x = get<double>(path, f.second, "outage_schedules." + k);
+    const std::string k = yf::asString(ctx, f.first, "outage_schedules");
+    const double x = yf::asDouble(ctx, f.second, "outage_schedules." + k);
     if (k == "length_s")
       o.length_s = x;
     else if (k == "period_s")
@@ -61,44 +43,60 @@ OutageScheduleSpec parseSchedule(const std::string& path, const YAML::Node& s) {
     else if (k == "start_s")
       o.start_s = x;
     else
-      throw std::runtime_error(where(path, f.first) + ": unknown key 'outage_schedules." + k + "'");
+      throw std::runtime_error(yf::where(ctx, f.first) + ": unknown key 'outage_schedules." + k + "'");
   }
   if (!(o.length_s > 0 && o.period_s >= o.length_s && o.start_s >= 0)) {
-    throw std::runtime_error(
-        where(path, s) +
-        ": outage schedule needs length_s > 0, period_s >= length_s, start_s >= 0");
+    throw std::runtime_error(yf::where(ctx, s) +
+                             ": outage schedule needs length_s > 0, period_s >= length_s, start_s >= 0");
   }
   return o;
 }
 
-std::vector<unsigned long long> parseSeeds(const std::string& path, const YAML::Node& v) {
-  if (!v.IsSequence() || v.size() == 0)
-    throw std::runtime_error(where(path, v) + ": 'seeds' must be a non-empty list");
+std::vector<unsigned long long> parseSeeds(const yf::Context& ctx, const YAML::Node& v) {
+  if (!v.IsSequence() || v.size() == 0) yf::fail(ctx, v, "seeds", "must be a non-empty list");
   std::vector<unsigned long long> seeds;
   std::set<std::string> seen;
   for (const auto& e : v) {
-    seeds.push_back(get<unsigned long long>(path, e, "seeds"));
-    requireUnique(seen, std::to_string(seeds.back()), path, e, "seeds");
+    seeds.push_back(yf::asUint64(ctx, e, "seeds"));
+    requireUnique(seen, std::to_string(seeds.back()), ctx, e, "seeds");
   }
   return seeds;
 }
 
 // Case paths (resolved by `rel`) and their folder names, which must be unique.
 template <typename Resolve>
-void parseCases(const std::string& path, const YAML::Node& v, const Resolve& rel,
-                BatchManifest& m) {
-  if (!v.IsSequence())
-    throw std::runtime_error(fmt::format("{}: 'cases' must be a list", where(path, v)));
+void parseCases(const yf::Context& ctx, const YAML::Node& v, const Resolve& rel, BatchManifest& m) {
+  if (!v.IsSequence()) yf::fail(ctx, v, "cases", "must be a list");
   std::set<std::string> seen;
   for (const auto& e : v) {
-    const std::string c = rel(get<std::string>(path, e, "cases"));
+    const std::string c = rel(yf::asString(ctx, e, "cases"));
     const std::string name = caseName(c);
     if (name.empty() || name == "." || name == "..") {
-      throw std::runtime_error(fmt::format("{}: case '{}' has no folder name", where(path, e), c));
+      throw std::runtime_error(fmt::format("{}: case '{}' has no folder name", yf::where(ctx, e), c));
     }
-    requireUnique(seen, name, path, e, "cases (folder names)");
+    requireUnique(seen, name, ctx, e, "cases (folder names)");
     m.cases.push_back(c);
     m.case_names.push_back(name);
+  }
+}
+
+void parseEstimators(const yf::Context& ctx, const YAML::Node& v, BatchManifest& m) {
+  if (!v.IsSequence()) yf::fail(ctx, v, "estimators", "must be a list");
+  m.estimators.clear();  // replaces the default
+  std::set<std::string> seen;
+  for (const auto& e : v) {
+    m.estimators.push_back(yf::asString(ctx, e, "estimators"));
+    requireUnique(seen, m.estimators.back(), ctx, e, "estimators");
+  }
+}
+
+void parseSchedules(const yf::Context& ctx, const YAML::Node& v, BatchManifest& m) {
+  if (!v.IsSequence()) yf::fail(ctx, v, "outage_schedules", "must be a list");
+  m.schedules.clear();
+  std::set<std::string> seen;
+  for (const auto& e : v) {
+    m.schedules.push_back(parseSchedule(ctx, e));
+    requireUnique(seen, m.schedules.back().label(), ctx, e, "outage_schedules");
   }
 }
 
@@ -111,15 +109,10 @@ std::string caseName(const std::string& case_path) {
 }
 
 BatchManifest loadBatchManifest(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw std::runtime_error("batch manifest '" + path + "' cannot be read");
-  } catch (const YAML::ParserException& e) {
-    throw std::runtime_error(
-        fmt::format("{}:{}: YAML syntax error: {}", path, e.mark.line + 1, e.msg));
-  }
+  const yf::Context ctx{path, nullptr};
+  const YAML::Node root = yf::loadFile(path);
+  if (root.IsDefined() && !root.IsNull() && !root.IsMap())
+    throw std::runtime_error(path + ": a batch manifest must be a YAML map");
   const fs::path base = fs::path(path).parent_path();
   auto rel = [&](const std::string& p) {
     return fs::path(p).is_absolute() ? p : (base / p).lexically_normal().string();
@@ -128,49 +121,36 @@ BatchManifest loadBatchManifest(const std::string& path) {
   m.path = path;
   bool seeds_set = false;
   for (const auto& kv : root) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = yf::asString(ctx, kv.first, "(top level)");
     const YAML::Node& v = kv.second;
+    if ((key == "seed" || key == "seeds") && seeds_set) yf::fail(ctx, kv.first, key, "give 'seed' or 'seeds', not both");
     if (key == "out") {
-      m.out_dir = rel(get<std::string>(path, v, key));
+      m.out_dir = rel(yf::asString(ctx, v, key));
     } else if (key == "jobs") {
-      m.jobs = get<int>(path, v, key);
-      if (m.jobs < 0) throw std::runtime_error(where(path, v) + ": jobs must be >= 0");
+      m.jobs = yf::asInt(ctx, v, key);
+      if (m.jobs < 0) yf::fail(ctx, v, key, "jobs must be >= 0");
     } else if (key == "config") {
-      m.config = rel(get<std::string>(path, v, key));
+      m.config = rel(yf::asString(ctx, v, key));
     } else if (key == "seed") {
-      if (seeds_set)
-        throw std::runtime_error(where(path, kv.first) + ": give 'seed' or 'seeds', not both");
-      m.seeds = {get<unsigned long long>(path, v, key)};
+      m.seeds = {yf::asUint64(ctx, v, key)};
       seeds_set = true;
     } else if (key == "seeds") {
-      if (seeds_set)
-        throw std::runtime_error(where(path, kv.first) + ": give 'seed' or 'seeds', not both");
-      m.seeds = parseSeeds(path, v);
+      m.seeds = parseSeeds(ctx, v);
       seeds_set = true;
     } else if (key == "plots") {
-      m.plots = get<bool>(path, v, key);
+      m.plots = yf::asBool(ctx, v, key);
     } else if (key == "cases") {
-      parseCases(path, v, rel, m);
+      parseCases(ctx, v, rel, m);
     } else if (key == "estimators") {
-      m.estimators = stringList(path, v, key);
-      std::set<std::string> seen;
-      for (std::size_t i = 0; i < m.estimators.size(); ++i)
-        requireUnique(seen, m.estimators[i], path, v[i], key);
+      parseEstimators(ctx, v, m);
     } else if (key == "outage_schedules") {
-      if (!v.IsSequence())
-        throw std::runtime_error(where(path, v) + ": 'outage_schedules' must be a list");
-      std::set<std::string> seen;
-      for (const auto& e : v) {
-        m.schedules.push_back(parseSchedule(path, e));
-        requireUnique(seen, m.schedules.back().label(), path, e, key);
-      }
+      parseSchedules(ctx, v, m);
     } else {
-      throw std::runtime_error(where(path, kv.first) + ": unknown key '" + key + "'");
+      throw std::runtime_error(yf::where(ctx, kv.first) + ": unknown key '" + key + "'");
     }
   }
   if (m.out_dir.empty()) throw std::runtime_error(path + ": missing required key 'out'");
-  if (m.cases.empty())
-    throw std::runtime_error(path + ": missing required key 'cases' (a non-empty list)");
+  if (m.cases.empty()) throw std::runtime_error(path + ": missing required key 'cases' (a non-empty list)");
   if (m.estimators.empty()) throw std::runtime_error(path + ": 'estimators' is empty");
   return m;
 }

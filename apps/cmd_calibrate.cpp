@@ -142,48 +142,8 @@ void writeFitCsv(const std::string& path, const std::vector<LinearObservation>& 
   writeFileAtomically(path, o.str());
 }
 
-void runLab(const CalibArgs& a) {
-  LabDataOptions lo;
-  lo.gravity_override_m_s2 = a.gravity;
-  const LabData data = loadLabData(a.case_dir, lo);
-  LabCalibrationOptions co;
-  co.poly.max_degree = a.max_degree;
-  const LabCalibrationReport rep = calibrateLab(data, co);
-  fs::create_directories(a.out);
-  writeCalibrationYaml(a.out + "/calibration.yaml", rep.result);
-
-  if (rep.has_allan) {
-    writeAllanCsv(a.out + "/allan_gyro.csv", rep.gyro_allan, rep.gyro_allan_fit);
-    writeAllanCsv(a.out + "/allan_accel.csv", rep.accel_allan, rep.accel_allan_fit);
-  }
-  if (rep.has_accel) writeFitCsv(a.out + "/fit_accel.csv", rep.accel_obs, rep.result.accel, rep.accel_pose_drift);
-  if (rep.has_gyro_lsq) writeFitCsv(a.out + "/fit_gyro.csv", rep.gyro_obs, rep.result.gyro, rep.gyro_pose_drift);
-  if (!rep.norm_checks.empty()) {
-    std::string o = "pose,raw_norm,calibrated_norm,gravity\n";
-    for (const auto& c : rep.norm_checks)
-      o += fmt::format("{},{:.6f},{:.6f},{:.6f}\n", c.name, c.raw_norm, c.calibrated_norm, data.gravity_m_s2);
-    writeFileAtomically(a.out + "/pose_norms.csv", o);
-  }
-  std::vector<std::string> plots;
-  if (!a.no_plots) {
-    if (!a.scripts_dir.empty()) setenv("GRAFTNAV_SCRIPTS_DIR", a.scripts_dir.c_str(), 1);
-    if (rep.has_allan) runPlot("plot_allan.py", a.out, plots);
-    runPlot("plot_calibration.py", a.out, plots);
-  }
-
-  std::ostringstream md;
-  md << "# Lab calibration: " << data.name << "\n\n";
-  md << "Case `" << a.case_dir << "`; gravity " << fmt::format("{:.5f}", data.gravity_m_s2) << " m/s^2"
-     << (data.latitude_known ? fmt::format(", latitude {:.4f} deg", data.lab.lat_rad * units::kRadToDeg)
-                             : std::string(", latitude unknown"))
-     << "; six-position poses " << data.six_position.size() << ", tilts " << data.tilts.size() << ", rate runs "
-     << data.rate_runs.size() << ", static record " << (data.has_static ? "yes" : "no") << ".\n\n";
-  for (const auto& n : rep.notes) md << "- note: " << n << "\n";
-  md << "\n## Results (calibration.yaml)\n\n";
-  writeSensorSection(md, "Accelerometer", rep.result.accel, false, rep.accel_pose_drift, rep.pose_drift_window_s,
-                     rep.pose_drift_separation_s, co.poly);
-  writeSensorSection(md, "Gyro", rep.result.gyro, true, rep.gyro_pose_drift, rep.pose_drift_window_s,
-                     rep.pose_drift_separation_s, co.poly);
+// The checks section of report.md: least-squares fits, closed forms, |f| at rest, Eq. 9-12.
+void writeChecksSection(std::ostringstream& md, const LabCalibrationReport& rep) {
   md << "## Checks\n\n";
   // Own-axis powers fitted with M (six_position.h): the fitting functions' degrees.
   const auto powers = [](const LinearModelFit& f) -> std::string {
@@ -229,6 +189,51 @@ void runLab(const CalibArgs& a) {
        << vec(Dg, units::kRadToDeg * 3600.0, "{:.4f}") << " deg/h, accel " << vec(Da, 1.0 / units::kMilliGToMPerSec2, "{:.4f}")
        << " mg\n";
   }
+}
+
+void runLab(const CalibArgs& a) {
+  LabDataOptions lo;
+  lo.gravity_override_m_s2 = a.gravity;
+  const LabData data = loadLabData(a.case_dir, lo);
+  LabCalibrationOptions co;
+  co.poly.max_degree = a.max_degree;
+  const LabCalibrationReport rep = calibrateLab(data, co);
+  fs::create_directories(a.out);
+  writeCalibrationYaml(a.out + "/calibration.yaml", rep.result);
+
+  if (rep.has_allan) {
+    writeAllanCsv(a.out + "/allan_gyro.csv", rep.gyro_allan, rep.gyro_allan_fit);
+    writeAllanCsv(a.out + "/allan_accel.csv", rep.accel_allan, rep.accel_allan_fit);
+  }
+  if (rep.has_accel) writeFitCsv(a.out + "/fit_accel.csv", rep.accel_obs, rep.result.accel, rep.accel_pose_drift);
+  if (rep.has_gyro_lsq) writeFitCsv(a.out + "/fit_gyro.csv", rep.gyro_obs, rep.result.gyro, rep.gyro_pose_drift);
+  if (!rep.norm_checks.empty()) {
+    std::string o = "pose,raw_norm,calibrated_norm,gravity\n";
+    for (const auto& c : rep.norm_checks)
+      o += fmt::format("{},{:.6f},{:.6f},{:.6f}\n", c.name, c.raw_norm, c.calibrated_norm, data.gravity_m_s2);
+    writeFileAtomically(a.out + "/pose_norms.csv", o);
+  }
+  std::vector<std::string> plots;
+  if (!a.no_plots) {
+    if (!a.scripts_dir.empty()) setenv("GRAFTNAV_SCRIPTS_DIR", a.scripts_dir.c_str(), 1);
+    if (rep.has_allan) runPlot("plot_allan.py", a.out, plots);
+    runPlot("plot_calibration.py", a.out, plots);
+  }
+
+  std::ostringstream md;
+  md << "# Lab calibration: " << data.name << "\n\n";
+  md << "Case `" << a.case_dir << "`; gravity " << fmt::format("{:.5f}", data.gravity_m_s2) << " m/s^2"
+     << (data.latitude_known ? fmt::format(", latitude {:.4f} deg", data.lab.lat_rad * units::kRadToDeg)
+                             : std::string(", latitude unknown"))
+     << "; six-position poses " << data.six_position.size() << ", tilts " << data.tilts.size() << ", rate runs "
+     << data.rate_runs.size() << ", static record " << (data.has_static ? "yes" : "no") << ".\n\n";
+  for (const auto& n : rep.notes) md << "- note: " << n << "\n";
+  md << "\n## Results (calibration.yaml)\n\n";
+  writeSensorSection(md, "Accelerometer", rep.result.accel, false, rep.accel_pose_drift, rep.pose_drift_window_s,
+                     rep.pose_drift_separation_s, co.poly);
+  writeSensorSection(md, "Gyro", rep.result.gyro, true, rep.gyro_pose_drift, rep.pose_drift_window_s,
+                     rep.pose_drift_separation_s, co.poly);
+  writeChecksSection(md, rep);
   if (!plots.empty()) {
     md << "\n## Plots\n\n";
     for (const char* p : {"allan_gyro.png", "allan_accel.png", "fit_gyro.png", "fit_accel.png", "pose_norms.png"})

@@ -96,9 +96,6 @@ struct Row {
   int gnss_rejected = 0;
 };
 
-// Formats table cells. A statistic that cannot be computed (no outage epoch, a zero denominator)
-// is written as absent, "-" in Markdown and an empty CSV cell, and counted so that runCompare
-// warns about it.
 // One drift statistic as JSON (degrees for angles, null for a non-finite value).
 nlohmann::json driftJson(const DriftStats& d) {
   auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
@@ -107,6 +104,9 @@ nlohmann::json driftJson(const DriftStats& d) {
           {"heading_deg", num(d.heading_rad * units::kRadToDeg)}};
 }
 
+// Formats table cells. A statistic that cannot be computed (no outage epoch, a zero denominator)
+// is written as absent, "-" in Markdown and an empty CSV cell, and counted so that runCompare
+// warns about it.
 struct Cells {
   int absent = 0;
   std::string operator()(double v, const char* f, const char* absent_text) {
@@ -130,23 +130,36 @@ struct Cells {
   }
 };
 
-void runCompare(const CompareArgs& a) {
-  if (!a.no_outages) validateOutageOptions(a.outage_length_s, a.outage_period_s, a.outage_start_s);
+// Pairwise differences inside outages: a evaluated against b as the reference.
+struct Pair {
+  std::string a, b;
+  DriftStats rms, max_rms;
+};
+
+// The case, the run config and the outage schedule as `navigate` reads them
+// (apps/case_loader.h), so both commands agree to the digit.
+struct CompareInputs {
   RunConfig cfg;
+  CaseInputs c;
+  EstimationProblem p;
+};
+
+CompareInputs loadCompareInputs(const CompareArgs& a) {
+  CompareInputs in;
   if (!a.config.empty()) {
     std::vector<std::string> warnings;
-    cfg = loadRunConfig(a.config, &warnings);
+    in.cfg = loadRunConfig(a.config, &warnings);
     recordConfigFile(a.config);
     for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
   }
-  // The same inputs as `navigate` (apps/case_loader.h), so both commands agree to the digit.
   CaseLoadOptions lo;
   lo.lenient = a.lenient;
-  const CaseInputs c = loadCaseInputs(a.case_dir, lo);
+  in.c = loadCaseInputs(a.case_dir, lo);
+  const CaseInputs& c = in.c;
   for (const auto& w : c.warnings) fmt::print(stderr, "warning: {}\n", w);
   if (c.reference.empty()) throw std::runtime_error(a.case_dir + ": compare needs truth.nav or a reference");
-  OutageScheduleConfig oc = cfg.outages;
-  if (!cfg.outages_given) {
+  OutageScheduleConfig oc = in.cfg.outages;
+  if (!in.cfg.outages_given) {
     oc.length_s = a.outage_length_s;
     oc.period_s = a.outage_period_s;
     oc.start_s = a.outage_start_s;
@@ -160,56 +173,23 @@ void runCompare(const CompareArgs& a) {
   }
   for (const auto& w : checkGnssCoverage(c.gnss, c.paths().gnssPos(), imu.imu, false))
     fmt::print(stderr, "warning: {}\n", w);
-  const EstimationProblem problem = makeProblem(c, imu, cfg, oc, &notes);
+  in.p = makeProblem(c, imu, in.cfg, oc, &notes);
   for (const auto& n : notes) fmt::print(stderr, "note: {}\n", n);
-  const EstimationProblem& p = problem;
+  const EstimationProblem& p = in.p;
   requireOutagesInsideData(oc, p.outages, p.imu.front().t_s - p.imu.front().dt_s, p.imu.back().t_s);
   for (const auto& w : checkReferenceCoverage(c.reference, c.reference_name, p.imu, p.outages))
     fmt::print(stderr, "warning: {}\n", w);
-  const std::vector<std::string> names = splitList(a.estimators);
-  if (names.empty()) throw std::invalid_argument("compare: --estimators is empty");
-  checkEstimatorNames(names);
-  std::filesystem::create_directories(a.out);
-  fmt::print(stderr, "compare: {} IMU samples, {} GNSS fixes, {} outages of {:.0f} s\n",
-             p.imu.size(), p.gnss.size(), p.outages.size(), a.outage_length_s);
+  return in;
+}
 
-  std::vector<Row> rows;
-  std::vector<NavSolution> sols;
-  for (const std::string& name : names) {
-    const auto t0 = std::chrono::steady_clock::now();
-    NavSolution sol = runNamed(name, p, cfg);
-    checkGnssUsed(sol.gnss_used, false);  // throws before any file is written
-    Row r;
-    r.name = name;
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    r.eval = evaluateSolution(sol, c.reference, p.outages);
-    r.gnss_rejected = sol.gnss_rejected;
-    fmt::print(stderr, "  {:<20s} {:7.2f} s  outage horiz RMS {:.3f} m, GNSS rejected {}\n", name,
-               r.seconds, r.eval.outage_rms.horizontal_m, sol.gnss_rejected);
-    rows.push_back(std::move(r));
-    sols.push_back(std::move(sol));
-  }
-
-  // Pairwise differences inside outages: a evaluated against b as the reference.
-  struct Pair {
-    std::string a, b;
-    DriftStats rms, max_rms;
-  };
-  std::vector<Pair> pairs;
-  for (size_t i = 0; i < sols.size(); ++i) {
-    for (size_t j = i + 1; j < sols.size(); ++j) {
-      const Evaluation e = evaluateSolution(sols[i], sols[j].states, p.outages);
-      pairs.push_back({names[i], names[j], e.outage_rms, e.outage_max_rms});
-    }
-  }
-
-  // Markdown.
-  Cells cell;
+std::string compareMarkdown(const CompareArgs& a, const CompareInputs& in, const std::vector<Row>& rows,
+                            const std::vector<Pair>& pairs, Cells& cell) {
+  const EstimationProblem& p = in.p;
   std::ostringstream md;
   md << fmt::format("# Estimator comparison: {}\n\nIMU: {} ({}), {} outages of {:.0f} s every "
                     "{:.0f} s from {:.0f} s; errors against the {}.\n\n",
                     a.case_dir, a.imu, p.imu_profile.name, p.outages.size(), a.outage_length_s,
-                    a.outage_period_s, a.outage_start_s, c.reference_name);
+                    a.outage_period_s, a.outage_start_s, in.c.reference_name);
   md << "## Outage errors, RMS over outage epochs (seed Tables 2-3)\n\n"
         "| estimator | horiz. (m) | vert. (m) | roll (deg) | pitch (deg) | heading (deg) | "
         "run (s) | GNSS rejected |\n|---|---|---|---|---|---|---|---|\n";
@@ -238,8 +218,11 @@ void runCompare(const CompareArgs& a) {
         "| a - b | horiz. (m) | vert. (m) | roll (deg) | pitch (deg) | heading (deg) |\n"
         "|---|---|---|---|---|---|\n";
   for (const Pair& q : pairs) md << fmt::format("| {} - {} | {} |\n", q.a, q.b, cell.driftMd(q.rms));
+  return md.str();
+}
 
-  // CSV: one row per estimator and per pair.
+// CSV: one row per estimator and statistic, and per pair.
+std::string compareCsv(const std::vector<Row>& rows, const std::vector<Pair>& pairs, Cells& cell) {
   std::ostringstream csv;
   csv << "kind,name,statistic,horizontal_m,vertical_m,roll_deg,pitch_deg,heading_deg,run_s,"
          "gnss_rejected\n";
@@ -255,8 +238,11 @@ void runCompare(const CompareArgs& a) {
     csv << fmt::format("difference,{}-{},outage_rms,{},,\n", q.a, q.b, cell.driftCsv(q.rms));
     csv << fmt::format("difference,{}-{},outage_max_rms,{},,\n", q.a, q.b, cell.driftCsv(q.max_rms));
   }
+  return csv.str();
+}
 
-  // 1 Hz error series and outage windows for the plot.
+// 1 Hz error series for the plot.
+std::string errorSeriesCsv(const std::vector<Row>& rows, Cells& cell) {
   std::ostringstream ser;
   ser << "t_s";
   for (const Row& r : rows) ser << fmt::format(",{0}_horizontal_m,{0}_vertical_m,{0}_heading_deg", r.name);
@@ -278,15 +264,12 @@ void runCompare(const CompareArgs& a) {
     }
     ser << "\n";
   }
-  std::ostringstream ow;
-  ow << "start_s,end_s\n";
-  for (const TimeWindow& w : p.outages) ow << fmt::format("{:.3f},{:.3f}\n", w.start_s, w.end_s);
+  return ser.str();
+}
 
-  writeFileAtomically(a.out + "/compare.md", md.str());
-  writeFileAtomically(a.out + "/compare.csv", csv.str());
-  writeFileAtomically(a.out + "/compare_errors.csv", ser.str());
-  writeFileAtomically(a.out + "/compare_outages.csv", ow.str());
-  // compare.json: the numbers of compare.csv, and the run's provenance.
+// compare.json: the numbers of compare.csv, and the run's provenance.
+nlohmann::json compareJson(const CompareArgs& a, const EstimationProblem& p, const std::vector<Row>& rows,
+                           const std::vector<Pair>& pairs) {
   nlohmann::json js = {{"case", a.case_dir}, {"imu", a.imu}, {"outage_count", p.outages.size()},
                        {"estimators", nlohmann::json::array()}, {"differences", nlohmann::json::array()},
                        {"provenance", provenanceJson()}};
@@ -300,8 +283,55 @@ void runCompare(const CompareArgs& a) {
     js["differences"].push_back({{"a", q.a}, {"b", q.b}, {"outage_rms", driftJson(q.rms)},
                                  {"outage_max_rms", driftJson(q.max_rms)}});
   }
-  writeFileAtomically(a.out + "/compare.json", js.dump(2) + "\n");
-  fmt::print("{}", md.str());
+  return js;
+}
+
+void runCompare(const CompareArgs& a) {
+  if (!a.no_outages) validateOutageOptions(a.outage_length_s, a.outage_period_s, a.outage_start_s);
+  const CompareInputs in = loadCompareInputs(a);
+  const EstimationProblem& p = in.p;
+  const std::vector<std::string> names = splitList(a.estimators);
+  if (names.empty()) throw std::invalid_argument("compare: --estimators is empty");
+  checkEstimatorNames(names);
+  std::filesystem::create_directories(a.out);
+  fmt::print(stderr, "compare: {} IMU samples, {} GNSS fixes, {} outages of {:.0f} s\n",
+             p.imu.size(), p.gnss.size(), p.outages.size(), a.outage_length_s);
+
+  std::vector<Row> rows;
+  std::vector<NavSolution> sols;
+  for (const std::string& name : names) {
+    const auto t0 = std::chrono::steady_clock::now();
+    NavSolution sol = runNamed(name, p, in.cfg);
+    checkGnssUsed(sol.gnss_used, false);  // throws before any file is written
+    Row r;
+    r.name = name;
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.eval = evaluateSolution(sol, in.c.reference, p.outages);
+    r.gnss_rejected = sol.gnss_rejected;
+    fmt::print(stderr, "  {:<20s} {:7.2f} s  outage horiz RMS {:.3f} m, GNSS rejected {}\n", name,
+               r.seconds, r.eval.outage_rms.horizontal_m, sol.gnss_rejected);
+    rows.push_back(std::move(r));
+    sols.push_back(std::move(sol));
+  }
+  std::vector<Pair> pairs;
+  for (size_t i = 0; i < sols.size(); ++i) {
+    for (size_t j = i + 1; j < sols.size(); ++j) {
+      const Evaluation e = evaluateSolution(sols[i], sols[j].states, p.outages);
+      pairs.push_back({names[i], names[j], e.outage_rms, e.outage_max_rms});
+    }
+  }
+
+  Cells cell;
+  const std::string md = compareMarkdown(a, in, rows, pairs, cell);
+  std::ostringstream ow;
+  ow << "start_s,end_s\n";
+  for (const TimeWindow& w : p.outages) ow << fmt::format("{:.3f},{:.3f}\n", w.start_s, w.end_s);
+  writeFileAtomically(a.out + "/compare.md", md);
+  writeFileAtomically(a.out + "/compare.csv", compareCsv(rows, pairs, cell));
+  writeFileAtomically(a.out + "/compare_errors.csv", errorSeriesCsv(rows, cell));
+  writeFileAtomically(a.out + "/compare_outages.csv", ow.str());
+  writeFileAtomically(a.out + "/compare.json", compareJson(a, p, rows, pairs).dump(2) + "\n");
+  fmt::print("{}", md);
   if (cell.absent > 0)
     fmt::print(stderr, "warning: {} statistics could not be computed (no outage epoch or a zero denominator): "
                        "written as '-' in compare.md and empty cells in the CSV files\n", cell.absent);

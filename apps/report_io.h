@@ -1,5 +1,5 @@
 #pragma once
-// Writing the evaluation of a navigation run: errors.json (issue 3 contract), run_info.json
+// Writing the evaluation of a navigation run: errors.json (the result contract), run_info.json
 // (everything else worth keeping: NEES band, GNSS counts), errors.csv (per-epoch errors),
 // outage_drift.csv (per-outage maxima), and the plots through scripts/plot_errors.py.
 

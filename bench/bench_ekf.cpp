@@ -1,4 +1,4 @@
-// Forward EKF and EKF + RTS on 1 h of 200 Hz IMU with 1 Hz GNSS (issue 3 target: < 3 s for both
+// Forward EKF and EKF + RTS on 1 h of 200 Hz IMU with 1 Hz GNSS (target: < 3 s for both
 // on the 2-core machine). Data: the truth-by-construction drive of the filter tests
 // (tests/support/ekf_scenario.h) with tactical-grade errors, generated once in memory.
 #include <benchmark/benchmark.h>

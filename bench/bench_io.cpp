@@ -1,4 +1,4 @@
-// Reading a 1 h, 200 Hz IMU file (720 000 lines) must take well under 1 s (issue 2). The file is
+// Reading a 1 h, 200 Hz IMU file (720 000 lines) must take well under 1 s. The file is
 // written once to /tmp (full-precision increments, as the simulator writes them) and read per
 // iteration; writing is measured too.
 #include <benchmark/benchmark.h>

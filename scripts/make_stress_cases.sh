@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Stress cases for `graftnav diagnose` beyond what the random generator draws (docs/mismatch.md,
-# "Seventeenth session"): one simulator case (random_33_13 of `make_random_cases.sh 28 33`: the
+# stress cases): one simulator case (random_33_13 of `make_random_cases.sh 28 33`: the
 # 57-min Wuhan track, 200 Hz, road vibration, a POS1100-like tested IMU), its concealed effect
 # replaced by
 #   - single effects the default random list never draws: gyro vibration rectification on the

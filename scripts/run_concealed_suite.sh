@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Concealed-effects suite of the mismatch finder (issue 7 item 6, docs/mismatch.md): for every
+# Concealed-effects suite of the mismatch finder (docs/mismatch.md): for every
 # configs/sim/concealed/*.yaml, simulate the case, run `graftnav diagnose` with a navigation
 # estimator, and print a Markdown table: effect injected, effect found, parameter error, fit
 # before/after (signal RMS and DIFF of the five outage statistics). A claimed scale_factor that is

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 6 verification on the 57-minute real track: simulate tactical and MEMS cases (errors of
+# SG verification on the 57-minute real track: simulate tactical and MEMS cases (errors of
 # the kinds grafting models only, and with Gauss-Markov bias wander), then evaluate SG#1/SG#2
 # against the simulated real IMU with the EKF and the batch factor graph.
 #   bash scripts/sg_experiment.sh [OUT_DIR] [SEEDS...]    (default out/sg_experiment, seed 1)

@@ -25,7 +25,7 @@ slurm_local_start "$work/cluster"
 
 cat >"$work/manifest.yaml" <<YAML
 out: out_unused
-config: $repo/configs/evaluate_sample.yaml
+config: $repo/configs/batch/tiny_tasks_run.yaml
 cases: [$repo/data/sample_tactical, $repo/data/sample_mems]
 estimators: [ekf]
 seeds: [1, 2]

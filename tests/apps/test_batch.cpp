@@ -50,7 +50,8 @@ std::string readFile(const std::string& path) {
 
 std::string sample(const std::string& grade) { return test::sourceDir() + "/data/sample_" + grade; }
 
-std::string sampleConfig() { return test::sourceDir() + "/configs/evaluate_sample.yaml"; }
+// One grafted realization per task: these tests check the bookkeeping, not the statistics.
+std::string sampleConfig() { return test::sourceDir() + "/configs/batch/tiny_tasks_run.yaml"; }
 
 // A manifest: the cases, EKF, the config's outage schedule, the seeds.
 void writeManifest(const std::string& path, const std::vector<std::string>& cases,
@@ -240,8 +241,7 @@ TEST(BatchSlurm, HostilePathsInTheScriptsRunNothingTheyShouldNot) {
   fs::create_directory_symlink(sample("tactical"), mdir + "/case " + evil);
   {
     std::ofstream m(mdir + "/m.yaml");
-    m << "out: 'out $(touch PWNED_OUT)'\nconfig: " << test::sourceDir()
-      << "/configs/evaluate_sample.yaml\n"
+    m << "out: 'out $(touch PWNED_OUT)'\nconfig: " << sampleConfig() << "\n"
       << "cases: ['case it''s a $(touch PWNED_DIR) `touch PWNED_TICK`; touch PWNED_SEMI \"q\"']\n";
   }
   const std::string q = app::shellQuote(mdir + "/m.yaml");

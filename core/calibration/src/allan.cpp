@@ -15,8 +15,8 @@ constexpr double kFlickerVar = 0.44130;             // 2 ln2 / pi
 
 // Whitened ADEV residual for one tau. Parameters c = [N^2, B^2, K^2, Q^2].
 struct AdevResidual {
-  AdevResidual(double tau, double adev, double rel, bool use_q)
-      : tau(tau), adev(adev), w(1.0 / (rel * adev)), use_q(use_q) {}
+  AdevResidual(double at_tau, double measured_adev, double rel, bool with_q)
+      : tau(at_tau), adev(measured_adev), w(1.0 / (rel * measured_adev)), use_q(with_q) {}
   template <typename T>
   bool operator()(const T* c, T* r) const {
     T avar = c[0] / tau + kFlickerVar * c[1] + c[2] * tau / 3.0;

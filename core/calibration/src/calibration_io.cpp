@@ -6,9 +6,12 @@
 
 #include "graftnav/calibration/calibration_io.h"
 #include "graftnav/io/atomic_file.h"
+#include "graftnav/io/yaml_fields.h"
 
 namespace graftnav {
 namespace {
+
+namespace yf = yaml_fields;
 
 YAML::Node vec3Node(const Eigen::Vector3d& v) {
   YAML::Node n(YAML::NodeType::Sequence);
@@ -94,88 +97,67 @@ void requireFiniteScalars(const YAML::Node& n, const std::string& key, const std
   }
 }
 
-[[noreturn]] void fail(const std::string& path, const std::string& key, const std::string& why) {
-  throw std::runtime_error("readCalibrationYaml: " + path + ": key '" + key + "': " + why);
-}
-
-double finite(const YAML::Node& n, const std::string& path, const std::string& key) {
-  double v;
-  try {
-    v = n.as<double>();
-  } catch (const YAML::Exception&) {
-    fail(path, key, "not a number");
-  }
-  if (!std::isfinite(v)) fail(path, key, "not finite");
-  return v;
-}
-
-Eigen::Vector3d readVec3(const YAML::Node& n, const std::string& path, const std::string& key) {
-  if (!n || !n.IsSequence() || n.size() != 3) fail(path, key, "expected a list of 3 numbers");
-  Eigen::Vector3d v;
-  for (int i = 0; i < 3; ++i) v[i] = finite(n[i], path, key);
-  return v;
-}
-
-Eigen::Matrix3d readMat3(const YAML::Node& n, const std::string& path, const std::string& key) {
-  if (!n || !n.IsSequence() || n.size() != 3) fail(path, key, "expected 3 rows of 3 numbers");
+Eigen::Matrix3d asMat3(const yf::Context& ctx, const YAML::Node& n, const std::string& key) {
+  if (!n.IsSequence() || n.size() != 3) yf::fail(ctx, n, key, "expected 3 rows of 3 numbers, got " + yf::describe(n));
   Eigen::Matrix3d m;
-  for (int r = 0; r < 3; ++r) m.row(r) = readVec3(n[r], path, key).transpose();
+  for (int r = 0; r < 3; ++r) m.row(r) = yf::asVector3(ctx, n[r], key + "[" + std::to_string(r) + "]").transpose();
   return m;
 }
 
-std::vector<double> readVec(const YAML::Node& n, const std::string& path, const std::string& key) {
-  if (!n || !n.IsSequence()) fail(path, key, "expected a list of numbers");
-  std::vector<double> v;
-  for (const auto& e : n) v.push_back(finite(e, path, key));
-  return v;
+// Keys the Allan section may carry beside white_noise.
+void readAllan(const yf::Context& ctx, const YAML::Node& n, const std::string& name, AllanTerms* allan) {
+  allan->white_noise = yf::asVector3(ctx, n["white_noise"], name + ".white_noise");
+  for (const auto& [key, dst] : {std::make_pair("white_noise_sigma", &allan->white_noise_sigma),
+                                 std::make_pair("bias_instability", &allan->bias_instability),
+                                 std::make_pair("bias_instability_sigma", &allan->bias_instability_sigma),
+                                 std::make_pair("rate_random_walk", &allan->rate_random_walk),
+                                 std::make_pair("rate_random_walk_sigma", &allan->rate_random_walk_sigma)}) {
+    if (n[key]) *dst = yf::asVector3(ctx, n[key], name + "." + key);
+  }
 }
 
-SensorCalibration readSensor(const YAML::Node& n, const std::string& path, const std::string& name) {
-  if (!n || !n.IsMap()) fail(path, name, "missing sensor section");
+PolynomialFit readFitAxis(const yf::Context& ctx, const YAML::Node& f, const std::string& key) {
+  PolynomialFit p;
+  p.coeffs = yf::asDoubleList(ctx, yf::child(ctx, f, key, "coeffs", true), key + ".coeffs");
+  if (p.coeffs.empty()) yf::fail(ctx, f["coeffs"], key + ".coeffs", "empty");
+  p.degree = static_cast<int>(p.coeffs.size()) - 1;
+  int degree = p.degree;
+  if (yf::readOptional(ctx, f, key, "degree", &degree) && degree != p.degree)
+    yf::fail(ctx, f["degree"], key + ".degree", "does not match the number of coefficients");
+  yf::readOptional(ctx, f, key, "coeffs_sigma", &p.coeffs_sigma);
+  p.cv_rms = std::nan("");
+  yf::readOptional(ctx, f, key, "cv_rms", &p.cv_rms);
+  yf::readOptional(ctx, f, key, "residual_rms", &p.residual_rms);
+  yf::readOptional(ctx, f, key, "n_points", &p.n_points);
+  if (yf::readOptional(ctx, f, key, "c2_tested", &p.c2_tested)) {
+    if (!f["c2_tested_sigma"]) yf::fail(ctx, f, key + ".c2_tested_sigma", "missing (c2_tested is given)");
+    yf::readOptional(ctx, f, key, "c2_tested_sigma", &p.c2_tested_sigma);
+  }
+  yf::readOptional(ctx, f, key, "slope_per_abs", &p.slope_per_abs);
+  yf::readOptional(ctx, f, key, "slope_per_sq", &p.slope_per_sq);
+  yf::readOptional(ctx, f, key, "c2_tested_per_abs", &p.c2_tested_per_abs);
+  return p;
+}
+
+SensorCalibration readSensor(const yf::Context& ctx, const YAML::Node& root, const char* name) {
+  const YAML::Node n = yf::child(ctx, root, "", name, true);
+  yf::requireMap(ctx, root, name, n);
   SensorCalibration s;
-  if (n["method"]) s.method = n["method"].as<std::string>();
-  s.M = readMat3(n["M"], path, name + ".M");
-  s.bias = readVec3(n["bias"], path, name + ".bias");
-  if (n["M_sigma"]) s.M_sigma = readMat3(n["M_sigma"], path, name + ".M_sigma");
-  if (n["bias_sigma"]) s.bias_sigma = readVec3(n["bias_sigma"], path, name + ".bias_sigma");
+  yf::readOptional(ctx, n, name, "method", &s.method);
+  s.M = asMat3(ctx, yf::child(ctx, n, name, "M", true), std::string(name) + ".M");
+  s.bias = yf::asVector3(ctx, yf::child(ctx, n, name, "bias", true), std::string(name) + ".bias");
+  if (n["M_sigma"]) s.M_sigma = asMat3(ctx, n["M_sigma"], std::string(name) + ".M_sigma");
+  if (n["bias_sigma"]) s.bias_sigma = yf::asVector3(ctx, n["bias_sigma"], std::string(name) + ".bias_sigma");
   if (n["white_noise"]) {
     s.has_allan = true;
-    s.allan.white_noise = readVec3(n["white_noise"], path, name + ".white_noise");
-    auto opt = [&](const char* key, Eigen::Vector3d& dst) {
-      if (n[key]) dst = readVec3(n[key], path, name + "." + key);
-    };
-    opt("white_noise_sigma", s.allan.white_noise_sigma);
-    opt("bias_instability", s.allan.bias_instability);
-    opt("bias_instability_sigma", s.allan.bias_instability_sigma);
-    opt("rate_random_walk", s.allan.rate_random_walk);
-    opt("rate_random_walk_sigma", s.allan.rate_random_walk_sigma);
+    readAllan(ctx, n, name, &s.allan);
   }
-  if (n["fit"]) {
+  if (const YAML::Node fit = n["fit"]) {
     s.has_fit = true;
+    const std::string fit_key = std::string(name) + ".fit";
     static const char* kAxes[3] = {"x", "y", "z"};
     for (int a = 0; a < 3; ++a) {
-      const std::string key = name + ".fit." + kAxes[a];
-      const YAML::Node f = n["fit"][kAxes[a]];
-      if (!f) fail(path, key, "missing axis");
-      PolynomialFit& p = s.fit[a];
-      p.coeffs = readVec(f["coeffs"], path, key + ".coeffs");
-      if (p.coeffs.empty()) fail(path, key + ".coeffs", "empty");
-      p.degree = f["degree"] ? f["degree"].as<int>() : static_cast<int>(p.coeffs.size()) - 1;
-      if (p.degree != static_cast<int>(p.coeffs.size()) - 1)
-        fail(path, key + ".degree", "does not match the number of coefficients");
-      if (f["coeffs_sigma"]) p.coeffs_sigma = readVec(f["coeffs_sigma"], path, key + ".coeffs_sigma");
-      p.cv_rms = f["cv_rms"] ? finite(f["cv_rms"], path, key + ".cv_rms") : std::nan("");
-      if (f["residual_rms"]) p.residual_rms = finite(f["residual_rms"], path, key + ".residual_rms");
-      if (f["n_points"]) p.n_points = f["n_points"].as<int>();
-      if (f["c2_tested"]) {
-        p.c2_tested = finite(f["c2_tested"], path, key + ".c2_tested");
-        if (!f["c2_tested_sigma"]) fail(path, key + ".c2_tested_sigma", "missing (c2_tested is given)");
-        p.c2_tested_sigma = finite(f["c2_tested_sigma"], path, key + ".c2_tested_sigma");
-      }
-      for (const auto& [k, v] : {std::make_pair("slope_per_abs", &p.slope_per_abs),
-                                 std::make_pair("slope_per_sq", &p.slope_per_sq),
-                                 std::make_pair("c2_tested_per_abs", &p.c2_tested_per_abs)})
-        if (f[k]) *v = finite(f[k], path, key + "." + k);
+      s.fit[a] = readFitAxis(ctx, yf::child(ctx, fit, fit_key, kAxes[a], true), fit_key + "." + kAxes[a]);
     }
   }
   return s;
@@ -200,18 +182,15 @@ void writeCalibrationYaml(const std::string& path, const CalibrationResult& resu
 }
 
 CalibrationResult readCalibrationYaml(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error("readCalibrationYaml: " + path + ": " + e.what());
-  }
+  const yf::Context ctx{path, nullptr};
+  const YAML::Node root = yf::loadFile(path);
+  if (!root.IsMap()) throw std::runtime_error(path + ": a calibration file must be a YAML map");
   CalibrationResult r;
-  if (root["case"]) r.case_name = root["case"].as<std::string>();
-  if (root["lab_latitude_deg"]) r.lab_latitude_deg = finite(root["lab_latitude_deg"], path, "lab_latitude_deg");
-  if (root["gravity_m_s2"]) r.gravity_m_s2 = finite(root["gravity_m_s2"], path, "gravity_m_s2");
-  r.accel = readSensor(root["accel"], path, "accel");
-  r.gyro = readSensor(root["gyro"], path, "gyro");
+  yf::readOptional(ctx, root, "", "case", &r.case_name);
+  yf::readOptional(ctx, root, "", "lab_latitude_deg", &r.lab_latitude_deg);
+  yf::readOptional(ctx, root, "", "gravity_m_s2", &r.gravity_m_s2);
+  r.accel = readSensor(ctx, root, "accel");
+  r.gyro = readSensor(ctx, root, "gyro");
   return r;
 }
 

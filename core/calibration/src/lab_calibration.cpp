@@ -81,23 +81,11 @@ void fitFunctionsAndM(const std::vector<LinearObservation>& obs, const LabCalibr
 
 }  // namespace
 
-LabCalibrationReport calibrateLab(const LabData& s, const LabCalibrationOptions& opt) {
-  if (s.six_position.empty() && !s.has_static)
-    throw std::runtime_error(s.case_dir + ": insufficient lab data: no six-position poses and no static record");
-  LabCalibrationReport rep;
-  rep.notes = s.notes;
+namespace {
+
+// Accelerometer: six-position poses and tilts (Ceres fit, fitting functions, |f| check).
+void calibrateAccelerometer(const LabData& s, const LabCalibrationOptions& opt, LabCalibrationReport& rep) {
   CalibrationResult& res = rep.result;
-  res.case_name = s.name;
-  res.lab_latitude_deg = s.latitude_known ? s.lab.lat_rad * kRadToDeg : 0.0;
-  res.gravity_m_s2 = s.gravity_m_s2;
-
-  if (s.has_static) {
-    rep.basic = extractBasicErrors(s.static_imu, s.static_C_nb, s.lab, s.gravity_m_s2);
-    rep.has_basic = true;
-  }
-  estimatePoseDrift(s, rep);
-
-  // --- accelerometer: six-position + tilts ---
   std::vector<StaticPose> accel_poses = s.six_position;
   accel_poses.insert(accel_poses.end(), s.tilts.begin(), s.tilts.end());
   if (!s.six_position.empty()) {
@@ -131,8 +119,12 @@ LabCalibrationReport calibrateLab(const LabData& s, const LabCalibrationOptions&
     res.accel.method = "none (no six-position data: M identity, bias 0, sigma 0)";
     rep.notes.push_back("no six-position data: accelerometer M not calibrated (identity written, sigma 0)");
   }
+}
 
-  // --- gyro ---
+// Gyro: Eq. 9 from up/down pairs, Eq. 10-11 and the Ceres fit from the rate table, else the
+// static mean.
+void calibrateGyro(const LabData& s, const LabCalibrationOptions& opt, LabCalibrationReport& rep) {
+  CalibrationResult& res = rep.result;
   const double lat = s.lab.lat_rad;
   std::vector<StaticPose> gyro_poses = s.six_position;
   if (gyro_poses.empty() && s.has_static) {
@@ -172,8 +164,11 @@ LabCalibrationReport calibrateLab(const LabData& s, const LabCalibrationOptions&
     res.gyro.bias_sigma = p.stats.omegaSigmaOfMean();
     res.gyro.method = "static_mean (no six-position or rate data: M identity, sigma 0)";
   }
+}
 
-  // --- Allan analysis of the basic error signals ---
+// Allan analysis of the basic error signals of the static record.
+void allanOfBasicErrors(const LabCalibrationOptions& opt, LabCalibrationReport& rep) {
+  CalibrationResult& res = rep.result;
   if (rep.has_basic) {
     if (opt.allan && rep.basic.duration_s >= opt.min_allan_duration_s) {
       rep.gyro_allan = allanDeviation(rep.basic.error, true, opt.allan_curve);
@@ -189,6 +184,29 @@ LabCalibrationReport calibrateLab(const LabData& s, const LabCalibrationOptions&
                           " s: no Allan analysis");
     }
   }
+}
+
+}  // namespace
+
+LabCalibrationReport calibrateLab(const LabData& s, const LabCalibrationOptions& opt) {
+  if (s.six_position.empty() && !s.has_static)
+    throw std::runtime_error(s.case_dir + ": insufficient lab data: no six-position poses and no static record");
+  LabCalibrationReport rep;
+  rep.notes = s.notes;
+  CalibrationResult& res = rep.result;
+  res.case_name = s.name;
+  res.lab_latitude_deg = s.latitude_known ? s.lab.lat_rad * kRadToDeg : 0.0;
+  res.gravity_m_s2 = s.gravity_m_s2;
+
+  if (s.has_static) {
+    rep.basic = extractBasicErrors(s.static_imu, s.static_C_nb, s.lab, s.gravity_m_s2);
+    rep.has_basic = true;
+  }
+  estimatePoseDrift(s, rep);
+
+  calibrateAccelerometer(s, opt, rep);
+  calibrateGyro(s, opt, rep);
+  allanOfBasicErrors(opt, rep);
   return rep;
 }
 

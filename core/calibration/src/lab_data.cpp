@@ -49,35 +49,13 @@ void checkStaticPose(const StaticPose& pose, const ImuSeries& imu, double g,
                              fmtNum(opt.max_pose_angle_deg, 1) + " deg)");
 }
 
-LabData loadLabData(const std::string& case_dir, const LabDataOptions& opt) {
-  namespace fs = std::filesystem;
-  const CasePaths paths(case_dir);
-  const CaseConfig cfg = loadCaseConfig(paths.caseYaml());
-  if (!cfg.lab)
-    throw std::runtime_error(paths.caseYaml() + ": no lab: section (needed by the lab calibration)");
-  const LabConfig& lab = *cfg.lab;
-  LabData s;
-  s.case_dir = case_dir;
-  s.name = cfg.name;
-  s.imu_rate_hz = cfg.testedImuRateHz();
-  s.lab.lat_rad = lab.latitude_rad;
-  s.lab.h_m = lab.height_m;
-  s.latitude_known = !(opt.treat_zero_latitude_as_unknown && lab.latitude_rad == 0.0 && lab.height_m == 0.0);
-  if (opt.gravity_override_m_s2 > 0.0) {
-    s.gravity_m_s2 = opt.gravity_override_m_s2;
-    s.notes.push_back("gravity set by the user: " + fmtNum(s.gravity_m_s2, 5) + " m/s^2");
-  } else if (s.latitude_known) {
-    s.gravity_m_s2 = earth::gravityMagnitude(s.lab);
-  } else {
-    s.gravity_m_s2 = 9.80665;
-    s.notes.push_back("lab latitude/height unknown (0/0 placeholders in case.yaml): gravity 9.80665 m/s^2 "
-                      "(standard) and the Earth rate at latitude 0 are used");
-  }
-  if (lab.rate_table_axis_up && !*lab.rate_table_axis_up)
-    throw std::runtime_error(paths.caseYaml() + ": lab.rate_table.axis_up = false is not supported "
-                             "(the turning axis must point up)");
+namespace {
 
-  // Six-position: all six or none.
+// The six-position poses: all six or none, each at the attitude case.yaml gives (or the default
+// for its name), checked to be static and to point its axis up or down.
+void loadSixPosition(const CasePaths& paths, const LabConfig& lab, const LabDataOptions& opt, LabData& s) {
+  namespace fs = std::filesystem;
+  const std::string& case_dir = s.case_dir;
   int present = 0;
   for (int a = 0; a < 3; ++a)
     for (bool up : {true, false}) present += fs::exists(paths.sixPosition(a, up)) ? 1 : 0;
@@ -107,6 +85,39 @@ LabData loadLabData(const std::string& case_dir, const LabDataOptions& opt) {
         s.six_position.push_back(p);
       }
   }
+}
+
+}  // namespace
+
+LabData loadLabData(const std::string& case_dir, const LabDataOptions& opt) {
+  namespace fs = std::filesystem;
+  const CasePaths paths(case_dir);
+  const CaseConfig cfg = loadCaseConfig(paths.caseYaml());
+  if (!cfg.lab)
+    throw std::runtime_error(paths.caseYaml() + ": no lab: section (needed by the lab calibration)");
+  const LabConfig& lab = *cfg.lab;
+  LabData s;
+  s.case_dir = case_dir;
+  s.name = cfg.name;
+  s.imu_rate_hz = cfg.testedImuRateHz();
+  s.lab.lat_rad = lab.latitude_rad;
+  s.lab.h_m = lab.height_m;
+  s.latitude_known = !(opt.treat_zero_latitude_as_unknown && lab.latitude_rad == 0.0 && lab.height_m == 0.0);
+  if (opt.gravity_override_m_s2 > 0.0) {
+    s.gravity_m_s2 = opt.gravity_override_m_s2;
+    s.notes.push_back("gravity set by the user: " + fmtNum(s.gravity_m_s2, 5) + " m/s^2");
+  } else if (s.latitude_known) {
+    s.gravity_m_s2 = earth::gravityMagnitude(s.lab);
+  } else {
+    s.gravity_m_s2 = 9.80665;
+    s.notes.push_back("lab latitude/height unknown (0/0 placeholders in case.yaml): gravity 9.80665 m/s^2 "
+                      "(standard) and the Earth rate at latitude 0 are used");
+  }
+  if (lab.rate_table_axis_up && !*lab.rate_table_axis_up)
+    throw std::runtime_error(paths.caseYaml() + ": lab.rate_table.axis_up = false is not supported "
+                             "(the turning axis must point up)");
+
+  loadSixPosition(paths, lab, opt, s);
   for (const auto& [name, eul] : lab.tilt_euler_rad) {
     StaticPose p;
     p.name = name;

@@ -42,9 +42,10 @@ struct SensorModelResidual {
 
 }  // namespace
 
-LinearModelFit fitLinearSensorModel(const std::vector<LinearObservation>& obs,
-                                    const LinearModelOptions& options,
-                                    const std::array<int, 3>& axis_degree) {
+namespace {
+
+// Checks the observations and the per-axis degrees; returns the number of curvature terms.
+int checkLinearModelInputs(const std::vector<LinearObservation>& obs, const std::array<int, 3>& axis_degree) {
   if (obs.size() < 4)
     throw std::invalid_argument("fitLinearSensorModel: need at least 4 observations, got " +
                                 std::to_string(obs.size()));
@@ -55,17 +56,17 @@ LinearModelFit fitLinearSensorModel(const std::vector<LinearObservation>& obs,
                                   "] = " + std::to_string(axis_degree[i]) + " is outside 1..4");
     extra += axis_degree[i] - 1;
   }
-  double scale = 0.0;
   for (const auto& o : obs) {
     if (!o.true_value.allFinite() || !o.measured.allFinite() || !o.sigma.allFinite())
       throw std::invalid_argument("fitLinearSensorModel: observation '" + o.name + "' is not finite");
     if ((o.sigma.array() < 0.0).any())
       throw std::invalid_argument("fitLinearSensorModel: observation '" + o.name + "' has sigma < 0");
-    scale = std::max(scale, o.measured.cwiseAbs().maxCoeff());
   }
-  const double floor = options.relative_sigma_floor * std::max(scale, 1e-300);
+  return extra;
+}
 
-  // Initial value: the closed form when it is well posed, else identity.
+// The closed-form M and bias as the starting point p[0..11] (p[12..20]: curvature terms, 0).
+void closedFormStart(const std::vector<LinearObservation>& obs, double* p) {
   Eigen::Matrix<double, 3, Eigen::Dynamic> U(3, obs.size());
   Eigen::Matrix<double, 4, Eigen::Dynamic> A(4, obs.size());
   for (std::size_t k = 0; k < obs.size(); ++k) {
@@ -82,13 +83,71 @@ LinearModelFit fitLinearSensorModel(const std::vector<LinearObservation>& obs,
         "fitLinearSensorModel: the true values of the observations [" + names +
         "] do not span three axes plus a constant: M and bias are not observable");
   }
-  double p[21] = {};
   const Eigen::Matrix<double, 3, 4> Mb0 = closedFormLinearModel(U, A);
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) p[3 * i + j] = Mb0(i, j);
     p[9 + i] = Mb0(i, 3);
   }
+}
 
+// The 12 x 12 covariance of M (row-major) and bias, scaled as the options say.
+void linearModelCovariance(ceres::Problem& problem, double* p, int extra, CovarianceScaling scaling,
+                           LinearModelFit& fit) {
+  ceres::Covariance::Options co;
+  co.algorithm_type = ceres::DENSE_SVD;
+  ceres::Covariance cov(co);
+  std::vector<std::pair<const double*, const double*>> blocks{{p, p}};
+  if (!cov.Compute(blocks, &problem))
+    throw std::runtime_error("fitLinearSensorModel: covariance is rank deficient");
+  if (extra == 0) {
+    double c[144];
+    cov.GetCovarianceBlock(p, p, c);
+    fit.covariance = Eigen::Map<Eigen::Matrix<double, 12, 12, Eigen::RowMajor>>(c);
+  } else {
+    double c[441];
+    cov.GetCovarianceBlock(p, p, c);
+    fit.covariance =
+        Eigen::Map<Eigen::Matrix<double, 21, 21, Eigen::RowMajor>>(c).topLeftCorner<12, 12>();
+  }
+  double s2 = fit.dof > 0 ? fit.chi2 / fit.dof : 1.0;
+  switch (scaling) {
+    case CovarianceScaling::kNone: fit.covariance_scale = 1.0; break;
+    case CovarianceScaling::kReducedChiSquare: fit.covariance_scale = fit.dof > 0 ? s2 : 1.0; break;
+    case CovarianceScaling::kReducedChiSquareAtLeastOne: fit.covariance_scale = std::max(1.0, s2); break;
+  }
+  fit.covariance *= fit.covariance_scale;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) fit.M_sigma(i, j) = std::sqrt(fit.covariance(3 * i + j, 3 * i + j));
+    fit.bias_sigma[i] = std::sqrt(fit.covariance(9 + i, 9 + i));
+  }
+}
+
+void linearModelResiduals(const std::vector<LinearObservation>& obs, LinearModelFit& fit) {
+  double ss = 0.0;
+  for (const auto& o : obs) {
+    Eigen::Vector3d r = o.measured - fit.M * o.true_value - fit.bias;
+    for (int i = 0; i < 3; ++i)
+      for (int d = 2; d <= fit.axis_degree[i]; ++d)
+        r(i) -= fit.axis_powers(i, d - 2) * std::pow(o.true_value(i), d);
+    fit.residuals.push_back(r);
+    ss += r.squaredNorm();
+  }
+  fit.residual_rms = std::sqrt(ss / (3.0 * obs.size()));
+}
+
+}  // namespace
+
+LinearModelFit fitLinearSensorModel(const std::vector<LinearObservation>& obs,
+                                    const LinearModelOptions& options,
+                                    const std::array<int, 3>& axis_degree) {
+  const int extra = checkLinearModelInputs(obs, axis_degree);
+  double scale = 0.0;
+  for (const auto& o : obs) scale = std::max(scale, o.measured.cwiseAbs().maxCoeff());
+  const double floor = options.relative_sigma_floor * std::max(scale, 1e-300);
+
+  // Initial value: the closed form when it is well posed.
+  double p[21] = {};
+  closedFormStart(obs, p);
   ceres::Problem problem;
   for (const auto& o : obs) {
     const Eigen::Vector3d s = o.sigma.cwiseMax(floor);
@@ -122,45 +181,8 @@ LinearModelFit fitLinearSensorModel(const std::vector<LinearObservation>& obs,
   fit.axis_degree = axis_degree;
   fit.chi2 = 2.0 * summary.final_cost;
   fit.dof = static_cast<int>(3 * obs.size()) - 12 - extra;
-
-  ceres::Covariance::Options co;
-  co.algorithm_type = ceres::DENSE_SVD;
-  ceres::Covariance cov(co);
-  std::vector<std::pair<const double*, const double*>> blocks{{p, p}};
-  if (!cov.Compute(blocks, &problem))
-    throw std::runtime_error("fitLinearSensorModel: covariance is rank deficient");
-  if (extra == 0) {
-    double c[144];
-    cov.GetCovarianceBlock(p, p, c);
-    fit.covariance = Eigen::Map<Eigen::Matrix<double, 12, 12, Eigen::RowMajor>>(c);
-  } else {
-    double c[441];
-    cov.GetCovarianceBlock(p, p, c);
-    fit.covariance =
-        Eigen::Map<Eigen::Matrix<double, 21, 21, Eigen::RowMajor>>(c).topLeftCorner<12, 12>();
-  }
-
-  double s2 = fit.dof > 0 ? fit.chi2 / fit.dof : 1.0;
-  switch (options.scaling) {
-    case CovarianceScaling::kNone: fit.covariance_scale = 1.0; break;
-    case CovarianceScaling::kReducedChiSquare: fit.covariance_scale = fit.dof > 0 ? s2 : 1.0; break;
-    case CovarianceScaling::kReducedChiSquareAtLeastOne: fit.covariance_scale = std::max(1.0, s2); break;
-  }
-  fit.covariance *= fit.covariance_scale;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) fit.M_sigma(i, j) = std::sqrt(fit.covariance(3 * i + j, 3 * i + j));
-    fit.bias_sigma[i] = std::sqrt(fit.covariance(9 + i, 9 + i));
-  }
-  double ss = 0.0;
-  for (const auto& o : obs) {
-    Eigen::Vector3d r = o.measured - fit.M * o.true_value - fit.bias;
-    for (int i = 0; i < 3; ++i)
-      for (int d = 2; d <= axis_degree[i]; ++d)
-        r(i) -= fit.axis_powers(i, d - 2) * std::pow(o.true_value(i), d);
-    fit.residuals.push_back(r);
-    ss += r.squaredNorm();
-  }
-  fit.residual_rms = std::sqrt(ss / (3.0 * obs.size()));
+  linearModelCovariance(problem, p, extra, options.scaling, fit);
+  linearModelResiduals(obs, fit);
   return fit;
 }
 

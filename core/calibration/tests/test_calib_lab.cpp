@@ -215,7 +215,7 @@ struct SweepStats {
   }
 };
 
-// The >= 20-seed sweep of issue 5 (run once, results in docs/calibration.md):
+// The >= 20-seed sweep (run once, results in docs/calibration.md):
 //   build-x/tests/test_core --gtest_also_run_disabled_tests --gtest_filter='*Sweep20Seeds*'
 TEST(CalibLab, DISABLED_Sweep20Seeds) {
   SweepStats aM, ab, gM, gb, fit, arw, vrw, gbi, abi;
@@ -273,7 +273,7 @@ TEST(CalibLab, DISABLED_Sweep20Seeds) {
            {&vrw, "accel VRW (Allan)"}, {&gbi, "gyro bias instability (Allan)"},
            {&abi, "accel bias instability (Allan)"}})
     std::printf("%s\n", s->line(name).c_str());
-  // The sweep asserts what the issue asks: every parameter within 3 sigma.
+  // The sweep asserts the requirement: every parameter within 3 sigma.
   for (const SweepStats* s : {&aM, &ab, &gM, &gb, &fit, &arw, &vrw, &gbi, &abi})
     for (double v : s->z) EXPECT_LT(std::abs(v), 3.0);
 }

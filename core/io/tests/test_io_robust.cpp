@@ -1,4 +1,4 @@
-// Robust reading of real files (issue 8 item 3): slices of the real recordings read strictly, and
+// Robust reading of real files: slices of the real recordings read strictly, and
 // the same slices with injected faults read under ImuReadPolicy/GnssReadPolicy/NavReadPolicy::real(),
 // where every condition must be counted with its line number and nothing dropped silently.
 #include <gmock/gmock.h>

@@ -84,6 +84,96 @@ void describeModel(YAML::Emitter& out, const ImuErrorModel& m) {
 
 }  // namespace
 
+namespace {
+
+// The lab records: every lab file goes through ONE error realization, in recording order, so the
+// slowly wandering bias (Gauss-Markov) carries on from file to file as it does on a real bench.
+// Independent realizations per file gave each of the six poses its own bias, which the
+// calibration then mistook for scale and cross-axis errors (0.05 % instead of 0.003 %).
+// Returns the number of files written.
+std::size_t writeLabRecords(const SimConfig& config, const std::string& case_dir, const ImuErrorModel& tested_model,
+                            std::size_t field_samples, uint64_t tested_noise_seed,
+                            const std::function<void(const std::string&)>& say) {
+  LabSimOptions lab_options = config.lab;
+  if (config.lab_common_random_numbers) {
+    // Every field sample needs its lab static partner: extend a shorter static record.
+    const double field_s = static_cast<double>(field_samples) / config.imu_rate_hz;
+    if (lab_options.static_duration_s > 0.0 && lab_options.static_duration_s < field_s) {
+      say("lab static record extended from " + std::to_string(lab_options.static_duration_s) +
+          " s to the field length " + std::to_string(field_s) + " s (common random numbers)");
+      lab_options.static_duration_s = field_s;
+    }
+  }
+  const std::vector<LabSession> lab = simulateLabSessions(lab_options);
+  std::vector<ImuSeries> lab_ideal;
+  lab_ideal.reserve(lab.size());
+  for (const LabSession& l : lab) {
+    lab_ideal.push_back(withTemperature(
+        l.ideal, config.temperature ? std::optional<SimTemperature>(config.temperature->lab())
+                                    : std::nullopt));
+  }
+  // Lab: the same sensor without the field-mounting geometry (relative to the reference IMU).
+  // One noise stream through the sessions in order; each session is its own record (the pose
+  // change between two files is not vibration: ImuErrorGenerator::startRecord).
+  uint64_t lab_noise_seed = deriveStreamSeed(config.seed, 100);
+  if (config.lab_common_random_numbers) {
+    if (lab.empty() || lab.front().relative_path != "lab/static.txt" ||
+        lab.front().ideal.size() < field_samples) {
+      throw std::invalid_argument(config.source_path +
+                                  ": lab.common_random_numbers needs a lab static record (lab.static_duration_s > 0)");
+    }
+    lab_noise_seed = tested_noise_seed;
+  }
+  const std::vector<ImuSeries> lab_meas =
+      applyErrorsToRecords(lab_ideal, labErrorModel(tested_model), lab_noise_seed);
+  for (std::size_t i = 0; i < lab.size(); ++i)
+    writeImu((fs::path(case_dir) / lab[i].relative_path).string(), lab_meas[i]);
+  return lab.size();
+}
+
+void writeSimulatedCaseYaml(const SimConfig& config, const NavState& initial_state, const CasePaths& paths) {
+  CaseConfig cc;
+  cc.name = config.name;
+  cc.imu_rate_hz = config.imu_rate_hz;
+  cc.reference_imu = config.reference_imu.profile;
+  cc.reference_imu_noise_given = true;
+  cc.tested_imu = config.tested_imu.profile;
+  cc.tested_imu_noise_given = true;
+  cc.lever_arm_m = config.gnss.lever_arm_b_m;
+  cc.gnss_week = config.gnss_week;
+  cc.initial_state = initial_state;
+  LabConfig lc;
+  lc.latitude_rad = config.lab.latitude_rad;
+  lc.height_m = config.lab.height_m;
+  lc.static_euler_rad = config.lab.static_euler_rad;
+  lc.six_position_euler_rad = sixPositionPoses();
+  lc.rate_table_axis_up = true;
+  lc.tilt_euler_rad = config.lab.tilt_euler_rad;
+  cc.lab = lc;
+  saveCaseConfig(paths.caseYaml(), cc);
+}
+
+// What was simulated, for checking estimates against the truth (not part of dataset.md).
+void writeSimulationYaml(const SimConfig& config, const std::string& case_dir, double field_begin_s,
+                         double field_end_s, const ImuErrorModel& ref_model, const ImuErrorModel& tested_model) {
+  YAML::Emitter out;
+  out << YAML::BeginMap;
+  out << YAML::Key << "config" << YAML::Value << config.source_path;
+  out << YAML::Key << "seed" << YAML::Value << config.seed;
+  out << YAML::Key << "ideal" << YAML::Value << config.ideal;
+  out << YAML::Key << "field_begin_s" << YAML::Value << field_begin_s;
+  out << YAML::Key << "field_end_s" << YAML::Value << field_end_s;
+  out << YAML::Key << "truth_rate_hz" << YAML::Value << config.truth_rate_hz;
+  out << YAML::Key << "reference_imu_errors" << YAML::Value;
+  describeModel(out, ref_model);
+  out << YAML::Key << "tested_imu_errors" << YAML::Value;
+  describeModel(out, tested_model);
+  out << YAML::EndMap;
+  writeFileAtomically((fs::path(case_dir) / "simulation.yaml").string(), std::string(out.c_str()) + "\n");
+}
+
+}  // namespace
+
 CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir,
                             const std::function<void(const std::string&)>& progress) {
   config.validate();
@@ -166,83 +256,10 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
   sum.gnss_fixes = gnss.size();
 
   say("lab sessions");
-  // One lab session: every lab file goes through ONE error realization, in recording order, so
-  // the slowly wandering bias (Gauss-Markov) carries on from file to file as it does on a real
-  // bench. Independent realizations per file gave each of the six poses its own bias, which the
-  // calibration then mistook for scale and cross-axis errors (0.05 % instead of 0.003 %).
-  LabSimOptions lab_options = config.lab;
-  if (config.lab_common_random_numbers) {
-    // Every field sample needs its lab static partner: extend a shorter static record.
-    const double field_s = static_cast<double>(ideal.size()) / config.imu_rate_hz;
-    if (lab_options.static_duration_s > 0.0 && lab_options.static_duration_s < field_s) {
-      say("lab static record extended from " + std::to_string(lab_options.static_duration_s) +
-          " s to the field length " + std::to_string(field_s) + " s (common random numbers)");
-      lab_options.static_duration_s = field_s;
-    }
-  }
-  const std::vector<LabSession> lab = simulateLabSessions(lab_options);
-  std::vector<ImuSeries> lab_ideal;
-  lab_ideal.reserve(lab.size());
-  for (const LabSession& l : lab) {
-    lab_ideal.push_back(withTemperature(
-        l.ideal, config.temperature ? std::optional<SimTemperature>(config.temperature->lab())
-                                    : std::nullopt));
-  }
-  // Lab: the same sensor without the field-mounting geometry (relative to the reference IMU).
-  // One noise stream through the sessions in order; each session is its own record (the pose
-  // change between two files is not vibration: ImuErrorGenerator::startRecord).
-  uint64_t lab_noise_seed = deriveStreamSeed(seed, 100);
-  if (config.lab_common_random_numbers) {
-    if (lab.empty() || lab.front().relative_path != "lab/static.txt" ||
-        lab.front().ideal.size() < ideal.size()) {
-      throw std::invalid_argument(config.source_path +
-                                  ": lab.common_random_numbers needs a lab static record (lab.static_duration_s > 0)");
-    }
-    lab_noise_seed = tested_noise_seed;
-  }
-  const std::vector<ImuSeries> lab_meas =
-      applyErrorsToRecords(lab_ideal, labErrorModel(tested_model), lab_noise_seed);
-  for (std::size_t i = 0; i < lab.size(); ++i)
-    writeImu((fs::path(case_dir) / lab[i].relative_path).string(), lab_meas[i]);
-  sum.lab_files = lab.size();
-
+  sum.lab_files = writeLabRecords(config, case_dir, tested_model, ideal.size(), tested_noise_seed, say);
   say("case.yaml");
-  CaseConfig cc;
-  cc.name = config.name;
-  cc.imu_rate_hz = config.imu_rate_hz;
-  cc.reference_imu = config.reference_imu.profile;
-  cc.reference_imu_noise_given = true;
-  cc.tested_imu = config.tested_imu.profile;
-  cc.tested_imu_noise_given = true;
-  cc.lever_arm_m = config.gnss.lever_arm_b_m;
-  cc.gnss_week = config.gnss_week;
-  cc.initial_state = truth.front();
-  LabConfig lc;
-  lc.latitude_rad = config.lab.latitude_rad;
-  lc.height_m = config.lab.height_m;
-  lc.static_euler_rad = config.lab.static_euler_rad;
-  lc.six_position_euler_rad = sixPositionPoses();
-  lc.rate_table_axis_up = true;
-  lc.tilt_euler_rad = config.lab.tilt_euler_rad;
-  cc.lab = lc;
-  saveCaseConfig(paths.caseYaml(), cc);
-
-  // What was simulated, for checking estimates against the truth (not part of dataset.md).
-  YAML::Emitter out;
-  out << YAML::BeginMap;
-  out << YAML::Key << "config" << YAML::Value << config.source_path;
-  out << YAML::Key << "seed" << YAML::Value << seed;
-  out << YAML::Key << "ideal" << YAML::Value << config.ideal;
-  out << YAML::Key << "field_begin_s" << YAML::Value << f.t_begin;
-  out << YAML::Key << "field_end_s" << YAML::Value << f.t_end;
-  out << YAML::Key << "truth_rate_hz" << YAML::Value << config.truth_rate_hz;
-  out << YAML::Key << "reference_imu_errors" << YAML::Value;
-  describeModel(out, ref_model);
-  out << YAML::Key << "tested_imu_errors" << YAML::Value;
-  describeModel(out, tested_model);
-  out << YAML::EndMap;
-  writeFileAtomically((fs::path(case_dir) / "simulation.yaml").string(),
-                      std::string(out.c_str()) + "\n");
+  writeSimulatedCaseYaml(config, truth.front(), paths);
+  writeSimulationYaml(config, case_dir, f.t_begin, f.t_end, ref_model, tested_model);
   say("done");
   return sum;
 }

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "graftnav/io/imu_profile_io.h"
+#include "graftnav/io/yaml_fields.h"
 #include "graftnav/sim/imu_simulator.h"
 #include "graftnav/nav/units.h"
 
@@ -16,41 +17,27 @@ namespace graftnav {
 namespace {
 
 namespace fs = std::filesystem;
+namespace yf = yaml_fields;
 
+// The simulation config's view of the YAML field helper (graftnav/io/yaml_fields.h): defaults
+// for absent keys, errors naming the file, line and dotted key.
 class Reader {
  public:
-  Reader(std::string path, std::vector<std::string>* warnings)
-      : path_(std::move(path)), warnings_(warnings) {}
+  Reader(std::string path, std::vector<std::string>* warnings) : ctx_{std::move(path), warnings} {}
 
   [[noreturn]] void fail(const YAML::Node& n, const std::string& key, const std::string& msg) const {
-    const int line = n.IsDefined() ? n.Mark().line + 1 : 0;
-    throw std::runtime_error(path_ + ":" + std::to_string(line) + ": " + key + ": " + msg);
+    yf::fail(ctx_, n, key, msg);
   }
 
-  void checkKeys(const YAML::Node& map, const std::string& prefix,
-                 const std::set<std::string>& known) const {
+  template <typename Known = std::initializer_list<const char*>>
+  void checkKeys(const YAML::Node& map, const std::string& prefix, const Known& known) const {
     if (!map.IsMap()) fail(map, prefix.empty() ? "(top level)" : prefix, "expected a map");
-    for (const auto& kv : map) {
-      const std::string k = kv.first.as<std::string>();
-      if (!known.count(k) && warnings_) {
-        warnings_->push_back(path_ + ":" + std::to_string(kv.first.Mark().line + 1) +
-                             ": unknown key '" + (prefix.empty() ? k : prefix + "." + k) +
-                             "' ignored");
-      }
-    }
+    yf::warnUnknownKeys(ctx_, map, prefix, known);
   }
 
-  double num(const YAML::Node& map, const std::string& key, const std::string& full,
-             double def) const {
+  double num(const YAML::Node& map, const std::string& key, const std::string& full, double def) const {
     const YAML::Node n = map[key];
-    if (!n) return def;
-    try {
-      const double v = n.as<double>();
-      if (!std::isfinite(v)) fail(n, full, "not a finite number");
-      return v;
-    } catch (const YAML::Exception&) {
-      fail(n, full, "expected a number");
-    }
+    return n ? yf::asDouble(ctx_, n, full) : def;
   }
   double requiredNum(const YAML::Node& map, const std::string& key, const std::string& full) const {
     if (!map[key]) fail(map, full, "required key missing");
@@ -59,55 +46,31 @@ class Reader {
   std::string str(const YAML::Node& map, const std::string& key, const std::string& full,
                   const std::string& def) const {
     const YAML::Node n = map[key];
-    if (!n) return def;
-    if (!n.IsScalar()) fail(n, full, "expected a string");
-    return n.as<std::string>();
+    return n ? yf::asString(ctx_, n, full) : def;
   }
-  bool boolean(const YAML::Node& map, const std::string& key, const std::string& full,
-               bool def) const {
+  bool boolean(const YAML::Node& map, const std::string& key, const std::string& full, bool def) const {
     const YAML::Node n = map[key];
-    if (!n) return def;
-    try {
-      return n.as<bool>();
-    } catch (const YAML::Exception&) {
-      fail(n, full, "expected true or false");
-    }
+    return n ? yf::asBool(ctx_, n, full) : def;
   }
-  std::vector<double> list(const YAML::Node& map, const std::string& key, const std::string& full,
-                           int size) const {
+  // An absent key gives an empty list; `size` > 0 requires exactly that many numbers.
+  std::vector<double> list(const YAML::Node& map, const std::string& key, const std::string& full, int size) const {
     const YAML::Node n = map[key];
-    if (!n) return {};
-    if (!n.IsSequence()) fail(n, full, "expected a list");
-    if (size > 0 && static_cast<int>(n.size()) != size) {
-      fail(n, full, "expected " + std::to_string(size) + " numbers, got " +
-                        std::to_string(n.size()));
-    }
-    std::vector<double> v;
-    for (const auto& e : n) {
-      try {
-        v.push_back(e.as<double>());
-      } catch (const YAML::Exception&) {
-        fail(e, full, "expected a number");
-      }
-      if (!std::isfinite(v.back())) fail(e, full, "not a finite number");
-    }
-    return v;
+    return n ? yf::asDoubleList(ctx_, n, full, size > 0 ? size : -1) : std::vector<double>{};
   }
   std::optional<Eigen::Vector3d> vec3(const YAML::Node& map, const std::string& key,
                                       const std::string& full) const {
-    const auto v = list(map, key, full, 3);
-    if (v.empty()) return std::nullopt;
-    return Eigen::Vector3d(v[0], v[1], v[2]);
+    const YAML::Node n = map[key];
+    if (!n) return std::nullopt;
+    return yf::asVector3(ctx_, n, full);
   }
   std::string resolve(const std::string& p) const {
     if (p.empty() || fs::path(p).is_absolute()) return p;
-    return (fs::path(path_).parent_path() / p).lexically_normal().string();
+    return (fs::path(ctx_.path).parent_path() / p).lexically_normal().string();
   }
-  const std::string& path() const { return path_; }
+  const std::string& path() const { return ctx_.path; }
 
  private:
-  std::string path_;
-  std::vector<std::string>* warnings_;
+  yf::Context ctx_;
 };
 
 Eigen::Matrix3d offDiagonal(const std::vector<double>& v, double scale) {
@@ -120,6 +83,99 @@ Eigen::Matrix3d offDiagonal(const std::vector<double>& v, double scale) {
   N(2, 0) = v[4] * scale;
   N(2, 1) = v[5] * scale;
   return N;
+}
+
+// The tested IMU's extra sensor errors: biases, scale factors, non-orthogonality, temperature
+// and g-sensitivity (config units, converted to SI).
+void parseExtraLinearTerms(const Reader& r, const YAML::Node& n, const std::string& key, ImuErrorModel* e) {
+  if (auto v = r.vec3(n, "gyro_bias_deg_h", key + ".gyro_bias_deg_h")) {
+    e->gyro.constant_bias.b = *v * units::kDegPerHourToRadPerSec;
+  }
+  if (auto v = r.vec3(n, "accel_bias_mg", key + ".accel_bias_mg")) {
+    e->accel.constant_bias.b = *v * units::kMilliGToMPerSec2;
+  }
+  if (auto v = r.vec3(n, "gyro_scale_ppm", key + ".gyro_scale_ppm")) {
+    e->gyro.scale_factor.k = *v * units::kPpmToFraction;
+  }
+  if (auto v = r.vec3(n, "accel_scale_ppm", key + ".accel_scale_ppm")) {
+    e->accel.scale_factor.k = *v * units::kPpmToFraction;
+  }
+  e->gyro.non_orthogonality.N =
+      offDiagonal(r.list(n, "gyro_nonorthogonality_urad", key + ".gyro_nonorthogonality_urad", 6),
+                  1e-6);
+  e->accel.non_orthogonality.N = offDiagonal(
+      r.list(n, "accel_nonorthogonality_urad", key + ".accel_nonorthogonality_urad", 6), 1e-6);
+  if (auto v = r.vec3(n, "gyro_bias_per_degC_deg_h", key + ".gyro_bias_per_degC_deg_h")) {
+    e->gyro.temperature_bias.per_degC = *v * units::kDegPerHourToRadPerSec;
+  }
+  if (auto v = r.vec3(n, "accel_bias_per_degC_mg", key + ".accel_bias_per_degC_mg")) {
+    e->accel.temperature_bias.per_degC = *v * units::kMilliGToMPerSec2;
+  }
+  const double t_ref = r.num(n, "temperature_ref_degC", key + ".temperature_ref_degC", 25.0);
+  e->gyro.temperature_bias.t_ref_degC = t_ref;
+  e->accel.temperature_bias.t_ref_degC = t_ref;
+  const auto g = r.list(n, "g_sensitivity_deg_h_per_g", key + ".g_sensitivity_deg_h_per_g", 9);
+  if (!g.empty()) {
+    for (int i = 0; i < 9; ++i) {
+      e->g_sensitivity.G(i / 3, i % 3) =
+          g[i] * units::kDegPerHourToRadPerSec / units::kStandardGravity_m_s2;
+    }
+  }
+}
+
+// The field-mounting geometry and the non-linear sensor terms of the tested IMU.
+void parseExtraGeometryAndNonlinearTerms(const Reader& r, const YAML::Node& n, const std::string& key, ImuErrorModel* e) {
+  // Geometry of the field mounting (tested relative to the reference IMU; never in the lab).
+  e->time_offset.tau_s = r.num(n, "time_offset_s", key + ".time_offset_s", 0.0);
+  if (auto v = r.vec3(n, "lever_arm_m", key + ".lever_arm_m")) e->lever_arm.r_m = *v;
+  if (auto v = r.vec3(n, "mounting_misalignment_deg", key + ".mounting_misalignment_deg")) {
+    e->mounting_misalignment.rotation_rad = *v * units::kDegToRad;
+  }
+  // Non-linear sensor terms (also in the lab files: they belong to the sensor).
+  const auto ppm3 = [&](const char* k, Eigen::Vector3d* dst) {
+    if (auto v = r.vec3(n, k, key + "." + k)) *dst = *v * units::kPpmToFraction;
+  };
+  ppm3("gyro_scale_asymmetry_pos_ppm", &e->gyro.scale_asymmetry.k_pos);
+  ppm3("gyro_scale_asymmetry_neg_ppm", &e->gyro.scale_asymmetry.k_neg);
+  ppm3("accel_scale_asymmetry_pos_ppm", &e->accel.scale_asymmetry.k_pos);
+  ppm3("accel_scale_asymmetry_neg_ppm", &e->accel.scale_asymmetry.k_neg);
+  if (auto v = r.vec3(n, "gyro_scale_nonlinearity_per_rad_s",
+                      key + ".gyro_scale_nonlinearity_per_rad_s")) {
+    e->gyro.scale_nonlinearity.k2 = *v;
+  }
+  if (auto v = r.vec3(n, "accel_scale_nonlinearity_per_m_s2",
+                      key + ".accel_scale_nonlinearity_per_m_s2")) {
+    e->accel.scale_nonlinearity.k2 = *v;
+  }
+}
+
+// Vibration rectification and quantization of the tested IMU.
+void parseExtraRectificationAndQuantization(const Reader& r, const YAML::Node& n, const std::string& key, ImuErrorModel* e) {
+  for (const char* sensor : {"gyro", "accel"}) {
+    const std::string vk = std::string(sensor) + "_vibration_rectification";
+    const YAML::Node vn = n[vk];
+    if (!vn) continue;
+    r.checkKeys(vn, key + "." + vk, {"coeff", "regressor", "window_s"});
+    VibrationRectification& vr = sensor == std::string("gyro")
+                                     ? e->gyro.vibration_rectification
+                                     : e->accel.vibration_rectification;
+    const auto coeff = r.vec3(vn, "coeff", key + "." + vk + ".coeff");
+    if (!coeff) r.fail(vn, key + "." + vk + ".coeff", "required key missing");
+    vr.coeff = *coeff;  // SI: unit of the sensor per unit of the regressor
+    vr.regressor = r.str(vn, "regressor", key + "." + vk + ".regressor", vr.regressor);
+    if (vr.regressor != "specific_force_hp_sq" && vr.regressor != "angular_rate_hp_sq") {
+      r.fail(vn["regressor"], key + "." + vk + ".regressor",
+             "'" + vr.regressor + "' is not specific_force_hp_sq or angular_rate_hp_sq");
+    }
+    vr.window_s = r.num(vn, "window_s", key + "." + vk + ".window_s", vr.window_s);
+    if (!(vr.window_s > 0.0)) r.fail(vn["window_s"], key + "." + vk + ".window_s", "must be > 0");
+  }
+  if (auto v = r.vec3(n, "gyro_quantization_rad", key + ".gyro_quantization_rad")) {
+    e->gyro.quantization.step = *v;
+  }
+  if (auto v = r.vec3(n, "accel_quantization_m_s", key + ".accel_quantization_m_s")) {
+    e->accel.quantization.step = *v;
+  }
 }
 
 SimImuConfig parseImu(const Reader& r, const YAML::Node& n, const std::string& key, bool tested,
@@ -154,86 +210,9 @@ SimImuConfig parseImu(const Reader& r, const YAML::Node& n, const std::string& k
     r.fail(n["bias_instability_scale"], key + ".bias_instability_scale", "must be >= 0");
   }
   if (tested) {
-    if (auto v = r.vec3(n, "gyro_bias_deg_h", key + ".gyro_bias_deg_h")) {
-      c.extra.gyro.constant_bias.b = *v * units::kDegPerHourToRadPerSec;
-    }
-    if (auto v = r.vec3(n, "accel_bias_mg", key + ".accel_bias_mg")) {
-      c.extra.accel.constant_bias.b = *v * units::kMilliGToMPerSec2;
-    }
-    if (auto v = r.vec3(n, "gyro_scale_ppm", key + ".gyro_scale_ppm")) {
-      c.extra.gyro.scale_factor.k = *v * units::kPpmToFraction;
-    }
-    if (auto v = r.vec3(n, "accel_scale_ppm", key + ".accel_scale_ppm")) {
-      c.extra.accel.scale_factor.k = *v * units::kPpmToFraction;
-    }
-    c.extra.gyro.non_orthogonality.N =
-        offDiagonal(r.list(n, "gyro_nonorthogonality_urad", key + ".gyro_nonorthogonality_urad", 6),
-                    1e-6);
-    c.extra.accel.non_orthogonality.N = offDiagonal(
-        r.list(n, "accel_nonorthogonality_urad", key + ".accel_nonorthogonality_urad", 6), 1e-6);
-    if (auto v = r.vec3(n, "gyro_bias_per_degC_deg_h", key + ".gyro_bias_per_degC_deg_h")) {
-      c.extra.gyro.temperature_bias.per_degC = *v * units::kDegPerHourToRadPerSec;
-    }
-    if (auto v = r.vec3(n, "accel_bias_per_degC_mg", key + ".accel_bias_per_degC_mg")) {
-      c.extra.accel.temperature_bias.per_degC = *v * units::kMilliGToMPerSec2;
-    }
-    const double t_ref = r.num(n, "temperature_ref_degC", key + ".temperature_ref_degC", 25.0);
-    c.extra.gyro.temperature_bias.t_ref_degC = t_ref;
-    c.extra.accel.temperature_bias.t_ref_degC = t_ref;
-    const auto g = r.list(n, "g_sensitivity_deg_h_per_g", key + ".g_sensitivity_deg_h_per_g", 9);
-    if (!g.empty()) {
-      for (int i = 0; i < 9; ++i) {
-        c.extra.g_sensitivity.G(i / 3, i % 3) =
-            g[i] * units::kDegPerHourToRadPerSec / units::kStandardGravity_m_s2;
-      }
-    }
-    // Geometry of the field mounting (tested relative to the reference IMU; never in the lab).
-    c.extra.time_offset.tau_s = r.num(n, "time_offset_s", key + ".time_offset_s", 0.0);
-    if (auto v = r.vec3(n, "lever_arm_m", key + ".lever_arm_m")) c.extra.lever_arm.r_m = *v;
-    if (auto v = r.vec3(n, "mounting_misalignment_deg", key + ".mounting_misalignment_deg")) {
-      c.extra.mounting_misalignment.rotation_rad = *v * units::kDegToRad;
-    }
-    // Non-linear sensor terms (also in the lab files: they belong to the sensor).
-    const auto ppm3 = [&](const char* k, Eigen::Vector3d* dst) {
-      if (auto v = r.vec3(n, k, key + "." + k)) *dst = *v * units::kPpmToFraction;
-    };
-    ppm3("gyro_scale_asymmetry_pos_ppm", &c.extra.gyro.scale_asymmetry.k_pos);
-    ppm3("gyro_scale_asymmetry_neg_ppm", &c.extra.gyro.scale_asymmetry.k_neg);
-    ppm3("accel_scale_asymmetry_pos_ppm", &c.extra.accel.scale_asymmetry.k_pos);
-    ppm3("accel_scale_asymmetry_neg_ppm", &c.extra.accel.scale_asymmetry.k_neg);
-    if (auto v = r.vec3(n, "gyro_scale_nonlinearity_per_rad_s",
-                        key + ".gyro_scale_nonlinearity_per_rad_s")) {
-      c.extra.gyro.scale_nonlinearity.k2 = *v;
-    }
-    if (auto v = r.vec3(n, "accel_scale_nonlinearity_per_m_s2",
-                        key + ".accel_scale_nonlinearity_per_m_s2")) {
-      c.extra.accel.scale_nonlinearity.k2 = *v;
-    }
-    for (const char* sensor : {"gyro", "accel"}) {
-      const std::string vk = std::string(sensor) + "_vibration_rectification";
-      const YAML::Node vn = n[vk];
-      if (!vn) continue;
-      r.checkKeys(vn, key + "." + vk, {"coeff", "regressor", "window_s"});
-      VibrationRectification& vr = sensor == std::string("gyro")
-                                       ? c.extra.gyro.vibration_rectification
-                                       : c.extra.accel.vibration_rectification;
-      const auto coeff = r.vec3(vn, "coeff", key + "." + vk + ".coeff");
-      if (!coeff) r.fail(vn, key + "." + vk + ".coeff", "required key missing");
-      vr.coeff = *coeff;  // SI: unit of the sensor per unit of the regressor
-      vr.regressor = r.str(vn, "regressor", key + "." + vk + ".regressor", vr.regressor);
-      if (vr.regressor != "specific_force_hp_sq" && vr.regressor != "angular_rate_hp_sq") {
-        r.fail(vn["regressor"], key + "." + vk + ".regressor",
-               "'" + vr.regressor + "' is not specific_force_hp_sq or angular_rate_hp_sq");
-      }
-      vr.window_s = r.num(vn, "window_s", key + "." + vk + ".window_s", vr.window_s);
-      if (!(vr.window_s > 0.0)) r.fail(vn["window_s"], key + "." + vk + ".window_s", "must be > 0");
-    }
-    if (auto v = r.vec3(n, "gyro_quantization_rad", key + ".gyro_quantization_rad")) {
-      c.extra.gyro.quantization.step = *v;
-    }
-    if (auto v = r.vec3(n, "accel_quantization_m_s", key + ".accel_quantization_m_s")) {
-      c.extra.accel.quantization.step = *v;
-    }
+    parseExtraLinearTerms(r, n, key, &c.extra);
+    parseExtraGeometryAndNonlinearTerms(r, n, key, &c.extra);
+    parseExtraRectificationAndQuantization(r, n, key, &c.extra);
   }
   return c;
 }
@@ -384,15 +363,90 @@ void SimConfig::validate() const {
   tested_imu.extra.validate();
 }
 
+SimTrackSource parseTrackSource(const Reader& r, const YAML::Node& trj) {
+  SimTrackSource t;
+  t.path = r.resolve(r.str(trj, "track", "trajectory.track", ""));
+  t.start_offset_s = r.num(trj, "start_offset_s", "trajectory.start_offset_s", 0.0);
+  t.duration_s = r.num(trj, "duration_s", "trajectory.duration_s", 0.0);
+  t.margin_s = r.num(trj, "margin_s", "trajectory.margin_s", 5.0);
+  t.smoothing.position_cutoff_hz = r.num(trj, "position_cutoff_hz", "trajectory.position_cutoff_hz",
+                                         t.smoothing.position_cutoff_hz);
+  t.smoothing.attitude_cutoff_hz = r.num(trj, "attitude_cutoff_hz", "trajectory.attitude_cutoff_hz",
+                                         t.smoothing.attitude_cutoff_hz);
+  t.smoothing.roll_per_lateral_g_rad =
+      r.num(trj, "roll_deg_per_g", "trajectory.roll_deg_per_g", 4.0) * units::kDegToRad;
+  const double osc = r.num(trj, "oscillation_scale", "trajectory.oscillation_scale", 1.0);
+  for (auto& o : t.smoothing.oscillations) o.amplitude_rad *= osc;
+  if (const YAML::Node v = trj["vibration"]) {
+    t.smoothing.vibration = parseVibration(r, v);
+  }
+  return t;
+}
+
+// The GNSS and temperature sections.
+void parseGnssAndTemperature(const Reader& r, const YAML::Node& root, SimConfig& c) {
+  if (const YAML::Node g = root["gnss"]) {
+    r.checkKeys(g, "gnss", {"rate_hz", "noise_std_neu_m", "lever_arm_m"});
+    c.gnss.rate_hz = r.num(g, "rate_hz", "gnss.rate_hz", c.gnss.rate_hz);
+    if (auto v = r.vec3(g, "noise_std_neu_m", "gnss.noise_std_neu_m")) c.gnss.noise_std_neu_m = *v;
+    if (auto v = r.vec3(g, "lever_arm_m", "gnss.lever_arm_m")) c.gnss.lever_arm_b_m = *v;
+  }
+  if (const YAML::Node t = root["temperature"]) {
+    r.checkKeys(t, "temperature", {"start_degC", "end_degC", "time_constant_s", "lab_degC"});
+    SimTemperature st;
+    st.start_degC = r.requiredNum(t, "start_degC", "temperature.start_degC");
+    st.end_degC = r.num(t, "end_degC", "temperature.end_degC", st.start_degC);
+    st.time_constant_s = r.num(t, "time_constant_s", "temperature.time_constant_s", 900.0);
+    if (!(st.time_constant_s > 0.0)) {
+      r.fail(t["time_constant_s"], "temperature.time_constant_s", "must be > 0");
+    }
+    if (t["lab_degC"]) st.lab_degC = r.requiredNum(t, "lab_degC", "temperature.lab_degC");
+    c.temperature = st;
+  }
+}
+
+// The lab section: where and how long the lab records are (config units, converted to SI).
+void parseLab(const Reader& r, const YAML::Node& l, SimConfig& c) {
+  r.checkKeys(l, "lab",
+              {"latitude_deg", "longitude_deg", "height_m", "start_time_s", "static_duration_s",
+               "static_attitude_deg", "six_position_duration_s", "rate_table_deg_s",
+               "rate_table_turns", "tilt_duration_s", "tilts", "common_random_numbers"});
+  c.lab_common_random_numbers =
+      r.boolean(l, "common_random_numbers", "lab.common_random_numbers", false);
+  c.lab.latitude_rad = r.num(l, "latitude_deg", "lab.latitude_deg", 30.53) * units::kDegToRad;
+  c.lab.longitude_rad = r.num(l, "longitude_deg", "lab.longitude_deg", 114.35) * units::kDegToRad;
+  c.lab.height_m = r.num(l, "height_m", "lab.height_m", c.lab.height_m);
+  c.lab.start_time_s = r.num(l, "start_time_s", "lab.start_time_s", c.lab.start_time_s);
+  c.lab.static_duration_s =
+      r.num(l, "static_duration_s", "lab.static_duration_s", c.lab.static_duration_s);
+  if (auto v = r.vec3(l, "static_attitude_deg", "lab.static_attitude_deg")) {
+    c.lab.static_euler_rad = *v * units::kDegToRad;
+  }
+  c.lab.six_position_duration_s = r.num(l, "six_position_duration_s",
+                                        "lab.six_position_duration_s",
+                                        c.lab.six_position_duration_s);
+  if (l["rate_table_deg_s"]) {
+    c.lab.rate_table_rad_s.clear();
+    for (double v : r.list(l, "rate_table_deg_s", "lab.rate_table_deg_s", 0)) {
+      c.lab.rate_table_rad_s.push_back(v * units::kDegToRad);
+    }
+  }
+  c.lab.rate_table_turns =
+      static_cast<int>(r.num(l, "rate_table_turns", "lab.rate_table_turns", 1.0));
+  c.lab.tilt_duration_s = r.num(l, "tilt_duration_s", "lab.tilt_duration_s", c.lab.tilt_duration_s);
+  if (const YAML::Node t = l["tilts"]) {
+    if (!t.IsMap()) r.fail(t, "lab.tilts", "expected a map name: [roll, pitch, yaw]");
+    for (const auto& kv : t) {
+      const std::string name = kv.first.as<std::string>();
+      const auto v = r.vec3(t, name, "lab.tilts." + name);
+      c.lab.tilt_euler_rad[name] = *v * units::kDegToRad;
+    }
+  }
+}
+
 SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warnings) {
   if (!fs::exists(path)) throw std::runtime_error(path + ": sim config file not found");
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(path + ":" + std::to_string(e.mark.line + 1) + ": YAML error: " +
-                             e.msg);
-  }
+  const YAML::Node root = yf::loadFile(path);
   const Reader r(path, warnings);
   r.checkKeys(root, "",
               {"name", "seed", "gnss_week", "imu_rate_hz", "quadrature_nodes", "truth_rate_hz",
@@ -413,87 +467,16 @@ SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warni
               {"track", "start_offset_s", "duration_s", "margin_s", "position_cutoff_hz",
                "attitude_cutoff_hz", "roll_deg_per_g", "oscillation_scale", "vibration",
                "script"});
-  if (trj["track"]) {
-    SimTrackSource t;
-    t.path = r.resolve(r.str(trj, "track", "trajectory.track", ""));
-    t.start_offset_s = r.num(trj, "start_offset_s", "trajectory.start_offset_s", 0.0);
-    t.duration_s = r.num(trj, "duration_s", "trajectory.duration_s", 0.0);
-    t.margin_s = r.num(trj, "margin_s", "trajectory.margin_s", 5.0);
-    t.smoothing.position_cutoff_hz = r.num(trj, "position_cutoff_hz", "trajectory.position_cutoff_hz",
-                                           t.smoothing.position_cutoff_hz);
-    t.smoothing.attitude_cutoff_hz = r.num(trj, "attitude_cutoff_hz", "trajectory.attitude_cutoff_hz",
-                                           t.smoothing.attitude_cutoff_hz);
-    t.smoothing.roll_per_lateral_g_rad =
-        r.num(trj, "roll_deg_per_g", "trajectory.roll_deg_per_g", 4.0) * units::kDegToRad;
-    const double osc = r.num(trj, "oscillation_scale", "trajectory.oscillation_scale", 1.0);
-    for (auto& o : t.smoothing.oscillations) o.amplitude_rad *= osc;
-    if (const YAML::Node v = trj["vibration"]) {
-      t.smoothing.vibration = parseVibration(r, v);
-    }
-    c.track = t;
-  }
+  if (trj["track"]) c.track = parseTrackSource(r, trj);
   if (trj["script"]) c.script = parseScript(r, trj["script"]);
 
   c.reference_imu = parseImu(r, root["reference_imu"], "reference_imu", false, warnings);
   c.tested_imu = parseImu(r, root["tested_imu"], "tested_imu", true, warnings);
 
-  if (const YAML::Node g = root["gnss"]) {
-    r.checkKeys(g, "gnss", {"rate_hz", "noise_std_neu_m", "lever_arm_m"});
-    c.gnss.rate_hz = r.num(g, "rate_hz", "gnss.rate_hz", c.gnss.rate_hz);
-    if (auto v = r.vec3(g, "noise_std_neu_m", "gnss.noise_std_neu_m")) c.gnss.noise_std_neu_m = *v;
-    if (auto v = r.vec3(g, "lever_arm_m", "gnss.lever_arm_m")) c.gnss.lever_arm_b_m = *v;
-  }
-  if (const YAML::Node t = root["temperature"]) {
-    r.checkKeys(t, "temperature", {"start_degC", "end_degC", "time_constant_s", "lab_degC"});
-    SimTemperature st;
-    st.start_degC = r.requiredNum(t, "start_degC", "temperature.start_degC");
-    st.end_degC = r.num(t, "end_degC", "temperature.end_degC", st.start_degC);
-    st.time_constant_s = r.num(t, "time_constant_s", "temperature.time_constant_s", 900.0);
-    if (!(st.time_constant_s > 0.0)) {
-      r.fail(t["time_constant_s"], "temperature.time_constant_s", "must be > 0");
-    }
-    if (t["lab_degC"]) st.lab_degC = r.requiredNum(t, "lab_degC", "temperature.lab_degC");
-    c.temperature = st;
-  }
+  parseGnssAndTemperature(r, root, c);
   c.lab.rate_hz = c.imu_rate_hz;
   c.lab.quadrature_nodes = c.quadrature_nodes;
-  if (const YAML::Node l = root["lab"]) {
-    r.checkKeys(l, "lab",
-                {"latitude_deg", "longitude_deg", "height_m", "start_time_s", "static_duration_s",
-                 "static_attitude_deg", "six_position_duration_s", "rate_table_deg_s",
-                 "rate_table_turns", "tilt_duration_s", "tilts", "common_random_numbers"});
-    c.lab_common_random_numbers =
-        r.boolean(l, "common_random_numbers", "lab.common_random_numbers", false);
-    c.lab.latitude_rad = r.num(l, "latitude_deg", "lab.latitude_deg", 30.53) * units::kDegToRad;
-    c.lab.longitude_rad = r.num(l, "longitude_deg", "lab.longitude_deg", 114.35) * units::kDegToRad;
-    c.lab.height_m = r.num(l, "height_m", "lab.height_m", c.lab.height_m);
-    c.lab.start_time_s = r.num(l, "start_time_s", "lab.start_time_s", c.lab.start_time_s);
-    c.lab.static_duration_s =
-        r.num(l, "static_duration_s", "lab.static_duration_s", c.lab.static_duration_s);
-    if (auto v = r.vec3(l, "static_attitude_deg", "lab.static_attitude_deg")) {
-      c.lab.static_euler_rad = *v * units::kDegToRad;
-    }
-    c.lab.six_position_duration_s = r.num(l, "six_position_duration_s",
-                                          "lab.six_position_duration_s",
-                                          c.lab.six_position_duration_s);
-    if (l["rate_table_deg_s"]) {
-      c.lab.rate_table_rad_s.clear();
-      for (double v : r.list(l, "rate_table_deg_s", "lab.rate_table_deg_s", 0)) {
-        c.lab.rate_table_rad_s.push_back(v * units::kDegToRad);
-      }
-    }
-    c.lab.rate_table_turns =
-        static_cast<int>(r.num(l, "rate_table_turns", "lab.rate_table_turns", 1.0));
-    c.lab.tilt_duration_s = r.num(l, "tilt_duration_s", "lab.tilt_duration_s", c.lab.tilt_duration_s);
-    if (const YAML::Node t = l["tilts"]) {
-      if (!t.IsMap()) r.fail(t, "lab.tilts", "expected a map name: [roll, pitch, yaw]");
-      for (const auto& kv : t) {
-        const std::string name = kv.first.as<std::string>();
-        const auto v = r.vec3(t, name, "lab.tilts." + name);
-        c.lab.tilt_euler_rad[name] = *v * units::kDegToRad;
-      }
-    }
-  }
+  if (const YAML::Node l = root["lab"]) parseLab(r, l, c);
   try {
     c.validate();
   } catch (const std::exception& e) {

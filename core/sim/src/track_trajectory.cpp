@@ -266,38 +266,33 @@ void RoadVibrationOptions::validate() const {
 
 TrackTrajectory::~TrackTrajectory() = default;
 
-TrackTrajectory::TrackTrajectory(const GnssSeries& track, const TrackSmoothingOptions& opt)
-    : TangentPlaneTrajectory(track.empty() ? Geodetic{} : track.front().pos), opt_(opt) {
-  opt.validate();
-  const std::size_t n = track.size();
-  if (n < 10) {
-    throw std::invalid_argument("TrackTrajectory: need at least 10 fixes, got " +
-                                std::to_string(n));
-  }
-  for (std::size_t i = 1; i < n; ++i) {
-    if (!(track[i].t_s > track[i - 1].t_s)) {
-      throw std::invalid_argument("TrackTrajectory: time not increasing at fix " +
-                                  std::to_string(i) + " (t=" + std::to_string(track[i].t_s) + ")");
-    }
-  }
-  t_begin_ = track.front().t_s;
-  t_end_ = track.back().t_s;
-  const double dt = opt.knot_spacing_s;
-  const int nseg = static_cast<int>(std::ceil((t_end_ - t_begin_) / dt - 1e-9));
+namespace {
 
-  // Observations in the tangent plane and their relative weights (inverse variance).
-  std::vector<double> t(n);
+using Spline = TrackTrajectory::Spline;
+using SplineAxes = std::unique_ptr<Spline>[3];
+
+// The fixes in the tangent plane at `origin` and their relative weights (inverse variance).
+struct TrackObservations {
+  std::vector<double> t;
   std::vector<double> y[3], w0[3];
+  std::vector<char> rejected;  // jumps the robust fit left out
+};
+
+TrackObservations trackObservations(const GnssSeries& track, const Geodetic& origin) {
+  const std::size_t n = track.size();
+  TrackObservations o;
+  o.t.resize(n);
+  o.rejected.assign(n, 0);
   for (int a = 0; a < 3; ++a) {
-    y[a].resize(n);
-    w0[a].resize(n);
+    o.y[a].resize(n);
+    o.w0[a].resize(n);
   }
   std::vector<double> sig[3];
   for (std::size_t i = 0; i < n; ++i) {
-    t[i] = track[i].t_s;
-    const Eigen::Vector3d p = earth::nedFromGeodetic(origin(), track[i].pos);
+    o.t[i] = track[i].t_s;
+    const Eigen::Vector3d p = earth::nedFromGeodetic(origin, track[i].pos);
     for (int a = 0; a < 3; ++a) {
-      y[a][i] = p[a];
+      o.y[a][i] = p[a];
       sig[a].push_back(track[i].std_ned_m[a]);
     }
   }
@@ -306,57 +301,66 @@ TrackTrajectory::TrackTrajectory(const GnssSeries& track, const TrackSmoothingOp
     if (!(s_ref > 0.0)) s_ref = 0.01;
     for (std::size_t i = 0; i < n; ++i) {
       const double s = sig[a][i] > 0.0 ? sig[a][i] : s_ref;
-      w0[a][i] = (s_ref / s) * (s_ref / s);
+      o.w0[a][i] = (s_ref / s) * (s_ref / s);
     }
   }
-  std::vector<char> rejected(n, 0);
-  auto fitAll = [&](const std::vector<double>* yy, const std::vector<double>* ww) {
-    for (int a = 0; a < 3; ++a) {
-      pos_[a] = std::make_unique<Spline>(t_begin_, dt, nseg);
-      std::vector<double> wa = ww[a];
-      for (std::size_t i = 0; i < n; ++i)
-        if (rejected[i]) wa[i] = 0.0;
-      pos_[a]->fit(t, yy[a], wa, opt.position_cutoff_hz);
+  return o;
+}
+
+// P-splines of the three axes through yy with weights ww, rejected fixes weighted 0.
+void fitPositions(SplineAxes& pos, double t_begin, double dt, int nseg, const TrackObservations& o,
+                  const std::vector<double>* yy, const std::vector<double>* ww, double cutoff_hz) {
+  for (int a = 0; a < 3; ++a) {
+    pos[a] = std::make_unique<Spline>(t_begin, dt, nseg);
+    std::vector<double> wa = ww[a];
+    for (std::size_t i = 0; i < o.t.size(); ++i)
+      if (o.rejected[i]) wa[i] = 0.0;
+    pos[a]->fit(o.t, yy[a], wa, cutoff_hz);
+  }
+}
+
+// One pass of the robust fit: marks fixes whose residual is far beyond the robust spread (jumps);
+// returns whether any was newly marked.
+bool rejectJumps(const SplineAxes& pos, TrackObservations& o, double outlier_sigma) {
+  const std::size_t n = o.t.size();
+  bool changed = false;
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> r(n), absr;
+    for (std::size_t i = 0; i < n; ++i) {
+      double d[1];
+      pos[a]->eval(o.t[i], d, 0);
+      r[i] = o.y[a][i] - d[0];
+      if (!o.rejected[i]) absr.push_back(std::abs(r[i]));
     }
+    const double s = 1.4826 * median(absr);
+    const double thr = std::max(outlier_sigma * s, 0.2);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!o.rejected[i] && std::abs(r[i]) > thr) {
+        o.rejected[i] = 1;
+        changed = true;
+      }
+    }
+  }
+  return changed;
+}
+
+// Stops: runs of fixes with fitted speed below stop_speed are pinned to their mean position
+// (y2, w2: the observations and weights of the final fit). Returns the number of stops.
+int pinStops(const SplineAxes& pos, const TrackObservations& o, const TrackSmoothingOptions& opt,
+             std::vector<double>* y2, std::vector<double>* w2) {
+  const std::size_t n = o.t.size();
+  auto slow = [&](std::size_t k) {
+    double v2 = 0.0;
+    for (int a = 0; a < 3; ++a) {
+      double d[2];
+      pos[a]->eval(o.t[k], d, 1);
+      v2 += d[1] * d[1];
+    }
+    return std::sqrt(v2) < opt.stop_speed_m_s;
   };
-  // Robust fit: reject fixes whose residual is far beyond the robust spread (jumps).
-  fitAll(y, w0);
-  for (int iter = 0; iter < 3; ++iter) {
-    bool changed = false;
-    for (int a = 0; a < 3; ++a) {
-      std::vector<double> r(n), absr;
-      for (std::size_t i = 0; i < n; ++i) {
-        double d[1];
-        pos_[a]->eval(t[i], d, 0);
-        r[i] = y[a][i] - d[0];
-        if (!rejected[i]) absr.push_back(std::abs(r[i]));
-      }
-      const double s = 1.4826 * median(absr);
-      const double thr = std::max(opt.outlier_sigma * s, 0.2);
-      for (std::size_t i = 0; i < n; ++i) {
-        if (!rejected[i] && std::abs(r[i]) > thr) {
-          rejected[i] = 1;
-          changed = true;
-        }
-      }
-    }
-    if (!changed) break;
-    fitAll(y, w0);
-  }
-  // Stops: runs of fixes with fitted speed below stop_speed are pinned to their mean position.
-  std::vector<double> y2[3] = {y[0], y[1], y[2]};
-  std::vector<double> w2[3] = {w0[0], w0[1], w0[2]};
+  int stops = 0;
   std::size_t i = 0;
   while (i < n) {
-    auto slow = [&](std::size_t k) {
-      double v2 = 0.0;
-      for (int a = 0; a < 3; ++a) {
-        double d[2];
-        pos_[a]->eval(t[k], d, 1);
-        v2 += d[1] * d[1];
-      }
-      return std::sqrt(v2) < opt.stop_speed_m_s;
-    };
     if (!slow(i)) {
       ++i;
       continue;
@@ -364,51 +368,58 @@ TrackTrajectory::TrackTrajectory(const GnssSeries& track, const TrackSmoothingOp
     std::size_t j = i;
     while (j < n && slow(j)) ++j;
     if (static_cast<int>(j - i) >= opt.stop_min_epochs) {
-      ++report_.stops;
+      ++stops;
       for (int a = 0; a < 3; ++a) {
         double sum = 0.0;
         int cnt = 0;
         for (std::size_t k = i; k < j; ++k)
-          if (!rejected[k]) {
-            sum += y[a][k];
+          if (!o.rejected[k]) {
+            sum += o.y[a][k];
             ++cnt;
           }
         if (cnt == 0) continue;
         for (std::size_t k = i; k < j; ++k) {
           y2[a][k] = sum / cnt;
-          w2[a][k] = 100.0 * w0[a][k];
+          w2[a][k] = 100.0 * o.w0[a][k];
         }
       }
     }
     i = j;
   }
-  fitAll(y2, w2);
-  for (std::size_t k = 0; k < n; ++k) {
-    if (rejected[k]) {
-      ++report_.fixes_rejected;
+  return stops;
+}
+
+void residualReport(const SplineAxes& pos, const TrackObservations& o, TrackFitReport* report) {
+  for (std::size_t k = 0; k < o.t.size(); ++k) {
+    if (o.rejected[k]) {
+      ++report->fixes_rejected;
       continue;
     }
-    ++report_.fixes_used;
+    ++report->fixes_used;
     for (int a = 0; a < 3; ++a) {
       double d[1];
-      pos_[a]->eval(t[k], d, 0);
-      report_.rms_residual_m[a] += (y[a][k] - d[0]) * (y[a][k] - d[0]);
+      pos[a]->eval(o.t[k], d, 0);
+      report->rms_residual_m[a] += (o.y[a][k] - d[0]) * (o.y[a][k] - d[0]);
     }
   }
-  for (double& r : report_.rms_residual_m) r = std::sqrt(r / std::max(1, report_.fixes_used));
+  for (double& r : report->rms_residual_m) r = std::sqrt(r / std::max(1, report->fixes_used));
+}
 
-  // Attitude samples at 4 Hz from the smoothed motion, then fitted by their own P-splines.
+// Roll, pitch and yaw samples at 4 Hz from the smoothed motion: roll from the lateral
+// acceleration, pitch and yaw along the velocity, held (and yaw unwrapped) below the hold speed.
+void attitudeSamples(const SplineAxes& pos, double t_begin, double t_end, const TrackSmoothingOptions& opt,
+                     std::vector<double>* ts, std::vector<double>* ang) {
   const double g0 = units::kStandardGravity_m_s2;
-  const int ns = static_cast<int>(std::floor((t_end_ - t_begin_) * 4.0)) + 1;
-  std::vector<double> ts(ns), ang[3], ws(ns, 1.0);
+  const int ns = static_cast<int>(std::floor((t_end - t_begin) * 4.0)) + 1;
+  ts->resize(ns);
   std::vector<char> valid(ns, 0);
   for (int a = 0; a < 3; ++a) ang[a].resize(ns);
   for (int k = 0; k < ns; ++k) {
-    ts[k] = std::min(t_begin_ + 0.25 * k, t_end_);
+    (*ts)[k] = std::min(t_begin + 0.25 * k, t_end);
     Eigen::Vector3d v, acc;
     for (int a = 0; a < 3; ++a) {
       double d[3];
-      pos_[a]->eval(ts[k], d, 2);
+      pos[a]->eval((*ts)[k], d, 2);
       v[a] = d[1];
       acc[a] = d[2];
     }
@@ -438,6 +449,49 @@ TrackTrajectory::TrackTrajectory(const GnssSeries& track, const TrackSmoothingOp
       ang[2][k] = held_yaw;
     }
   }
+}
+
+void requireIncreasingFixes(const GnssSeries& track) {
+  const std::size_t n = track.size();
+  if (n < 10) {
+    throw std::invalid_argument("TrackTrajectory: need at least 10 fixes, got " + std::to_string(n));
+  }
+  for (std::size_t i = 1; i < n; ++i) {
+    if (!(track[i].t_s > track[i - 1].t_s)) {
+      throw std::invalid_argument("TrackTrajectory: time not increasing at fix " + std::to_string(i) +
+                                  " (t=" + std::to_string(track[i].t_s) + ")");
+    }
+  }
+}
+
+}  // namespace
+
+TrackTrajectory::TrackTrajectory(const GnssSeries& track, const TrackSmoothingOptions& opt)
+    : TangentPlaneTrajectory(track.empty() ? Geodetic{} : track.front().pos), opt_(opt) {
+  opt.validate();
+  requireIncreasingFixes(track);
+  t_begin_ = track.front().t_s;
+  t_end_ = track.back().t_s;
+  const double dt = opt.knot_spacing_s;
+  const int nseg = static_cast<int>(std::ceil((t_end_ - t_begin_) / dt - 1e-9));
+
+  TrackObservations o = trackObservations(track, origin());
+  // Robust fit: reject fixes whose residual is far beyond the robust spread (jumps).
+  fitPositions(pos_, t_begin_, dt, nseg, o, o.y, o.w0, opt.position_cutoff_hz);
+  for (int iter = 0; iter < 3; ++iter) {
+    if (!rejectJumps(pos_, o, opt.outlier_sigma)) break;
+    fitPositions(pos_, t_begin_, dt, nseg, o, o.y, o.w0, opt.position_cutoff_hz);
+  }
+  std::vector<double> y2[3] = {o.y[0], o.y[1], o.y[2]};
+  std::vector<double> w2[3] = {o.w0[0], o.w0[1], o.w0[2]};
+  report_.stops += pinStops(pos_, o, opt, y2, w2);
+  fitPositions(pos_, t_begin_, dt, nseg, o, y2, w2, opt.position_cutoff_hz);
+  residualReport(pos_, o, &report_);
+
+  // Attitude samples at 4 Hz from the smoothed motion, then fitted by their own P-splines.
+  std::vector<double> ts, ang[3];
+  attitudeSamples(pos_, t_begin_, t_end_, opt, &ts, ang);
+  const std::vector<double> ws(ts.size(), 1.0);
   for (int a = 0; a < 3; ++a) {
     att_[a] = std::make_unique<Spline>(t_begin_, dt, nseg);
     att_[a]->fit(ts, ang[a], ws, opt.attitude_cutoff_hz);

@@ -31,7 +31,7 @@ GnssSeries trackPiece(double from_s, double to_s) {
   return out;
 }
 
-// The 5-minute round trip of issue 2: ideal increments of a piece of the real track, mechanized
+// The 5-minute round trip: ideal increments of a piece of the real track, mechanized
 // from the true initial state, reproduce the truth (horizontal < 5 cm, attitude < 0.001 deg).
 TEST(SimTrajectory, FiveMinuteTrackRoundTrip) {
   const TrackTrajectory trj(trackPiece(900.0, 1210.0));
@@ -69,7 +69,7 @@ TEST(SimTrajectory, AnalyticDerivativesMatchCentralDifferences) {
   EXPECT_GT(test::expectDerivativesMatchCentralDifferences(trj, 1e-3, 1e-5, 1e-5, 1e-5), 30);
 }
 
-// The whole 57-minute track at 200 Hz (issue 2 "Done when": drift < 1 m, attitude < 0.001 deg at
+// The whole 57-minute track at 200 Hz (target: drift < 1 m, attitude < 0.001 deg at
 // the end). About 10 s in Release.
 TEST(SimTrajectory, FullTrack57MinRoundTrip) {
   const TrackTrajectory trj(trackPiece(0.0, 1e9));
@@ -84,8 +84,8 @@ TEST(SimTrajectory, FullTrack57MinRoundTrip) {
   const NavState truth = trj.navState(imu.back().t_s);
   const Eigen::Vector3d d = earth::nedFromGeodetic(truth.pos, sd.state().pos);
   const double att = rotationVectorFromQuat(truth.q_nb.conjugate() * sd.state().q_nb).norm();
-  EXPECT_LT(d.head<2>().norm(), 0.01);  // issue target 1 m; measured 0.17 mm
-  EXPECT_LT(att * kRadToDeg, 1e-6);  // issue target 1e-3 deg; measured 3e-9 deg
+  EXPECT_LT(d.head<2>().norm(), 0.01);  // target 1 m; measured 0.17 mm
+  EXPECT_LT(att * kRadToDeg, 1e-6);  // target 1e-3 deg; measured 3e-9 deg
   RecordProperty("end_horizontal_error_m", fmtNum(d.head<2>().norm()));
   RecordProperty("end_vertical_error_m", fmtNum(d.z()));
   RecordProperty("end_attitude_error_deg", fmtNum(att * kRadToDeg));

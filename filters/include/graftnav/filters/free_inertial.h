@@ -1,6 +1,6 @@
 #pragma once
 // Free-inertial navigation: the IMU mechanized from the problem's initial state with no GNSS and
-// no error estimation (issue 2 item 7). Sensor errors are not compensated; sigma is left empty.
+// no error estimation. Sensor errors are not compensated; sigma is left empty.
 
 #include "graftnav/estimation/nav_solution.h"
 #include "graftnav/filters/ekf.h"

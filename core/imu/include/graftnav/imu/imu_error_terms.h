@@ -1,7 +1,7 @@
 #pragma once
 // Parameters of the individual IMU error terms, all in SI units. Each struct is one physical
 // effect; its name and field names are the effect names and parameter keys of diagnosis.json
-// (issue 7 item 5), so a parsed effect maps one-to-one onto a member of ImuErrorModel.
+// so a parsed effect maps one-to-one onto a member of ImuErrorModel.
 // Every term is off when its parameters are zero (the defaults).
 //
 // Notation: x = true mean input over a sample interval (gyro: omega rad/s; accel: specific

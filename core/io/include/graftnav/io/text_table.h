@@ -75,7 +75,7 @@ class TextTableReader {
   std::array<std::string_view, kMaxColumns> tokens_{};
 };
 
-// ---- Robust reading of real files (issue 8): per condition a rule, and a report of what was seen.
+// ---- Robust reading of real files: per condition a rule, and a report of what was seen.
 
 // What a reader does when it meets a condition. Not every rule fits every condition; the policy
 // structs (ImuReadPolicy, GnssReadPolicy, NavReadPolicy) say which, and validate() rejects others.

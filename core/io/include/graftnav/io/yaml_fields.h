@@ -1,12 +1,14 @@
 #pragma once
-// Private helpers of the YAML parsers in core (case_config.cpp, imu_profile_io.cpp): typed field
-// access whose errors name the file, line and dotted key, and unknown-key warnings.
+// The one YAML field helper of every configuration reader (case.yaml, IMU profiles, simulation
+// configs, calibration files, run configs, batch manifests): typed field access whose errors name
+// the file, line and dotted key, and unknown-key warnings.
 
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Core>
 #include <cmath>
 #include <initializer_list>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -20,6 +22,7 @@ struct Context {
 };
 
 inline std::string where(const Context& ctx, const YAML::Node& node) {
+  if (!node.IsDefined()) return ctx.path;  // a missing key's zombie node has no position
   const YAML::Mark m = node.Mark();
   if (m.is_null()) return ctx.path;
   return ctx.path + ":" + std::to_string(m.line + 1);
@@ -95,6 +98,85 @@ inline Eigen::Vector3d asVector3(const Context& ctx, const YAML::Node& n, const 
   return v;
 }
 
+inline unsigned long long asUint64(const Context& ctx, const YAML::Node& n, const std::string& key_path) {
+  if (!n.IsScalar()) fail(ctx, n, key_path, "expected a non-negative integer, got " + describe(n));
+  const std::string& text = n.Scalar();
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+    fail(ctx, n, key_path, "expected a non-negative integer, got " + describe(n));
+  try {
+    return n.as<unsigned long long>();
+  } catch (const YAML::Exception&) {
+    fail(ctx, n, key_path, "expected a non-negative integer, got " + describe(n));
+  }
+}
+
+// A list of finite numbers; `size` >= 0 requires exactly that many.
+inline std::vector<double> asDoubleList(const Context& ctx, const YAML::Node& n, const std::string& key_path,
+                                        int size = -1) {
+  if (!n.IsSequence()) fail(ctx, n, key_path, "expected a list of numbers, got " + describe(n));
+  if (size >= 0 && static_cast<int>(n.size()) != size)
+    fail(ctx, n, key_path, "expected " + std::to_string(size) + " numbers, got " + std::to_string(n.size()));
+  std::vector<double> v;
+  for (std::size_t i = 0; i < n.size(); ++i) v.push_back(asDouble(ctx, n[i], key_path + "[" + std::to_string(i) + "]"));
+  return v;
+}
+
+inline std::vector<int> asIntList(const Context& ctx, const YAML::Node& n, const std::string& key_path) {
+  if (!n.IsSequence()) fail(ctx, n, key_path, "expected a list of integers, got " + describe(n));
+  std::vector<int> v;
+  for (std::size_t i = 0; i < n.size(); ++i) v.push_back(asInt(ctx, n[i], key_path + "[" + std::to_string(i) + "]"));
+  return v;
+}
+
+// A map from integer keys to finite numbers ({4: 0.1, 5: 0.2}).
+inline std::map<int, double> asIntDoubleMap(const Context& ctx, const YAML::Node& n, const std::string& key_path) {
+  if (!n.IsMap()) fail(ctx, n, key_path, "expected a map of integer keys to numbers, got " + describe(n));
+  std::map<int, double> m;
+  for (const auto& kv : n) {
+    const int k = asInt(ctx, kv.first, key_path + " key");
+    m[k] = asDouble(ctx, kv.second, key_path + "." + kv.first.Scalar());
+  }
+  return m;
+}
+
+// The typed conversions `readOptional` can fill.
+inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path, double* out) {
+  *out = asDouble(ctx, n, key_path);
+}
+inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path, int* out) {
+  *out = asInt(ctx, n, key_path);
+}
+inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path, bool* out) {
+  *out = asBool(ctx, n, key_path);
+}
+inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path, std::string* out) {
+  *out = asString(ctx, n, key_path);
+}
+inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path, unsigned long long* out) {
+  *out = asUint64(ctx, n, key_path);
+}
+inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path, std::vector<int>* out) {
+  *out = asIntList(ctx, n, key_path);
+}
+inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path,
+                    std::vector<double>* out) {
+  *out = asDoubleList(ctx, n, key_path);
+}
+inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path,
+                    std::map<int, double>* out) {
+  *out = asIntDoubleMap(ctx, n, key_path);
+}
+
+// Fills *out from map[key] when the key is there (a key given without a value is an error, not a
+// default); returns whether it was.
+template <typename T>
+bool readOptional(const Context& ctx, const YAML::Node& map, const std::string& prefix, const char* key, T* out) {
+  const YAML::Node n = map[key];
+  if (!n.IsDefined()) return false;
+  convert(ctx, n, join(prefix, key), out);
+  return true;
+}
+
 inline double requireDouble(const Context& ctx, const YAML::Node& map, const std::string& prefix, const char* key) {
   return asDouble(ctx, child(ctx, map, prefix, key, true), join(prefix, key));
 }
@@ -107,13 +189,14 @@ inline std::optional<double> optionalDouble(const Context& ctx, const YAML::Node
 }
 
 // Adds "path:line: unknown key 'prefix.key' ignored" for every key of map not in known.
-inline void warnUnknownKeys(const Context& ctx, const YAML::Node& map, const std::string& prefix,
-                            std::initializer_list<const char*> known) {
+// `known` is a braced list of names or any container of strings.
+template <typename Known = std::initializer_list<const char*>>
+void warnUnknownKeys(const Context& ctx, const YAML::Node& map, const std::string& prefix, const Known& known) {
   if (!map.IsMap() || !ctx.warnings) return;
   for (const auto& kv : map) {
     const std::string k = kv.first.Scalar();
     bool found = false;
-    for (const char* kn : known) found = found || k == kn;
+    for (const auto& kn : known) found = found || k == kn;
     if (!found) ctx.warnings->push_back(where(ctx, kv.first) + ": unknown key '" + join(prefix, k) + "' ignored");
   }
 }

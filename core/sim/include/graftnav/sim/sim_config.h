@@ -54,7 +54,7 @@
 //     accel_bias_per_degC_mg: [0.005, 0, 0.01]
 //     temperature_ref_degC: 25
 //     # Field-mounting geometry relative to the reference IMU (field file only, never the lab):
-//     time_offset_s: 0.004                    # tested tags late by this much (issue 7 convention)
+//     time_offset_s: 0.004                    # tested tags late by this much (tau convention)
 //     lever_arm_m: [0.03, -0.02, 0.01]        # tested IMU from the reference IMU, reference body FRD
 //     mounting_misalignment_deg: [0.1, -0.2, 0.15]  # rotation of tested body rel. to reference body
 //     # Non-linear sensor terms (field and lab files):
