@@ -1,8 +1,6 @@
 #include "estimators.h"
 
 #include <algorithm>
-#include <cstdio>
-#include <memory>
 #include <stdexcept>
 
 #include "graftnav/filters/free_inertial.h"
@@ -12,29 +10,6 @@
 namespace graftnav::app {
 
 namespace {
-// The factor graphs re-preintegrate any interval: they hold the samples (read in blocks, so no
-// copy of the file's text) but write their output as it goes.
-EstimationProblem withSamples(const EstimationProblem& header, const ImuStream& imu) {
-  EstimationProblem p = header;
-  p.imu.reserve(imu.max_samples);  // no reallocation: the series is the largest thing held
-  imu.pass([&](const ImuSeries& block) { p.imu.insert(p.imu.end(), block.begin(), block.end()); });
-  return p;
-}
-
-// Number of '\n' in a file (plus one for a last line without it), read in chunks.
-std::size_t countLines(const std::string& path) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throw std::runtime_error(path + ": cannot open file (missing or unreadable)");
-  std::vector<char> buf(1 << 16);
-  std::size_t lines = 0, n = 0;
-  char last = '\n';
-  while ((n = std::fread(buf.data(), 1, buf.size(), f.get())) > 0) {
-    lines += static_cast<std::size_t>(std::count(buf.data(), buf.data() + n, '\n'));
-    last = buf[n - 1];
-  }
-  return lines + (last != '\n' ? 1 : 0);
-}
-
 FgoEpochFn toSink(SolutionSink& sink) {
   return [&sink](const NavState& s, const PvaSigma* sigma, const Eigen::Vector3d& bg, const Eigen::Vector3d& ba) {
     ImuErrorEstimate e;
@@ -66,14 +41,14 @@ const std::vector<EstimatorEntry>& estimatorTable() {
          return solveBatchFgo(p, c.fgo);
        },
        [](const EstimationProblem& p, const ImuStream& imu, const RunConfig& c, SolutionSink& sink) {
-         return solveBatchFgo(withSamples(p, imu), c.fgo, nullptr, toSink(sink));
+         return solveBatchFgo(p, imu.pass, c.fgo, nullptr, toSink(sink));
        }},
       {"fgo-window", "factor-graph sliding window with marginalization, causal output",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn&) {
          return solveWindowFgo(p, c.fgo);
        },
        [](const EstimationProblem& p, const ImuStream& imu, const RunConfig& c, SolutionSink& sink) {
-         return solveWindowFgo(withSamples(p, imu), c.fgo, nullptr, toSink(sink));
+         return solveWindowFgo(p, imu.pass, c.fgo, nullptr, toSink(sink));
        }},
       {"free-inertial", "mechanization from the initial state, no GNSS",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn& f) {
@@ -117,7 +92,6 @@ ImuStream imuFileStream(const std::string& path, const ImuReadOptions& options, 
     while (reader.next(&samples)) block(samples);
     if (report) *report = reader.report();
   };
-  s.max_samples = countLines(path);
   return s;
 }
 

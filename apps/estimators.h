@@ -21,8 +21,7 @@ using EstimatorFn =
 // the GNSS bookkeeping returned. Same epochs as the in-memory form, memory not growing with the
 // recording (see docs/BENCHMARKS.md).
 struct ImuStream {
-  ImuPassFn pass;                  // one pass over the samples; may be called more than once
-  std::size_t max_samples = 0;     // an upper bound of their number (reserve), 0 when unknown
+  ImuPassFn pass;  // one pass over the samples; may be called more than once
 };
 using StreamingEstimatorFn = std::function<NavSolution(const EstimationProblem&, const ImuStream&,
                                                        const RunConfig&, SolutionSink&)>;
@@ -44,7 +43,7 @@ NavSolution runEstimator(const std::string& name, const EstimationProblem& probl
 bool canStream(const std::string& name);
 
 // An IMU file read in blocks (ImuBlockReader; options.nominal_rate_hz > 0); each pass reads the
-// file again, max_samples is its line count. *report (when given) receives the last pass's
+// file again. *report (when given) receives the last pass's
 // reader report.
 ImuStream imuFileStream(const std::string& path, const ImuReadOptions& options, ReadReport* report = nullptr);
 

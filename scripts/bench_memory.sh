@@ -6,8 +6,10 @@
 # Usage: scripts/bench_memory.sh OUT_DIR [GRAFTNAV]      (GRAFTNAV default: build/graftnav)
 # Environment: LENGTHS_MIN (default "15 30 60 120 480"), RUNS (runs per measurement, the median
 # is reported; default 1), ESTIMATORS (default "ekf rts fgo-window fgo"), DIAGNOSE (1: also
-# diagnose, default 1), MAX_SIM_RSS_MB (skip a length whose simulation is predicted, linearly
-# from the longest one done, to need more; default 1000: the simulator holds whole series).
+# diagnose, default 1), DIAGNOSE_MAX_MIN (diagnose only lengths up to this many minutes; default
+# 480: diagnose holds every series of the case, ~2.3 GB per 4 h), MAX_SIM_RSS_MB (skip a length
+# whose simulation is predicted, linearly from the longest one done, to need more; default 4000:
+# the simulator streams the field IMUs of this case, so the prediction is an upper bound).
 #
 # Each length is a motion-script drive (60 s at rest, then 100 s straights and 90-degree turns at
 # 10 m/s) simulated with the POS1100-like tested IMU of mems_57min.yaml, 1 Hz GNSS, truth at
@@ -25,7 +27,8 @@ lengths="${LENGTHS_MIN:-15 30 60 120 480}"
 runs="${RUNS:-1}"
 estimators="${ESTIMATORS:-ekf rts fgo-window fgo}"
 diagnose="${DIAGNOSE:-1}"
-max_sim_mb="${MAX_SIM_RSS_MB:-1000}"
+max_sim_mb="${MAX_SIM_RSS_MB:-4000}"
+diagnose_max_min="${DIAGNOSE_MAX_MIN:-480}"
 [ -x "$bin" ] || { echo "bench_memory.sh: no executable $bin" >&2; exit 1; }
 [ -x /usr/bin/time ] || { echo "bench_memory.sh: needs /usr/bin/time (package time)" >&2; exit 1; }
 mkdir -p "$out/cases" "$out/runs"
@@ -134,7 +137,9 @@ for L in $lengths; do
     printf "%s\t%s\tnavigate --estimator %s\t%s\t%s\t%s\n" "$L" "$samples" "$est" "$rss" "$cpu" "$wall" >> "$tsv"
     echo "$L min $est: $rss MB, CPU $cpu s, wall $wall s" >&2
   done
-  if [ "$diagnose" = 1 ]; then
+  if [ "$diagnose" = 1 ] && [ "$L" -gt "$diagnose_max_min" ]; then
+    printf "%s\t%s\tdiagnose (skipped, above DIAGNOSE_MAX_MIN=%s)\t-\t-\t-\n" "$L" "$samples" "$diagnose_max_min" >> "$tsv"
+  elif [ "$diagnose" = 1 ]; then
     read -r rss cpu wall < <(measure "diagnose $L min" "$out/runs/diagnose_${L}.log" -- \
         "$bin" diagnose "$case_dir" --out "$out/runs/diagnose_${L}" --no-plots)
     printf "%s\t%s\tdiagnose\t%s\t%s\t%s\n" "$L" "$samples" "$rss" "$cpu" "$wall" >> "$tsv"
@@ -146,8 +151,8 @@ python3 - "$tsv" "$out/memory.md" <<'PY'
 import sys, collections
 rows = [l.rstrip("\n").split("\t") for l in open(sys.argv[1])][1:]
 lengths = list(dict.fromkeys(r[0] for r in rows))
-skipped = [r for r in rows if r[2].startswith("simulate (skipped")]
-rows = [r for r in rows if not r[2].startswith("simulate (skipped")]
+skipped = [r for r in rows if "(skipped" in r[2]]
+rows = [r for r in rows if "(skipped" not in r[2]]
 whats = list(dict.fromkeys(r[2] for r in rows))
 cell = {(r[0], r[2]): (r[3], r[4], r[5]) for r in rows}
 samples = {r[0]: r[1] for r in rows if r[1] != "-"}
@@ -164,6 +169,6 @@ with open(sys.argv[2], "w") as f:
             cells.append("-" if v is None or v[0] == "-" else f"**{v[0]}** / {v[1]} / {v[2]}")
         f.write(f"| `{w}` | " + " | ".join(cells) + " |\n")
     for r in skipped:
-        f.write(f"\nNot measured: {hdr(r[0])}, {r[2][10:-1]}.\n")
+        f.write(f"\nNot measured: {hdr(r[0])}, {r[2].replace(' (skipped, ', ', ')[:-1]}.\n")
 print(open(sys.argv[2]).read())
 PY

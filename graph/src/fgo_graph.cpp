@@ -3,9 +3,11 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
+#include "graftnav/graph/fgo_solver.h"
 #include "graftnav/nav/mechanization.h"
 #include "graftnav/nav/rotation.h"
 
@@ -30,11 +32,19 @@ void NodeBlocks::set(const NodeValue& x) {
 }
 
 FgoGraph::FgoGraph(const EstimationProblem& problem, const FgoOptions& options)
+    : problem_(problem), options_(options), frame_(problem.initial.pos), memory_imu_(&problem.imu) {
+  setUp(seriesPass(problem.imu));
+}
+
+FgoGraph::FgoGraph(const EstimationProblem& problem, const FgoOptions& options, const ImuPassFn& imu)
     : problem_(problem), options_(options), frame_(problem.initial.pos) {
+  setUp(imu);
+}
+
+void FgoGraph::setUp(const ImuPassFn& imu) {
   std::string err;
   if (!options_.validate(&err)) throw std::invalid_argument("FgoGraph: " + err);
-  if (problem.imu.size() < 2) throw std::invalid_argument("FgoGraph: fewer than 2 IMU samples");
-  const ImuProfile& prof = problem.imu_profile;
+  const ImuProfile& prof = problem_.imu_profile;
   noise_.arw_rad_sqrt_s = std::max(prof.arw_rad_sqrt_s, options_.min_arw_rad_sqrt_s);
   noise_.vrw_m_s_sqrt_s = std::max(prof.vrw_m_s_sqrt_s, options_.min_vrw_m_s_sqrt_s);
   gyro_process_.sigma = std::max(prof.gyro_bias_instability_rad_s, options_.min_gyro_bias_std_rad_s);
@@ -47,95 +57,12 @@ FgoGraph::FgoGraph(const EstimationProblem& problem, const FgoOptions& options)
   } else if (options_.robust_loss == "cauchy") {
     loss_ = std::make_unique<ceres::CauchyLoss>(options_.robust_loss_scale);
   }
-  buildNodes();
-  blocks_.resize(nodes_.size());
-  pre_.resize(nodes_.size() > 0 ? nodes_.size() - 1 : 0);
+  layout_ = buildNodeLayout(problem_, frame_, options_, imu);
+  const size_t n = layout_.nodes.size();
+  blocks_.resize(n);
+  pre_.resize(n > 0 ? n - 1 : 0);
   gravity_point_.resize(pre_.size());
   initializeFirstNode();
-}
-
-void FgoGraph::buildNodes() {
-  const ImuSeries& imu = problem_.imu;
-  const double t0 = problem_.initial.t_s;
-  first_sample_ = static_cast<size_t>(
-      std::upper_bound(imu.begin(), imu.end(), t0 + 1e-6,
-                       [](double t, const ImuSample& s) { return t < s.t_s; }) -
-      imu.begin());
-  if (first_sample_ >= imu.size()) {
-    throw std::invalid_argument("FgoGraph: initial state at t=" + std::to_string(t0) +
-                                " is after the last IMU sample");
-  }
-  // Index of the sample whose end time is nearest t (within [first_sample_, size)).
-  auto nearestSample = [&](double t) {
-    auto it = std::lower_bound(imu.begin() + first_sample_, imu.end(), t,
-                               [](const ImuSample& s, double tt) { return s.t_s < tt; });
-    size_t idx = static_cast<size_t>(it - imu.begin());
-    if (idx >= imu.size()) idx = imu.size() - 1;
-    if (idx > first_sample_ && std::abs(imu[idx - 1].t_s - t) < std::abs(imu[idx].t_s - t)) --idx;
-    return idx;
-  };
-
-  // GNSS epochs used (outside outages, inside the IMU span, not at the initial epoch).
-  std::vector<std::pair<size_t, size_t>> gnss_at_sample;  // (sample index, fix index)
-  for (const GnssFix& f : problem_.gnss) {
-    bool withheld = false;
-    for (const TimeWindow& w : problem_.outages) withheld = withheld || w.contains(f.t_s);
-    if (withheld) {
-      ++gnss_withheld_;
-      continue;
-    }
-    if (f.t_s <= t0 + 1e-6 || f.t_s > imu.back().t_s + 0.5 * imu.back().dt_s) continue;
-    const size_t idx = nearestSample(f.t_s);
-    if (std::abs(imu[idx].t_s - f.t_s) > imu[idx].dt_s) continue;  // IMU gap at the fix
-    GnssObservation obs;
-    obs.fix = f;
-    obs.z_w = frame_.toLocal(f.pos);
-    Eigen::Vector3d std_ned = f.std_ned_m.cwiseMax(options_.gnss_min_std_m);
-    const Eigen::Matrix3d C_wn = frame_.C_nw(f.pos).transpose();
-    const Eigen::Matrix3d cov_w = C_wn * std_ned.cwiseAbs2().asDiagonal() * C_wn.transpose();
-    obs.sqrt_info_w = Eigen::LLT<Eigen::Matrix3d>(cov_w).matrixL().solve(Eigen::Matrix3d::Identity());
-    obs.dt_s = f.t_s - imu[idx].t_s;
-    gnss_at_sample.emplace_back(idx, fixes_.size());
-    fixes_.push_back(obs);
-  }
-  std::sort(gnss_at_sample.begin(), gnss_at_sample.end());
-
-  // Node sample indices: GNSS nodes, then fill gaps every max_node_spacing_s.
-  std::vector<size_t> anchors;
-  for (const auto& g : gnss_at_sample) {
-    if (anchors.empty() || anchors.back() != g.first) anchors.push_back(g.first);
-  }
-  if (anchors.empty() || anchors.back() != imu.size() - 1) anchors.push_back(imu.size() - 1);
-
-  GraphNode n0;
-  n0.t_s = t0;
-  n0.sample_end = first_sample_;
-  nodes_.push_back(n0);
-  const double spacing = options_.max_node_spacing_s;
-  size_t gi = 0;
-  for (size_t a : anchors) {
-    const double t_prev = nodes_.back().t_s;
-    const double t_a = imu[a].t_s;
-    const int n_sub = static_cast<int>(std::ceil((t_a - t_prev) / spacing - 0.25));
-    for (int m = 1; m < n_sub; ++m) {
-      const size_t idx = nearestSample(t_prev + (t_a - t_prev) * m / n_sub);
-      if (idx + 1 > nodes_.back().sample_end && idx < a) {
-        GraphNode n;
-        n.t_s = imu[idx].t_s;
-        n.sample_end = idx + 1;
-        nodes_.push_back(n);
-      }
-    }
-    if (a + 1 <= nodes_.back().sample_end) continue;  // at or before the previous node
-    GraphNode n;
-    n.t_s = t_a;
-    n.sample_end = a + 1;
-    while (gi < gnss_at_sample.size() && gnss_at_sample[gi].first <= a) {
-      if (gnss_at_sample[gi].first == a) n.gnss.push_back(gnss_at_sample[gi].second);
-      ++gi;
-    }
-    nodes_.push_back(n);
-  }
 }
 
 void FgoGraph::initializeFirstNode() {
@@ -145,11 +72,49 @@ void FgoGraph::initializeFirstNode() {
 }
 
 ImuPreintegration& FgoGraph::preintegrate(size_t k) {
+  if (!memory_imu_) throw std::logic_error("FgoGraph::preintegrate: no samples in memory");
   const NodeValue x = blocks_[k].value();
   if (!pre_[k]) pre_[k] = std::make_unique<ImuPreintegration>(x.bg, x.ba, noise_);
-  pre_[k]->reintegrate(problem_.imu, nodes_[k].sample_end, nodes_[k + 1].sample_end, x.bg, x.ba);
+  pre_[k]->reintegrate(*memory_imu_, intervalBegin(k), intervalEnd(k), x.bg, x.ba);
   gravity_point_[k] = x.p_w;
   return *pre_[k];
+}
+
+ImuPreintegration& FgoGraph::preintegrate(size_t k, const ImuSampleBuffer& samples) {
+  const size_t begin = intervalBegin(k), end = intervalEnd(k);
+  if (begin >= end) {
+    throw std::invalid_argument("FgoGraph::preintegrate: interval " + std::to_string(k) + " is empty");
+  }
+  const ImuSample* first = &samples.at(begin);
+  samples.at(end - 1);  // the whole interval is held (contiguous storage)
+  const NodeValue x = blocks_[k].value();
+  if (!pre_[k]) pre_[k] = std::make_unique<ImuPreintegration>(x.bg, x.ba, noise_);
+  pre_[k]->reintegrate(first, end - begin, begin > 0 ? &samples.at(begin - 1) : nullptr, x.bg, x.ba);
+  gravity_point_[k] = x.p_w;
+  return *pre_[k];
+}
+
+void FgoGraph::preintegrateFromPass(const ImuPassFn& imu, const std::vector<size_t>& intervals) {
+  if (intervals.empty()) return;
+  ImuSampleBuffer buffer;
+  size_t next = 0;
+  imu([&](const ImuSeries& block) {
+    for (const ImuSample& s : block) {
+      if (next == intervals.size()) return;
+      buffer.push(s);
+      while (next < intervals.size() && intervalEnd(intervals[next]) <= buffer.end()) {
+        preintegrate(intervals[next++], buffer);
+      }
+      if (next < intervals.size()) {  // keep from the next interval's coning memory on
+        const size_t b = intervalBegin(intervals[next]);
+        buffer.dropBefore(b > 0 ? b - 1 : 0);
+      }
+    }
+  });
+  if (next != intervals.size()) {
+    throw std::runtime_error("FgoGraph: the IMU pass ended before interval " +
+                             std::to_string(intervals[next]) + " (fewer samples than the layout's)");
+  }
 }
 
 bool FgoGraph::biasMovedFar(size_t k) const {
@@ -169,11 +134,11 @@ PreintegrationFactor* FgoGraph::makePreintegrationFactor(size_t k) const {
 }
 
 BiasFactor* FgoGraph::makeBiasFactor(size_t k) const {
-  return new BiasFactor(gyro_process_, accel_process_, nodes_[k + 1].t_s - nodes_[k].t_s);
+  return new BiasFactor(gyro_process_, accel_process_, nodes()[k + 1].t_s - nodes()[k].t_s);
 }
 
 GnssPositionFactor* FgoGraph::makeGnssFactor(size_t fix) const {
-  const GnssObservation& o = fixes_[fix];
+  const GnssObservation& o = layout_.fixes[fix];
   return new GnssPositionFactor(o.z_w, o.sqrt_info_w, problem_.lever_arm_b_m, o.dt_s);
 }
 
@@ -264,11 +229,11 @@ void FgoGraph::requireFinite(size_t begin, size_t end, const std::string& stage)
     else if (!finite(b.ba, 3)) bad = "accel bias";
     if (bad == nullptr) continue;
     std::string msg = stage + ": node " + std::to_string(k) + " at t=" +
-                      std::to_string(nodes_[k].t_s) + " has a non-finite " + bad;
+                      std::to_string(nodes()[k].t_s) + " has a non-finite " + bad;
     if (k > 0 && hasPreintegration(k - 1)) {
       msg += " (preintegration from node " + std::to_string(k - 1) + " at t=" +
-             std::to_string(nodes_[k - 1].t_s) + " over " + std::to_string(pre_[k - 1]->dt_s()) +
-             " s, " + std::to_string(nodes_[k].gnss.size()) + " GNSS fixes on the node)";
+             std::to_string(nodes()[k - 1].t_s) + " over " + std::to_string(pre_[k - 1]->dt_s()) +
+             " s, " + std::to_string(nodes()[k].gnss.size()) + " GNSS fixes on the node)";
     }
     throw std::runtime_error(msg);
   }
@@ -284,64 +249,25 @@ void FgoGraph::predictNode(size_t k) {
   blocks_[k].set(y);
 }
 
-NavSolution FgoGraph::integrateOutput(const std::string& estimator,
-                                      const std::vector<PvaSigma>& sigma_nodes) const {
-  NavSolution sol;
-  sol.estimator = estimator;
-  const size_t n_out = problem_.imu.size() - first_sample_ + 1;
-  sol.states.reserve(n_out);
-  sol.gyro_bias_rad_s.reserve(n_out);
-  sol.accel_bias_m_s2.reserve(n_out);
-  if (!sigma_nodes.empty()) sol.sigma.reserve(n_out);
-  integrateOutput(sigma_nodes, [&](const NavState& s, const PvaSigma* sigma, const Eigen::Vector3d& bg,
-                                   const Eigen::Vector3d& ba) {
-    sol.states.push_back(s);
-    sol.gyro_bias_rad_s.push_back(bg);
-    sol.accel_bias_m_s2.push_back(ba);
-    if (sigma) sol.sigma.push_back(*sigma);
-  });
-  sol.gnss_withheld = gnss_withheld_;
-  return sol;
-}
-
-void FgoGraph::integrateOutput(const std::vector<PvaSigma>& sigma_nodes, const FgoEpochFn& output) const {
-  const ImuSeries& imu = problem_.imu;
-  const bool with_sigma = !sigma_nodes.empty();
-  // Each epoch is held back by one: a node's own epoch, already output as the end of the
-  // previous interval, is replaced by the node estimate so the solution passes exactly through
-  // the optimized nodes.
-  struct Pending {
-    NavState state;
-    Eigen::Vector3d bg, ba;
-    size_t node = 0;
-  } pending;
-  auto emit = [&]() {
-    output(pending.state, with_sigma ? &sigma_nodes[pending.node] : nullptr, pending.bg, pending.ba);
+void FgoGraph::outputPass(const ImuPassFn& imu, const std::vector<PvaSigma>& sigma_nodes,
+                          const FgoEpochFn& output) const {
+  OutputIntegrator out(frame_, problem_.initial.gnss_week, output);
+  const std::vector<GraphNode>& n = nodes();
+  size_t next = 0, i = 0;  // the next node to start, the sample's index
+  auto startNodes = [&](size_t sample) {  // every node whose interval starts at or before it
+    for (; next < n.size() && n[next].sample_end <= sample; ++next) {
+      out.node(n[next].t_s, blocks_[next].value(), sigma_nodes.empty() ? nullptr : &sigma_nodes[next]);
+    }
   };
-  const NodeValue x0 = blocks_[0].value();
-  NavState s0 = frame_.toNavState(nodes_[0].t_s, x0.p_w, x0.v_w, x0.q_wb);
-  s0.gnss_week = problem_.initial.gnss_week;
-  Strapdown sd(s0);
-  pending = {s0, x0.bg, x0.ba, 0};
-  for (size_t k = 0; k < nodes_.size(); ++k) {
-    const NodeValue x = blocks_[k].value();
-    if (k > 0) {
-      NavState s = frame_.toNavState(nodes_[k].t_s, x.p_w, x.v_w, x.q_wb);
-      s.gnss_week = s0.gnss_week;
-      sd.setState(s);
-      pending = {s, x.bg, x.ba, k};
+  imu([&](const ImuSeries& block) {
+    for (const ImuSample& s : block) {
+      if (i++ < firstSample()) continue;
+      startNodes(i - 1);
+      out.sample(s);
     }
-    const size_t end = (k + 1 < nodes_.size()) ? nodes_[k + 1].sample_end : imu.size();
-    for (size_t i = nodes_[k].sample_end; i < end; ++i) {
-      ImuSample c = imu[i];
-      c.dtheta_rad -= x.bg * c.dt_s;
-      c.dvel_m_s -= x.ba * c.dt_s;
-      sd.step(c);
-      emit();
-      pending = {sd.state(), x.bg, x.ba, k};
-    }
-  }
-  emit();
+  });
+  startNodes(std::numeric_limits<size_t>::max());
+  out.finish();
 }
 
 }  // namespace graftnav

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <stdexcept>
 
 #include "graftnav/graph/fgo_graph.h"
@@ -53,35 +54,242 @@ std::vector<PvaSigma> nodeSigmas(FgoGraph& graph, ceres::Problem& problem, int n
   return out;
 }
 
-// The output into the solution, or to `output` when given (the solution then has no states).
-NavSolution integrate(const FgoGraph& graph, const std::string& estimator,
-                      const std::vector<PvaSigma>& sigma, const FgoEpochFn& output) {
-  if (!output) return graph.integrateOutput(estimator, sigma);
-  graph.integrateOutput(sigma, output);
+// The solution's epochs from `run`, into `output`, or into the returned solution when `output`
+// is empty (the solution then holds only the GNSS bookkeeping).
+NavSolution outputSolution(const FgoGraph& graph, const std::string& estimator,
+                           const std::function<void(const FgoEpochFn&)>& run, const FgoEpochFn& output) {
   NavSolution sol;
   sol.estimator = estimator;
+  if (output) {
+    run(output);
+  } else {
+    const size_t n_out = graph.sampleCount() - graph.firstSample() + 1;
+    sol.states.reserve(n_out);
+    sol.gyro_bias_rad_s.reserve(n_out);
+    sol.accel_bias_m_s2.reserve(n_out);
+    run([&](const NavState& s, const PvaSigma* sigma, const Eigen::Vector3d& bg, const Eigen::Vector3d& ba) {
+      sol.states.push_back(s);
+      sol.gyro_bias_rad_s.push_back(bg);
+      sol.accel_bias_m_s2.push_back(ba);
+      if (sigma) sol.sigma.push_back(*sigma);
+    });
+  }
   sol.gnss_withheld = graph.gnssWithheld();
   return sol;
 }
 
+bool allFinite(const NodeValue& x) {
+  return x.p_w.allFinite() && x.q_wb.coeffs().allFinite() && x.v_w.allFinite() && x.bg.allFinite() &&
+         x.ba.allFinite();
+}
+
+// The window estimator's output as the window goes: each node's causal value (or, fixed-lag,
+// its value when it left the window) integrated over its interval once the interval's samples
+// are there.
+class WindowOutput final : public WindowListener {
+ public:
+  WindowOutput(const FgoGraph& graph, bool fixed_lag, const FgoEpochFn& output)
+      : graph_(graph), fixed_lag_(fixed_lag), out_(graph.frame(), graph.problem().initial.gnss_week, output) {}
+  void entered(size_t k, const NodeValue& x, const ImuSampleBuffer& samples) override {
+    if (fixed_lag_) return;
+    if (k > 0) emitInterval(k - 1, held_, samples);
+    held_ = x;
+  }
+  void left(size_t k, const NodeValue& x, const ImuSampleBuffer& samples) override {
+    if (fixed_lag_) emitInterval(k, x, samples);
+  }
+  void finished(const ImuSampleBuffer& samples) override {
+    if (!fixed_lag_) emitInterval(graph_.nodes().size() - 1, held_, samples);
+    out_.finish();
+  }
+
+ private:
+  void emitInterval(size_t k, const NodeValue& x, const ImuSampleBuffer& samples) {
+    NodeBlocks b;
+    b.set(x);  // as a node block holds it: unit quaternion
+    const NodeValue y = b.value();
+    if (!allFinite(y)) {
+      throw std::runtime_error("solveWindowFgo: node " + std::to_string(k) + " at t=" +
+                               std::to_string(graph_.nodes()[k].t_s) + " has a non-finite value");
+    }
+    out_.node(graph_.nodes()[k].t_s, y, nullptr);
+    for (size_t i = graph_.intervalBegin(k); i < graph_.intervalEnd(k); ++i) out_.sample(samples.at(i));
+  }
+
+  const FgoGraph& graph_;
+  const bool fixed_lag_;
+  OutputIntegrator out_;
+  NodeValue held_;  // causal: the newest node's value, output with its interval
+};
+
+// The batch problem over all nodes of a window-initialized graph.
+class BatchSolver {
+ public:
+  BatchSolver(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions& options, FgoReport* rep);
+  void solve();
+  void cullRounds();
+  void reintegrationRounds();
+  ceres::Problem& problem() { return prob_; }
+
+ private:
+  static ceres::Problem::Options problemOptions();
+  // Intervals whose node bias moved far from the preintegration's linearization.
+  std::vector<size_t> movedIntervals() const;
+
+  FgoGraph& graph_;
+  const ImuPassFn& imu_;
+  const FgoOptions& options_;
+  FgoReport& rep_;
+  const size_t n_;
+  ceres::Problem prob_;
+  ceres::Solver::Options so_;
+  std::vector<PreintegrationFactor*> pfs_;
+  std::vector<std::vector<std::pair<ceres::ResidualBlockId, size_t>>> gnss_;  // per node: (id, fix)
+  bool first_ = true;
+};
+
+ceres::Problem::Options BatchSolver::problemOptions() {
+  ceres::Problem::Options po;
+  po.enable_fast_removal = true;
+  po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  return po;
+}
+
+std::vector<size_t> BatchSolver::movedIntervals() const {
+  std::vector<size_t> moved;
+  for (size_t k = 0; k + 1 < n_; ++k) {
+    if (graph_.biasMovedFar(k)) moved.push_back(k);
+  }
+  return moved;
+}
+
+BatchSolver::BatchSolver(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions& options, FgoReport* rep)
+    : graph_(graph), imu_(imu), options_(options), rep_(*rep), n_(graph.nodes().size()),
+      prob_(problemOptions()), pfs_(n_ > 0 ? n_ - 1 : 0), gnss_(n_) {
+  for (size_t k = 0; k < n_; ++k) graph_.addNodeBlocks(&prob_, k);
+  prob_.AddResidualBlock(graph_.makeInitialPrior(), nullptr, graph_.nodeBlocks(0));
+  const std::vector<size_t> moved = movedIntervals();
+  graph_.preintegrateFromPass(imu_, moved);
+  rep_.reintegrations += static_cast<int>(moved.size());
+  for (size_t k = 0; k + 1 < n_; ++k) {
+    pfs_[k] = graph_.makePreintegrationFactor(k);
+    prob_.AddResidualBlock(pfs_[k], nullptr, graph_.preintegrationBlocks(k));
+    prob_.AddResidualBlock(graph_.makeBiasFactor(k), nullptr, graph_.biasBlocks(k));
+  }
+  for (size_t k = 0; k < n_; ++k) {
+    for (size_t fix : graph_.nodes()[k].gnss) {
+      gnss_[k].emplace_back(
+          prob_.AddResidualBlock(graph_.makeGnssFactor(fix), graph_.gnssLoss(), graph_.poseBlocks(k)), fix);
+    }
+  }
+  so_.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  so_.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+  so_.max_num_iterations = options.max_iterations;
+  so_.initial_trust_region_radius = options.initial_trust_region_radius;  // see sliding_window.cpp
+  so_.num_threads = options.num_threads;
+  so_.logging_type = ceres::SILENT;
+}
+
+void BatchSolver::solve() {
+  ceres::Solver::Summary summary;
+  ceres::Solve(so_, &prob_, &summary);
+  if (summary.termination_type == ceres::FAILURE) {
+    throw std::runtime_error("solveBatchFgo: Ceres failed: " + summary.message);
+  }
+  graph_.requireFinite(0, n_, "solveBatchFgo (solve " + std::to_string(rep_.solves + 1) + ")");
+  if (first_) rep_.initial_cost = summary.initial_cost;
+  first_ = false;
+  rep_.final_cost = summary.final_cost;
+  ++rep_.solves;
+  rep_.iterations += static_cast<int>(summary.iterations.size());
+}
+
+void BatchSolver::cullRounds() {
+  for (int round = 0; round < options_.culling_rounds; ++round) {
+    // Candidates first: when more than max_cull_fraction of the fixes fail, the graph (not the
+    // fixes) is wrong, and culling would only hide it.
+    std::vector<std::pair<size_t, size_t>> bad;  // (node, position in gnss_[node])
+    std::vector<double> bad_chi2;
+    for (size_t k = 0; k < n_; ++k) {
+      for (size_t i = 0; i < gnss_[k].size(); ++i) {
+        const double chi2 = graph_.gnssChi2(gnss_[k][i].second, k);
+        if (chi2 > options_.chi2_threshold) {
+          bad.emplace_back(k, i);
+          bad_chi2.push_back(chi2);
+        }
+      }
+    }
+    if (bad.empty()) break;
+    if (bad.size() > options_.max_cull_fraction * static_cast<double>(graph_.fixes().size())) {
+      rep_.cull_refused = static_cast<int>(bad.size());
+      break;
+    }
+    for (size_t b = bad.size(); b-- > 0;) {  // back to front keeps positions valid
+      auto& list = gnss_[bad[b].first];
+      rep_.culled_times_s.push_back(graph_.fixes()[list[bad[b].second].second].fix.t_s);
+      rep_.culled_chi2.push_back(bad_chi2[b]);
+      prob_.RemoveResidualBlock(list[bad[b].second].first);
+      list.erase(list.begin() + static_cast<long>(bad[b].second));
+    }
+    rep_.gnss_culled += static_cast<int>(bad.size());
+    solve();
+  }
+}
+
+void BatchSolver::reintegrationRounds() {
+  for (int round = 0; round < options_.max_reintegration_rounds; ++round) {
+    const std::vector<size_t> moved = movedIntervals();
+    graph_.preintegrateFromPass(imu_, moved);
+    for (size_t k : moved) pfs_[k]->refresh();
+    rep_.reintegrations += static_cast<int>(moved.size());
+    if (moved.empty()) break;
+    solve();
+  }
+}
+
+// Initial values: a fixed-lag sliding-window pass that solves every batch_init_stride nodes
+// (counts of its culling are not kept: the batch re-decides every fix). Every interval's
+// preintegration stays.
+void initializeByWindow(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions& options, FgoReport* rep) {
+  FgoOptions init = options;
+  init.window_solve_stride = options.batch_init_stride;
+  init.window_nodes = std::max(options.window_nodes, 2 * options.batch_init_stride);
+  graph.setOptions(init);
+  FgoReport wrep;
+  runSlidingWindow(graph, imu, &wrep, true);
+  rep->reintegrations += wrep.reintegrations;
+  graph.setOptions(options);
+  graph.requireFinite(0, graph.nodes().size(), "solveBatchFgo (window initialization)");
+}
+
 }  // namespace
+
+ImuPassFn seriesPass(const ImuSeries& imu) {
+  return [&imu](const ImuBlockFn& block) { block(imu); };
+}
 
 NavSolution solveWindowFgo(const EstimationProblem& problem, const FgoOptions& options,
                            FgoReport* report, const FgoEpochFn& output) {
+  return solveWindowFgo(problem, seriesPass(problem.imu), options, report, output);
+}
+
+NavSolution solveWindowFgo(const EstimationProblem& problem, const ImuPassFn& imu,
+                           const FgoOptions& options, FgoReport* report, const FgoEpochFn& output) {
   FgoReport local;
   FgoReport& rep = report ? *report : local;
-  auto t0 = std::chrono::steady_clock::now();
-  FgoGraph graph(problem, options);
-  WindowResult wr = runSlidingWindow(graph, &rep);
-  rep.window_time_s = secondsSince(t0);
-  const std::vector<NodeValue>& values = options.window_fixed_lag_output ? wr.lagged : wr.causal;
-  for (size_t k = 0; k < values.size(); ++k) graph.blocks(k).set(values[k]);
-  graph.requireFinite(0, values.size(), "solveWindowFgo");
+  const auto t0 = std::chrono::steady_clock::now();
+  FgoGraph graph(problem, options, imu);
+  NavSolution sol = outputSolution(
+      graph, "fgo-window",
+      [&](const FgoEpochFn& out) {
+        WindowOutput listener(graph, options.window_fixed_lag_output, out);
+        runSlidingWindow(graph, imu, &rep, false, &listener);
+      },
+      output);
+  rep.window_time_s = secondsSince(t0);  // with the output, written as the window goes
   rep.nodes = static_cast<int>(graph.nodes().size());
   rep.gnss_factors = static_cast<int>(graph.fixes().size());
-  t0 = std::chrono::steady_clock::now();
-  NavSolution sol = integrate(graph, "fgo-window", {}, output);
-  rep.output_time_s = secondsSince(t0);
   sol.gnss_used = rep.gnss_factors - rep.gnss_culled;
   sol.gnss_rejected = rep.gnss_culled;
   rep.summary = fmt::format("fgo-window: {} nodes, {} GNSS ({} culled), {} re-preintegrations, "
@@ -93,129 +301,35 @@ NavSolution solveWindowFgo(const EstimationProblem& problem, const FgoOptions& o
 
 NavSolution solveBatchFgo(const EstimationProblem& problem, const FgoOptions& options,
                           FgoReport* report, const FgoEpochFn& output) {
+  return solveBatchFgo(problem, seriesPass(problem.imu), options, report, output);
+}
+
+NavSolution solveBatchFgo(const EstimationProblem& problem, const ImuPassFn& imu,
+                          const FgoOptions& options, FgoReport* report, const FgoEpochFn& output) {
   FgoReport local;
   FgoReport& rep = report ? *report : local;
   auto t0 = std::chrono::steady_clock::now();
-  FgoGraph graph(problem, options);
-  // Initial values: a fixed-lag sliding-window pass that solves every batch_init_stride nodes
-  // (counts of its culling are not kept: the batch re-decides every fix).
-  {
-    FgoOptions init = options;
-    init.window_solve_stride = options.batch_init_stride;
-    init.window_nodes = std::max(options.window_nodes, 2 * options.batch_init_stride);
-    graph.setOptions(init);
-    FgoReport wrep;
-    runSlidingWindow(graph, &wrep);
-    rep.reintegrations += wrep.reintegrations;
-    graph.setOptions(options);
-    graph.requireFinite(0, graph.nodes().size(), "solveBatchFgo (window initialization)");
-  }
+  FgoGraph graph(problem, options, imu);
+  initializeByWindow(graph, imu, options, &rep);
   rep.window_time_s = secondsSince(t0);
   t0 = std::chrono::steady_clock::now();
-
-  const size_t n = graph.nodes().size();
-  rep.nodes = static_cast<int>(n);
+  rep.nodes = static_cast<int>(graph.nodes().size());
   rep.gnss_factors = static_cast<int>(graph.fixes().size());
-  ceres::Problem::Options po;
-  po.enable_fast_removal = true;
-  po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem prob(po);
-  std::vector<PreintegrationFactor*> pfs(n > 0 ? n - 1 : 0);
-  std::vector<std::vector<std::pair<ceres::ResidualBlockId, size_t>>> gnss(n);
-  for (size_t k = 0; k < n; ++k) graph.addNodeBlocks(&prob, k);
-  prob.AddResidualBlock(graph.makeInitialPrior(), nullptr, graph.nodeBlocks(0));
-  for (size_t k = 0; k + 1 < n; ++k) {
-    if (graph.biasMovedFar(k)) {
-      graph.preintegrate(k);
-      ++rep.reintegrations;
-    }
-    pfs[k] = graph.makePreintegrationFactor(k);
-    prob.AddResidualBlock(pfs[k], nullptr, graph.preintegrationBlocks(k));
-    prob.AddResidualBlock(graph.makeBiasFactor(k), nullptr, graph.biasBlocks(k));
-  }
-  for (size_t k = 0; k < n; ++k) {
-    for (size_t fix : graph.nodes()[k].gnss) {
-      gnss[k].emplace_back(
-          prob.AddResidualBlock(graph.makeGnssFactor(fix), graph.gnssLoss(), graph.poseBlocks(k)),
-          fix);
-    }
-  }
-
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  so.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-  so.max_num_iterations = options.max_iterations;
-  so.initial_trust_region_radius = options.initial_trust_region_radius;  // see sliding_window.cpp
-  so.num_threads = options.num_threads;
-  so.logging_type = ceres::SILENT;
-  bool first = true;
-  auto solve = [&]() {
-    ceres::Solver::Summary summary;
-    ceres::Solve(so, &prob, &summary);
-    if (summary.termination_type == ceres::FAILURE) {
-      throw std::runtime_error("solveBatchFgo: Ceres failed: " + summary.message);
-    }
-    graph.requireFinite(0, n, "solveBatchFgo (solve " + std::to_string(rep.solves + 1) + ")");
-    if (first) rep.initial_cost = summary.initial_cost;
-    first = false;
-    rep.final_cost = summary.final_cost;
-    ++rep.solves;
-    rep.iterations += static_cast<int>(summary.iterations.size());
-  };
-  solve();
-  for (int round = 0; round < options.culling_rounds; ++round) {
-    // Candidates first: when more than max_cull_fraction of the fixes fail, the graph (not the
-    // fixes) is wrong, and culling would only hide it.
-    std::vector<std::pair<size_t, size_t>> bad;  // (node, position in gnss[node])
-    std::vector<double> bad_chi2;
-    for (size_t k = 0; k < n; ++k) {
-      for (size_t i = 0; i < gnss[k].size(); ++i) {
-        const double chi2 = graph.gnssChi2(gnss[k][i].second, k);
-        if (chi2 > options.chi2_threshold) {
-          bad.emplace_back(k, i);
-          bad_chi2.push_back(chi2);
-        }
-      }
-    }
-    if (bad.empty()) break;
-    if (bad.size() > options.max_cull_fraction * static_cast<double>(graph.fixes().size())) {
-      rep.cull_refused = static_cast<int>(bad.size());
-      break;
-    }
-    for (size_t b = bad.size(); b-- > 0;) {  // back to front keeps positions valid
-      auto& list = gnss[bad[b].first];
-      rep.culled_times_s.push_back(graph.fixes()[list[bad[b].second].second].fix.t_s);
-      rep.culled_chi2.push_back(bad_chi2[b]);
-      prob.RemoveResidualBlock(list[bad[b].second].first);
-      list.erase(list.begin() + static_cast<long>(bad[b].second));
-    }
-    rep.gnss_culled += static_cast<int>(bad.size());
-    solve();
-  }
-  for (int round = 0; round < options.max_reintegration_rounds; ++round) {
-    int redone = 0;
-    for (size_t k = 0; k + 1 < n; ++k) {
-      if (graph.biasMovedFar(k)) {
-        graph.preintegrate(k);
-        pfs[k]->refresh();
-        ++redone;
-      }
-    }
-    rep.reintegrations += redone;
-    if (redone == 0) break;
-    solve();
-  }
+  BatchSolver batch(graph, imu, options, &rep);
+  batch.solve();
+  batch.cullRounds();
+  batch.reintegrationRounds();
   rep.batch_time_s = secondsSince(t0);
 
   std::vector<PvaSigma> sig;
   if (options.compute_covariance) {
     t0 = std::chrono::steady_clock::now();
-    sig = nodeSigmas(graph, prob, options.num_threads);
+    sig = nodeSigmas(graph, batch.problem(), options.num_threads);
     rep.covariance_time_s = secondsSince(t0);
   }
   t0 = std::chrono::steady_clock::now();
-  NavSolution sol = integrate(graph, "fgo", sig, output);
+  NavSolution sol = outputSolution(
+      graph, "fgo", [&](const FgoEpochFn& out) { graph.outputPass(imu, sig, out); }, output);
   rep.output_time_s = secondsSince(t0);
   sol.gnss_used = rep.gnss_factors - rep.gnss_culled;
   sol.gnss_rejected = rep.gnss_culled;

@@ -98,8 +98,19 @@ void ImuPreintegration::reintegrate(const ImuSeries& imu, size_t begin, size_t e
                                 std::to_string(begin) + ", " + std::to_string(end) + ") of " +
                                 std::to_string(imu.size()));
   }
+  reintegrate(imu.data() + begin, end - begin, begin > 0 ? &imu[begin - 1] : nullptr, bg_rad_s,
+              ba_m_s2);
+}
+
+void ImuPreintegration::reintegrate(const ImuSample* samples, size_t count,
+                                    const ImuSample* before, const Eigen::Vector3d& bg_rad_s,
+                                    const Eigen::Vector3d& ba_m_s2) {
+  if (count == 0) {
+    throw std::invalid_argument("ImuPreintegration::reintegrate: no samples in the interval");
+  }
   resetTo(bg_rad_s, ba_m_s2);
-  for (size_t k = begin; k < end; ++k) integrate(k > 0 ? imu[k - 1] : imu[k], imu[k]);
+  integrate(before ? *before : samples[0], samples[0]);
+  for (size_t k = 1; k < count; ++k) integrate(samples[k - 1], samples[k]);
 }
 
 ImuPreintegration::Matrix9d ImuPreintegration::sqrtInformation() const {

@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <chrono>
+#include <deque>
 #include <map>
 #include <string>
 #include <stdexcept>
@@ -38,65 +39,61 @@ ceres::Solver::Options windowSolverOptions(const FgoOptions& o) {
 
 }  // namespace
 
-NodePriorFactor* marginalizeNode(FgoGraph& graph, ceres::Problem& problem, size_t m,
-                                 const std::vector<ceres::ResidualBlockId>& residuals) {
+namespace {
+
+using Matrix30d = Eigen::Matrix<double, 30, 30>;
+using Vector30d = Eigen::Matrix<double, 30, 1>;
+
+// Adds J^T J and J^T r of one residual block (robust loss applied as a scale, quaternion
+// Jacobians taken to the tangent) to H, g over the tangent of nodes m and m+1.
+void accumulateBlock(FgoGraph& graph, ceres::Problem& problem, size_t m,
+                     const std::map<const double*, int>& offset, ceres::ResidualBlockId id,
+                     Matrix30d* H, Vector30d* g) {
   constexpr int kN = 30;
-  // Tangent offset of every parameter block of nodes m and m+1.
-  std::map<const double*, int> offset;
-  for (int n = 0; n < 2; ++n) {
-    NodeBlocks& b = graph.blocks(m + n);
-    offset[b.p] = 15 * n + 0;
-    offset[b.q] = 15 * n + 3;
-    offset[b.v] = 15 * n + 6;
-    offset[b.bg] = 15 * n + 9;
-    offset[b.ba] = 15 * n + 12;
+  const ceres::CostFunction* cost = problem.GetCostFunctionForResidualBlock(id);
+  const ceres::LossFunction* loss = problem.GetLossFunctionForResidualBlock(id);
+  std::vector<double*> blocks;
+  problem.GetParameterBlocksForResidualBlock(id, &blocks);
+  const int nr = cost->num_residuals();
+  const std::vector<int32_t>& sizes = cost->parameter_block_sizes();
+  std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(blocks.size());
+  std::vector<double*> jac_ptrs(blocks.size());
+  for (size_t i = 0; i < blocks.size(); ++i) {
+    J[i].resize(nr, sizes[i]);
+    jac_ptrs[i] = J[i].data();
   }
-  Eigen::Matrix<double, kN, kN> H = Eigen::Matrix<double, kN, kN>::Zero();
-  Eigen::Matrix<double, kN, 1> g = Eigen::Matrix<double, kN, 1>::Zero();
-  for (ceres::ResidualBlockId id : residuals) {
-    const ceres::CostFunction* cost = problem.GetCostFunctionForResidualBlock(id);
-    const ceres::LossFunction* loss = problem.GetLossFunctionForResidualBlock(id);
-    std::vector<double*> blocks;
-    problem.GetParameterBlocksForResidualBlock(id, &blocks);
-    const int nr = cost->num_residuals();
-    const std::vector<int32_t>& sizes = cost->parameter_block_sizes();
-    std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(
-        blocks.size());
-    std::vector<double*> jac_ptrs(blocks.size());
-    for (size_t i = 0; i < blocks.size(); ++i) {
-      J[i].resize(nr, sizes[i]);
-      jac_ptrs[i] = J[i].data();
-    }
-    Eigen::VectorXd r(nr);
-    if (!cost->Evaluate(blocks.data(), r.data(), jac_ptrs.data())) {
-      throw std::runtime_error("marginalizeNode: a factor failed to evaluate at node " +
-                               std::to_string(m));
-    }
-    double scale = 1.0;
-    if (loss != nullptr) {
-      double rho[3];
-      loss->Evaluate(r.squaredNorm(), rho);
-      scale = std::sqrt(std::max(rho[1], 0.0));
-    }
-    r *= scale;
-    Eigen::MatrixXd Jt = Eigen::MatrixXd::Zero(nr, kN);
-    for (size_t i = 0; i < blocks.size(); ++i) {
-      auto it = offset.find(blocks[i]);
-      if (it == offset.end()) {
-        throw std::logic_error("marginalizeNode: factor touches a block outside nodes m, m+1");
-      }
-      if (sizes[i] == 4) {
-        Eigen::Matrix<double, 4, 3, Eigen::RowMajor> P;
-        graph.quaternionManifold()->PlusJacobian(blocks[i], P.data());
-        Jt.block(0, it->second, nr, 3) = scale * J[i] * P;
-      } else {
-        Jt.block(0, it->second, nr, 3) = scale * J[i];
-      }
-    }
-    H += Jt.transpose() * Jt;
-    g += Jt.transpose() * r;
+  Eigen::VectorXd r(nr);
+  if (!cost->Evaluate(blocks.data(), r.data(), jac_ptrs.data())) {
+    throw std::runtime_error("marginalizeNode: a factor failed to evaluate at node " + std::to_string(m));
   }
-  // Schur complement on the kept node (second half).
+  double scale = 1.0;
+  if (loss != nullptr) {
+    double rho[3];
+    loss->Evaluate(r.squaredNorm(), rho);
+    scale = std::sqrt(std::max(rho[1], 0.0));
+  }
+  r *= scale;
+  Eigen::MatrixXd Jt = Eigen::MatrixXd::Zero(nr, kN);
+  for (size_t i = 0; i < blocks.size(); ++i) {
+    auto it = offset.find(blocks[i]);
+    if (it == offset.end()) {
+      throw std::logic_error("marginalizeNode: factor touches a block outside nodes m, m+1");
+    }
+    if (sizes[i] == 4) {
+      Eigen::Matrix<double, 4, 3, Eigen::RowMajor> P;
+      graph.quaternionManifold()->PlusJacobian(blocks[i], P.data());
+      Jt.block(0, it->second, nr, 3) = scale * J[i] * P;
+    } else {
+      Jt.block(0, it->second, nr, 3) = scale * J[i];
+    }
+  }
+  *H += Jt.transpose() * Jt;
+  *g += Jt.transpose() * r;
+}
+
+// Schur complement of H, g on the second node, factored as S^T S = H', S^T e = g'.
+void schurOnSecondNode(const Matrix30d& H, const Vector30d& g, NodePriorFactor::Matrix15d* S,
+                       NodePriorFactor::Vector15d* e) {
   const Eigen::Matrix<double, 15, 15> Hmm = 0.5 * (H.topLeftCorner<15, 15>() +
                                                    H.topLeftCorner<15, 15>().transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 15, 15>> es_m(Hmm);
@@ -121,121 +118,233 @@ NodePriorFactor* marginalizeNode(FgoGraph& graph, ceres::Problem& problem, size_
     isq(i) = l > tol ? 1.0 / std::sqrt(l) : 0.0;
   }
   // H' = S^T S with S = sqrt(L) V^T; e = sqrt(L)^-1 V^T g' so that S^T e = g'.
-  const NodePriorFactor::Matrix15d S = sq.asDiagonal() * es.eigenvectors().transpose();
-  const NodePriorFactor::Vector15d e = isq.asDiagonal() * (es.eigenvectors().transpose() * gp);
+  *S = sq.asDiagonal() * es.eigenvectors().transpose();
+  *e = isq.asDiagonal() * (es.eigenvectors().transpose() * gp);
+}
+
+}  // namespace
+
+NodePriorFactor* marginalizeNode(FgoGraph& graph, ceres::Problem& problem, size_t m,
+                                 const std::vector<ceres::ResidualBlockId>& residuals) {
+  // Tangent offset of every parameter block of nodes m and m+1.
+  std::map<const double*, int> offset;
+  for (int n = 0; n < 2; ++n) {
+    NodeBlocks& b = graph.blocks(m + n);
+    offset[b.p] = 15 * n + 0;
+    offset[b.q] = 15 * n + 3;
+    offset[b.v] = 15 * n + 6;
+    offset[b.bg] = 15 * n + 9;
+    offset[b.ba] = 15 * n + 12;
+  }
+  Matrix30d H = Matrix30d::Zero();
+  Vector30d g = Vector30d::Zero();
+  for (ceres::ResidualBlockId id : residuals) accumulateBlock(graph, problem, m, offset, id, &H, &g);
+  NodePriorFactor::Matrix15d S;
+  NodePriorFactor::Vector15d e;
+  schurOnSecondNode(H, g, &S, &e);
   return new NodePriorFactor(graph.blocks(m + 1).value(), S, e);
 }
 
-WindowResult runSlidingWindow(FgoGraph& graph, FgoReport* report) {
-  const FgoOptions& opt = graph.options();
-  const size_t n = graph.nodes().size();
-  WindowResult out;
-  out.causal.resize(n);
-  out.lagged.resize(n);
-  std::vector<NodeResiduals> res(n);
+namespace {
 
+// The window over the graph's nodes: one node added at a time, the oldest marginalized.
+class SlidingWindow {
+ public:
+  SlidingWindow(FgoGraph& graph, bool keep_preintegrations, WindowListener* listener);
+  // Adds node k (k = 1, 2, ... in order); `samples` holds the window's intervals up to node k.
+  void addNode(size_t k, const ImuSampleBuffer& samples);
+  // Hands out the nodes still in the window (oldest first).
+  void finish(const ImuSampleBuffer& samples);
+  // First sample a later re-preintegration or listener call may need.
+  size_t firstNeededSample() const {
+    const size_t b = graph_.intervalBegin(oldest_);
+    return b > 0 ? b - 1 : 0;
+  }
+  void addCounts(FgoReport* report) const;
+
+ private:
+  NodeResiduals& residuals(size_t k) { return res_[k - oldest_]; }
+  void solve();
+  void addFactors(size_t k);
+  void cullNewest(size_t k, bool reacquiring, bool solved);
+  void marginalizeOldest(const ImuSampleBuffer& samples);
+
+  FgoGraph& graph_;
+  const FgoOptions opt_;
+  const bool keep_preintegrations_;
+  WindowListener* listener_;
+  WindowListener none_;
+  ceres::Problem problem_;
+  const ceres::Solver::Options so_;
+  std::deque<NodeResiduals> res_;  // nodes [oldest_, newest]
+  size_t oldest_ = 0, solving_node_ = 0;
+  double last_gnss_t_ = 0.0, reacquired_t_ = 0.0;
+  int consecutive_culls_ = 0;
+  int culled_ = 0, reint_ = 0, solves_ = 0, iterations_ = 0;
+};
+
+ceres::Problem::Options windowProblemOptions() {
   ceres::Problem::Options po;
   po.enable_fast_removal = true;
   po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(po);
-  const ceres::Solver::Options so = windowSolverOptions(opt);
-  int culled = 0, reint = 0, solves = 0, iterations = 0;
-  size_t solving_node = 0;  // newest node, named in errors
-  auto solve = [&]() {
-    ceres::Solver::Summary summary;
-    ceres::Solve(so, &problem, &summary);
-    if (summary.termination_type == ceres::FAILURE) {
-      throw std::runtime_error("runSlidingWindow: Ceres failed at node " + std::to_string(solving_node) +
-                               " (t=" + std::to_string(graph.nodes()[solving_node].t_s) +
-                               "): " + summary.message);
-    }
-    ++solves;
-    iterations += static_cast<int>(summary.iterations.size());
-  };
-
-  graph.addNodeBlocks(&problem, 0);
-  res[0].prior = problem.AddResidualBlock(graph.makeInitialPrior(), nullptr, graph.nodeBlocks(0));
-  out.causal[0] = graph.blocks(0).value();
-  size_t oldest = 0;
-  double last_gnss_t = graph.nodes()[0].t_s, reacquired_t = graph.nodes()[0].t_s;
-  int consecutive_culls = 0;
-  for (size_t k = 1; k < n; ++k) {
-    const double t_k = graph.nodes()[k].t_s;
-    solving_node = k;
-    if (!graph.nodes()[k].gnss.empty()) {
-      if (t_k - last_gnss_t > 2.0 * opt.max_node_spacing_s) reacquired_t = t_k;
-      last_gnss_t = t_k;
-    }
-    graph.preintegrate(k - 1);
-    graph.predictNode(k);
-    graph.addNodeBlocks(&problem, k);
-    PreintegrationFactor* pf = graph.makePreintegrationFactor(k - 1);
-    res[k - 1].preint_factor = pf;
-    res[k - 1].preint_out = problem.AddResidualBlock(pf, nullptr, graph.preintegrationBlocks(k - 1));
-    res[k - 1].bias_out =
-        problem.AddResidualBlock(graph.makeBiasFactor(k - 1), nullptr, graph.biasBlocks(k - 1));
-    // Right after a GNSS gap the fixes must pull a drifted estimate back by metres: no robust
-    // loss (it would weigh them down by the drift in sigmas) and no culling for cull_grace_s.
-    const bool reacquiring = t_k - reacquired_t <= opt.cull_grace_s;
-    for (size_t fix : graph.nodes()[k].gnss) {
-      res[k].gnss.emplace_back(
-          problem.AddResidualBlock(graph.makeGnssFactor(fix), reacquiring ? nullptr : graph.gnssLoss(),
-                                   graph.poseBlocks(k)),
-          fix);
-    }
-    const bool solve_now = (k % static_cast<size_t>(opt.window_solve_stride) == 0) || k + 1 == n;
-    if (solve_now) solve();
-    // Chi-square culling of the newest node's fixes, then re-solve.
-    const bool may_cull = !reacquiring && consecutive_culls < opt.max_consecutive_culls;
-    if (!res[k].gnss.empty() && !may_cull) consecutive_culls = 0;
-    if (solve_now && opt.culling_rounds > 0 && may_cull && !res[k].gnss.empty()) {
-      bool removed = false;
-      for (auto it = res[k].gnss.begin(); it != res[k].gnss.end();) {
-        if (graph.gnssChi2(it->second, k) > opt.chi2_threshold) {
-          problem.RemoveResidualBlock(it->first);
-          it = res[k].gnss.erase(it);
-          ++culled;
-          removed = true;
-        } else {
-          ++it;
-        }
-      }
-      consecutive_culls = removed ? consecutive_culls + 1 : 0;
-      if (removed) solve();
-    }
-    // Re-preintegrate window intervals whose bias moved far from their linearization point.
-    for (size_t j = oldest; solve_now && j < k; ++j) {
-      if (graph.biasMovedFar(j)) {
-        graph.preintegrate(j);
-        res[j].preint_factor->refresh();
-        ++reint;
-      }
-    }
-    out.causal[k] = graph.blocks(k).value();
-    graph.requireFinite(k, k + 1, "runSlidingWindow");
-
-    if (k - oldest + 1 > static_cast<size_t>(opt.window_nodes)) {
-      std::vector<ceres::ResidualBlockId> ids;
-      if (res[oldest].prior) ids.push_back(res[oldest].prior);
-      ids.push_back(res[oldest].preint_out);
-      ids.push_back(res[oldest].bias_out);
-      for (const auto& gq : res[oldest].gnss) ids.push_back(gq.first);
-      NodePriorFactor* prior = marginalizeNode(graph, problem, oldest, ids);
-      out.lagged[oldest] = graph.blocks(oldest).value();
-      for (double* b : graph.nodeBlocks(oldest)) problem.RemoveParameterBlock(b);
-      ++oldest;
-      res[oldest].prior = problem.AddResidualBlock(prior, nullptr, graph.nodeBlocks(oldest));
-    }
-  }
-  for (size_t k = oldest; k < n; ++k) out.lagged[k] = graph.blocks(k).value();
-  if (report) {
-    report->gnss_culled += culled;
-    report->reintegrations += reint;
-    report->solves += solves;
-    report->iterations += iterations;
-  }
-  return out;
+  return po;
 }
+
+SlidingWindow::SlidingWindow(FgoGraph& graph, bool keep_preintegrations, WindowListener* listener)
+    : graph_(graph),
+      opt_(graph.options()),
+      keep_preintegrations_(keep_preintegrations),
+      listener_(listener ? listener : &none_),
+      problem_(windowProblemOptions()),
+      so_(windowSolverOptions(graph.options())) {
+  graph_.addNodeBlocks(&problem_, 0);
+  res_.emplace_back();
+  res_.front().prior = problem_.AddResidualBlock(graph_.makeInitialPrior(), nullptr, graph_.nodeBlocks(0));
+  last_gnss_t_ = reacquired_t_ = graph_.nodes()[0].t_s;
+  listener_->entered(0, graph_.blocks(0).value(), ImuSampleBuffer());
+}
+
+void SlidingWindow::solve() {
+  ceres::Solver::Summary summary;
+  ceres::Solve(so_, &problem_, &summary);
+  if (summary.termination_type == ceres::FAILURE) {
+    throw std::runtime_error("runSlidingWindow: Ceres failed at node " + std::to_string(solving_node_) +
+                             " (t=" + std::to_string(graph_.nodes()[solving_node_].t_s) +
+                             "): " + summary.message);
+  }
+  ++solves_;
+  iterations_ += static_cast<int>(summary.iterations.size());
+}
+
+// Node k's blocks, the preintegration and bias factors from node k-1, and node k's fixes. Right
+// after a GNSS gap the fixes must pull a drifted estimate back by metres: no robust loss (it
+// would weigh them down by the drift in sigmas).
+void SlidingWindow::addFactors(size_t k) {
+  graph_.addNodeBlocks(&problem_, k);
+  PreintegrationFactor* pf = graph_.makePreintegrationFactor(k - 1);
+  NodeResiduals& prev = residuals(k - 1);
+  prev.preint_factor = pf;
+  prev.preint_out = problem_.AddResidualBlock(pf, nullptr, graph_.preintegrationBlocks(k - 1));
+  prev.bias_out = problem_.AddResidualBlock(graph_.makeBiasFactor(k - 1), nullptr, graph_.biasBlocks(k - 1));
+  res_.emplace_back();
+  const bool reacquiring = graph_.nodes()[k].t_s - reacquired_t_ <= opt_.cull_grace_s;
+  for (size_t fix : graph_.nodes()[k].gnss) {
+    res_.back().gnss.emplace_back(
+        problem_.AddResidualBlock(graph_.makeGnssFactor(fix), reacquiring ? nullptr : graph_.gnssLoss(),
+                                  graph_.poseBlocks(k)),
+        fix);
+  }
+}
+
+// Chi-square culling of the newest node's fixes after a solve, then a re-solve (none for
+// cull_grace_s after a GNSS gap, and not more than max_consecutive_culls in a row).
+void SlidingWindow::cullNewest(size_t k, bool reacquiring, bool solved) {
+  auto& gnss = residuals(k).gnss;
+  const bool may_cull = !reacquiring && consecutive_culls_ < opt_.max_consecutive_culls;
+  if (!gnss.empty() && !may_cull) consecutive_culls_ = 0;
+  if (!solved || opt_.culling_rounds <= 0 || !may_cull || gnss.empty()) return;
+  bool removed = false;
+  for (auto it = gnss.begin(); it != gnss.end();) {
+    if (graph_.gnssChi2(it->second, k) > opt_.chi2_threshold) {
+      problem_.RemoveResidualBlock(it->first);
+      it = gnss.erase(it);
+      ++culled_;
+      removed = true;
+    } else {
+      ++it;
+    }
+  }
+  consecutive_culls_ = removed ? consecutive_culls_ + 1 : 0;
+  if (removed) solve();
+}
+
+void SlidingWindow::addNode(size_t k, const ImuSampleBuffer& samples) {
+  const double t_k = graph_.nodes()[k].t_s;
+  solving_node_ = k;
+  if (!graph_.nodes()[k].gnss.empty()) {
+    if (t_k - last_gnss_t_ > 2.0 * opt_.max_node_spacing_s) reacquired_t_ = t_k;
+    last_gnss_t_ = t_k;
+  }
+  graph_.preintegrate(k - 1, samples);
+  graph_.predictNode(k);
+  addFactors(k);
+  const bool solve_now = (k % static_cast<size_t>(opt_.window_solve_stride) == 0) || k + 1 == graph_.nodes().size();
+  if (solve_now) solve();
+  cullNewest(k, t_k - reacquired_t_ <= opt_.cull_grace_s, solve_now);
+  if (solve_now) {
+    // Re-preintegrate window intervals whose bias moved far from their linearization point.
+    for (size_t j = oldest_; j < k; ++j) {
+      if (graph_.biasMovedFar(j)) {
+        graph_.preintegrate(j, samples);
+        residuals(j).preint_factor->refresh();
+        ++reint_;
+      }
+    }
+  }
+  graph_.requireFinite(k, k + 1, "runSlidingWindow");
+  listener_->entered(k, graph_.blocks(k).value(), samples);
+  if (k - oldest_ + 1 > static_cast<size_t>(opt_.window_nodes)) marginalizeOldest(samples);
+}
+
+void SlidingWindow::marginalizeOldest(const ImuSampleBuffer& samples) {
+  const NodeResiduals& r = res_.front();
+  std::vector<ceres::ResidualBlockId> ids;
+  if (r.prior) ids.push_back(r.prior);
+  ids.push_back(r.preint_out);
+  ids.push_back(r.bias_out);
+  for (const auto& gq : r.gnss) ids.push_back(gq.first);
+  NodePriorFactor* prior = marginalizeNode(graph_, problem_, oldest_, ids);
+  listener_->left(oldest_, graph_.blocks(oldest_).value(), samples);
+  // The factors first, in this fixed order: RemoveParameterBlock would remove them in the order
+  // of a hash set of their addresses, which moves with the heap layout, and that order is the
+  // order of the Jacobian's rows in later solves (their rounding).
+  for (ceres::ResidualBlockId id : ids) problem_.RemoveResidualBlock(id);
+  for (double* b : graph_.nodeBlocks(oldest_)) problem_.RemoveParameterBlock(b);
+  if (!keep_preintegrations_) graph_.releasePreintegration(oldest_);
+  res_.pop_front();
+  ++oldest_;
+  res_.front().prior = problem_.AddResidualBlock(prior, nullptr, graph_.nodeBlocks(oldest_));
+}
+
+void SlidingWindow::finish(const ImuSampleBuffer& samples) {
+  for (size_t k = oldest_; k < graph_.nodes().size(); ++k) {
+    listener_->left(k, graph_.blocks(k).value(), samples);
+  }
+  listener_->finished(samples);
+}
+
+void SlidingWindow::addCounts(FgoReport* report) const {
+  report->gnss_culled += culled_;
+  report->reintegrations += reint_;
+  report->solves += solves_;
+  report->iterations += iterations_;
+}
+
+}  // namespace
+
+void runSlidingWindow(FgoGraph& graph, const ImuPassFn& imu, FgoReport* report,
+                      bool keep_preintegrations, WindowListener* listener) {
+  SlidingWindow window(graph, keep_preintegrations, listener);
+  ImuSampleBuffer samples;
+  const size_t n = graph.nodes().size();
+  size_t next = 1;  // the next node to add
+  imu([&](const ImuSeries& block) {
+    for (const ImuSample& s : block) {
+      samples.push(s);
+      while (next < n && graph.intervalEnd(next - 1) <= samples.end()) {
+        window.addNode(next++, samples);
+      }
+      samples.dropBefore(window.firstNeededSample());
+    }
+  });
+  if (next < n) {
+    throw std::runtime_error("runSlidingWindow: the IMU pass ended before node " + std::to_string(next) +
+                             " (fewer samples than the layout's)");
+  }
+  window.finish(samples);
+  if (report) window.addCounts(report);
+}
+
 
 }  // namespace graftnav

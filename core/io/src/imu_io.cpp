@@ -227,36 +227,50 @@ double readLastImuTime(const std::string& path) {
 
 void writeImu(const std::string& path, const ImuSeries& imu) {
   if (imu.empty()) throw std::invalid_argument(path + ": writeImu: no samples");
-  const bool with_temperature = imu.front().hasTemperature();
-  for (std::size_t k = 0; k < imu.size(); ++k) {
-    const ImuSample& s = imu[k];
-    if (s.hasTemperature() != with_temperature)
-      throw std::invalid_argument(path + ": writeImu: sample " + std::to_string(k) +
-                                  " differs from sample 0 in having a temperature (all or none)");
-    if (!std::isfinite(s.t_s) || !s.dtheta_rad.allFinite() || !s.dvel_m_s.allFinite() ||
-        (with_temperature && !std::isfinite(s.temperature_degC)))
-      throw std::invalid_argument(path + ": writeImu: sample " + std::to_string(k) + " has a non-finite value");
-    if (k > 0 && !(s.t_s > imu[k - 1].t_s))
-      throw std::invalid_argument(path + ": writeImu: sample " + std::to_string(k) + " time " +
-                                  fmt::format("{:.9f}", s.t_s) + " is not after previous " +
-                                  fmt::format("{:.9f}", imu[k - 1].t_s));
+  ImuWriter writer(path);
+  for (const ImuSample& s : imu) writer.add(s);
+  writer.commit();
+}
+
+ImuWriter::ImuWriter(const std::string& path) : file_(std::make_unique<AtomicFile>(path)) {
+  buffer_.reserve((1u << 20) + 256);
+}
+
+ImuWriter::~ImuWriter() = default;
+
+void ImuWriter::add(const ImuSample& s) {
+  const std::string& path = file_->path();
+  const std::size_t k = count_;
+  if (k == 0) with_temperature_ = s.hasTemperature();
+  if (s.hasTemperature() != with_temperature_)
+    throw std::invalid_argument(path + ": writeImu: sample " + std::to_string(k) +
+                                " differs from sample 0 in having a temperature (all or none)");
+  if (!std::isfinite(s.t_s) || !s.dtheta_rad.allFinite() || !s.dvel_m_s.allFinite() ||
+      (with_temperature_ && !std::isfinite(s.temperature_degC)))
+    throw std::invalid_argument(path + ": writeImu: sample " + std::to_string(k) + " has a non-finite value");
+  if (k > 0 && !(s.t_s > prev_.t_s))
+    throw std::invalid_argument(path + ": writeImu: sample " + std::to_string(k) + " time " +
+                                fmt::format("{:.9f}", s.t_s) + " is not after previous " +
+                                fmt::format("{:.9f}", prev_.t_s));
+  const auto& a = s.dtheta_rad;
+  const auto& v = s.dvel_m_s;
+  fmt::format_to(std::back_inserter(buffer_), "{:.9f} {:.16e} {:.16e} {:.16e} {:.16e} {:.16e} {:.16e}", s.t_s,
+                 a.x(), a.y(), a.z(), v.x(), v.y(), v.z());
+  if (with_temperature_) fmt::format_to(std::back_inserter(buffer_), " {:.4f}", s.temperature_degC);
+  buffer_.push_back('\n');
+  prev_ = s;
+  ++count_;
+  if (buffer_.size() > (1u << 20)) {
+    file_->write(buffer_);
+    buffer_.clear();
   }
-  AtomicFile file(path);
-  fmt::memory_buffer buf;
-  for (const ImuSample& s : imu) {
-    const auto& a = s.dtheta_rad;
-    const auto& v = s.dvel_m_s;
-    fmt::format_to(std::back_inserter(buf), "{:.9f} {:.16e} {:.16e} {:.16e} {:.16e} {:.16e} {:.16e}", s.t_s, a.x(),
-                   a.y(), a.z(), v.x(), v.y(), v.z());
-    if (with_temperature) fmt::format_to(std::back_inserter(buf), " {:.4f}", s.temperature_degC);
-    buf.push_back('\n');
-    if (buf.size() > (1u << 20)) {
-      file.write(std::string_view(buf.data(), buf.size()));
-      buf.clear();
-    }
-  }
-  file.write(std::string_view(buf.data(), buf.size()));
-  file.commit();
+}
+
+void ImuWriter::commit() {
+  if (count_ == 0) throw std::invalid_argument(file_->path() + ": writeImu: no samples");
+  file_->write(buffer_);
+  buffer_.clear();
+  file_->commit();
 }
 
 }  // namespace graftnav

@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -70,6 +71,47 @@ ImuSeries withTemperature(const ImuSeries& in, const std::optional<SimTemperatur
   const double t0 = in.front().t_s - in.front().dt_s;
   for (auto& s : out) s.temperature_degC = temp->at(s.t_s - 0.5 * s.dt_s - t0);
   return out;
+}
+
+// True when the field IMUs can be simulated sample by sample and written as they go: no error
+// term needs neighbouring samples (lever arm, misalignment, time offset go through
+// applyGeometry on a whole series) and the lab does not reuse the field noise stream.
+bool fieldImuStreams(const SimConfig& c, const ImuErrorModel& ref, const ImuErrorModel& tested) {
+  return !ref.hasGeometry() && !tested.hasGeometry() && !c.lab_common_random_numbers;
+}
+
+// The reference and tested field IMUs one sample at a time, each written as it comes: the
+// samples, noise streams and bytes of simulateIdealImu + applyErrors + writeImu, with memory
+// that does not grow with the recording (an 8 h, 200 Hz case holds no series). Returns the
+// sample count.
+std::size_t streamFieldImu(const SimConfig& c, const FieldTrajectory& f, const IdealImuOptions& io,
+                           const ImuErrorModel& ref_model, const ImuErrorModel& tested_model,
+                           const CasePaths& paths, const std::function<void(const std::string&)>& say) {
+  io.validate();
+  if (!(f.t_end > f.t_begin)) {
+    throw std::invalid_argument("simulateIdealImu: empty time span [" + std::to_string(f.t_begin) + ", " +
+                                std::to_string(f.t_end) + "]");
+  }
+  const GaussLegendreRule rule = gaussLegendreRule(io.quadrature_nodes);
+  const long n = static_cast<long>(std::floor((f.t_end - f.t_begin) * io.rate_hz + 1e-6));
+  ImuWriter ref_out(paths.refImu()), tested_out(paths.testedImu());
+  ImuErrorGenerator ref_gen(ref_model, deriveStreamSeed(c.seed, 1));
+  ImuErrorGenerator tested_gen(tested_model, deriveStreamSeed(c.seed, 2));
+  const long step = std::max(1L, n / 10);
+  double t_prev = f.t_begin, temperature_t0 = 0.0;
+  for (long k = 1; k <= n; ++k) {
+    const double t = f.t_begin + static_cast<double>(k) / io.rate_hz;
+    ImuSample s = idealImuSample(*f.trj, t_prev, t, rule, io.lever_arm_b_m);
+    t_prev = t;
+    ref_out.add(ref_gen.apply(s));
+    if (k == 1) temperature_t0 = s.t_s - s.dt_s;  // as withTemperature
+    if (c.temperature) s.temperature_degC = c.temperature->at(s.t_s - 0.5 * s.dt_s - temperature_t0);
+    tested_out.add(tested_gen.apply(s));
+    if (k % step == 0) say("field IMUs (streamed) " + std::to_string(100 * k / n) + "%");
+  }
+  ref_out.commit();
+  tested_out.commit();
+  return static_cast<std::size_t>(n);
 }
 
 void describeModel(YAML::Emitter& out, const ImuErrorModel& m) {
@@ -196,15 +238,25 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
   IdealImuOptions io;
   io.rate_hz = config.imu_rate_hz;
   io.quadrature_nodes = config.quadrature_nodes;
-  int last_pct = -10;
-  const ImuSeries ideal = simulateIdealImu(*f.trj, f.t_begin, f.t_end, io, [&](double x) {
-    const int pct = static_cast<int>(x * 100.0);
-    if (pct >= last_pct + 10) {
-      last_pct = pct;
-      say("field ideal IMU " + std::to_string(pct) + "%");
-    }
-  });
-  sum.imu_samples = ideal.size();
+  const ImuErrorModel ref_model =
+      buildSimErrorModel(config.reference_imu, deriveStreamSeed(seed, 4), config.ideal);
+  const ImuErrorModel tested_model =
+      buildSimErrorModel(config.tested_imu, deriveStreamSeed(seed, 3), config.ideal);
+  const bool stream = fieldImuStreams(config, ref_model, tested_model);
+  ImuSeries ideal;  // held only when the field IMUs are not streamed
+  if (stream) {
+    sum.imu_samples = streamFieldImu(config, f, io, ref_model, tested_model, paths, say);
+  } else {
+    int last_pct = -10;
+    ideal = simulateIdealImu(*f.trj, f.t_begin, f.t_end, io, [&](double x) {
+      const int pct = static_cast<int>(x * 100.0);
+      if (pct >= last_pct + 10) {
+        last_pct = pct;
+        say("field ideal IMU " + std::to_string(pct) + "%");
+      }
+    });
+    sum.imu_samples = ideal.size();
+  }
 
   say("truth");
   const NavSeries truth =
@@ -215,10 +267,6 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
     sum.path_length_m += earth::nedFromGeodetic(truth[k - 1].pos, truth[k].pos).norm();
   }
 
-  const ImuErrorModel ref_model =
-      buildSimErrorModel(config.reference_imu, deriveStreamSeed(seed, 4), config.ideal);
-  const ImuErrorModel tested_model =
-      buildSimErrorModel(config.tested_imu, deriveStreamSeed(seed, 3), config.ideal);
   // The tested IMU's own motion is integrated from the trajectory, exactly: with late tags (tau)
   // over the shifted intervals, and at its lever arm from the reference IMU with the
   // instantaneous rates at the sample ends. The error model's versions work on the increment
@@ -228,7 +276,7 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
   // random cases). The rest of the model (misalignment, sensor errors) applies unchanged.
   ImuSeries tested_ideal;
   ImuErrorModel tested_field_model = tested_model;
-  if (tested_model.time_offset.isActive() || tested_model.lever_arm.isActive()) {
+  if (!stream && (tested_model.time_offset.isActive() || tested_model.lever_arm.isActive())) {
     const double tau = tested_model.time_offset.tau_s;
     IdealImuOptions tested_io = io;
     tested_io.lever_arm_b_m = tested_model.lever_arm.r_m;
@@ -239,13 +287,17 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
     tested_field_model.lever_arm = LeverArm{};
   }
 
-  say("reference IMU");
-  writeImu(paths.refImu(), applyErrors(ideal, ref_model, deriveStreamSeed(seed, 1)));
-  say("tested IMU");
+  if (!stream) {
+    say("reference IMU");
+    writeImu(paths.refImu(), applyErrors(ideal, ref_model, deriveStreamSeed(seed, 1)));
+    say("tested IMU");
+    writeImu(paths.testedImu(),
+             applyErrors(withTemperature(tested_ideal.empty() ? ideal : tested_ideal, config.temperature),
+                         tested_field_model, deriveStreamSeed(seed, 2)));
+    tested_ideal = {};
+    ideal = {};
+  }
   const uint64_t tested_noise_seed = deriveStreamSeed(seed, 2);
-  writeImu(paths.testedImu(),
-           applyErrors(withTemperature(tested_ideal.empty() ? ideal : tested_ideal, config.temperature),
-                       tested_field_model, tested_noise_seed));
 
   say("GNSS");
   GnssSimOptions gopt = config.gnss;
@@ -256,7 +308,7 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
   sum.gnss_fixes = gnss.size();
 
   say("lab sessions");
-  sum.lab_files = writeLabRecords(config, case_dir, tested_model, ideal.size(), tested_noise_seed, say);
+  sum.lab_files = writeLabRecords(config, case_dir, tested_model, sum.imu_samples, tested_noise_seed, say);
   say("case.yaml");
   writeSimulatedCaseYaml(config, truth.front(), paths);
   writeSimulationYaml(config, case_dir, f.t_begin, f.t_end, ref_model, tested_model);

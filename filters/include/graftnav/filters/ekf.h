@@ -149,10 +149,7 @@ class EkfPass {
   std::size_t processed_ = 0;
 };
 
-// One pass over an IMU that is not held in memory: calls `block` with consecutive blocks of
-// samples in time order until the recording ends. A smoother calls it twice.
-using ImuBlockFn = std::function<void(const ImuSeries& block)>;
-using ImuPassFn = std::function<void(const ImuBlockFn& block)>;
+// ImuBlockFn, ImuPassFn: graftnav/estimation/nav_solution.h.
 
 // The forward EKF with the samples from `imu` (problem.imu is not read) and the output epochs
 // given to `sink`: memory does not depend on the recording's length. Returns the GNSS

@@ -1,12 +1,9 @@
 #pragma once
-// The graph shared by the batch and sliding-window solvers: node times, GNSS assignment,
+// The graph shared by the batch and sliding-window solvers: node layout (graph/node_layout.h),
 // preintegrations, node values, and the factory for each factor. Solvers decide which factors
-// live in their ceres::Problem; this class owns the data those factors point to.
-//
-// Nodes sit on IMU sample ends: at every GNSS epoch used (the nearest sample), and every
-// max_node_spacing_s where GNSS is absent (outages, gaps, after the last fix). Node 0 is the
-// problem's initial state. The interval from node k to node k+1 holds the IMU samples
-// [node[k].sample_end, node[k+1].sample_end).
+// live in their ceres::Problem; this class owns the data those factors point to. It does not
+// hold the IMU: each interval is preintegrated from the samples a pass has buffered
+// (ImuSampleBuffer), or from the problem's series when built from one in memory.
 
 #include <ceres/loss_function.h>
 #include <ceres/problem.h>
@@ -20,18 +17,15 @@
 #include "graftnav/graph/fgo_options.h"
 #include "graftnav/graph/gnss_position_factor.h"
 #include "graftnav/graph/imu_preintegration.h"
+#include "graftnav/graph/imu_sample_buffer.h"
 #include "graftnav/graph/local_frame.h"
+#include "graftnav/graph/node_layout.h"
 #include "graftnav/graph/node_prior_factor.h"
+#include "graftnav/graph/output_integrator.h"
 #include "graftnav/graph/preintegration_factor.h"
 #include "graftnav/graph/right_quaternion_manifold.h"
 
 namespace graftnav {
-
-// One output epoch of a factor-graph solution: state, PVA 1-sigma (null when not computed), and
-// the gyro and accelerometer bias estimates.
-using FgoEpochFn = std::function<void(const NavState& state, const PvaSigma* sigma,
-                                      const Eigen::Vector3d& gyro_bias_rad_s,
-                                      const Eigen::Vector3d& accel_bias_m_s2)>;
 
 // Parameter blocks of one node, laid out as Ceres wants them (q in Eigen order x, y, z, w).
 struct NodeBlocks {
@@ -44,32 +38,37 @@ struct NodeBlocks {
   void set(const NodeValue& x);
 };
 
-struct GraphNode {
-  double t_s = 0.0;
-  size_t sample_end = 0;        // index of the first IMU sample after the node
-  std::vector<size_t> gnss;     // indices into FgoGraph::fixes()
-};
-
-struct GnssObservation {
-  GnssFix fix;
-  Eigen::Vector3d z_w;           // fix in the local frame
-  Eigen::Matrix3d sqrt_info_w;   // whitening of the fix in w
-  double dt_s = 0.0;             // t_fix - t_node
-};
-
 class FgoGraph {
  public:
+  // The problem's samples in memory (problem.imu, which must outlive the graph).
   FgoGraph(const EstimationProblem& problem, const FgoOptions& options);
+  // The samples from `imu` (one pass for the layout; problem.imu is not read).
+  FgoGraph(const EstimationProblem& problem, const FgoOptions& options, const ImuPassFn& imu);
 
   const LocalFrame& frame() const { return frame_; }
-  const std::vector<GraphNode>& nodes() const { return nodes_; }
-  const std::vector<GnssObservation>& fixes() const { return fixes_; }
-  int gnssWithheld() const { return gnss_withheld_; }
+  const std::vector<GraphNode>& nodes() const { return layout_.nodes; }
+  const std::vector<GnssObservation>& fixes() const { return layout_.fixes; }
+  int gnssWithheld() const { return layout_.gnss_withheld; }
+  size_t firstSample() const { return layout_.first_sample; }
+  size_t sampleCount() const { return layout_.sample_count; }
+  // First sample of interval k (node k to k+1), one past its last, and the sample before it
+  // (coning memory; the first sample itself when it is the recording's first).
+  size_t intervalBegin(size_t k) const { return layout_.nodes[k].sample_end; }
+  size_t intervalEnd(size_t k) const {
+    return k + 1 < layout_.nodes.size() ? layout_.nodes[k + 1].sample_end : layout_.sample_count;
+  }
   NodeBlocks& blocks(size_t k) { return blocks_[k]; }
   const NodeBlocks& blocks(size_t k) const { return blocks_[k]; }
 
-  // (Re)creates the preintegration from node k to k+1 about node k's current bias.
+  // (Re)creates the preintegration from node k to k+1 about node k's current bias, from the
+  // problem's series (first constructor) or from `samples` (which must hold the interval and
+  // the sample before it).
   ImuPreintegration& preintegrate(size_t k);
+  ImuPreintegration& preintegrate(size_t k, const ImuSampleBuffer& samples);
+  // Re-preintegrates the given intervals (ascending) in one pass over `imu`.
+  void preintegrateFromPass(const ImuPassFn& imu, const std::vector<size_t>& intervals);
+  // Frees preintegration k (a window no longer using it).
+  void releasePreintegration(size_t k) { pre_[k].reset(); }
   bool hasPreintegration(size_t k) const { return k < pre_.size() && pre_[k] != nullptr; }
   ImuPreintegration& preintegration(size_t k) { return *pre_[k]; }
   // True when node k's bias estimate is far (options) from preintegration k's linearization.
@@ -103,13 +102,12 @@ class FgoGraph {
   // Sets node 0 from the initial state.
   void initializeFirstNode();
 
-  // IMU-rate output by strapdown from each node's values with its biases over its interval.
-  // `sigma_nodes`, when not empty, holds each node's PvaSigma, copied to the epochs it starts.
-  NavSolution integrateOutput(const std::string& estimator,
-                              const std::vector<PvaSigma>& sigma_nodes) const;
-  // The same epochs given one at a time to `output` (nothing held): sigma is null when
-  // sigma_nodes is empty.
-  void integrateOutput(const std::vector<PvaSigma>& sigma_nodes, const FgoEpochFn& output) const;
+  // IMU-rate output by strapdown from each node's current values with its biases over its
+  // interval (graph/output_integrator.h), one pass over `imu`, the epochs given one at a time
+  // to `output`. `sigma_nodes`, when not empty, holds each node's PvaSigma, copied to the epochs
+  // it starts (else sigma is null).
+  void outputPass(const ImuPassFn& imu, const std::vector<PvaSigma>& sigma_nodes,
+                  const FgoEpochFn& output) const;
 
   const EstimationProblem& problem() const { return problem_; }
   const FgoOptions& options() const { return options_; }
@@ -117,22 +115,20 @@ class FgoGraph {
   void setOptions(const FgoOptions& options) { options_ = options; }
 
  private:
-  void buildNodes();
+  void setUp(const ImuPassFn& imu);
 
   const EstimationProblem& problem_;
   FgoOptions options_;
   LocalFrame frame_;
   PreintegrationNoise noise_;
   BiasProcess gyro_process_, accel_process_;
-  std::vector<GraphNode> nodes_;
-  std::vector<GnssObservation> fixes_;
+  NodeLayout layout_;
+  const ImuSeries* memory_imu_ = nullptr;  // the first constructor's samples
   std::vector<NodeBlocks> blocks_;
   std::vector<std::unique_ptr<ImuPreintegration>> pre_;
   std::vector<Eigen::Vector3d> gravity_point_;  // where each factor's gravity is linearized
   std::unique_ptr<ceres::LossFunction> loss_;
   mutable RightQuaternionManifold manifold_;
-  int gnss_withheld_ = 0;
-  size_t first_sample_ = 0;
 };
 
 }  // namespace graftnav

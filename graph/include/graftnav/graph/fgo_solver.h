@@ -25,10 +25,11 @@ struct FgoReport {
   int iterations = 0;           // total solver iterations
   double initial_cost = 0.0;    // batch: first solve's initial cost
   double final_cost = 0.0;      // batch: last solve's final cost
-  double window_time_s = 0.0;   // sliding window pass (the batch's initializer)
+  double window_time_s = 0.0;   // sliding window pass (the batch's initializer; fgo-window: with
+                                // its output, written as the window goes)
   double batch_time_s = 0.0;    // batch solves (not counting the window pass)
   double covariance_time_s = 0.0;
-  double output_time_s = 0.0;   // IMU-rate integration of the output
+  double output_time_s = 0.0;   // batch: IMU-rate integration of the output
   std::string summary;          // one-line text summary
 };
 
@@ -39,11 +40,25 @@ struct FgoReport {
 // solution (which then holds only the GNSS bookkeeping).
 NavSolution solveBatchFgo(const EstimationProblem& problem, const FgoOptions& options,
                           FgoReport* report = nullptr, const FgoEpochFn& output = {});
+// The same with the samples from passes over `imu` (problem.imu is not read): the graph holds
+// one preintegration per node, not the samples. Passes: the node layout, the window
+// initialization, one per re-preintegration round that has work, and the output.
+NavSolution solveBatchFgo(const EstimationProblem& problem, const ImuPassFn& imu,
+                          const FgoOptions& options, FgoReport* report = nullptr,
+                          const FgoEpochFn& output = {});
 
 // Sliding window of options.window_nodes nodes; the oldest node is marginalized into a
 // Schur-complement prior on the next. Output is causal (each node as estimated when it entered
 // the window) unless options.window_fixed_lag_output.
 NavSolution solveWindowFgo(const EstimationProblem& problem, const FgoOptions& options,
                            FgoReport* report = nullptr, const FgoEpochFn& output = {});
+// The same with the samples from passes over `imu` (problem.imu is not read): two passes (the
+// node layout, then the window writing its output as it goes), holding the window's samples.
+NavSolution solveWindowFgo(const EstimationProblem& problem, const ImuPassFn& imu,
+                           const FgoOptions& options, FgoReport* report = nullptr,
+                           const FgoEpochFn& output = {});
+
+// One pass over a series held in memory (the whole series as one block); `imu` must outlive it.
+ImuPassFn seriesPass(const ImuSeries& imu);
 
 }  // namespace graftnav

@@ -45,6 +45,10 @@ class ImuPreintegration {
   // imu[begin-1] as the coning/sculling memory.
   void reintegrate(const ImuSeries& imu, size_t begin, size_t end, const Eigen::Vector3d& bg_rad_s,
                    const Eigen::Vector3d& ba_m_s2);
+  // The same over `count` consecutive samples at `samples`; `before` is the sample before the
+  // first (coning/sculling memory), null when there is none.
+  void reintegrate(const ImuSample* samples, size_t count, const ImuSample* before,
+                   const Eigen::Vector3d& bg_rad_s, const Eigen::Vector3d& ba_m_s2);
 
   double dt_s() const { return dt_s_; }
   const Eigen::Matrix3d& deltaR() const { return dR_; }

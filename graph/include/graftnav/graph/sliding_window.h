@@ -3,22 +3,38 @@
 // options.window_nodes nodes, and marginalizes the oldest into a linear prior on the next
 // (Schur complement of the Gauss-Newton system of the factors touching it; docs/fgo.md, 4).
 // Used as the "fgo-window" estimator and as the initializer of the batch smoother.
+//
+// The samples come from one pass over the IMU; the pass holds those of the window's intervals
+// only (ImuSampleBuffer), so memory does not grow with the recording but by the graph's node list.
 
+#include <deque>
 #include <vector>
 
 #include "graftnav/graph/fgo_graph.h"
 #include "graftnav/graph/fgo_solver.h"
+#include "graftnav/graph/imu_sample_buffer.h"
 
 namespace graftnav {
 
-struct WindowResult {
-  std::vector<NodeValue> causal;  // each node when it entered the window (after that solve)
-  std::vector<NodeValue> lagged;  // each node when it left the window (or at the end)
+// What a window pass hands out. `samples` holds at least the intervals of the nodes in the
+// window (and, in entered(k), samples up to node k's).
+class WindowListener {
+ public:
+  virtual ~WindowListener() = default;
+  // Node k as estimated when it entered the window (after that solve); node 0 at the start.
+  virtual void entered(size_t /*k*/, const NodeValue& /*x*/, const ImuSampleBuffer& /*samples*/) {}
+  // Node k when it left the window (marginalized), or at the end of the pass.
+  virtual void left(size_t /*k*/, const NodeValue& /*x*/, const ImuSampleBuffer& /*samples*/) {}
+  // After the last node's left().
+  virtual void finished(const ImuSampleBuffer& /*samples*/) {}
 };
 
-// Runs the window over all nodes of `graph`. Afterwards graph.blocks(k) hold the lagged values,
-// and every preintegration exists. Counts go to `report` when given.
-WindowResult runSlidingWindow(FgoGraph& graph, FgoReport* report);
+// Runs the window over all nodes of `graph` with the samples of one pass over `imu`. Afterwards
+// graph.blocks(k) hold the lagged values. keep_preintegrations: every interval's
+// preintegration stays in the graph (the batch re-uses them); otherwise each is freed when its
+// interval leaves the window. Counts go to `report` when given.
+void runSlidingWindow(FgoGraph& graph, const ImuPassFn& imu, FgoReport* report,
+                      bool keep_preintegrations, WindowListener* listener = nullptr);
 
 // Linear prior on node m+1 from marginalizing node m out of the given residual blocks
 // (exposed for tests): H, b of the factors over [node m, node m+1] tangent (30 dims), Schur

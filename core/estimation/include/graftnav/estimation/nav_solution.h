@@ -3,6 +3,7 @@
 // Estimators live in filters/ and graph/; the app picks one by name and passes these structs.
 
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -38,5 +39,11 @@ struct EstimationProblem {
   ImuProfile imu_profile;                // noise and bias model of the IMU being navigated
   PvaSigma initial_sigma = PvaSigma::Constant(-1.0);  // < 0: estimator default
 };
+
+// One pass over an IMU that need not be held in memory: calls `block` with consecutive blocks of
+// samples in time order until the recording ends. Smoothers and factor graphs call it more than
+// once.
+using ImuBlockFn = std::function<void(const ImuSeries& block)>;
+using ImuPassFn = std::function<void(const ImuBlockFn& block)>;
 
 }  // namespace graftnav

@@ -7,6 +7,7 @@
 // recordings, ImuReadPolicy::real() turns the conditions into counted warnings or repairs that are
 // listed in a ReadReport (see docs/io.md).
 
+#include <memory>
 #include <string>
 
 #include "graftnav/io/text_table.h"
@@ -92,5 +93,28 @@ double readLastImuTime(const std::string& path);
 // std::invalid_argument). Throws std::invalid_argument on non-finite values or times not strictly
 // increasing (naming the sample index), std::runtime_error on I/O failure.
 void writeImu(const std::string& path, const ImuSeries& imu);
+
+class AtomicFile;
+// writeImu one sample at a time, for a recording that is not held in memory (the streamed
+// simulator): the same checks (named by the sample's index) and byte-identical text. The file
+// appears at the destination only on commit(); if an exception leaves it uncommitted, the
+// destination keeps its previous content.
+class ImuWriter {
+ public:
+  explicit ImuWriter(const std::string& path);  // throws std::runtime_error like AtomicFile
+  ~ImuWriter();
+  ImuWriter(const ImuWriter&) = delete;
+  ImuWriter& operator=(const ImuWriter&) = delete;
+  void add(const ImuSample& s);
+  void commit();  // throws std::invalid_argument when no sample was added
+  std::size_t count() const { return count_; }
+
+ private:
+  std::unique_ptr<AtomicFile> file_;
+  std::string buffer_;
+  ImuSample prev_;
+  bool with_temperature_ = false;
+  std::size_t count_ = 0;
+};
 
 }  // namespace graftnav

@@ -1,0 +1,195 @@
+#include "graftnav/graph/node_layout.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace graftnav {
+namespace {
+
+constexpr size_t kNone = std::numeric_limits<size_t>::max();
+
+struct SampleTime {
+  size_t index = 0;
+  double t_s = 0.0;
+  double dt_s = 0.0;
+};
+
+// Streams the samples once. A GNSS fix is placed on the sample whose end is nearest its time
+// (searched from the first sample after the initial state), as soon as the first sample at or
+// after the fix arrives; fixes are taken in time order. A node's sample (an "anchor") is final
+// when a later fix lands on a later sample; then the nodes filling the gap before it every
+// max_node_spacing_s are placed on the sample times held since the previous node.
+class LayoutBuilder {
+ public:
+  LayoutBuilder(const EstimationProblem& problem, const LocalFrame& frame, const FgoOptions& options)
+      : problem_(problem), frame_(frame), options_(options), t0_(problem.initial.t_s) {
+    for (size_t i = 0; i < problem.gnss.size(); ++i) {
+      const GnssFix& f = problem.gnss[i];
+      bool withheld = false;
+      for (const TimeWindow& w : problem.outages) withheld = withheld || w.contains(f.t_s);
+      if (withheld) {
+        ++layout_.gnss_withheld;
+      } else if (f.t_s > t0_ + 1e-6) {
+        by_time_.push_back(i);
+      }
+    }
+    std::stable_sort(by_time_.begin(), by_time_.end(),
+                     [&](size_t a, size_t b) { return problem.gnss[a].t_s < problem.gnss[b].t_s; });
+  }
+
+  void add(const ImuSample& s) {
+    const size_t i = count_++;
+    const SampleTime cur{i, s.t_s, s.dt_s};
+    if (layout_.first_sample == kNone) {
+      if (!(s.t_s > t0_ + 1e-6)) return;
+      layout_.first_sample = i;
+      GraphNode n0;
+      n0.t_s = t0_;
+      n0.sample_end = i;
+      layout_.nodes.push_back(n0);
+    }
+    times_.push_back(cur);
+    while (next_fix_ < by_time_.size() && problem_.gnss[by_time_[next_fix_]].t_s <= s.t_s) {
+      placeFix(by_time_[next_fix_++], times_.size() - 1);
+    }
+  }
+
+  NodeLayout finish() {
+    if (count_ < 2) throw std::invalid_argument("FgoGraph: fewer than 2 IMU samples");
+    if (layout_.first_sample == kNone) {
+      throw std::invalid_argument("FgoGraph: initial state at t=" + std::to_string(t0_) +
+                                  " is after the last IMU sample");
+    }
+    const SampleTime last = times_.back();
+    for (; next_fix_ < by_time_.size(); ++next_fix_) {  // fixes after the last sample's end
+      if (problem_.gnss[by_time_[next_fix_]].t_s <= last.t_s + 0.5 * last.dt_s) {
+        placeFix(by_time_[next_fix_], times_.size() - 1);
+      }
+    }
+    if (open_anchor_ != kNone) closeAnchor();
+    if (layout_.nodes.back().sample_end != count_) {
+      open_anchor_ = times_.size() - 1;
+      closeAnchor();
+    }
+    numberFixes();
+    layout_.sample_count = count_;
+    return std::move(layout_);
+  }
+
+ private:
+  // Fix `fix` (problem index) on the sample times_[pos] or the one before it, whichever ends
+  // nearer; dropped when that sample does not cover it (an IMU gap at the fix).
+  void placeFix(size_t fix, size_t pos) {
+    const double t = problem_.gnss[fix].t_s;
+    if (times_[pos].index > layout_.first_sample &&
+        std::abs(times_[pos - 1].t_s - t) < std::abs(times_[pos].t_s - t)) {
+      --pos;
+    }
+    if (std::abs(times_[pos].t_s - t) > times_[pos].dt_s) return;
+    if (open_anchor_ != kNone && times_[pos].index != times_[open_anchor_].index) {
+      const size_t index = times_[pos].index;
+      closeAnchor();
+      pos = positionOf(index);
+    }
+    open_anchor_ = pos;
+    anchor_fixes_.push_back(fix);
+    placed_.emplace_back(fix, t - times_[pos].t_s);
+  }
+
+  size_t positionOf(size_t index) const { return index - times_.front().index; }
+
+  // Nodes every max_node_spacing_s between the last node and the open anchor, then the anchor
+  // with its fixes; keeps the sample times from the sample before the anchor on.
+  void closeAnchor() {
+    std::vector<GraphNode>& nodes = layout_.nodes;
+    const SampleTime a = times_[open_anchor_];
+    const double t_prev = nodes.back().t_s;
+    const int n_sub = static_cast<int>(std::ceil((a.t_s - t_prev) / options_.max_node_spacing_s - 0.25));
+    for (int m = 1; m < n_sub; ++m) {
+      const SampleTime s = nearest(t_prev + (a.t_s - t_prev) * m / n_sub);
+      if (s.index + 1 > nodes.back().sample_end && s.index < a.index) {
+        GraphNode n;
+        n.t_s = s.t_s;
+        n.sample_end = s.index + 1;
+        nodes.push_back(n);
+      }
+    }
+    if (a.index + 1 > nodes.back().sample_end) {
+      GraphNode n;
+      n.t_s = a.t_s;
+      n.sample_end = a.index + 1;
+      n.gnss = anchor_fixes_;  // problem indices until numberFixes()
+      nodes.push_back(n);
+    }
+    anchor_fixes_.clear();
+    const size_t keep = open_anchor_ > 0 ? open_anchor_ - 1 : 0;
+    times_.erase(times_.begin(), times_.begin() + static_cast<std::ptrdiff_t>(keep));
+    open_anchor_ = kNone;
+  }
+
+  // The held sample whose end is nearest t (the first at or after t, or the one before it).
+  SampleTime nearest(double t) const {
+    auto it = std::lower_bound(times_.begin(), times_.end(), t,
+                               [](const SampleTime& s, double tt) { return s.t_s < tt; });
+    if (it == times_.end()) --it;
+    if (it->index > layout_.first_sample) {
+      if (it == times_.begin()) throw std::logic_error("LayoutBuilder: sample before the held times");
+      if (std::abs((it - 1)->t_s - t) < std::abs(it->t_s - t)) --it;
+    }
+    return *it;
+  }
+
+  // GNSS observations in the problem's order; node lists renumbered to them.
+  void numberFixes() {
+    std::sort(placed_.begin(), placed_.end());
+    std::vector<size_t> number(problem_.gnss.size(), kNone);
+    for (const auto& p : placed_) {
+      const GnssFix& f = problem_.gnss[p.first];
+      GnssObservation obs;
+      obs.fix = f;
+      obs.z_w = frame_.toLocal(f.pos);
+      const Eigen::Vector3d std_ned = f.std_ned_m.cwiseMax(options_.gnss_min_std_m);
+      const Eigen::Matrix3d C_wn = frame_.C_nw(f.pos).transpose();
+      const Eigen::Matrix3d cov_w = C_wn * std_ned.cwiseAbs2().asDiagonal() * C_wn.transpose();
+      obs.sqrt_info_w = Eigen::LLT<Eigen::Matrix3d>(cov_w).matrixL().solve(Eigen::Matrix3d::Identity());
+      obs.dt_s = p.second;
+      number[p.first] = layout_.fixes.size();
+      layout_.fixes.push_back(obs);
+    }
+    for (GraphNode& n : layout_.nodes) {
+      for (size_t& g : n.gnss) g = number[g];
+      std::sort(n.gnss.begin(), n.gnss.end());
+    }
+  }
+
+  const EstimationProblem& problem_;
+  const LocalFrame& frame_;
+  const FgoOptions& options_;
+  const double t0_;
+  NodeLayout layout_{{}, {}, 0, kNone, 0};
+  std::vector<size_t> by_time_;       // candidate fixes (problem indices) in time order
+  size_t next_fix_ = 0;
+  size_t count_ = 0;                  // samples seen
+  std::vector<SampleTime> times_;     // from the sample before the last node on
+  size_t open_anchor_ = kNone;        // position in times_ of the newest fixes' sample
+  std::vector<size_t> anchor_fixes_;  // their problem indices
+  std::vector<std::pair<size_t, double>> placed_;  // (problem index, t_fix - t_node)
+};
+
+}  // namespace
+
+NodeLayout buildNodeLayout(const EstimationProblem& problem, const LocalFrame& frame,
+                           const FgoOptions& options, const ImuPassFn& imu) {
+  LayoutBuilder builder(problem, frame, options);
+  imu([&](const ImuSeries& block) {
+    for (const ImuSample& s : block) builder.add(s);
+  });
+  return builder.finish();
+}
+
+}  // namespace graftnav

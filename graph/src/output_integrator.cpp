@@ -1,0 +1,41 @@
+#include "graftnav/graph/output_integrator.h"
+
+#include <stdexcept>
+#include <utility>
+
+namespace graftnav {
+
+OutputIntegrator::OutputIntegrator(const LocalFrame& frame, int gnss_week, FgoEpochFn output)
+    : frame_(frame), gnss_week_(gnss_week), output_(std::move(output)) {}
+
+void OutputIntegrator::node(double t_s, const NodeValue& x, const PvaSigma* sigma) {
+  NavState s = frame_.toNavState(t_s, x.p_w, x.v_w, x.q_wb);
+  s.gnss_week = gnss_week_;
+  if (sd_) {
+    sd_->setState(s);
+  } else {
+    sd_.emplace(s);
+  }
+  x_ = x;
+  pending_.state = s;
+  pending_.bg = x.bg;
+  pending_.ba = x.ba;
+  pending_.has_sigma = sigma != nullptr;
+  if (sigma) pending_.sigma = *sigma;
+}
+
+void OutputIntegrator::sample(const ImuSample& raw) {
+  if (!sd_) throw std::logic_error("OutputIntegrator: a sample before the first node");
+  ImuSample c = raw;
+  c.dtheta_rad -= x_.bg * c.dt_s;
+  c.dvel_m_s -= x_.ba * c.dt_s;
+  sd_->step(c);
+  emit();
+  pending_.state = sd_->state();
+}
+
+void OutputIntegrator::finish() {
+  if (sd_) emit();
+}
+
+}  // namespace graftnav
