@@ -18,7 +18,7 @@
 set -euo pipefail
 repo="$(cd "$(dirname "$0")/.." && pwd)"
 seeds=20; K=20; jobs=2; estimator=ekf; table=""; inject=""
-cases="$repo/configs/sim/calibration/null_tactical.yaml $repo/configs/sim/concealed/null.yaml $repo/configs/sim/concealed/misalignment.yaml $repo/configs/sim/concealed/gsens.yaml"
+cases="$repo/configs/sim/calibration/null_tactical.yaml $repo/configs/sim/calibration/null_mems.yaml $repo/configs/sim/calibration/axis_misalignment_mems.yaml $repo/configs/sim/calibration/gsens_mems.yaml"
 pos=()
 while [ $# -gt 0 ]; do
   case "$1" in
