@@ -8,7 +8,8 @@
 //     are disjoint). Otherwise a phase-randomized surrogate of the record
 //     (GraftOptions::surrogate_seed, sg/noise_surrogate.h): segments of a short record would
 //     reuse the same few minutes of noise in another order, and on the 15-minute MEMS
-//     calibration cases the predictive interval then covered ERR_REAL in only 68-89 % of seeds.
+//     calibration cases the predictive interval then covered ERR_REAL in only 70-80 % of seeds
+//     on vertical, roll and pitch.
 //     The surrogate keeps the record's mean (the lab bias) and its spectrum at periods up to
 //     slow_period_s; slower content (the in-outage bias wander) is drawn from the profile's
 //     noise model (white noise and Gauss-Markov wander, SlowNoiseModel), because the record holds
@@ -18,9 +19,10 @@
 //     sigma_rep is the bias repeatability (turn-on to turn-on) and n the number of lab sessions
 //     whose mean bias the grafted record stands for: the field bias differs from the lab's by one
 //     turn-on draw plus the error of the lab's estimate of the mean;
-//   - the bias-wander path: when the field test is longer than the record, a first-order
-//     Gauss-Markov path (the profile's bias instability and correlation time) sampled every T and
-//     linear in between, starting at zero; the record itself carries the wander faster than T.
+//   - the bias-wander path: when the field test is longer than what the record holds (T, or 2T
+//     for a surrogate with modelled slow content), a first-order Gauss-Markov path (the
+//     profile's bias instability and correlation time) sampled at that step and linear in
+//     between, starting at zero; the record or its surrogate carries the faster wander itself.
 // Draw k depends only on (seed, k), so a run is reproducible whatever the thread schedule. K = 1 is
 // the seed's single graft: only the segment is drawn, no turn-on bias and no wander.
 
