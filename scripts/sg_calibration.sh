@@ -10,7 +10,8 @@
 #   --seeds N       seeds per case (default 20); simulate --seed 5000+s, evaluate --seed s
 #   --realizations  K per SG strategy (default 20)
 #   --jobs J        evaluations in parallel (default 2), each navigating on one thread
-#   --cases         case configs (default: the tactical and MEMS null cases, misalignment, gsens)
+#   --cases         case configs (default: configs/sim/calibration/{null_tactical,null_mems,
+#                   axis_misalignment_mems,gsens_mems}.yaml)
 #   --table FILE    also write the Markdown tables to FILE (e.g. docs/results/sg-calibration.md)
 #   --inject DOC    and replace the sg_calibration block of DOC (docs/sg-evaluation.md) with them
 # The simulated cases are deleted after their evaluation; OUT_DIR/runs/<case>_s<seed>/ keeps
@@ -18,7 +19,7 @@
 set -euo pipefail
 repo="$(cd "$(dirname "$0")/.." && pwd)"
 seeds=20; K=20; jobs=2; estimator=ekf; table=""; inject=""
-cases="$repo/configs/sim/calibration/null_tactical.yaml $repo/configs/sim/concealed/null.yaml $repo/configs/sim/concealed/misalignment.yaml $repo/configs/sim/concealed/gsens.yaml"
+cases="$repo/configs/sim/calibration/null_tactical.yaml $repo/configs/sim/calibration/null_mems.yaml $repo/configs/sim/calibration/axis_misalignment_mems.yaml $repo/configs/sim/calibration/gsens_mems.yaml"
 pos=()
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -29,7 +30,7 @@ while [ $# -gt 0 ]; do
     --cases) cases="$2"; shift 2 ;;
     --table) table="$2"; shift 2 ;;
     --inject) inject="$2"; shift 2 ;;
-    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
     --*) echo "sg_calibration: unknown option $1" >&2; exit 2 ;;
     *) pos+=("$1"); shift ;;
   esac
@@ -52,7 +53,8 @@ run_one() {  # config seed
 export -f run_one
 export out bin repo estimator K
 start=$(date +%s)
-for cfg in $cases; do for s in $(seq 1 "$seeds"); do echo "$cfg $s"; done; done |
+# Seed-major order: an interrupted run still has every case on the first seeds.
+for s in $(seq 1 "$seeds"); do for cfg in $cases; do echo "$cfg $s"; done; done |
   xargs -P "$jobs" -L 1 bash -c 'run_one "$0" "$1"'
 echo "sg_calibration: $(( $(date +%s) - start )) s for $(ls "$out/runs" | wc -l) runs"
 /usr/bin/python3 "$repo/scripts/sg_calibration_table.py" "$out/runs" --estimator "$estimator" \

@@ -114,6 +114,28 @@ double BasicErrorSignal::sampleBoundaryAtOrBefore(double u) const {
   return m * T + std::max(0.0, b);
 }
 
+LabErrorRates BasicErrorSignal::rates() const {
+  LabErrorRates r;
+  r.rate = rate_;
+  r.dt_s.resize(tau_end_s_.size());
+  for (std::size_t j = 0; j < tau_end_s_.size(); ++j) r.dt_s[j] = tau_end_s_[j] - sampleStart_s(j);
+  return r;
+}
+
+BasicErrorSignal BasicErrorSignal::phaseRandomized(std::uint64_t seed, const SlowNoiseModel* slow) const {
+  const LabErrorRates s = phaseRandomizedSurrogate(rates(), seed, slow);
+  ImuSeries inc(s.rate.size());
+  double t = 0.0;
+  for (std::size_t j = 0; j < inc.size(); ++j) {
+    t += s.dt_s[j];
+    inc[j].t_s = t;
+    inc[j].dt_s = s.dt_s[j];
+    inc[j].dtheta_rad = s.rate[j].head<3>() * s.dt_s[j];
+    inc[j].dvel_m_s = s.rate[j].tail<3>() * s.dt_s[j];
+  }
+  return BasicErrorSignal(inc);
+}
+
 double graftStartOffset(const GraftOptions& opt, const BasicErrorSignal& basic) {
   if (opt.start_offset_s >= 0.0) return opt.start_offset_s;
   std::mt19937_64 rng(opt.seed);
@@ -124,10 +146,16 @@ double graftStartOffset(const GraftOptions& opt, const BasicErrorSignal& basic) 
 namespace {
 
 template <typename DynamicFn>
-ImuSeries graftImpl(const ImuSeries& ref, const BasicErrorSignal& basic, const GraftOptions& opt,
+ImuSeries graftImpl(const ImuSeries& ref, const BasicErrorSignal& record, const GraftOptions& opt,
                     DynamicFn&& dynamic) {
   ImuSeries out(ref.size());
   if (ref.empty()) return out;
+  std::optional<BasicErrorSignal> surrogate;
+  if (opt.surrogate_seed) {
+    surrogate.emplace(record.phaseRandomized(
+        *opt.surrogate_seed, opt.surrogate_slow_noise ? &*opt.surrogate_slow_noise : nullptr));
+  }
+  const BasicErrorSignal& basic = surrogate ? *surrogate : record;
   const double offset = graftStartOffset(opt, basic);
   // The tiling clock starts at the beginning of the first reference interval.
   const double t0 = ref.front().t_s - ref.front().dt_s;

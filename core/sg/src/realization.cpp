@@ -21,6 +21,13 @@ std::uint64_t streamSeed(std::uint64_t seed, int k, int purpose) {
 
 double repeatability(double given, double instability) { return given >= 0.0 ? given : instability; }
 
+// The record holds K disjoint segments of the field span (each one lab sample longer).
+bool disjointSegmentsFit(const BasicErrorSignal& basic, int K, double span_s) {
+  const double T = basic.recordLength_s();
+  const double dt = T / static_cast<double>(basic.sampleCount());  // mean lab sample length
+  return T >= K * (span_s + dt);
+}
+
 double startOffset(const RealizationOptions& o, const BasicErrorSignal& basic, double span_s, int k,
                    std::mt19937_64& rng) {
   if (!o.vary_segment) return 0.0;
@@ -28,7 +35,7 @@ double startOffset(const RealizationOptions& o, const BasicErrorSignal& basic, d
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const int K = o.count;
   const double dt = T / static_cast<double>(basic.sampleCount());  // mean lab sample length
-  if (T >= K * (span_s + dt)) {
+  if (disjointSegmentsFit(basic, K, span_s)) {
     // Disjoint segments: segment k starts in stratum k (one sample in, so that moving back to a
     // sample boundary stays inside it) early enough to end inside it.
     const double stratum = T / K;
@@ -56,10 +63,24 @@ std::vector<Vec6> wanderKnots(const ImuProfile& p, double step_s, double span_s,
   return knots;
 }
 
+// The tested IMU's stated noise (profile) as the model of the surrogate's slow content.
+SlowNoiseModel slowNoiseModel(const ImuProfile& p, double slow_period_s) {
+  SlowNoiseModel m;
+  m.white_density << Eigen::Vector3d::Constant(p.arw_rad_sqrt_s), Eigen::Vector3d::Constant(p.vrw_m_s_sqrt_s);
+  m.wander_sigma << Eigen::Vector3d::Constant(p.gyro_bias_instability_rad_s),
+      Eigen::Vector3d::Constant(p.accel_bias_instability_m_s2);
+  m.wander_tau_s << Eigen::Vector3d::Constant(p.gyro_bias_corr_time_s), Eigen::Vector3d::Constant(p.accel_bias_corr_time_s);
+  m.slow_period_s = slow_period_s;
+  return m;
+}
+
 }  // namespace
 
 void RealizationOptions::validate() const {
   if (count < 1) throw std::invalid_argument("realizations: count must be >= 1, got " + std::to_string(count));
+  if (!(slow_period_s >= 0.0)) {
+    throw std::invalid_argument("realizations: slow_period_s must be >= 0, got " + std::to_string(slow_period_s));
+  }
   if (lab_sessions < 1) {
     throw std::invalid_argument("realizations: lab_sessions must be >= 1, got " + std::to_string(lab_sessions));
   }
@@ -75,6 +96,7 @@ std::vector<RealizationDraw> drawRealizations(const RealizationOptions& o, const
   const double T = basic.recordLength_s();
   // One realization is the seed's single graft: the lab record as it is, no power-on draws.
   const bool power_on = o.count > 1;
+  const bool surrogate = o.vary_segment && o.surrogate_short_record && !disjointSegmentsFit(basic, o.count, span_s);
   std::vector<RealizationDraw> draws(o.count);
   for (int k = 0; k < o.count; ++k) {
     RealizationDraw& d = draws[k];
@@ -82,14 +104,21 @@ std::vector<RealizationDraw> drawRealizations(const RealizationOptions& o, const
     std::mt19937_64 seg_rng(streamSeed(o.seed, k, 0)), bias_rng(streamSeed(o.seed, k, 1)),
         wander_rng(streamSeed(o.seed, k, 2));
     d.start_offset_s = startOffset(o, basic, span_s, k, seg_rng);
+    if (power_on && surrogate) {
+      d.surrogate_seed = streamSeed(o.seed, k, 3);
+      if (o.slow_period_s > 0.0) d.slow_noise = slowNoiseModel(p, o.slow_period_s);
+    }
     if (power_on && o.vary_turn_on_bias) {
       std::normal_distribution<double> n01(0.0, 1.0);
       for (int i = 0; i < 3; ++i) d.power_on.gyro_bias_rad_s[i] = rep_g * n01(bias_rng);
       for (int i = 0; i < 3; ++i) d.power_on.accel_bias_m_s2[i] = rep_a * n01(bias_rng);
     }
-    if (power_on && o.vary_bias_wander && span_s > T) {
-      d.power_on.wander_step_s = T;
-      d.power_on.wander_knots = wanderKnots(p, T, span_s, wander_rng);
+    // The record (or a surrogate with modelled slow content, which spans the mirror period 2T)
+    // holds the wander up to its length; the knots add only what is slower.
+    const double held_s = d.slow_noise ? 2.0 * T : T;
+    if (power_on && o.vary_bias_wander && span_s > held_s) {
+      d.power_on.wander_step_s = held_s;
+      d.power_on.wander_knots = wanderKnots(p, held_s, span_s, wander_rng);
     }
   }
   return draws;
@@ -99,6 +128,8 @@ GraftOptions graftOptionsFor(const RealizationDraw& draw) {
   GraftOptions g;
   g.start_offset_s = draw.start_offset_s;
   g.power_on = draw.power_on;
+  g.surrogate_seed = draw.surrogate_seed;
+  g.surrogate_slow_noise = draw.slow_noise;
   return g;
 }
 
@@ -109,6 +140,7 @@ double sharedSampleFraction(const std::vector<RealizationDraw>& draws, const Bas
   for (std::size_t a = 0; a < draws.size(); ++a) {
     for (std::size_t b = a + 1; b < draws.size(); ++b) {
       ++pairs;
+      if (draws[a].surrogate_seed || draws[b].surrogate_seed) continue;
       const double d = std::fmod(std::fabs(draws[a].start_offset_s - draws[b].start_offset_s), period);
       if (std::min(d, period - d) < tol) ++shared;
     }

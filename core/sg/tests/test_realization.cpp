@@ -1,13 +1,16 @@
 // The realization draws have the stated statistics: turn-on bias sd, disjoint segments where the
-// record allows, distinct offsets modulo the mirror period otherwise, Gauss-Markov wander, seeds.
+// record allows, distinct offsets modulo the mirror period and an independent surrogate of the lab
+// noise otherwise, Gauss-Markov wander, seeds.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <random>
 #include <set>
 #include <vector>
 
+#include "graftnav/sg/noise_surrogate.h"
 #include "graftnav/sg/realization.h"
 
 namespace graftnav {
@@ -92,6 +95,7 @@ TEST(Realization, DisjointSegmentsWhenTheRecordHoldsThemAll) {
   EXPECT_GE(off.front(), 0.0);
   EXPECT_DOUBLE_EQ(sharedSampleFraction(draws, basic), 0.0);
   EXPECT_TRUE(draws.front().power_on.wander_knots.empty());  // the record holds the wander
+  for (const auto& d : draws) EXPECT_FALSE(d.surrogate_seed) << "a long record grafts its own noise";
 }
 
 TEST(Realization, ShortRecordOffsetsAreStratifiedOverTheMirrorPeriodOnSampleBoundaries) {
@@ -107,6 +111,140 @@ TEST(Realization, ShortRecordOffsetsAreStratifiedOverTheMirrorPeriodOnSampleBoun
     EXPECT_NEAR(samples, std::round(samples), 1e-6) << "not on a lab sample boundary";
   }
   EXPECT_DOUBLE_EQ(sharedSampleFraction(draws, basic), 0.0);
+  std::set<std::uint64_t> seeds;
+  for (const auto& d : draws) {
+    ASSERT_TRUE(d.surrogate_seed) << "a short record needs a surrogate per realization";
+    seeds.insert(*d.surrogate_seed);
+  }
+  EXPECT_EQ(seeds.size(), draws.size());
+  o.surrogate_short_record = false;
+  for (const auto& d : drawRealizations(o, basic, profile(), 390.0)) EXPECT_FALSE(d.surrogate_seed);
+}
+
+// A record with slow content (a random walk) and white noise, as a lab static record has.
+BasicErrorSignal slowRecord(int n, double dt) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> g(0.0, 1.0);
+  ImuSeries s;
+  Eigen::Matrix<double, 6, 1> walk = Eigen::Matrix<double, 6, 1>::Zero();
+  for (int k = 0; k < n; ++k) {
+    for (int i = 0; i < 6; ++i) walk[i] += 2e-5 * g(rng);
+    ImuSample x;
+    x.dt_s = dt;
+    x.t_s = (k + 1) * dt;
+    for (int i = 0; i < 3; ++i) {
+      x.dtheta_rad[i] = (1e-4 + walk[i] + 1e-4 * g(rng)) * dt;
+      x.dvel_m_s[i] = (3e-3 + walk[3 + i] + 2e-3 * g(rng)) * dt;
+    }
+    s.push_back(x);
+  }
+  return BasicErrorSignal(s);
+}
+
+// Over many surrogate draws, the sum of the error over a 0.25 s window has the sd of the record's
+// own windows (all circular shifts of the mirrored record), and two draws are uncorrelated.
+TEST(Realization, SurrogateWindowsHaveTheRecordsSpreadAndAreIndependent) {
+  const int n = 250, w = 25;  // 2 n = 500 = 2^2 5^3: the mirrored record is used whole
+  const BasicErrorSignal basic = slowRecord(n, 0.01);
+  const LabErrorRates rec = basic.rates();
+  std::vector<double> mirrored(2 * n);
+  for (int j = 0; j < 2 * n; ++j) mirrored[j] = rec.rate[j < n ? j : 2 * n - 1 - j][4];
+  double mean = 0.0;
+  for (double x : mirrored) mean += x;
+  mean /= 2 * n;
+  double ss = 0.0;
+  for (int s0 = 0; s0 < 2 * n; ++s0) {
+    double sum = 0.0;
+    for (int j = 0; j < w; ++j) sum += mirrored[(s0 + j) % (2 * n)] - mean;
+    ss += sum * sum;
+  }
+  const double expected_sd = std::sqrt(ss / (2 * n));
+  std::vector<double> a, b;
+  for (std::uint64_t seed = 1; seed <= 4000; ++seed) {
+    const LabErrorRates s = phaseRandomizedSurrogate(rec, seed);
+    double sum = 0.0;
+    for (int j = 100; j < 100 + w; ++j) sum += s.rate[j][4] - mean;
+    (seed % 2 ? a : b).push_back(sum);
+  }
+  std::vector<double> all = a;
+  all.insert(all.end(), b.begin(), b.end());
+  EXPECT_NEAR(sampleSd(all) / expected_sd, 1.0, 0.05);
+  double sab = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) sab += a[k] * b[k];
+  const double corr = sab / (a.size() * sampleSd(a) * sampleSd(b));
+  EXPECT_LT(std::fabs(corr), 0.06) << "surrogates of two seeds must be independent";
+}
+
+// The slow content of a surrogate is the model's: over 4000 draws from a record without any slow
+// content, the sum over a window has the sd that the model's bins give it (analytic), and the
+// wander knots start only beyond the surrogate's period 2T.
+TEST(Realization, SurrogateSlowContentHasTheModelsSpread) {
+  const int n = 250, m = 2 * n, w = 60, j0 = 40;
+  const double dt = 0.01;
+  LabErrorRates rec;
+  rec.rate.assign(n, Eigen::Matrix<double, 6, 1>::Zero());
+  rec.dt_s.assign(n, dt);
+  SlowNoiseModel model;
+  model.white_density.setConstant(1e-4);
+  model.wander_sigma.setConstant(2e-3);
+  model.wander_tau_s.setConstant(2.0);
+  model.slow_period_s = 0.4;  // bins k < m dt / 0.4 = 12.5
+  double expected_var = 0.0;
+  for (int k = 1; 2 * k < m && m * dt / k > model.slow_period_s; ++k) {
+    std::complex<double> g = 0.0;
+    for (int j = j0; j < j0 + w; ++j) g += std::polar(1.0, 2.0 * M_PI * j * k / m);
+    expected_var += 2.0 / (double(m) * m) * std::norm(g) * model.binPower(2, 2.0 * M_PI * k / m, m, dt);
+  }
+  std::vector<double> sums;
+  for (std::uint64_t seed = 1; seed <= 4000; ++seed) {
+    const LabErrorRates s = phaseRandomizedSurrogate(rec, seed, &model);
+    double sum = 0.0;
+    for (int j = j0; j < j0 + w; ++j) sum += s.rate[j][2];
+    sums.push_back(sum);
+  }
+  EXPECT_NEAR(sampleSd(sums) / std::sqrt(expected_var), 1.0, 0.05);
+
+  RealizationOptions o;
+  o.count = 20;
+  ImuProfile p = profile();
+  p.arw_rad_sqrt_s = 1e-4;
+  p.vrw_m_s_sqrt_s = 1e-3;
+  const BasicErrorSignal basic = record(6000, 0.01);  // T = 60 s
+  for (double span : {100.0, 300.0}) {
+    const auto draws = drawRealizations(o, basic, p, span);
+    ASSERT_TRUE(draws.front().slow_noise);
+    EXPECT_DOUBLE_EQ(draws.front().slow_noise->slow_period_s, 20.0);
+    EXPECT_NEAR(draws.front().slow_noise->wander_sigma[0], p.gyro_bias_instability_rad_s, 1e-15);
+    if (span < 120.0) EXPECT_TRUE(draws.front().power_on.wander_knots.empty()) << "within 2T: the surrogate";
+    else EXPECT_NEAR(draws.front().power_on.wander_step_s, 120.0, 1e-9);
+  }
+}
+
+TEST(Realization, GraftingASurrogateKeepsTheLabBiasButNotTheNoise) {
+  const BasicErrorSignal basic = slowRecord(1000, 0.01);
+  ImuSeries ref;
+  for (int k = 0; k < 2000; ++k) {
+    ImuSample s;
+    s.dt_s = 0.01;
+    s.t_s = (k + 1) * 0.01;
+    s.dvel_m_s = Eigen::Vector3d(0.0, 0.0, -9.8) * 0.01;
+    ref.push_back(s);
+  }
+  GraftOptions plain;
+  plain.start_offset_s = 0.0;
+  GraftOptions other = plain;
+  other.surrogate_seed = 5;
+  const ImuSeries a = graftBasic(ref, basic, plain), b = graftBasic(ref, basic, other);
+  // The first 2 T = 20 s of each hold the mirrored record or one whole surrogate period.
+  Eigen::Vector3d sum_a = Eigen::Vector3d::Zero(), sum_b = Eigen::Vector3d::Zero();
+  double differ = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    sum_a += a[k].dtheta_rad;
+    sum_b += b[k].dtheta_rad;
+    differ += std::fabs(a[k].dtheta_rad.x() - b[k].dtheta_rad.x());
+  }
+  EXPECT_TRUE(sum_b.isApprox(sum_a, 1e-9)) << "the surrogate keeps the record's mean bias: " << sum_a.transpose() << " vs " << sum_b.transpose();
+  EXPECT_GT(differ / 2000, 0.5e-4 * 0.01) << "but its noise is another realization";
 }
 
 TEST(Realization, WanderBeyondTheRecordIsGaussMarkovFromZero) {
@@ -114,6 +252,7 @@ TEST(Realization, WanderBeyondTheRecordIsGaussMarkovFromZero) {
   RealizationOptions o;
   o.count = 3000;
   o.vary_turn_on_bias = false;
+  o.slow_period_s = 0.0;  // the record's own spectrum: it holds the wander up to T
   const ImuProfile p = profile();
   const auto draws = drawRealizations(o, basic, p, 600.0);  // knots every 60 s, 11 of them
   std::vector<double> last;

@@ -26,9 +26,11 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "graftnav/imu/imu_profile.h"
+#include "graftnav/sg/noise_surrogate.h"
 #include "graftnav/sg/power_on_errors.h"
 #include "graftnav/nav/types.h"
 
@@ -74,6 +76,12 @@ class BasicErrorSignal {
   // sample starts; mirrored tiles: the same boundaries read backwards). Grafting from a boundary
   // gives each field interval whole lab samples when the rates are equal.
   double sampleBoundaryAtOrBefore(double u_s) const;
+  // The record as rates per lab sample with their lengths.
+  LabErrorRates rates() const;
+  // An independent realization of the record's noise with its mean and spectrum
+  // (sg/noise_surrogate.h), as a basic error signal of about twice the record's length.
+  // With `slow`, its content slower than slow->slow_period_s is a fresh draw of that model.
+  BasicErrorSignal phaseRandomized(std::uint64_t seed, const SlowNoiseModel* slow = nullptr) const;
 
  private:
   Eigen::Matrix<double, 6, 1> cumulative(double u_s) const;  // integral over (0, u], u >= 0
@@ -96,6 +104,12 @@ struct GraftOptions {
   std::uint64_t seed = 1;
   // Turn-on bias change and bias wander of one power-on (zero: the seed's grafting).
   PowerOnErrors power_on;
+  // When set, graft a phase-randomized surrogate of the record drawn with this seed instead of
+  // the record itself (a new lab-noise realization when the record is too short to give each
+  // realization its own segment); start_offset_s then applies to the surrogate.
+  std::optional<std::uint64_t> surrogate_seed;
+  // With surrogate_seed: the tested IMU's noise model for the surrogate's slow content.
+  std::optional<SlowNoiseModel> surrogate_slow_noise;
 };
 
 // Resolves GraftOptions::start_offset_s (deterministic for a given seed).
