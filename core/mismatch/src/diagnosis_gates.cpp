@@ -118,6 +118,206 @@ Eigen::Vector3d quadraticReadAsAsymmetry(const std::vector<CandidateTerm>& terms
   return out;
 }
 
+// Why a gate holds a selected term back, and whether as the lab calibration's own error.
+struct HoldBack {
+  std::string note;
+  bool calibration = true;
+};
+
+// The reference's mean rate and specific force over the record (the drive's operating point).
+struct OperatingPoint {
+  Eigen::Vector3d mean_rate = Eigen::Vector3d::Zero(), mean_force = Eigen::Vector3d::Zero();
+};
+
+OperatingPoint driveOperatingPoint(const ImuSeries& reference) {
+  OperatingPoint op;
+  double duration_s = 0.0;
+  for (const ImuSample& smp : reference) {
+    op.mean_rate += smp.dtheta_rad;
+    op.mean_force += smp.dvel_m_s;
+    duration_s += smp.dt_s;
+  }
+  if (duration_s > 0.0) {
+    op.mean_rate /= duration_s;
+    op.mean_force /= duration_s;
+  }
+  return op;
+}
+
+// What every gate of one pass reads.
+struct GateContext {
+  const std::vector<CandidateTerm>& terms;
+  const DiagnosisInputs& in;
+  const GridSpec& grid;
+  const SelectionResult& sel;
+  const OperatingPoint& drive;
+};
+
+// Gate (a): a scale_factor or non_orthogonality element must exceed 3 x sqrt(fit sigma^2 + lab
+// sigma^2) (with the reference's scale and the lab quadratic's gain uncertainty for the scale).
+std::optional<HoldBack> gateCalibrationMatrix(const GateContext& g, const TermFit& tf) {
+  const CandidateTerm& t = g.terms[tf.term];
+  const DiagnosisInputs& in = g.in;
+  const std::optional<Eigen::Matrix3d>& Msig =
+      t.sensor == "gyro" ? in.lab_gyro_M_sigma : in.lab_accel_M_sigma;
+  if (!((t.name == "scale_factor" || t.name == "non_orthogonality") && Msig)) return std::nullopt;
+  const std::optional<double>& ref_scale_sigma =
+      t.sensor == "gyro" ? in.reference_gyro_scale_sigma : in.reference_accel_scale_sigma;
+  const std::optional<LabQuadratic>& quad =
+      t.sensor == "gyro" ? in.lab_gyro_quadratic : in.lab_accel_quadratic;
+  const Eigen::Vector3d& mean_input = t.sensor == "gyro" ? g.drive.mean_rate : g.drive.mean_force;
+  const Effect e = effectFromTerm(t, tf, g.grid.count);
+  const EffectParameter& q = e.parameters[0];
+  // With a mounting rotation in the model, that rotation is shared by both sensors and fitted
+  // mostly from the better-determined one, so it carries that sensor's lab rotation error; this
+  // sensor's cross-axis terms then take up the difference. Their lab budget adds the other
+  // sensor's rotation uncertainty about the complementary axis.
+  const std::optional<Eigen::Matrix3d>& other_Msig =
+      t.sensor == "gyro" ? in.lab_accel_M_sigma : in.lab_gyro_M_sigma;
+  const bool shared_rotation =
+      std::any_of(g.sel.selected.begin(), g.sel.selected.end(), [&](const TermFit& o) {
+        return g.terms[o.term].name == "mounting_misalignment";
+      });
+  bool beyond = false;
+  double worst_ratio = 0.0;  // largest |value| / limit, for the note
+  std::size_t worst_k = 0;
+  for (std::size_t k = 0; k < q.values.size(); ++k) {
+    const int i = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) / 3;
+    const int j = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) % 3;
+    if (t.name == "non_orthogonality" && i == j) continue;
+    double lab_sigma = (*Msig)(i, j);
+    if (t.name == "non_orthogonality" && shared_rotation)
+      lab_sigma = std::hypot(lab_sigma, labRotationSigma(other_Msig, 3 - i - j));
+    if (t.name == "scale_factor" && ref_scale_sigma)
+      lab_sigma = std::hypot(lab_sigma, *ref_scale_sigma);
+    // SG#2's gain at the drive's mean input x0 is c1 + 2 c2 x0: the lab's c2 uncertainty is a
+    // gain uncertainty there (f_z ~ -g: 2 g sigma_c2; under common random numbers a c2_z 2 sigma
+    // off was claimed as a -6.3e-4 z scale factor, random_14_22).
+    if (t.name == "scale_factor" && quad)
+      lab_sigma = std::hypot(lab_sigma, 2.0 * std::abs(mean_input(i)) * quad->c2_sigma(i));
+    const double lim = 3.0 * std::hypot(q.sigma[k], lab_sigma);
+    beyond |= std::abs(q.values[k]) > lim;
+    if (std::abs(q.values[k]) / lim > worst_ratio) {
+      worst_ratio = std::abs(q.values[k]) / lim;
+      worst_k = k;
+    }
+  }
+  if (beyond) return std::nullopt;
+  const bool with_ref = t.name == "scale_factor" && ref_scale_sigma;
+  const bool with_quad = t.name == "scale_factor" && quad && (quad->c2_sigma.array() > 0.0).any();
+  return HoldBack{fmt::format(
+      "{} {} fitted but within 3 sigma of the lab calibration's own uncertainty{}{}: not "
+      "claimed (calibration error, not missing physics; largest element {}[{}] = {:.3g}, "
+      "{:.2f} x its limit)", t.sensor, t.name,
+      with_quad ? " (with its quadratic's at the drive's mean input)" : "",
+      with_ref ? fmt::format(" and the reference IMU's scale uncertainty ({:.3g} ppm, "
+                             "its profile)", 1e6 * *ref_scale_sigma)
+               : "",
+      q.key, worst_k, q.values[worst_k], worst_ratio)};
+}
+
+// Gate (b): the half-difference d of the gains per sign beyond 3 sigma of the fit and of the lab
+// quadratic's uncertainty as it reads on |x|. A lab gain error moves both gains alike and the
+// scale factor the asymmetry is fitted beside takes it up; an error of the lab's c2 (in SG#2
+// where the lab kept it) is an even function, like |x|.
+std::optional<HoldBack> gateAsymmetry(const GateContext& g, const TermFit& tf) {
+  const CandidateTerm& t = g.terms[tf.term];
+  const DiagnosisInputs& in = g.in;
+  const std::optional<Eigen::Matrix3d>& Msig =
+      t.sensor == "gyro" ? in.lab_gyro_M_sigma : in.lab_accel_M_sigma;
+  if (!(t.name == "scale_asymmetry" && Msig)) return std::nullopt;
+  const std::optional<LabQuadratic>& quad =
+      t.sensor == "gyro" ? in.lab_gyro_quadratic : in.lab_accel_quadratic;
+  const Effect e = effectFromTerm(t, tf, g.grid.count);
+  const EffectParameter& d = e.parameters[0];
+  const Eigen::Vector3d lab_c2_sigma = quad ? quad->c2_sigma : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d per_c2 = lab_c2_sigma.isZero() ? Eigen::Vector3d::Zero()
+                                                       : quadraticReadAsAsymmetry(g.terms, t.sensor);
+  bool beyond = false;
+  double worst_ratio = 0.0;
+  int worst_a = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(d.sigma[a])) continue;
+    const double lim = 3.0 * std::hypot(d.sigma[a], per_c2(a) * lab_c2_sigma(a));
+    beyond |= std::abs(d.values[a]) > lim;
+    if (std::abs(d.values[a]) / lim > worst_ratio) {
+      worst_ratio = std::abs(d.values[a]) / lim;
+      worst_a = a;
+    }
+  }
+  if (beyond) return std::nullopt;
+  return HoldBack{fmt::format(
+      "{} scale_asymmetry fitted but within 3 sigma of the fit and of the lab "
+      "quadratic's uncertainty as it reads on |x|: not claimed (largest: axis {}, "
+      "d = {:.3g}, {:.2f} x its limit)", t.sensor, worst_a, d.values[worst_a], worst_ratio)};
+}
+
+// Gate (d): for either sensor a rotation is indistinguishable from the antisymmetric part of its
+// cross-axis calibration error (labRotationSigma). A mounting rotation is claimed only beyond
+// 3 sigma of the fit and of the less certain sensor's lab rotation uncertainty combined.
+std::optional<HoldBack> gateMisalignment(const GateContext& g, const TermFit& tf) {
+  const CandidateTerm& t = g.terms[tf.term];
+  if (!(t.name == "mounting_misalignment" && (g.in.lab_gyro_M_sigma || g.in.lab_accel_M_sigma)))
+    return std::nullopt;
+  const Effect e = effectFromTerm(t, tf, g.grid.count);
+  const EffectParameter& q = e.parameters[0];
+  bool beyond = false;
+  for (int a = 0; a < 3; ++a)
+    beyond |= std::abs(q.values[a]) > 3.0 * std::hypot(q.sigma[a], sharedRotationLabSigma(g.in, a));
+  if (beyond) return std::nullopt;
+  return HoldBack{"mounting_misalignment fitted but within 3 sigma of the lab calibration's "
+                  "rotation uncertainty (antisymmetric cross-axis terms): not claimed "
+                  "(calibration error, not missing physics)"};
+}
+
+// A bias_instability is claimed only when some axis wanders beyond what two independent
+// realizations of the lab's bias instability and rate random walk give (99.9 % quantile).
+std::optional<HoldBack> gateBiasWander(const GateContext& g, const TermFit& tf) {
+  const CandidateTerm& t = g.terms[tf.term];
+  const std::optional<LabNoiseFigures>& lab =
+      t.sensor == "gyro" ? g.in.lab_gyro_noise : g.in.lab_accel_noise;
+  if (!(t.name == "bias_instability" && lab)) return std::nullopt;
+  const Effect e = effectFromTerm(t, tf, g.grid.count);
+  const Eigen::Vector3d expected = expectedWanderSd(*lab, g.grid.count * g.grid.bin_s);
+  bool beyond = false;
+  for (int a = 0; a < 3; ++a)
+    beyond |= e.parameters[0].values[a] > kWanderSdQuantile999 * expected(a);
+  if (beyond) return std::nullopt;
+  return HoldBack{fmt::format(
+      "{} bias wander [{:.3g} {:.3g} {:.3g}] is within {} x the wander the lab's bias "
+      "instability and rate random walk predict for two realizations [{:.3g} {:.3g} "
+      "{:.3g}]: not claimed (the graft already carries it)", t.sensor,
+      e.parameters[0].values[0], e.parameters[0].values[1], e.parameters[0].values[2],
+      kWanderSdQuantile999, expected(0), expected(1), expected(2)), false};
+}
+
+// The terms one pass keeps in the model, and which of them stay only as companions.
+struct GatePass {
+  std::vector<int> keep, companions;
+  bool gated = false;
+};
+
+// Holds a term back: out of the model, or kept as an unclaimed companion when another selected
+// term requires it (scale_factor next to scale_nonlinearity).
+void holdBack(const GateContext& g, const TermFit& tf, const HoldBack& why, GatePass* pass,
+              std::vector<std::string>* notes, std::vector<int>* calibration_gated) {
+  std::string by;
+  for (const TermFit& o : g.sel.selected)
+    for (const std::string& req : g.terms[o.term].requires_terms)
+      if (req == g.terms[tf.term].key()) by = g.terms[o.term].key();
+  if (!by.empty()) {
+    pass->keep.push_back(tf.term);
+    pass->companions.push_back(tf.term);
+    const std::string kept = why.note + "; kept in the model as the companion " + by + " requires";
+    if (std::find(notes->begin(), notes->end(), kept) == notes->end()) notes->push_back(kept);
+    return;
+  }
+  pass->gated = true;
+  if (why.calibration && std::find(calibration_gated->begin(), calibration_gated->end(),
+                                   tf.term) == calibration_gated->end())
+    calibration_gated->push_back(tf.term);
+  notes->push_back(why.note);
+}
 
 }  // namespace
 
@@ -130,188 +330,25 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
                               const GridSpec& grid, SelectionResult sel,
                               std::vector<std::string>* notes,
                               std::vector<int>* calibration_gated) {
-  const auto gatedAsCalibration = [&](int term) {
-    if (std::find(calibration_gated->begin(), calibration_gated->end(), term) ==
-        calibration_gated->end())
-      calibration_gated->push_back(term);
-  };
-  // The reference's mean rate and specific force over the record (the drive's operating point).
-  Eigen::Vector3d mean_rate = Eigen::Vector3d::Zero(), mean_force = Eigen::Vector3d::Zero();
-  double duration_s = 0.0;
-  for (const ImuSample& smp : in.reference) {
-    mean_rate += smp.dtheta_rad;
-    mean_force += smp.dvel_m_s;
-    duration_s += smp.dt_s;
-  }
-  if (duration_s > 0.0) {
-    mean_rate /= duration_s;
-    mean_force /= duration_s;
-  }
-  // Terms another selected term requires (scale_factor next to scale_nonlinearity) are not taken
-  // out by a gate: they stay in the model, fitted but not claimed.
-  std::vector<int> companions;
+  const OperatingPoint drive = driveOperatingPoint(in.reference);
+  GatePass pass;
   for (int gate_pass = 0; gate_pass < 4; ++gate_pass) {
-    std::vector<int> keep;
-    bool gated = false;
-    companions.clear();
-    // Holds a term back with `note`: out of the model, or kept as an unclaimed companion.
-    const auto holdBack = [&](const TermFit& tf, const std::string& note, bool calibration) {
-      std::string by;
-      for (const TermFit& o : sel.selected)
-        for (const std::string& req : terms[o.term].requires_terms)
-          if (req == terms[tf.term].key()) by = terms[o.term].key();
-      if (!by.empty()) {
-        keep.push_back(tf.term);
-        companions.push_back(tf.term);
-        const std::string kept = note + "; kept in the model as the companion " + by + " requires";
-        if (std::find(notes->begin(), notes->end(), kept) == notes->end()) notes->push_back(kept);
-        return;
-      }
-      gated = true;
-      if (calibration) gatedAsCalibration(tf.term);
-      notes->push_back(note);
-    };
+    const GateContext g{terms, in, grid, sel, drive};
+    pass = GatePass{};
     for (const TermFit& tf : sel.selected) {
-      const CandidateTerm& t = terms[tf.term];
-      const std::optional<LabNoiseFigures>& lab =
-          t.sensor == "gyro" ? in.lab_gyro_noise : in.lab_accel_noise;
-      const std::optional<Eigen::Matrix3d>& Msig =
-          t.sensor == "gyro" ? in.lab_gyro_M_sigma : in.lab_accel_M_sigma;
-      const std::optional<double>& ref_scale_sigma =
-          t.sensor == "gyro" ? in.reference_gyro_scale_sigma : in.reference_accel_scale_sigma;
-      const std::optional<LabQuadratic>& quad =
-          t.sensor == "gyro" ? in.lab_gyro_quadratic : in.lab_accel_quadratic;
-      const Eigen::Vector3d& mean_input = t.sensor == "gyro" ? mean_rate : mean_force;
-      if ((t.name == "scale_factor" || t.name == "non_orthogonality") && Msig) {
-        const Effect e = effectFromTerm(t, tf, grid.count);
-        const EffectParameter& q = e.parameters[0];
-        // With a mounting rotation in the model, that rotation is shared by both sensors and
-        // fitted mostly from the better-determined one, so it carries that sensor's lab rotation
-        // error; this sensor's cross-axis terms then take up the difference. Their lab budget
-        // adds the other sensor's rotation uncertainty about the complementary axis.
-        const std::optional<Eigen::Matrix3d>& other_Msig =
-            t.sensor == "gyro" ? in.lab_accel_M_sigma : in.lab_gyro_M_sigma;
-        const bool shared_rotation =
-            std::any_of(sel.selected.begin(), sel.selected.end(), [&](const TermFit& o) {
-              return terms[o.term].name == "mounting_misalignment";
-            });
-        bool beyond = false;
-        double worst_ratio = 0.0;  // largest |value| / limit, for the note
-        std::size_t worst_k = 0;
-        for (std::size_t k = 0; k < q.values.size(); ++k) {
-          const int i = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) / 3;
-          const int j = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) % 3;
-          if (t.name == "non_orthogonality" && i == j) continue;
-          double lab_sigma = (*Msig)(i, j);
-          if (t.name == "non_orthogonality" && shared_rotation)
-            lab_sigma = std::hypot(lab_sigma, labRotationSigma(other_Msig, 3 - i - j));
-          if (t.name == "scale_factor" && ref_scale_sigma)
-            lab_sigma = std::hypot(lab_sigma, *ref_scale_sigma);
-          // SG#2's gain at the drive's mean input x0 is c1 + 2 c2 x0: the lab's c2 uncertainty
-          // is a gain uncertainty there (f_z ~ -g: 2 g sigma_c2; under common random numbers a
-          // c2_z 2 sigma off was claimed as a -6.3e-4 z scale factor, random_14_22).
-          if (t.name == "scale_factor" && quad)
-            lab_sigma = std::hypot(lab_sigma, 2.0 * std::abs(mean_input(i)) * quad->c2_sigma(i));
-          const double lim = 3.0 * std::hypot(q.sigma[k], lab_sigma);
-          beyond |= std::abs(q.values[k]) > lim;
-          if (std::abs(q.values[k]) / lim > worst_ratio) {
-            worst_ratio = std::abs(q.values[k]) / lim;
-            worst_k = k;
-          }
-        }
-        if (!beyond) {
-          const bool with_ref = t.name == "scale_factor" && ref_scale_sigma;
-          const bool with_quad =
-              t.name == "scale_factor" && quad && (quad->c2_sigma.array() > 0.0).any();
-          holdBack(tf, fmt::format(
-              "{} {} fitted but within 3 sigma of the lab calibration's own uncertainty{}{}: not "
-              "claimed (calibration error, not missing physics; largest element {}[{}] = {:.3g}, "
-              "{:.2f} x its limit)", t.sensor, t.name,
-              with_quad ? " (with its quadratic's at the drive's mean input)" : "",
-              with_ref ? fmt::format(" and the reference IMU's scale uncertainty ({:.3g} ppm, "
-                                     "its profile)", 1e6 * *ref_scale_sigma)
-                       : "",
-              q.key, worst_k, q.values[worst_k], worst_ratio), true);
-          continue;
-        }
-      }
-      if (t.name == "scale_asymmetry" && Msig) {
-        // The half-difference d of the gains per sign beyond 3 sigma of the fit and of the lab
-        // quadratic's uncertainty as it reads on |x|. A lab gain error moves both gains alike
-        // and the scale factor the asymmetry is fitted beside takes it up; an error of the
-        // lab's c2 (in SG#2 where the lab kept it) is an even function, like |x|.
-        const Effect e = effectFromTerm(t, tf, grid.count);
-        const EffectParameter& d = e.parameters[0];
-        const Eigen::Vector3d lab_c2_sigma = quad ? quad->c2_sigma : Eigen::Vector3d::Zero();
-        const Eigen::Vector3d per_c2 = lab_c2_sigma.isZero()
-                                           ? Eigen::Vector3d::Zero()
-                                           : quadraticReadAsAsymmetry(terms, t.sensor);
-        bool beyond = false;
-        double worst_ratio = 0.0;
-        int worst_a = 0;
-        for (int a = 0; a < 3; ++a) {
-          if (!std::isfinite(d.sigma[a])) continue;
-          const double lim = 3.0 * std::hypot(d.sigma[a], per_c2(a) * lab_c2_sigma(a));
-          beyond |= std::abs(d.values[a]) > lim;
-          if (std::abs(d.values[a]) / lim > worst_ratio) {
-            worst_ratio = std::abs(d.values[a]) / lim;
-            worst_a = a;
-          }
-        }
-        if (!beyond) {
-          holdBack(tf, fmt::format(
-              "{} scale_asymmetry fitted but within 3 sigma of the fit and of the lab "
-              "quadratic's uncertainty as it reads on |x|: not claimed (largest: axis {}, "
-              "d = {:.3g}, {:.2f} x its limit)", t.sensor, worst_a, d.values[worst_a],
-              worst_ratio), true);
-          continue;
-        }
-      }
-      if (t.name == "mounting_misalignment" && (in.lab_gyro_M_sigma || in.lab_accel_M_sigma)) {
-        // For either sensor a rotation is indistinguishable from the antisymmetric part of its
-        // cross-axis calibration error (labRotationSigma). A mounting rotation is claimed only
-        // beyond 3 sigma of the fit and of the less certain sensor's lab rotation uncertainty
-        // combined.
-        const Effect e = effectFromTerm(t, tf, grid.count);
-        const EffectParameter& q = e.parameters[0];
-        bool beyond = false;
-        for (int a = 0; a < 3; ++a) {
-          beyond |= std::abs(q.values[a]) >
-                    3.0 * std::hypot(q.sigma[a], sharedRotationLabSigma(in, a));
-        }
-        if (!beyond) {
-          holdBack(tf,
-                   "mounting_misalignment fitted but within 3 sigma of the lab calibration's "
-                   "rotation uncertainty (antisymmetric cross-axis terms): not claimed "
-                   "(calibration error, not missing physics)", true);
-          continue;
-        }
-      }
-      if (t.name == "bias_instability" && lab) {
-        // Claimed only when some axis wanders beyond what two independent realizations of the
-        // lab's bias instability and rate random walk give (99.9 % quantile).
-        const Effect e = effectFromTerm(t, tf, grid.count);
-        const Eigen::Vector3d expected = expectedWanderSd(*lab, grid.count * grid.bin_s);
-        bool beyond = false;
-        for (int a = 0; a < 3; ++a)
-          beyond |= e.parameters[0].values[a] > kWanderSdQuantile999 * expected(a);
-        if (!beyond) {
-          holdBack(tf, fmt::format(
-              "{} bias wander [{:.3g} {:.3g} {:.3g}] is within {} x the wander the lab's bias "
-              "instability and rate random walk predict for two realizations [{:.3g} {:.3g} "
-              "{:.3g}]: not claimed (the graft already carries it)", t.sensor,
-              e.parameters[0].values[0], e.parameters[0].values[1], e.parameters[0].values[2],
-              kWanderSdQuantile999, expected(0), expected(1), expected(2)), false);
-          continue;
-        }
-      }
-      keep.push_back(tf.term);
+      std::optional<HoldBack> why = gateCalibrationMatrix(g, tf);
+      if (!why) why = gateAsymmetry(g, tf);
+      if (!why) why = gateMisalignment(g, tf);
+      if (!why) why = gateBiasWander(g, tf);
+      if (why) holdBack(g, tf, *why, &pass, notes, calibration_gated);
+      else pass.keep.push_back(tf.term);
     }
-    if (!gated) break;
-    sel = refitKeepingLog(r, terms, keep, options, sel);
+    if (!pass.gated) break;
+    sel = refitKeepingLog(r, terms, pass.keep, options, sel);
   }
   for (TermFit& tf : sel.selected)
-    if (std::find(companions.begin(), companions.end(), tf.term) != companions.end())
+    if (std::find(pass.companions.begin(), pass.companions.end(), tf.term) !=
+        pass.companions.end())
       tf.claimed = false;
   return withCalibrationErrorFitted(r, terms, options, std::move(sel), *calibration_gated, notes);
 }
