@@ -272,21 +272,21 @@ void registerDiagnose(CLI::App& app) {
       in.graft_static_record_s = g.static_record_s;
       in.graft_start_offset_s = g.start_offset_s;
       in.simulation_kind = "SG#2 (lab calibration + grafting)";
-      in.lab_gyro_M_sigma = report.result.gyro.M_sigma;
-      in.lab_accel_M_sigma = report.result.accel.M_sigma;
-      in.lab_gyro_M = report.result.gyro.M;
-      in.lab_accel_M = report.result.accel.M;
+      in.priors[Sensor::gyro].lab_M_sigma = report.result.gyro.M_sigma;
+      in.priors[Sensor::accel].lab_M_sigma = report.result.accel.M_sigma;
+      in.priors[Sensor::gyro].lab_M = report.result.gyro.M;
+      in.priors[Sensor::accel].lab_M = report.result.accel.M;
       if (cfg.reference_imu && cfg.reference_imu->gyro_scale_std > 0.0)
-        in.reference_gyro_scale_sigma = cfg.reference_imu->gyro_scale_std;
+        in.priors[Sensor::gyro].reference_scale_sigma = cfg.reference_imu->gyro_scale_std;
       if (cfg.reference_imu && cfg.reference_imu->accel_scale_std > 0.0)
-        in.reference_accel_scale_sigma = cfg.reference_imu->accel_scale_std;
-      for (const auto& [cal, noise] : {std::make_pair(&report.result.gyro, &in.lab_gyro_noise),
-                                       std::make_pair(&report.result.accel, &in.lab_accel_noise)})
+        in.priors[Sensor::accel].reference_scale_sigma = cfg.reference_imu->accel_scale_std;
+      for (const auto& [cal, noise] : {std::make_pair(&report.result.gyro, &in.priors[Sensor::gyro].lab_noise),
+                                       std::make_pair(&report.result.accel, &in.priors[Sensor::accel].lab_noise)})
         if (cal->has_allan)
           *noise = LabNoiseFigures{cal->allan.bias_instability, cal->allan.rate_random_walk};
       for (const auto& [cal, quad] :
-           {std::make_pair(&report.result.gyro, &in.lab_gyro_quadratic),
-            std::make_pair(&report.result.accel, &in.lab_accel_quadratic)}) {
+           {std::make_pair(&report.result.gyro, &in.priors[Sensor::gyro].lab_quadratic),
+            std::make_pair(&report.result.accel, &in.priors[Sensor::accel].lab_quadratic)}) {
         if (!cal->has_fit) continue;
         LabQuadratic q;
         for (int a = 0; a < 3; ++a) {

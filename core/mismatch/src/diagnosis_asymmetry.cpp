@@ -5,6 +5,7 @@
 #include <string>
 
 #include "diagnosis_stages.h"
+#include "graftnav/mismatch/term_kind.h"
 
 namespace graftnav::diagnosis_detail {
 
@@ -37,18 +38,18 @@ struct AsymmetryTerms {
   int asym = -1, nonorth = -1, scale = -1, curv = -1;
 };
 
-AsymmetryTerms asymmetryTermsOf(const std::vector<CandidateTerm>& terms,
-                                const std::string& sensor) {
+AsymmetryTerms asymmetryTermsOf(const std::vector<CandidateTerm>& terms, Sensor sensor) {
   AsymmetryTerms at;
   for (std::size_t t = 0; t < terms.size(); ++t) {
-    if (terms[t].sensor != sensor) continue;
+    if (terms[t].sensor != sensorName(sensor)) continue;
+    const TermKind kind = kindOf(terms[t]);
     // The plain |x| columns: y - x holds the sensor, not SG#2's quadratic.
-    if (terms[t].name == "scale_asymmetry" && terms[t].regressor.empty())
+    if (kind == TermKind::scale_asymmetry && terms[t].regressor.empty())
       at.asym = static_cast<int>(t);
-    if (terms[t].name == "non_orthogonality" && terms[t].regressor.empty())
+    if (kind == TermKind::non_orthogonality && terms[t].regressor.empty())
       at.nonorth = static_cast<int>(t);
-    if (terms[t].name == "scale_factor") at.scale = static_cast<int>(t);
-    if (terms[t].name == "scale_nonlinearity") at.curv = static_cast<int>(t);
+    if (kind == TermKind::scale_factor) at.scale = static_cast<int>(t);
+    if (kind == TermKind::scale_nonlinearity) at.curv = static_cast<int>(t);
   }
   return at;
 }
@@ -63,7 +64,7 @@ AsymmetryTerms asymmetryTermsOf(const std::vector<CandidateTerm>& terms,
 // m/s^2 for the accelerometer, small beside the field's).
 // Returns the library with that change (empty: unchanged) and adds the known part to `model`.
 std::vector<CandidateTerm> withLabCurvatureKnown(const std::vector<CandidateTerm>& terms,
-                                                 const AsymmetryTerms& at, const Effect& e,
+                                                 const AsymmetryTerms& at, Sensor sensor,
                                                  const std::optional<LabQuadratic>& quad,
                                                  std::vector<int>* model) {
   std::vector<CandidateTerm> own_terms;  // a copy of the library only when changed
@@ -73,15 +74,14 @@ std::vector<CandidateTerm> withLabCurvatureKnown(const std::vector<CandidateTerm
         ((quad->c2.array() != 0.0) && quad->c2_tested_per_abs.array().isFinite()).any()))
     return own_terms;
   own_terms = terms;
-  const int s = e.sensor == "gyro" ? 0 : 1;
   CandidateTerm known;
   known.name = "lab_curvature_known";
-  known.sensor = e.sensor;
+  known.sensor = sensorName(sensor);
   known.fixed = true;
   known.explanation = "the lab's quadratic less the asymmetry's fold in it";
   RegressorColumn col;
   for (int a = 0; a < 3; ++a) {
-    const int ch = s * 3 + a;
+    const int ch = firstChannel(sensor) + a;
     if (quad->c2(a) == 0.0 || !std::isfinite(quad->c2_tested_per_abs(a)) ||
         !own_terms[at.curv].columns[a].actsOn(ch) || !own_terms[at.asym].columns[a].actsOn(ch))
       continue;
@@ -99,20 +99,14 @@ std::vector<CandidateTerm> withLabCurvatureKnown(const std::vector<CandidateTerm
 }
 
 // k = k_missing +- d per axis, with the uncertainty of the lab's and the reference's gain.
-void setGainsPerSign(const ClaimInputs& c, const TermFit& fit_asym, const TermFit* scale_missing,
-                     const Vector6d& ref_input_mean, Effect* e) {
-  const DiagnosisInputs& in = c.in;
-  const std::optional<LabQuadratic>& quad =
-      e->sensor == "gyro" ? in.lab_gyro_quadratic : in.lab_accel_quadratic;
+void setGainsPerSign(const SensorPriors& prior, const TermFit& fit_asym,
+                     const TermFit* scale_missing, const Eigen::Vector3d& mean_input, Effect* e) {
+  const std::optional<LabQuadratic>& quad = prior.lab_quadratic;
   EffectParameter kp = e->parameters[0], kn = e->parameters[1];
-  const std::optional<Eigen::Matrix3d>& lab_M_sigma =
-      e->sensor == "gyro" ? in.lab_gyro_M_sigma : in.lab_accel_M_sigma;
-  const std::optional<double>& ref_scale_sigma =
-      e->sensor == "gyro" ? in.reference_gyro_scale_sigma : in.reference_accel_scale_sigma;
+  const std::optional<Eigen::Matrix3d>& lab_M_sigma = prior.lab_M_sigma;
+  const std::optional<double>& ref_scale_sigma = prior.reference_scale_sigma;
   // SG#2's gain at the drive's mean input x_m is c1 + 2 c2 x_m: with a lab quadratic its c2
   // uncertainty is a gain uncertainty there too (as in the gate; ~0 on two-signed axes).
-  const Eigen::Vector3d mean_input =
-      e->sensor == "gyro" ? ref_input_mean.head<3>() : ref_input_mean.tail<3>();
   for (int a = 0; a < 3; ++a) {
     const double d = fit_asym.theta(a);
     const double k = scale_missing ? scale_missing->theta(a) : 0.0;
@@ -149,16 +143,17 @@ void ownAsymmetryGains(const ClaimInputs& c, const Vector6d& ref_input_mean, Dia
   for (const TermFit& tf : sel.selected)
     if (tf.claimed) claimed_terms.push_back(tf.term);
   for (Effect& e : out->effects) {
-    if (e.name != "scale_asymmetry") continue;
-    const AsymmetryTerms at = asymmetryTermsOf(terms, e.sensor);
+    if (termKindNamed(e.name) != TermKind::scale_asymmetry) continue;
+    const Sensor sensor = sensorNamed(e.sensor);
+    const AsymmetryTerms at = asymmetryTermsOf(terms, sensor);
     std::vector<int> model;
     for (int t : claimed_terms)  // the alternative replacing SG#2's quadratic: its plain columns
       if (terms[t].regressor != "replaces_lab_quadratic") model.push_back(t);
     for (int t : {at.asym, at.nonorth, at.scale})
       if (t >= 0 && std::find(model.begin(), model.end(), t) == model.end()) model.push_back(t);
-    const std::optional<LabQuadratic>& quad =
-        e.sensor == "gyro" ? c.in.lab_gyro_quadratic : c.in.lab_accel_quadratic;
-    const std::vector<CandidateTerm> own_terms = withLabCurvatureKnown(terms, at, e, quad, &model);
+    const std::optional<LabQuadratic>& quad = c.in.priors[sensor].lab_quadratic;
+    const std::vector<CandidateTerm> own_terms =
+        withLabCurvatureKnown(terms, at, sensor, quad, &model);
     Eigen::MatrixXd y_minus_x(n, kMismatchChannels);
     y_minus_x << c.bins.y.omega_rad_s - c.bins.x.omega_rad_s, c.bins.y.f_m_s2 - c.bins.x.f_m_s2;
     zeroMaskedRows(out->masked_bins, &y_minus_x);
@@ -170,7 +165,9 @@ void ownAsymmetryGains(const ClaimInputs& c, const Vector6d& ref_input_mean, Dia
     const TermFit* scale_missing = nullptr;  // in the model as the asymmetry's companion
     for (const TermFit& tf : sel.selected)
       if (tf.term == at.scale) scale_missing = &tf;
-    if (fit_asym) setGainsPerSign(c, *fit_asym, scale_missing, ref_input_mean, &e);
+    if (fit_asym)
+      setGainsPerSign(c.in.priors[sensor], *fit_asym, scale_missing,
+                      ref_input_mean.segment<3>(firstChannel(sensor)), &e);
   }
 }
 

@@ -7,6 +7,7 @@
 #include <fmt/core.h>
 
 #include "diagnosis_stages.h"
+#include "graftnav/mismatch/term_kind.h"
 #include "graftnav/mismatch/claim_checks.h"
 #include "graftnav/mismatch/gain_or_curvature.h"
 
@@ -24,9 +25,8 @@ constexpr double kReferenceScaleShareLimit = 5.0;
 // reversed). The gate (a) allows 3 sigma of it; the reader is told how many sigma the claim is.
 void noteReferenceScaleShare(const DiagnosisInputs& in, DiagnosisResult* out) {
   for (Effect& e : out->effects) {
-    if (e.name != "scale_factor") continue;
-    const std::optional<double>& ref_sigma =
-        e.sensor == "gyro" ? in.reference_gyro_scale_sigma : in.reference_accel_scale_sigma;
+    if (termKindNamed(e.name) != TermKind::scale_factor) continue;
+    const std::optional<double>& ref_sigma = in.priors[sensorNamed(e.sensor)].reference_scale_sigma;
     if (!ref_sigma || !(*ref_sigma > 0.0)) continue;
     const std::vector<double>& k = e.parameters[0].values;
     const double k_max = std::abs(*std::max_element(
@@ -111,7 +111,7 @@ void claimChecks(const ClaimInputs& c, const ReferenceInputStats& inputs,
   cc.residual = &c.bins.r;
   cc.masked = &out->masked_bins;
   cc.bin_s = c.bins.grid.bin_s;
-  cc.lab_calibrated = in.lab_gyro_M_sigma.has_value() || in.lab_accel_M_sigma.has_value();
+  cc.lab_calibrated = anyLabCalibration(in);
   cc.ranges = in.tested_plausible_ranges;
   checkClaims(cc, c.opt, out);
 }

@@ -8,6 +8,7 @@
 #include <fmt/core.h>
 
 #include "diagnosis_stages.h"
+#include "graftnav/mismatch/term_kind.h"
 
 namespace graftnav::diagnosis_detail {
 
@@ -87,7 +88,7 @@ void listDetectionLimits(const ClaimInputs& c, DiagnosisResult* out) {
   const int n = c.bins.n();
   for (const TermLimit& lim : sel.limits) {
     const CandidateTerm& t = c.ex.terms[lim.term];
-    if (t.name == "bias_instability" || t.columns.empty()) continue;
+    if (kindOf(t) == TermKind::bias_instability || t.columns.empty()) continue;
     TermFit tf;
     tf.term = lim.term;
     tf.theta = lim.theta_limit;
@@ -138,17 +139,17 @@ std::vector<std::string> claimEffects(const ClaimInputs& c, DiagnosisResult* out
   bool time_offset_claimed = false;
   for (const TermFit& tf : c.ex.sel.selected) {
     if (!tf.claimed && !tf.name_ambiguous) continue;
+    const TermKind kind = kindOf(terms[tf.term]);
     Effect e = effectFromTerm(terms[tf.term], tf, c.bins.n());
-    if (e.name == "time_offset") {
+    if (kind == TermKind::time_offset) {
       e.parameters[0].values[0] += c.alignment.realign_s;
       time_offset_claimed = true;
     }
-    if (e.name == "mounting_misalignment" && (in.lab_gyro_M_sigma || in.lab_accel_M_sigma))
+    if (kind == TermKind::mounting_misalignment && anyLabCalibration(in))
       widenMisalignmentSigma(in, &e, out);
-    const std::optional<LabQuadratic>& lab_q =
-        e.sensor == "gyro" ? in.lab_gyro_quadratic : in.lab_accel_quadratic;
-    if (e.name == "scale_nonlinearity" && lab_q) {
-      const QuadraticVerdict v = checkAgainstLabQuadratic(*lab_q, &e, out);
+    if (kind == TermKind::scale_nonlinearity && in.priors[sensorNamed(e.sensor)].lab_quadratic) {
+      const QuadraticVerdict v =
+          checkAgainstLabQuadratic(*in.priors[sensorNamed(e.sensor)].lab_quadratic, &e, out);
       if (v == QuadraticVerdict::cancels_lab) not_listed.push_back(e.sensor);
       if (v != QuadraticVerdict::claimed) continue;
     }
@@ -156,12 +157,12 @@ std::vector<std::string> claimEffects(const ClaimInputs& c, DiagnosisResult* out
       listAmbiguous(c, tf, e, &not_listed, out);
       continue;
     }
-    if (e.name == "scale_nonlinearity") not_listed.push_back(e.sensor);
+    if (kind == TermKind::scale_nonlinearity) not_listed.push_back(e.sensor);
     if (terms[tf.term].regressor == "replaces_lab_quadratic") {
       // SG#3 takes SG#2's quadratic out: it is not in the simulation any more.
       not_listed.push_back(e.sensor);
-      const Eigen::Vector3d& c2 =
-          e.sensor == "gyro" ? c.reg.ri.gyro_response_c2 : c.reg.ri.accel_response_c2;
+      const Eigen::Vector3d c2 =
+          c.in.priors[sensorNamed(e.sensor)].lab_quadratic.value_or(LabQuadratic{}).c2;
       out->notes.push_back(fmt::format(
           "{} scale_asymmetry replaces SG#2's lab quadratic c2 [{:.3g} {:.3g} {:.3g}]: the lab's "
           "poses at +-g (rate-table turns of both signs) see an asymmetric gain d |x| as c2 x^2; "

@@ -9,6 +9,7 @@
 #include <fmt/core.h>
 
 #include "diagnosis_stages.h"
+#include "graftnav/mismatch/term_kind.h"
 
 namespace graftnav::diagnosis_detail {
 
@@ -39,6 +40,49 @@ EffectParameter scalarParam(const std::string& key, double v, double s) {
   return p;
 }
 
+namespace {
+
+// N as a row-major 3 x 3 with zero diagonal; the symmetric variant has one parameter per pair.
+EffectParameter nonOrthogonalityParam(const CandidateTerm& term, const TermFit& tf) {
+  EffectParameter p;
+  p.key = "N";
+  p.values.assign(9, 0.0);
+  p.sigma.assign(9, 0.0);
+  const bool symmetric = term.regressor == "symmetric";  // one parameter per pair, N_ij = N_ji
+  int k = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      if (i == j || (symmetric && j < i)) continue;
+      p.values[i * 3 + j] = tf.theta(k);
+      p.sigma[i * 3 + j] = tf.sigma(k);
+      if (symmetric) {
+        p.values[j * 3 + i] = tf.theta(k);
+        p.sigma[j * 3 + i] = tf.sigma(k);
+      }
+      ++k;
+    }
+  return p;
+}
+
+// Wander of the fitted piecewise-linear bias per axis: its standard deviation over the record.
+EffectParameter biasWanderParam(const CandidateTerm& term, const TermFit& tf, int n_bins) {
+  const int per_axis = static_cast<int>(term.columns.size()) / 3;
+  EffectParameter p;
+  p.key = "sigma";
+  const Eigen::MatrixXd path = termContribution(term, tf.theta, n_bins);
+  for (int a = 0; a < 3; ++a) {
+    const int ch = firstChannel(sensorNamed(term.sensor)) + a;
+    const Eigen::VectorXd v = path.col(ch);
+    p.values.push_back(std::sqrt((v.array() - v.mean()).square().mean()));
+    double var = 0.0;
+    for (int k = 0; k < per_axis; ++k) var += tf.covariance(a * per_axis + k, a * per_axis + k);
+    p.sigma.push_back(std::sqrt(var / std::max(1, per_axis)));
+  }
+  return p;
+}
+
+}  // namespace
+
 Effect effectFromTerm(const CandidateTerm& term, const TermFit& tf, int n_bins) {
   Effect e;
   e.name = term.name;
@@ -46,76 +90,48 @@ Effect effectFromTerm(const CandidateTerm& term, const TermFit& tf, int n_bins) 
   e.explanation = term.explanation;
   e.delta_bic = tf.delta_bic;
   e.cv_gain = tf.cv_gain;
-  const std::string& nm = term.name;
-  if (nm == "scale_factor") {
-    e.parameters.push_back(vecParam("k", tf, 0, 3));
-  } else if (nm == "non_orthogonality") {
-    EffectParameter p;
-    p.key = "N";
-    p.values.assign(9, 0.0);
-    p.sigma.assign(9, 0.0);
-    const bool symmetric = term.regressor == "symmetric";  // one parameter per pair, N_ij = N_ji
-    int k = 0;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        if (i == j || (symmetric && j < i)) continue;
-        p.values[i * 3 + j] = tf.theta(k);
-        p.sigma[i * 3 + j] = tf.sigma(k);
-        if (symmetric) {
-          p.values[j * 3 + i] = tf.theta(k);
-          p.sigma[j * 3 + i] = tf.sigma(k);
-        }
-        ++k;
-      }
-    e.parameters.push_back(p);
-  } else if (nm == "g_sensitivity") {
-    e.parameters.push_back(vecParam("G", tf, 0, 9));
-  } else if (nm == "scale_asymmetry") {
-    // The residual's d |x|: gains +d for positive and -d for negative inputs.
-    EffectParameter kp = vecParam("k_pos", tf, 0, 3), kn = kp;
-    kn.key = "k_neg";
-    for (double& v : kn.values) v = -v;
-    e.parameters.push_back(kp);
-    e.parameters.push_back(kn);
-  } else if (nm == "scale_nonlinearity") {
-    e.parameters.push_back(vecParam("k2", tf, 0, 3));
-  } else if (nm == "temperature_bias") {
-    e.parameters.push_back(vecParam("per_degC", tf, 0, 3));
-    e.parameters.push_back(scalarParam("t_ref_degC", term.t_ref_degC, 0.0));
-  } else if (nm == "temperature_scale") {
-    e.parameters.push_back(vecParam("per_degC", tf, 0, 3));
-  } else if (nm == "time_offset") {
-    e.parameters.push_back(scalarParam("tau_s", tf.theta(0), tf.sigma(0)));
-  } else if (nm == "lever_arm") {
-    e.parameters.push_back(vecParam("r_m", tf, 0, 3));
-  } else if (nm == "mounting_misalignment") {
-    e.parameters.push_back(vecParam("rotation_rad", tf, 0, 3));
-  } else if (nm == "vibration_rectification") {
-    e.parameters.push_back(vecParam("coeff", tf, 0, 3));
-    EffectParameter r;
-    r.key = "regressor";
-    r.text = term.regressor;
-    e.parameters.push_back(r);
-  } else if (nm == "bias_instability") {
-    // Wander of the fitted piecewise-linear bias per axis: its standard deviation over the record.
-    const int per_axis = static_cast<int>(term.columns.size()) / 3;
-    EffectParameter p;
-    p.key = "sigma";
-    const Eigen::MatrixXd path = termContribution(term, tf.theta, n_bins);
-    for (int a = 0; a < 3; ++a) {
-      const int ch = term.sensor == "gyro" ? a : 3 + a;
-      const Eigen::VectorXd v = path.col(ch);
-      p.values.push_back(std::sqrt((v.array() - v.mean()).square().mean()));
-      double var = 0.0;
-      for (int k = 0; k < per_axis; ++k) var += tf.covariance(a * per_axis + k, a * per_axis + k);
-      p.sigma.push_back(std::sqrt(var / std::max(1, per_axis)));
+  std::vector<EffectParameter>& ps = e.parameters;
+  switch (kindOf(term)) {
+    case TermKind::scale_factor: ps.push_back(vecParam("k", tf, 0, 3)); break;
+    case TermKind::non_orthogonality: ps.push_back(nonOrthogonalityParam(term, tf)); break;
+    case TermKind::g_sensitivity: ps.push_back(vecParam("G", tf, 0, 9)); break;
+    case TermKind::scale_asymmetry: {
+      // The residual's d |x|: gains +d for positive and -d for negative inputs.
+      EffectParameter kp = vecParam("k_pos", tf, 0, 3), kn = kp;
+      kn.key = "k_neg";
+      for (double& v : kn.values) v = -v;
+      ps.push_back(kp);
+      ps.push_back(kn);
+      break;
     }
-    e.parameters.push_back(p);
-    e.parameters.push_back(scalarParam("tau_s", term.knot_spacing_s, kNaN));
-  } else if (nm == "gravity_model") {
-    e.parameters.push_back(scalarParam("delta_g_m_s2", tf.theta(0), tf.sigma(0)));
+    case TermKind::scale_nonlinearity: ps.push_back(vecParam("k2", tf, 0, 3)); break;
+    case TermKind::temperature_bias:
+      ps.push_back(vecParam("per_degC", tf, 0, 3));
+      ps.push_back(scalarParam("t_ref_degC", term.t_ref_degC, 0.0));
+      break;
+    case TermKind::temperature_scale: ps.push_back(vecParam("per_degC", tf, 0, 3)); break;
+    case TermKind::time_offset:
+      ps.push_back(scalarParam("tau_s", tf.theta(0), tf.sigma(0)));
+      break;
+    case TermKind::lever_arm: ps.push_back(vecParam("r_m", tf, 0, 3)); break;
+    case TermKind::mounting_misalignment: ps.push_back(vecParam("rotation_rad", tf, 0, 3)); break;
+    case TermKind::vibration_rectification: {
+      ps.push_back(vecParam("coeff", tf, 0, 3));
+      EffectParameter r;
+      r.key = "regressor";
+      r.text = term.regressor;
+      ps.push_back(r);
+      break;
+    }
+    case TermKind::bias_instability:
+      ps.push_back(biasWanderParam(term, tf, n_bins));
+      ps.push_back(scalarParam("tau_s", term.knot_spacing_s, kNaN));
+      break;
+    case TermKind::gravity_model:
+      ps.push_back(scalarParam("delta_g_m_s2", tf.theta(0), tf.sigma(0)));
+      break;
+    default: break;  // earth_rotation_omitted: no parameters
   }
-  // earth_rotation_omitted: no parameters.
   return e;
 }
 
@@ -198,8 +214,13 @@ double labRotationSigma(const std::optional<Eigen::Matrix3d>& M_sigma, int axis)
 // The lab rotation uncertainty of a mounting rotation shared by both sensors: the less certain
 // sensor's (labRotationSigma).
 double sharedRotationLabSigma(const DiagnosisInputs& in, int axis) {
-  return std::max(labRotationSigma(in.lab_gyro_M_sigma, axis),
-                  labRotationSigma(in.lab_accel_M_sigma, axis));
+  return std::max(labRotationSigma(in.priors[Sensor::gyro].lab_M_sigma, axis),
+                  labRotationSigma(in.priors[Sensor::accel].lab_M_sigma, axis));
+}
+
+bool anyLabCalibration(const DiagnosisInputs& in) {
+  return in.priors[Sensor::gyro].lab_M_sigma.has_value() ||
+         in.priors[Sensor::accel].lab_M_sigma.has_value();
 }
 
 // Turns a scale_nonlinearity effect fitted on the residual (the part SG#2 lacks) into the
@@ -225,11 +246,12 @@ bool sensorsOwnQuadratic(const LabQuadratic& lab, Effect* e) {
 std::vector<Effect> labModelledTerms(const DiagnosisInputs& in,
                                      const std::vector<std::string>& not_listed) {
   std::vector<Effect> out;
-  for (const auto& [sensor, quad] : {std::make_pair("gyro", &in.lab_gyro_quadratic),
-                                     std::make_pair("accel", &in.lab_accel_quadratic)}) {
-    if (!quad->has_value() || ((*quad)->c2.array() == 0.0).all()) continue;
+  for (const Sensor s : kSensors) {
+    const std::optional<LabQuadratic>& quad = in.priors[s].lab_quadratic;
+    const std::string sensor = sensorName(s);
+    if (!quad || (quad->c2.array() == 0.0).all()) continue;
     if (std::find(not_listed.begin(), not_listed.end(), sensor) != not_listed.end()) continue;
-    const LabQuadratic& q = **quad;
+    const LabQuadratic& q = *quad;
     EffectParameter k2;
     k2.key = "k2";
     std::string axes;
@@ -250,7 +272,7 @@ std::vector<Effect> labModelledTerms(const DiagnosisInputs& in,
         "tested {} bends, and SG#2 already grafts it, so the field residual does not show it "
         "(a scale asymmetry looks the same on the lab's -g/0/+g poses)",
         axes.find(',') == std::string::npos ? "one axis" : "these axes", axes,
-        std::string(sensor) == "gyro" ? "gyro" : "accelerometer");
+        s == Sensor::gyro ? "gyro" : "accelerometer");
     out.push_back(e);
   }
   return out;

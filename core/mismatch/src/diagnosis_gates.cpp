@@ -9,6 +9,7 @@
 #include <fmt/core.h>
 
 #include "diagnosis_stages.h"
+#include "graftnav/mismatch/term_kind.h"
 #include "graftnav/mismatch/wander.h"
 
 namespace graftnav::diagnosis_detail {
@@ -82,11 +83,12 @@ SelectionResult withCalibrationErrorFitted(const Eigen::MatrixXd& r,
   return sel;
 }
 
-// The column of `term_key` that acts on channel c (nullptr: no such term or column).
-const Eigen::VectorXd* columnOn(const std::vector<CandidateTerm>& terms, const std::string& term_key,
-                                int c) {
+// The column of the plain term (no regressor variant) of `kind` on `sensor` that acts on channel
+// c (nullptr: no such term or column).
+const Eigen::VectorXd* columnOn(const std::vector<CandidateTerm>& terms, TermKind kind,
+                                Sensor sensor, int c) {
   for (const CandidateTerm& t : terms) {
-    if (t.key() != term_key) continue;
+    if (kindOf(t) != kind || t.sensor != sensorName(sensor) || !t.regressor.empty()) continue;
     for (const RegressorColumn& col : t.columns)
       if (col.actsOn(c)) return &col.channel[c];
   }
@@ -98,14 +100,13 @@ const Eigen::VectorXd* columnOn(const std::vector<CandidateTerm>& terms, const s
 // 1, x, |x| over the drive's inputs (1/s or 1/(m/s^2) times e; per axis, 0 where x keeps one
 // sign and |x| is the gain's column).
 Eigen::Vector3d quadraticReadAsAsymmetry(const std::vector<CandidateTerm>& terms,
-                                         const std::string& sensor) {
+                                         Sensor sensor) {
   Eigen::Vector3d out = Eigen::Vector3d::Zero();
-  const int s = sensor == "gyro" ? 0 : 1;
   for (int a = 0; a < 3; ++a) {
-    const int c = s * 3 + a;
-    const Eigen::VectorXd* x = columnOn(terms, "scale_factor:" + sensor, c);
-    const Eigen::VectorXd* x_abs = columnOn(terms, "scale_asymmetry:" + sensor, c);
-    const Eigen::VectorXd* x_sq = columnOn(terms, "scale_nonlinearity:" + sensor, c);
+    const int c = firstChannel(sensor) + a;
+    const Eigen::VectorXd* x = columnOn(terms, TermKind::scale_factor, sensor, c);
+    const Eigen::VectorXd* x_abs = columnOn(terms, TermKind::scale_asymmetry, sensor, c);
+    const Eigen::VectorXd* x_sq = columnOn(terms, TermKind::scale_nonlinearity, sensor, c);
     if (!x || !x_abs || !x_sq || x->size() != x_abs->size() || x->size() != x_sq->size()) continue;
     Eigen::MatrixXd X(x->size(), 3);
     X.col(0).setOnes();
@@ -126,21 +127,19 @@ struct HoldBack {
 
 // The reference's mean rate and specific force over the record (the drive's operating point).
 struct OperatingPoint {
-  Eigen::Vector3d mean_rate = Eigen::Vector3d::Zero(), mean_force = Eigen::Vector3d::Zero();
+  PerSensor<Eigen::Vector3d> mean_input{{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()}};
 };
 
 OperatingPoint driveOperatingPoint(const ImuSeries& reference) {
   OperatingPoint op;
   double duration_s = 0.0;
   for (const ImuSample& smp : reference) {
-    op.mean_rate += smp.dtheta_rad;
-    op.mean_force += smp.dvel_m_s;
+    op.mean_input[Sensor::gyro] += smp.dtheta_rad;
+    op.mean_input[Sensor::accel] += smp.dvel_m_s;
     duration_s += smp.dt_s;
   }
-  if (duration_s > 0.0) {
-    op.mean_rate /= duration_s;
-    op.mean_force /= duration_s;
-  }
+  if (duration_s > 0.0)
+    for (const Sensor s : kSensors) op.mean_input[s] /= duration_s;
   return op;
 }
 
@@ -157,43 +156,43 @@ struct GateContext {
 // sigma^2) (with the reference's scale and the lab quadratic's gain uncertainty for the scale).
 std::optional<HoldBack> gateCalibrationMatrix(const GateContext& g, const TermFit& tf) {
   const CandidateTerm& t = g.terms[tf.term];
-  const DiagnosisInputs& in = g.in;
-  const std::optional<Eigen::Matrix3d>& Msig =
-      t.sensor == "gyro" ? in.lab_gyro_M_sigma : in.lab_accel_M_sigma;
-  if (!((t.name == "scale_factor" || t.name == "non_orthogonality") && Msig)) return std::nullopt;
-  const std::optional<double>& ref_scale_sigma =
-      t.sensor == "gyro" ? in.reference_gyro_scale_sigma : in.reference_accel_scale_sigma;
-  const std::optional<LabQuadratic>& quad =
-      t.sensor == "gyro" ? in.lab_gyro_quadratic : in.lab_accel_quadratic;
-  const Eigen::Vector3d& mean_input = t.sensor == "gyro" ? g.drive.mean_rate : g.drive.mean_force;
+  const TermKind kind = kindOf(t);
+  if (kind != TermKind::scale_factor && kind != TermKind::non_orthogonality) return std::nullopt;
+  const bool scale = kind == TermKind::scale_factor;
+  const Sensor sensor = sensorNamed(t.sensor);
+  const SensorPriors& prior = g.in.priors[sensor];
+  const std::optional<Eigen::Matrix3d>& Msig = prior.lab_M_sigma;
+  if (!Msig) return std::nullopt;
+  const std::optional<double>& ref_scale_sigma = prior.reference_scale_sigma;
+  const std::optional<LabQuadratic>& quad = prior.lab_quadratic;
+  const Eigen::Vector3d& mean_input = g.drive.mean_input[sensor];
   const Effect e = effectFromTerm(t, tf, g.grid.count);
   const EffectParameter& q = e.parameters[0];
   // With a mounting rotation in the model, that rotation is shared by both sensors and fitted
   // mostly from the better-determined one, so it carries that sensor's lab rotation error; this
   // sensor's cross-axis terms then take up the difference. Their lab budget adds the other
   // sensor's rotation uncertainty about the complementary axis.
-  const std::optional<Eigen::Matrix3d>& other_Msig =
-      t.sensor == "gyro" ? in.lab_accel_M_sigma : in.lab_gyro_M_sigma;
+  const std::optional<Eigen::Matrix3d>& other_Msig = g.in.priors[otherSensor(sensor)].lab_M_sigma;
   const bool shared_rotation =
       std::any_of(g.sel.selected.begin(), g.sel.selected.end(), [&](const TermFit& o) {
-        return g.terms[o.term].name == "mounting_misalignment";
+        return kindOf(g.terms[o.term]) == TermKind::mounting_misalignment;
       });
   bool beyond = false;
   double worst_ratio = 0.0;  // largest |value| / limit, for the note
   std::size_t worst_k = 0;
   for (std::size_t k = 0; k < q.values.size(); ++k) {
-    const int i = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) / 3;
-    const int j = t.name == "scale_factor" ? static_cast<int>(k) : static_cast<int>(k) % 3;
-    if (t.name == "non_orthogonality" && i == j) continue;
+    const int i = scale ? static_cast<int>(k) : static_cast<int>(k) / 3;
+    const int j = scale ? static_cast<int>(k) : static_cast<int>(k) % 3;
+    if (!scale && i == j) continue;
     double lab_sigma = (*Msig)(i, j);
-    if (t.name == "non_orthogonality" && shared_rotation)
+    if (!scale && shared_rotation)
       lab_sigma = std::hypot(lab_sigma, labRotationSigma(other_Msig, 3 - i - j));
-    if (t.name == "scale_factor" && ref_scale_sigma)
+    if (scale && ref_scale_sigma)
       lab_sigma = std::hypot(lab_sigma, *ref_scale_sigma);
     // SG#2's gain at the drive's mean input x0 is c1 + 2 c2 x0: the lab's c2 uncertainty is a
     // gain uncertainty there (f_z ~ -g: 2 g sigma_c2; under common random numbers a c2_z 2 sigma
     // off was claimed as a -6.3e-4 z scale factor, random_14_22).
-    if (t.name == "scale_factor" && quad)
+    if (scale && quad)
       lab_sigma = std::hypot(lab_sigma, 2.0 * std::abs(mean_input(i)) * quad->c2_sigma(i));
     const double lim = 3.0 * std::hypot(q.sigma[k], lab_sigma);
     beyond |= std::abs(q.values[k]) > lim;
@@ -203,8 +202,8 @@ std::optional<HoldBack> gateCalibrationMatrix(const GateContext& g, const TermFi
     }
   }
   if (beyond) return std::nullopt;
-  const bool with_ref = t.name == "scale_factor" && ref_scale_sigma;
-  const bool with_quad = t.name == "scale_factor" && quad && (quad->c2_sigma.array() > 0.0).any();
+  const bool with_ref = scale && ref_scale_sigma;
+  const bool with_quad = scale && quad && (quad->c2_sigma.array() > 0.0).any();
   return HoldBack{fmt::format(
       "{} {} fitted but within 3 sigma of the lab calibration's own uncertainty{}{}: not "
       "claimed (calibration error, not missing physics; largest element {}[{}] = {:.3g}, "
@@ -222,17 +221,15 @@ std::optional<HoldBack> gateCalibrationMatrix(const GateContext& g, const TermFi
 // where the lab kept it) is an even function, like |x|.
 std::optional<HoldBack> gateAsymmetry(const GateContext& g, const TermFit& tf) {
   const CandidateTerm& t = g.terms[tf.term];
-  const DiagnosisInputs& in = g.in;
-  const std::optional<Eigen::Matrix3d>& Msig =
-      t.sensor == "gyro" ? in.lab_gyro_M_sigma : in.lab_accel_M_sigma;
-  if (!(t.name == "scale_asymmetry" && Msig)) return std::nullopt;
-  const std::optional<LabQuadratic>& quad =
-      t.sensor == "gyro" ? in.lab_gyro_quadratic : in.lab_accel_quadratic;
+  if (kindOf(t) != TermKind::scale_asymmetry) return std::nullopt;
+  const Sensor sensor = sensorNamed(t.sensor);
+  if (!g.in.priors[sensor].lab_M_sigma) return std::nullopt;
+  const std::optional<LabQuadratic>& quad = g.in.priors[sensor].lab_quadratic;
   const Effect e = effectFromTerm(t, tf, g.grid.count);
   const EffectParameter& d = e.parameters[0];
   const Eigen::Vector3d lab_c2_sigma = quad ? quad->c2_sigma : Eigen::Vector3d::Zero();
   const Eigen::Vector3d per_c2 = lab_c2_sigma.isZero() ? Eigen::Vector3d::Zero()
-                                                       : quadraticReadAsAsymmetry(g.terms, t.sensor);
+                                                       : quadraticReadAsAsymmetry(g.terms, sensor);
   bool beyond = false;
   double worst_ratio = 0.0;
   int worst_a = 0;
@@ -257,7 +254,7 @@ std::optional<HoldBack> gateAsymmetry(const GateContext& g, const TermFit& tf) {
 // 3 sigma of the fit and of the less certain sensor's lab rotation uncertainty combined.
 std::optional<HoldBack> gateMisalignment(const GateContext& g, const TermFit& tf) {
   const CandidateTerm& t = g.terms[tf.term];
-  if (!(t.name == "mounting_misalignment" && (g.in.lab_gyro_M_sigma || g.in.lab_accel_M_sigma)))
+  if (!(kindOf(t) == TermKind::mounting_misalignment && anyLabCalibration(g.in)))
     return std::nullopt;
   const Effect e = effectFromTerm(t, tf, g.grid.count);
   const EffectParameter& q = e.parameters[0];
@@ -274,9 +271,9 @@ std::optional<HoldBack> gateMisalignment(const GateContext& g, const TermFit& tf
 // realizations of the lab's bias instability and rate random walk give (99.9 % quantile).
 std::optional<HoldBack> gateBiasWander(const GateContext& g, const TermFit& tf) {
   const CandidateTerm& t = g.terms[tf.term];
-  const std::optional<LabNoiseFigures>& lab =
-      t.sensor == "gyro" ? g.in.lab_gyro_noise : g.in.lab_accel_noise;
-  if (!(t.name == "bias_instability" && lab)) return std::nullopt;
+  if (kindOf(t) != TermKind::bias_instability) return std::nullopt;
+  const std::optional<LabNoiseFigures>& lab = g.in.priors[sensorNamed(t.sensor)].lab_noise;
+  if (!lab) return std::nullopt;
   const Effect e = effectFromTerm(t, tf, g.grid.count);
   const Eigen::Vector3d expected = expectedWanderSd(*lab, g.grid.count * g.grid.bin_s);
   bool beyond = false;

@@ -7,6 +7,7 @@
 #include <fmt/core.h>
 
 #include "diagnosis_stages.h"
+#include "graftnav/mismatch/term_kind.h"
 #include "graftnav/mismatch/wander.h"
 
 namespace graftnav::diagnosis_detail {
@@ -20,7 +21,7 @@ Eigen::MatrixXd wanderWithinLab(const ClaimInputs& c, const Eigen::MatrixXd& aft
   const GridSpec& grid = c.bins.grid;
   const int n = grid.count;
   Eigen::MatrixXd expected_wander;
-  out->wander = checkWander(after, c.ex.terms, c.in.lab_gyro_noise, c.in.lab_accel_noise,
+  out->wander = checkWander(after, c.ex.terms, c.in.priors[Sensor::gyro].lab_noise, c.in.priors[Sensor::accel].lab_noise,
                             bin_variance, grid, out->masked_bins, &expected_wander);
   std::string within;
   for (const WanderCheck& k : out->wander)
@@ -74,7 +75,8 @@ Eigen::MatrixXd sg3Contribution(const ClaimInputs& c, DiagnosisResult* out) {
     sg3_model.rowwise() += offset.transpose();
     // Its uncertainty: each coefficient's times its column's mean (one column per axis, each on
     // its own channel, so unit coefficients give every column's mean at once).
-    const int s0 = term.sensor == "gyro" ? 0 : 3;
+    const Sensor sensor = sensorNamed(term.sensor);
+    const int s0 = firstChannel(sensor);
     const Vector6d column_mean = meanOf(
         termContribution(term, Eigen::VectorXd::Ones(tf.theta.size()), n), out->masked_bins);
     Eigen::Vector3d sigma = Eigen::Vector3d::Constant(kNaN);
@@ -84,7 +86,7 @@ Eigen::MatrixXd sg3Contribution(const ClaimInputs& c, DiagnosisResult* out) {
         "SG#3 carries the {} bias change from the simulation's temperature ({:.1f} degC) to the "
         "field's: [{:.3g} {:.3g} {:.3g}] {} (1-sigma [{:.2g} {:.2g} {:.2g}]), per_degC times the "
         "mean temperature difference", term.sensor, term.t_ref_degC, offset(s0), offset(s0 + 1),
-        offset(s0 + 2), term.sensor == "gyro" ? "rad/s" : "m/s^2", sigma(0), sigma(1), sigma(2)));
+        offset(s0 + 2), sensor == Sensor::gyro ? "rad/s" : "m/s^2", sigma(0), sigma(1), sigma(2)));
   }
   return sg3_model;
 }
@@ -105,7 +107,7 @@ void holdoutCheck(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& te
   Eigen::MatrixXd pred = Eigen::MatrixXd::Zero(n, kMismatchChannels);
   for (const TermFit& tf : sel.selected) {
     Eigen::MatrixXd c = termContribution(terms[tf.term], tf.theta, n);
-    if (terms[tf.term].name == "bias_instability")
+    if (kindOf(terms[tf.term]) == TermKind::bias_instability)
       for (int i = half; i < n; ++i) c.row(i) = c.row(half - 1);
     pred += c;
     out->holdout_terms.push_back(terms[tf.term].key());

@@ -43,29 +43,31 @@ std::vector<Eigen::Matrix3d> attitudeAlongGrid(const BinnedImu& x, const NavStat
 
 
 // What the time offset shifts: the reference as the tested IMU's lab-calibrated response sees
-// it, M x + c2 x^2 per sample (DiagnosisInputs::lab_gyro_M, lab_accel_quadratic); empty (the
-// reference itself) without a lab calibration. Without the quadratic the shift's slope on z
-// missed 2 c2_z f_z (-0.7 % at c2_z 3.4e-4 per m/s^2): with a 20-ms offset on road vibration
-// that remainder was claimed as a -0.5 % z scale factor (random_15_18).
+// it, M x + c2 x^2 per sample (SensorPriors::lab_M, lab_quadratic); empty (the reference itself)
+// without a lab calibration. Without the quadratic the shift's slope on z missed 2 c2_z f_z
+// (-0.7 % at c2_z 3.4e-4 per m/s^2): with a 20-ms offset on road vibration that remainder was
+// claimed as a -0.5 % z scale factor (random_15_18).
 ImuSeries labResponseOfReference(const DiagnosisInputs& in) {
   ImuSeries responded;
-  if (!(in.lab_gyro_M || in.lab_accel_M || in.lab_gyro_quadratic || in.lab_accel_quadratic))
-    return responded;
+  PerSensor<Eigen::Matrix3d> M;
+  PerSensor<Eigen::Vector3d> c2;
+  bool any = false;
+  for (const Sensor s : kSensors) {
+    const SensorPriors& prior = in.priors[s];
+    any |= prior.lab_M.has_value() || prior.lab_quadratic.has_value();
+    M[s] = prior.lab_M.value_or(Eigen::Matrix3d::Identity());
+    c2[s] = prior.lab_quadratic ? prior.lab_quadratic->c2 : Eigen::Vector3d::Zero();
+  }
+  if (!any) return responded;
   responded = in.reference;
-  const Eigen::Matrix3d Mg = in.lab_gyro_M.value_or(Eigen::Matrix3d::Identity());
-  const Eigen::Matrix3d Ma = in.lab_accel_M.value_or(Eigen::Matrix3d::Identity());
-  const Eigen::Vector3d c2g =
-      in.lab_gyro_quadratic ? in.lab_gyro_quadratic->c2 : Eigen::Vector3d::Zero();
-  const Eigen::Vector3d c2a =
-      in.lab_accel_quadratic ? in.lab_accel_quadratic->c2 : Eigen::Vector3d::Zero();
   for (ImuSample& smp : responded) {
     const Eigen::Vector3d dtheta = smp.dtheta_rad, dvel = smp.dvel_m_s;
-    smp.dtheta_rad = Mg * dtheta;
-    smp.dvel_m_s = Ma * dvel;
+    smp.dtheta_rad = M[Sensor::gyro] * dtheta;
+    smp.dvel_m_s = M[Sensor::accel] * dvel;
     if (!(smp.dt_s > 0.0)) continue;  // no mean rate to bend (binImu skips such samples)
     // Increments: the quadratic acts on the sample's mean rate, times its length.
-    smp.dtheta_rad += smp.dt_s * c2g.cwiseProduct((dtheta / smp.dt_s).cwiseAbs2());
-    smp.dvel_m_s += smp.dt_s * c2a.cwiseProduct((dvel / smp.dt_s).cwiseAbs2());
+    smp.dtheta_rad += smp.dt_s * c2[Sensor::gyro].cwiseProduct((dtheta / smp.dt_s).cwiseAbs2());
+    smp.dvel_m_s += smp.dt_s * c2[Sensor::accel].cwiseProduct((dvel / smp.dt_s).cwiseAbs2());
   }
   return responded;
 }
@@ -77,9 +79,11 @@ RegressorState initialRegressors(const DiagnosisInputs& in, const ResidualBins& 
   RegressorState reg;
   reg.responded = labResponseOfReference(in);
   RegressorInputs& ri = reg.ri;
-  if (in.lab_accel_M) ri.accel_response_M = *in.lab_accel_M;
-  if (in.lab_accel_quadratic) ri.accel_response_c2 = in.lab_accel_quadratic->c2;
-  if (in.lab_gyro_quadratic) ri.gyro_response_c2 = in.lab_gyro_quadratic->c2;
+  const SensorPriors& gyro = in.priors[Sensor::gyro];
+  const SensorPriors& accel = in.priors[Sensor::accel];
+  if (accel.lab_M) ri.accel_response_M = *accel.lab_M;
+  if (accel.lab_quadratic) ri.accel_response_c2 = accel.lab_quadratic->c2;
+  if (gyro.lab_quadratic) ri.gyro_response_c2 = gyro.lab_quadratic->c2;
   ri.tested_temperature_degC = bins.y.temperature_degC;
   if (bins.s.temperature_degC.allFinite()) {
     ri.simulated_temperature_degC = bins.s.temperature_degC;

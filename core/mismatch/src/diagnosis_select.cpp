@@ -9,6 +9,7 @@
 #include <fmt/core.h>
 
 #include "diagnosis_stages.h"
+#include "graftnav/mismatch/term_kind.h"
 #include "graftnav/imu/imu_error_model.h"
 #include "graftnav/mismatch/joint_fit.h"
 
@@ -20,10 +21,10 @@ namespace {
 // exact there); farther, the selection runs again around the joint fit's tau.
 constexpr double kPivotToleranceS = 1e-5;
 
-int indexOfTerm(const std::vector<CandidateTerm>& terms, const std::string& name) {
+int indexOfTerm(const std::vector<CandidateTerm>& terms, TermKind kind) {
   int idx = -1;
   for (std::size_t t = 0; t < terms.size(); ++t)
-    if (terms[t].name == name) idx = static_cast<int>(t);
+    if (kindOf(terms[t]) == kind) idx = static_cast<int>(t);
   return idx;
 }
 
@@ -41,13 +42,13 @@ std::vector<CandidateTerm> maskedLibrary(const RegressorInputs& ri, const Explai
 void derivativeSecondPass(const ExplainInputs& ex, double pv, RegressorInputs* ri,
                           Explanation* e) {
   const int n = ex.bins.n();
-  const int to_idx = indexOfTerm(e->terms, "time_offset");
+  const int to_idx = indexOfTerm(e->terms, TermKind::time_offset);
   Eigen::MatrixXd C = Eigen::MatrixXd::Zero(n, kMismatchChannels);
   bool has_to = false, has_other = false;
   for (const TermFit& tf : e->sel.selected) {
     if (tf.term == to_idx) {
       has_to = true;
-    } else if (e->terms[tf.term].name != "bias_instability") {
+    } else if (kindOf(e->terms[tf.term]) != TermKind::bias_instability) {
       C += termContribution(e->terms[tf.term], tf.theta, n);
       has_other = true;
     }
@@ -71,7 +72,7 @@ void jointFitTimeOffset(const ExplainInputs& ex, double pv, const ImuSeries& shi
                         Explanation* e) {
   int to_idx = -1;
   for (const TermFit& tf : e->sel.selected)
-    if (e->terms[tf.term].name == "time_offset") to_idx = tf.term;
+    if (kindOf(e->terms[tf.term]) == TermKind::time_offset) to_idx = tf.term;
   if (to_idx < 0) return;
   const JointFitResult jf = jointFitWithTimeOffset(ex.bins.r, shifted_signal, ex.bins.grid,
                                                    e->terms, e->sel, to_idx, pv, ex.opt.joint_fit);
@@ -134,7 +135,7 @@ std::optional<Eigen::Vector3d> rotationPivotMoved(const Explanation& e,
                                                   const Eigen::Vector3d& pivot_rad) {
   const TermFit* rot = nullptr;
   for (const TermFit& tf : e.sel.selected)
-    if (e.terms[tf.term].name == "mounting_misalignment") rot = &tf;
+    if (kindOf(e.terms[tf.term]) == TermKind::mounting_misalignment) rot = &tf;
   if (rot == nullptr || rot->theta.size() != 3) return std::nullopt;
   const Eigen::Vector3d phi = rot->theta;
   if (!phi.allFinite() || 0.5 * phi.squaredNorm() < 1e-6 ||
@@ -158,9 +159,11 @@ std::optional<Eigen::Vector3d> leverArmToMoveForce(const Explanation& e) {
   bool reads_f = false;
   for (const TermFit& tf : e.sel.selected) {
     const CandidateTerm& t = e.terms[tf.term];
-    if (t.name == "lever_arm") lever = &tf;
-    reads_f |= (t.name == "vibration_rectification" && t.regressor == "specific_force_hp_sq") ||
-               t.name == "g_sensitivity";
+    const TermKind kind = kindOf(t);
+    if (kind == TermKind::lever_arm) lever = &tf;
+    reads_f |= (kind == TermKind::vibration_rectification &&
+                t.regressor == "specific_force_hp_sq") ||
+               kind == TermKind::g_sensitivity;
   }
   if (lever != nullptr && reads_f && lever->theta.size() == 3 && lever->theta.allFinite())
     return Eigen::Vector3d(lever->theta);

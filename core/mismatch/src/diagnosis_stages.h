@@ -156,6 +156,8 @@ void zeroMaskedRows(const std::vector<char>& masked, std::vector<CandidateTerm>*
 Eigen::MatrixXd nuisanceOnlyFit(const Eigen::MatrixXd& r, int a, int b, bool drift,
                                 const std::vector<char>& masked);
 double sharedRotationLabSigma(const DiagnosisInputs& in, int axis);
+// Whether either sensor has a lab calibration matrix uncertainty.
+bool anyLabCalibration(const DiagnosisInputs& in);
 double labRotationSigma(const std::optional<Eigen::Matrix3d>& M_sigma, int axis);
 bool sensorsOwnQuadratic(const LabQuadratic& lab, Effect* e);
 std::string limitReason(const CandidateTerm& t, const SelectionResult& sel, double bin_s, int n);

@@ -280,7 +280,7 @@ TEST(MismatchDiagnosis, ScaleAsymmetryReportsTheSensorsOwnGainsPerSign) {
   LabQuadratic lab;
   lab.c2 << 0.0, 0.0, c2;
   lab.c2_sigma << 0.0, 0.0, c2 / 50.0;
-  p.in.lab_gyro_quadratic = lab;
+  p.in.priors[Sensor::gyro].lab_quadratic = lab;
   const DiagnosisResult r = diagnose(p.in);
   const Effect* sa = findEffect(r, "scale_asymmetry");
   ASSERT_NE(sa, nullptr) << diagnosisMarkdown(r);
@@ -334,8 +334,8 @@ TEST(MismatchDiagnosis, ScaleAsymmetryGainsAreRelativeToTheSimulationsGain) {
   real_off.gyro.scale_factor.k(2) += 1e-3;
   DiagnosisInputs off = graftedInputs(sampleMotion(m, 100.0, 150.0), real_off, sg2, 43,
                                       "reference + the lab's scale factor (as SG#2)");
-  off.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(5e-4);
-  off.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  off.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(5e-4);
+  off.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   const DiagnosisResult r_off = diagnose(off);
   EXPECT_EQ(findEffect(r_off, "scale_factor"), nullptr) << diagnosisMarkdown(r_off);
   const Effect* sa_off = findEffect(r_off, "scale_asymmetry");
@@ -361,8 +361,8 @@ TEST(MismatchDiagnosis, AsymmetryGateWeighsTheLabQuadraticNotItsGain) {
   DiagnosisInputs in = graftedInputs(sampleMotion(m, 100.0, 150.0), real, noise, 45,
                                      "reference + the lab's noise (as SG#2)");
   // A lab gain as uncertain as the asymmetry: it cancels in k_pos - k_neg.
-  in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(d);
-  in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(d);
+  in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   const DiagnosisResult loose_gain = diagnose(in);
   const Effect* sa = findEffect(loose_gain, "scale_asymmetry");
   ASSERT_NE(sa, nullptr) << diagnosisMarkdown(loose_gain);
@@ -373,7 +373,7 @@ TEST(MismatchDiagnosis, AsymmetryGateWeighsTheLabQuadraticNotItsGain) {
   // reads on |x| as 0.37 rad/s x 0.1 = 0.037, nine times d. Not claimed, and said why.
   LabQuadratic lab;
   lab.c2_sigma << 0.0, 0.0, 0.1;
-  in.lab_gyro_quadratic = lab;
+  in.priors[Sensor::gyro].lab_quadratic = lab;
   const DiagnosisResult loose_c2 = diagnose(in);
   EXPECT_EQ(findEffect(loose_c2, "scale_asymmetry"), nullptr) << diagnosisMarkdown(loose_c2);
   EXPECT_TRUE(hasNote(loose_c2, "gyro scale_asymmetry fitted but within 3 sigma", "lab quadratic"))
@@ -398,19 +398,19 @@ TEST(MismatchDiagnosis, AccelAsymmetryReplacesTheLabQuadraticItWasSeenAs) {
   in.case_name = "synthetic";
   in.reference = sampleMotion(m, 100.0, T);
   in.real = applyErrors(in.reference, truth, 71);
-  in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-  in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   // SG#2 with the lab's line (the mean gain), and with or without the quadratic of the poses.
   const auto run = [&](bool lab_quadratic) {
     ImuErrorModel sg2 = noise;
     sg2.accel.scale_factor.k = 0.5 * k_pos;
-    in.lab_accel_quadratic.reset();
+    in.priors[Sensor::accel].lab_quadratic.reset();
     if (lab_quadratic) {
       LabQuadratic lab;
       lab.c2 = 0.5 * k_pos / g;
       lab.c2_sigma = Eigen::Vector3d(1e-5, 1e-5, 0.0);
       sg2.accel.scale_nonlinearity.k2 = lab.c2;
-      in.lab_accel_quadratic = lab;
+      in.priors[Sensor::accel].lab_quadratic = lab;
     }
     in.simulation_kind = lab_quadratic ? "reference + the lab's line and quadratic (as SG#2)"
                                        : "reference + the lab's line (as SG#2)";
@@ -463,9 +463,9 @@ TEST(MismatchDiagnosis, GainsPerSignAreMeasuredBesideTheCurvatureTheLabMeasured)
   sg2.accel.scale_nonlinearity.k2 = lab.c2;
   DiagnosisInputs in = graftedInputs(sampleMotion(m, 100.0, T), truth, sg2, 81,
                                      "reference + the lab's line and quadratic (as SG#2)");
-  in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-  in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-  in.lab_accel_quadratic = lab;
+  in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::accel].lab_quadratic = lab;
   const DiagnosisResult r = diagnose(in);
   const Effect* sa = findEffect(r, "scale_asymmetry");
   ASSERT_NE(sa, nullptr) << diagnosisMarkdown(r);
@@ -494,12 +494,12 @@ TEST(MismatchDiagnosis, OneSignedGainIsNamedByTheLabsCurvatureEstimate) {
       real.accel.scale_factor.k << 0.0, 0.0, -2.0 * g * k2;  // the same slope at -g
     DiagnosisInputs in = graftedInputs(reference, real, noise, 51,
                                        "reference + the lab's line (as SG#2)");
-    in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-    in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+    in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+    in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
     LabQuadratic lab;  // lines on all axes; the degree-2 estimates the test dropped
     lab.c2_tested << 0.0, 0.0, c2_tested;
     lab.c2_tested_sigma << 2e-5, 2e-5, c2_tested_sigma;
-    in.lab_accel_quadratic = lab;
+    in.priors[Sensor::accel].lab_quadratic = lab;
     return diagnose(in);
   };
   const DiagnosisResult bent = run(true, 0.9 * k2, 2e-5);
@@ -560,9 +560,9 @@ TEST(MismatchDiagnosis, OneSignedGainIsWeighedAgainstAnAsymmetryTheLabFolded) {
     lab.c2_tested_per_abs.setConstant(1.0 / g);
     DiagnosisInputs in = graftedInputs(reference, real, sg2, 53,
                                        "reference + the lab's line and quadratic (as SG#2)");
-    in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-    in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-    in.lab_accel_quadratic = lab;
+    in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+    in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+    in.priors[Sensor::accel].lab_quadratic = lab;
     return diagnose(in);
   };
   const DiagnosisResult folded = run(true);
@@ -668,7 +668,7 @@ TEST(MismatchDiagnosis, WanderWithinTheLabNoiseFiguresIsNotUnexplained) {
 
   LabNoiseFigures lab;
   lab.rate_random_walk.setConstant(1.5e-3);
-  p.in.lab_accel_noise = lab;
+  p.in.priors[Sensor::accel].lab_noise = lab;
   const DiagnosisResult within = diagnose(p.in);
   ASSERT_EQ(within.wander.size(), 3u);  // accel channels only: no gyro figures given
   for (const WanderCheck& k : within.wander) {
@@ -678,7 +678,7 @@ TEST(MismatchDiagnosis, WanderWithinTheLabNoiseFiguresIsNotUnexplained) {
   EXPECT_EQ(accelSpans(within), 0) << diagnosisMarkdown(within);
 
   lab.rate_random_walk.setConstant(5e-5);
-  p.in.lab_accel_noise = lab;
+  p.in.priors[Sensor::accel].lab_noise = lab;
   const DiagnosisResult beyond = diagnose(p.in);
   int outside = 0;
   for (const WanderCheck& k : beyond.wander) outside += !k.within;
@@ -713,7 +713,7 @@ TEST(MismatchDiagnosis, ScaleNonlinearityReportsTheSensorsOwnQuadratic) {
   ASSERT_NE(k, nullptr) << diagnosisMarkdown(plain);
   EXPECT_NEAR(k->values[2], -c2, 3.0 * k->sigma[2]);
 
-  p.in.lab_gyro_quadratic = lab;
+  p.in.priors[Sensor::gyro].lab_quadratic = lab;
   const DiagnosisResult artefact = diagnose(p.in);
   EXPECT_EQ(k2Of(artefact, "k2"), nullptr) << diagnosisMarkdown(artefact);
   // The residual cancels the lab's c2: not the sensor's, so not listed as in the simulation.
@@ -727,7 +727,7 @@ TEST(MismatchDiagnosis, ScaleNonlinearityReportsTheSensorsOwnQuadratic) {
   own.gyro.scale_nonlinearity.k2 << 0.0, 0.0, 2.0 * c2;
   Pair q = makePair(own, 31);
   q.in.simulated = applyErrors(q.in.simulated, spurious, 0);
-  q.in.lab_gyro_quadratic = lab;
+  q.in.priors[Sensor::gyro].lab_quadratic = lab;
   const DiagnosisResult real_nl = diagnose(q.in);
   const EffectParameter* k_own = k2Of(real_nl, "k2");
   const EffectParameter* k_missing = k2Of(real_nl, "k2_missing");
@@ -741,7 +741,7 @@ TEST(MismatchDiagnosis, ScaleNonlinearityReportsTheSensorsOwnQuadratic) {
   // polynomial's own error, modelled in SG#3 but not claimed, as for scale_factor.
   LabQuadratic loose = lab;
   loose.c2_sigma << 0.0, 0.0, c2 / 2.0;
-  q.in.lab_gyro_quadratic = loose;
+  q.in.priors[Sensor::gyro].lab_quadratic = loose;
   const DiagnosisResult within_lab = diagnose(q.in);
   EXPECT_EQ(k2Of(within_lab, "k2"), nullptr) << diagnosisMarkdown(within_lab);
   EXPECT_TRUE(hasNote(within_lab, "scale_nonlinearity", "calibration error"))
@@ -784,8 +784,8 @@ TEST(MismatchDiagnosis, MisalignmentWithinTheLabRotationUncertaintyIsNotClaimed)
     ASSERT_TRUE(findEffect(without_lab, "mounting_misalignment") != nullptr ||
                 (n_accel != nullptr && n_accel->sensor == "accel"))
         << "the case must show a rotation when nothing gates it\n" << diagnosisMarkdown(without_lab);
-    p.in.lab_gyro_M_sigma = lab_gyro_sigma;
-    p.in.lab_accel_M_sigma = lab_accel_sigma;
+    p.in.priors[Sensor::gyro].lab_M_sigma = lab_gyro_sigma;
+    p.in.priors[Sensor::accel].lab_M_sigma = lab_accel_sigma;
     const DiagnosisResult r = diagnose(p.in);
     EXPECT_TRUE(r.effects.empty()) << diagnosisMarkdown(r);
   }
@@ -793,8 +793,8 @@ TEST(MismatchDiagnosis, MisalignmentWithinTheLabRotationUncertaintyIsNotClaimed)
     ImuErrorModel extra;  // a mounting rotation of 1e-2 rad (0.57 deg), both sensors
     extra.mounting_misalignment.rotation_rad << 0.0, 4e-3, 1e-2;
     Pair p = makePair(extra, 12);
-    p.in.lab_gyro_M_sigma = lab_gyro_sigma;
-    p.in.lab_accel_M_sigma = lab_accel_sigma;
+    p.in.priors[Sensor::gyro].lab_M_sigma = lab_gyro_sigma;
+    p.in.priors[Sensor::accel].lab_M_sigma = lab_accel_sigma;
     const DiagnosisResult r = diagnose(p.in);
     const Effect* mm = findEffect(r, "mounting_misalignment");
     ASSERT_NE(mm, nullptr) << diagnosisMarkdown(r);
@@ -836,8 +836,8 @@ TEST(MismatchDiagnosis, CalibrationErrorWithinTheLabUncertaintyIsNotUnexplained)
                                      "reference + tested noise (as SG#2)");
   const DiagnosisResult ungated = diagnose(in);
   ASSERT_FALSE(ungated.effects.empty()) << "the error must show when nothing gates it";
-  in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-4);
-  in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(2e-3);  // 3 sigma = 6e-3: all within
+  in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-4);
+  in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(2e-3);  // 3 sigma = 6e-3: all within
   const DiagnosisResult r = diagnose(in);
   EXPECT_TRUE(r.effects.empty()) << diagnosisMarkdown(r);
   EXPECT_TRUE(r.unexplained.empty()) << diagnosisMarkdown(r);
@@ -862,8 +862,8 @@ TEST(MismatchDiagnosis, ClaimedTermIsFittedNextToTheGatedCalibrationError) {
   truth.g_sensitivity.G(0, 0) = -1.5e-4;
   DiagnosisInputs in = graftedInputs(sampleMotion(m, 100.0, T), truth, noise, 51,
                                      "reference + tested noise (as SG#2)");
-  in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(2e-3);  // 3 sigma = 6e-3: k is within
-  in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-4);
+  in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(2e-3);  // 3 sigma = 6e-3: k is within
+  in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-4);
   const DiagnosisResult r = diagnose(in);
   const Effect* g = findEffect(r, "g_sensitivity");
   ASSERT_NE(g, nullptr) << diagnosisMarkdown(r);
@@ -887,11 +887,11 @@ TEST(MismatchDiagnosis, ScaleWithinTheReferenceImusOwnUncertaintyIsNotClaimed) {
   ImuErrorModel extra;
   extra.gyro.scale_factor.k << 2e-3, -2e-3, 2e-3;
   Pair p = makePair(extra, 13);
-  p.in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-  p.in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  p.in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  p.in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   // The claimed gyro scale_factor's explanation, nullopt when none is claimed.
   const auto claimedScale = [&](std::optional<double> ref_sigma) -> std::optional<std::string> {
-    p.in.reference_gyro_scale_sigma = ref_sigma;
+    p.in.priors[Sensor::gyro].reference_scale_sigma = ref_sigma;
     const DiagnosisResult r = diagnose(p.in);
     for (const Effect& e : r.effects)
       if (e.name == "scale_factor" && e.sensor == "gyro") return e.explanation;
@@ -928,13 +928,13 @@ TEST(MismatchDiagnosis, ScaleWithinTheLabQuadraticsUncertaintyAtTheMeanInputIsNo
   sg2.accel.scale_nonlinearity.k2 << 0.0, 0.0, k2_z - 2.0 * c2_sigma;  // the lab's c2, 2 sigma off
   DiagnosisInputs in = graftedInputs(sampleMotion(m, 100.0, T), truth, sg2, 61,
                                      "reference + the lab's quadratic (as SG#2)");
-  in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-  in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   const auto claimsScale = [&](double sigma) {
     LabQuadratic q;
     q.c2 << 0.0, 0.0, k2_z - 2.0 * c2_sigma;
     q.c2_sigma << 0.0, 0.0, sigma;
-    in.lab_accel_quadratic = q;
+    in.priors[Sensor::accel].lab_quadratic = q;
     const DiagnosisResult r = diagnose(in);
     for (const Effect& e : r.effects)
       if ((e.name == "scale_factor" || e.name == "scale_nonlinearity") && e.sensor == "accel")
@@ -982,7 +982,7 @@ TEST(MismatchDiagnosis, TimeOffsetShiftsTheLabCalibratedResponse) {
                             Eigen::Matrix3d(sensor.gyro.scale_factor.k.asDiagonal());
   const auto run = [&](bool with_M) {
     DiagnosisInputs x = in;
-    if (with_M) x.lab_gyro_M = M;
+    if (with_M) x.priors[Sensor::gyro].lab_M = M;
     return diagnose(x);
   };
   // With the response shifted, only the offset is named and it is 14 us off (3.1 sigma; what is
@@ -1011,11 +1011,11 @@ TEST(MismatchDiagnosis, TimeOffsetShiftsTheLabQuadratic) {
   ImuErrorModel sensor;
   sensor.accel.scale_nonlinearity.k2 << 0.0, 0.0, 2e-3;
   DiagnosisInputs in = lateResponseInputs(m, T, tau, sensor, 41);
-  in.lab_accel_M = Eigen::Matrix3d::Identity();
+  in.priors[Sensor::accel].lab_M = Eigen::Matrix3d::Identity();
   LabQuadratic q;
   q.c2 = sensor.accel.scale_nonlinearity.k2;
   q.c2_sigma << 0.0, 0.0, 1e-6;
-  in.lab_accel_quadratic = q;
+  in.priors[Sensor::accel].lab_quadratic = q;
   const DiagnosisResult r = diagnose(in);
   ASSERT_EQ(r.effects.size(), 1u) << diagnosisMarkdown(r);
   EXPECT_EQ(r.effects[0].name, "time_offset");
@@ -1117,8 +1117,8 @@ TEST(MismatchDiagnosis, AsymmetryUnderVibrationIsMeasuredOnTheSamples) {
   truth.accel.scale_asymmetry.k_neg.setZero();
   sg2.accel.scale_factor.k = 0.5 * k_pos;  // the lab's line: the mean gain
   DiagnosisInputs in = graftedInputs(ideal, truth, sg2, 81, "reference + the lab's line (as SG#2)");
-  in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-  in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   const DiagnosisResult r = diagnose(in);
   EXPECT_EQ(findEffect(r, "scale_nonlinearity"), nullptr) << diagnosisMarkdown(r);
   EXPECT_EQ(findEffect(r, "vibration_rectification"), nullptr) << diagnosisMarkdown(r);
@@ -1173,7 +1173,7 @@ TEST(MismatchDiagnosis, SlowRegressorNextToATimeOffsetKeepsItsGlsFit) {
     Pair p = makePair(extra, seed);
     LabNoiseFigures lab;
     lab.rate_random_walk.setConstant(1e-3);
-    p.in.lab_accel_noise = lab;
+    p.in.priors[Sensor::accel].lab_noise = lab;
     const DiagnosisResult r = diagnose(p.in);
     ASSERT_NE(findEffect(r, "time_offset"), nullptr) << diagnosisMarkdown(r);
     const Effect* vr = findEffect(r, "vibration_rectification");
@@ -1212,7 +1212,7 @@ TEST(MismatchDiagnosis, LeverArmPassesThroughTheLabCalibratedQuadratic) {
   in.simulated = applyErrors(in.reference, quadratic, 0);
   const auto worstSigma = [&](bool with_lab_quadratic) {
     DiagnosisInputs x = in;
-    if (with_lab_quadratic) x.lab_accel_quadratic = LabQuadratic{quadratic.accel.scale_nonlinearity.k2,
+    if (with_lab_quadratic) x.priors[Sensor::accel].lab_quadratic = LabQuadratic{quadratic.accel.scale_nonlinearity.k2,
                                                                  Eigen::Vector3d::Zero()};
     const DiagnosisResult res = diagnose(x);
     const Effect* la = findEffect(res, "lever_arm");
