@@ -86,6 +86,19 @@ DiagnoseOptions loadDiagnoseConfig(const std::string& path, std::vector<std::str
     else if (k == "quantization_min_step_over_resolution") num(v, k, &o.quantization.min_step_over_resolution);
     else if (k == "quantization_resolvable_sigmas") num(v, k, &o.quantization.resolvable_sigmas);
     else if (k == "max_claim_correlation") num(v, k, &o.max_claim_correlation);
+    else if (k == "lab_gate_sigmas") num(v, k, &o.finder.lab_gate_sigmas);
+    else if (k == "max_gate_passes") { num(v, k, &d); o.finder.max_gate_passes = static_cast<int>(d); }
+    else if (k == "max_calibration_refit_passes") { num(v, k, &d); o.finder.max_calibration_refit_passes = static_cast<int>(d); }
+    else if (k == "max_rotation_passes") { num(v, k, &d); o.finder.max_rotation_passes = static_cast<int>(d); }
+    else if (k == "rotation_second_order_min") num(v, k, &o.finder.rotation_second_order_min);
+    else if (k == "rotation_rel_change") num(v, k, &o.finder.rotation_rel_change);
+    else if (k == "pivot_tolerance_s") num(v, k, &o.finder.pivot_tolerance_s);
+    else if (k == "min_pivot_bins") num(v, k, &o.finder.min_pivot_bins);
+    else if (k == "pivot_margin_s") num(v, k, &o.finder.pivot_margin_s);
+    else if (k == "min_grid_bins") { num(v, k, &d); o.finder.min_grid_bins = static_cast<int>(d); }
+    else if (k == "min_slow_blocks") { num(v, k, &d); o.finder.min_slow_blocks = static_cast<int>(d); }
+    else if (k == "min_holdout_bins") { num(v, k, &d); o.finder.min_holdout_bins = static_cast<int>(d); }
+    else if (k == "reference_scale_share_limit") num(v, k, &o.finder.reference_scale_share_limit);
     else if (k == "separation_rate_deg_s") {
       num(v, k, &d);
       o.linear_response.excitation_rate_rad_s = d * units::kDegToRad;

@@ -13,6 +13,7 @@ namespace graftnav {
 
 void DiagnoseOptions::validate() const {
   joint_fit.validate();
+  finder.validate();
   if (!(bin_s > 0.0 && bin_s <= 1.0))
     throw std::invalid_argument("DiagnoseOptions: bin_s = " + std::to_string(bin_s) +
                                 " must be in (0, 1] s");

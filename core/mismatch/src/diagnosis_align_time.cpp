@@ -85,7 +85,7 @@ TimeAlignment alignTime(const DiagnosisInputs& in, const DiagnoseOptions& opt,
         "were moved by it before binning; the time_offset reported adds the fitted remainder",
         al.realign_s, opt.realign_offset_s));
   }
-  if (std::abs(pivot) < 0.25 * opt.bin_s * 0.1) pivot = 0.0;
+  if (std::abs(pivot) < opt.finder.min_pivot_bins * opt.bin_s) pivot = 0.0;
   al.pivot_s = pivot;
   return al;
 }
@@ -94,7 +94,7 @@ TimeAlignment alignTime(const DiagnosisInputs& in, const DiagnoseOptions& opt,
 // shifted reference x(t - tau) must exist on every bin.
 GridSpec finderGrid(const DiagnosisInputs& in, const ImuSeries& real, double pivot,
                     const DiagnoseOptions& opt, std::vector<std::string>* notes) {
-  const double margin_s = std::max(opt.margin_s, std::abs(pivot) + 0.5);
+  const double margin_s = std::max(opt.margin_s, std::abs(pivot) + opt.finder.pivot_margin_s);
   GridSpec grid = commonGrid(in.reference, real, opt.bin_s, margin_s);
   {
     const GridSpec gs = commonGrid(in.simulated, real, opt.bin_s, margin_s);
@@ -102,8 +102,10 @@ GridSpec finderGrid(const DiagnosisInputs& in, const ImuSeries& real, double piv
     const double t1 = std::min(grid.binStart(grid.count), gs.binStart(gs.count));
     grid.t_begin_s = t0;
     grid.count = static_cast<int>(std::floor((t1 - t0) / opt.bin_s + 1e-9));
-    if (grid.count < 100)
-      throw std::invalid_argument("diagnose: the records overlap by fewer than 100 bins");
+    if (grid.count < opt.finder.min_grid_bins)
+      throw std::invalid_argument(fmt::format("diagnose: the records overlap by {} bins, fewer "
+                                              "than {} (finder.min_grid_bins)", grid.count,
+                                              opt.finder.min_grid_bins));
   }
   if (std::abs(pivot) > opt.margin_s)
     notes->push_back(fmt::format(
@@ -115,11 +117,12 @@ GridSpec finderGrid(const DiagnosisInputs& in, const ImuSeries& real, double piv
 DiagnoseOptions optionsOnGrid(const DiagnosisInputs& in, const GridSpec& grid,
                               const DiagnoseOptions& opt_in) {
   const int n = grid.count;
-  // Slow-noise blocks: slow_block_s, shortened so that a short record still has 8 blocks.
+  // Slow-noise blocks: slow_block_s, shortened so that a short record still has min_slow_blocks.
   DiagnoseOptions opt = opt_in;
   if (opt.selection.slow_block_bins == 0 && opt.slow_block_s > 0.0)
     opt.selection.slow_block_bins =
-        std::min(static_cast<int>(std::round(opt.slow_block_s / opt.bin_s)), n / 8);
+        std::min(static_cast<int>(std::round(opt.slow_block_s / opt.bin_s)),
+                 n / opt.finder.min_slow_blocks);
   opt.selection.bin_s = grid.bin_s;
   if (in.graft_static_record_s > 0.0 && !in.simulated.empty()) {
     // The tiling clock starts at the simulation's first interval (grafting.cpp).

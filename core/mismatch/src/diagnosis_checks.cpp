@@ -15,15 +15,11 @@ namespace graftnav::diagnosis_detail {
 
 namespace {
 
-// A claimed scale factor whose largest element is below this many times the reference IMU's
-// stated scale uncertainty is explained as possibly the reference's own gain error.
-constexpr double kReferenceScaleShareLimit = 5.0;
-
 // The simulation is built on the reference signal, so it carries the reference IMU's own gain
 // error, which the real tested IMU does not: a claimed scale factor of a few times the
 // reference's stated scale uncertainty may be partly or wholly the reference's (its sign
 // reversed). The gate (a) allows 3 sigma of it; the reader is told how many sigma the claim is.
-void noteReferenceScaleShare(const DiagnosisInputs& in, DiagnosisResult* out) {
+void noteReferenceScaleShare(const DiagnosisInputs& in, double share_limit, DiagnosisResult* out) {
   for (Effect& e : out->effects) {
     if (termKindNamed(e.name) != TermKind::scale_factor) continue;
     const std::optional<double>& ref_sigma = in.priors[sensorNamed(e.sensor)].reference_scale_sigma;
@@ -32,7 +28,7 @@ void noteReferenceScaleShare(const DiagnosisInputs& in, DiagnosisResult* out) {
     const double k_max = std::abs(*std::max_element(
         k.begin(), k.end(), [](double a, double b) { return std::abs(a) < std::abs(b); }));
     const double ratio = k_max / *ref_sigma;
-    if (ratio >= kReferenceScaleShareLimit) continue;
+    if (ratio >= share_limit) continue;
     e.explanation += fmt::format(
         "; the largest |k| is {:.1f} x the reference IMU's stated scale uncertainty ({:.3g} ppm "
         "1-sigma, its profile): the simulation inherits the reference's own gain error, so this "
@@ -89,7 +85,7 @@ ReferenceInputStats referenceInputStats(const ResidualBins& bins,
 void claimChecks(const ClaimInputs& c, const ReferenceInputStats& inputs,
                  std::vector<std::string>* lab_quadratic_not_listed, DiagnosisResult* out) {
   const DiagnosisInputs& in = c.in;
-  noteReferenceScaleShare(in, out);
+  noteReferenceScaleShare(in, c.opt.finder.reference_scale_share_limit, out);
   // A gain on an axis whose input keeps one sign may be the lab's unfitted curvature or an
   // asymmetry its poses folded into a quadratic (gain_or_curvature.h): the lab's degree-2
   // coefficient decides the name, or says it cannot.

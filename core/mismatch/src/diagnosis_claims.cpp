@@ -27,17 +27,17 @@ enum class QuadraticVerdict { claimed, cancels_lab, within_lab };
 
 // A scale_nonlinearity beside SG#2's lab quadratic: the sensor's own k2 (sensorsOwnQuadratic) is
 // claimed only when it is non-zero and what SG#2 lacks exceeds the lab's own c2 uncertainty.
-QuadraticVerdict checkAgainstLabQuadratic(const LabQuadratic& lab_q, Effect* e,
-                                          DiagnosisResult* out) {
-  if (!sensorsOwnQuadratic(lab_q, e)) {
+QuadraticVerdict checkAgainstLabQuadratic(const LabQuadratic& lab_q, double gate_sigmas,
+                                          Effect* e, DiagnosisResult* out) {
+  if (!sensorsOwnQuadratic(lab_q, gate_sigmas, e)) {
     const EffectParameter& own = e->parameters[0];
     out->notes.push_back(fmt::format(
         "{} scale_nonlinearity: the residual's quadratic [{:.3g} {:.3g} {:.3g}] cancels SG#2's "
         "lab polynomial term c2 [{:.3g} {:.3g} {:.3g}]; the sensor's own k2 [{:.3g} {:.3g} "
-        "{:.3g}] is zero within 3 sigma: modelled in SG#3, not claimed (the simulation's "
+        "{:.3g}] is zero within {:g} sigma: modelled in SG#3, not claimed (the simulation's "
         "artefact, not a non-linearity of the sensor)", e->sensor, e->parameters[1].values[0],
         e->parameters[1].values[1], e->parameters[1].values[2], lab_q.c2(0), lab_q.c2(1),
-        lab_q.c2(2), own.values[0], own.values[1], own.values[2]));
+        lab_q.c2(2), own.values[0], own.values[1], own.values[2], gate_sigmas));
     return QuadraticVerdict::cancels_lab;
   }
   // The sensor does bend, but what SG#2 lacks is the lab's c2 being off by no more than its own
@@ -47,7 +47,7 @@ QuadraticVerdict checkAgainstLabQuadratic(const LabQuadratic& lab_q, Effect* e,
   bool beyond = false;
   double worst = 0.0;
   for (int a = 0; a < 3; ++a) {
-    const double lim = 3.0 * std::hypot(miss.sigma[a], lab_q.c2_sigma(a));
+    const double lim = gate_sigmas * std::hypot(miss.sigma[a], lab_q.c2_sigma(a));
     if (!std::isfinite(lim)) continue;
     beyond |= std::abs(miss.values[a]) > lim;
     worst = std::max(worst, std::abs(miss.values[a]) / lim);
@@ -55,12 +55,12 @@ QuadraticVerdict checkAgainstLabQuadratic(const LabQuadratic& lab_q, Effect* e,
   if (beyond) return QuadraticVerdict::claimed;
   out->notes.push_back(fmt::format(
       "{} scale_nonlinearity: the sensor's k2 [{:.3g} {:.3g} {:.3g}] is what SG#2's lab "
-      "polynomial holds (c2 [{:.3g} {:.3g} {:.3g}]) within 3 sigma of the lab's own c2 "
+      "polynomial holds (c2 [{:.3g} {:.3g} {:.3g}]) within {:g} sigma of the lab's own c2 "
       "uncertainty; the missing part [{:.3g} {:.3g} {:.3g}] ({:.2f} x its limit) is "
       "calibration error: modelled in SG#3, not claimed", e->sensor,
       e->parameters[0].values[0], e->parameters[0].values[1], e->parameters[0].values[2],
-      lab_q.c2(0), lab_q.c2(1), lab_q.c2(2), miss.values[0], miss.values[1], miss.values[2],
-      worst));
+      lab_q.c2(0), lab_q.c2(1), lab_q.c2(2), gate_sigmas, miss.values[0], miss.values[1],
+      miss.values[2], worst));
   return QuadraticVerdict::within_lab;
 }
 
@@ -149,7 +149,8 @@ std::vector<std::string> claimEffects(const ClaimInputs& c, DiagnosisResult* out
       widenMisalignmentSigma(in, &e, out);
     if (kind == TermKind::scale_nonlinearity && in.priors[sensorNamed(e.sensor)].lab_quadratic) {
       const QuadraticVerdict v =
-          checkAgainstLabQuadratic(*in.priors[sensorNamed(e.sensor)].lab_quadratic, &e, out);
+          checkAgainstLabQuadratic(*in.priors[sensorNamed(e.sensor)].lab_quadratic,
+                                   c.opt.finder.lab_gate_sigmas, &e, out);
       if (v == QuadraticVerdict::cancels_lab) not_listed.push_back(e.sensor);
       if (v != QuadraticVerdict::claimed) continue;
     }

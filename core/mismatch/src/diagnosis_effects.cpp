@@ -225,8 +225,8 @@ bool anyLabCalibration(const DiagnosisInputs& in) {
 
 // Turns a scale_nonlinearity effect fitted on the residual (the part SG#2 lacks) into the
 // sensor's own k2 = c2 (lab) + k2_missing, sigma combined, keeping the fitted part as
-// k2_missing. Returns whether some axis is non-zero beyond 3 sigma.
-bool sensorsOwnQuadratic(const LabQuadratic& lab, Effect* e) {
+// k2_missing. Returns whether some axis is non-zero beyond gate_sigmas.
+bool sensorsOwnQuadratic(const LabQuadratic& lab, double gate_sigmas, Effect* e) {
   EffectParameter missing = e->parameters[0];
   missing.key = "k2_missing";
   EffectParameter& own = e->parameters[0];
@@ -234,7 +234,7 @@ bool sensorsOwnQuadratic(const LabQuadratic& lab, Effect* e) {
   for (int a = 0; a < 3; ++a) {
     own.values[a] = missing.values[a] + lab.c2(a);
     own.sigma[a] = std::hypot(missing.sigma[a], lab.c2_sigma(a));
-    if (std::isfinite(own.sigma[a])) beyond |= std::abs(own.values[a]) > 3.0 * own.sigma[a];
+    if (std::isfinite(own.sigma[a])) beyond |= std::abs(own.values[a]) > gate_sigmas * own.sigma[a];
   }
   e->parameters.push_back(missing);
   return beyond;

@@ -37,13 +37,14 @@ SelectionResult refitKeepingLog(const Eigen::MatrixXd& r, const std::vector<Cand
 // not hold them), so the constant bias is refitted to what the grafted terms leave.
 SelectionResult withCalibrationErrorFitted(const Eigen::MatrixXd& r,
                                            const std::vector<CandidateTerm>& terms,
-                                           const SelectionOptions& options, SelectionResult sel,
+                                           const SelectionOptions& options, int max_passes,
+                                           SelectionResult sel,
                                            const std::vector<int>& gated,
                                            std::vector<std::string>* notes) {
   if (gated.empty() || sel.selected.empty()) return sel;
   std::string gated_names;
   for (int t : gated) gated_names += (gated_names.empty() ? "" : ", ") + terms[t].key();
-  for (int pass = 0; pass < 4; ++pass) {
+  for (int pass = 0; pass < max_passes; ++pass) {
     std::vector<int> model;
     for (const TermFit& tf : sel.selected) model.push_back(tf.term);
     for (int t : gated)
@@ -150,6 +151,7 @@ struct GateContext {
   const GridSpec& grid;
   const SelectionResult& sel;
   const OperatingPoint& drive;
+  double gate_sigmas;  // FinderOptions::lab_gate_sigmas
 };
 
 // Gate (a): a scale_factor or non_orthogonality element must exceed 3 x sqrt(fit sigma^2 + lab
@@ -194,7 +196,7 @@ std::optional<HoldBack> gateCalibrationMatrix(const GateContext& g, const TermFi
     // off was claimed as a -6.3e-4 z scale factor, random_14_22).
     if (scale && quad)
       lab_sigma = std::hypot(lab_sigma, 2.0 * std::abs(mean_input(i)) * quad->c2_sigma(i));
-    const double lim = 3.0 * std::hypot(q.sigma[k], lab_sigma);
+    const double lim = g.gate_sigmas * std::hypot(q.sigma[k], lab_sigma);
     beyond |= std::abs(q.values[k]) > lim;
     if (std::abs(q.values[k]) / lim > worst_ratio) {
       worst_ratio = std::abs(q.values[k]) / lim;
@@ -205,9 +207,9 @@ std::optional<HoldBack> gateCalibrationMatrix(const GateContext& g, const TermFi
   const bool with_ref = scale && ref_scale_sigma;
   const bool with_quad = scale && quad && (quad->c2_sigma.array() > 0.0).any();
   return HoldBack{fmt::format(
-      "{} {} fitted but within 3 sigma of the lab calibration's own uncertainty{}{}: not "
+      "{} {} fitted but within {:g} sigma of the lab calibration's own uncertainty{}{}: not "
       "claimed (calibration error, not missing physics; largest element {}[{}] = {:.3g}, "
-      "{:.2f} x its limit)", t.sensor, t.name,
+      "{:.2f} x its limit)", t.sensor, t.name, g.gate_sigmas,
       with_quad ? " (with its quadratic's at the drive's mean input)" : "",
       with_ref ? fmt::format(" and the reference IMU's scale uncertainty ({:.3g} ppm, "
                              "its profile)", 1e6 * *ref_scale_sigma)
@@ -235,7 +237,7 @@ std::optional<HoldBack> gateAsymmetry(const GateContext& g, const TermFit& tf) {
   int worst_a = 0;
   for (int a = 0; a < 3; ++a) {
     if (!std::isfinite(d.sigma[a])) continue;
-    const double lim = 3.0 * std::hypot(d.sigma[a], per_c2(a) * lab_c2_sigma(a));
+    const double lim = g.gate_sigmas * std::hypot(d.sigma[a], per_c2(a) * lab_c2_sigma(a));
     beyond |= std::abs(d.values[a]) > lim;
     if (std::abs(d.values[a]) / lim > worst_ratio) {
       worst_ratio = std::abs(d.values[a]) / lim;
@@ -244,9 +246,9 @@ std::optional<HoldBack> gateAsymmetry(const GateContext& g, const TermFit& tf) {
   }
   if (beyond) return std::nullopt;
   return HoldBack{fmt::format(
-      "{} scale_asymmetry fitted but within 3 sigma of the fit and of the lab "
+      "{} scale_asymmetry fitted but within {:g} sigma of the fit and of the lab "
       "quadratic's uncertainty as it reads on |x|: not claimed (largest: axis {}, "
-      "d = {:.3g}, {:.2f} x its limit)", t.sensor, worst_a, d.values[worst_a], worst_ratio)};
+      "d = {:.3g}, {:.2f} x its limit)", t.sensor, g.gate_sigmas, worst_a, d.values[worst_a], worst_ratio)};
 }
 
 // Gate (d): for either sensor a rotation is indistinguishable from the antisymmetric part of its
@@ -260,11 +262,13 @@ std::optional<HoldBack> gateMisalignment(const GateContext& g, const TermFit& tf
   const EffectParameter& q = e.parameters[0];
   bool beyond = false;
   for (int a = 0; a < 3; ++a)
-    beyond |= std::abs(q.values[a]) > 3.0 * std::hypot(q.sigma[a], sharedRotationLabSigma(g.in, a));
+    beyond |= std::abs(q.values[a]) >
+              g.gate_sigmas * std::hypot(q.sigma[a], sharedRotationLabSigma(g.in, a));
   if (beyond) return std::nullopt;
-  return HoldBack{"mounting_misalignment fitted but within 3 sigma of the lab calibration's "
-                  "rotation uncertainty (antisymmetric cross-axis terms): not claimed "
-                  "(calibration error, not missing physics)"};
+  return HoldBack{fmt::format("mounting_misalignment fitted but within {:g} sigma of the lab "
+                              "calibration's rotation uncertainty (antisymmetric cross-axis "
+                              "terms): not claimed (calibration error, not missing physics)",
+                              g.gate_sigmas)};
 }
 
 // A bias_instability is claimed only when some axis wanders beyond what two independent
@@ -323,14 +327,15 @@ void holdBack(const GateContext& g, const TermFit& tf, const HoldBack& why, Gate
 // again on the refit (a term fitted to compensate the gated one, e.g. a gyro non-orthogonality
 // cancelling a misalignment's gyro part, then shrinks and may be gated in turn).
 SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
-                              const DiagnosisInputs& in, const SelectionOptions& options,
+                              const DiagnosisInputs& in, const DiagnoseOptions& opt,
                               const GridSpec& grid, SelectionResult sel,
                               std::vector<std::string>* notes,
                               std::vector<int>* calibration_gated) {
+  const SelectionOptions& options = opt.selection;
   const OperatingPoint drive = driveOperatingPoint(in.reference);
   GatePass pass;
-  for (int gate_pass = 0; gate_pass < 4; ++gate_pass) {
-    const GateContext g{terms, in, grid, sel, drive};
+  for (int gate_pass = 0; gate_pass < opt.finder.max_gate_passes; ++gate_pass) {
+    const GateContext g{terms, in, grid, sel, drive, opt.finder.lab_gate_sigmas};
     pass = GatePass{};
     for (const TermFit& tf : sel.selected) {
       std::optional<HoldBack> why = gateCalibrationMatrix(g, tf);
@@ -347,7 +352,8 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
     if (std::find(pass.companions.begin(), pass.companions.end(), tf.term) !=
         pass.companions.end())
       tf.claimed = false;
-  return withCalibrationErrorFitted(r, terms, options, std::move(sel), *calibration_gated, notes);
+  return withCalibrationErrorFitted(r, terms, options, opt.finder.max_calibration_refit_passes,
+                                    std::move(sel), *calibration_gated, notes);
 }
 
 }  // namespace graftnav::diagnosis_detail

@@ -99,8 +99,9 @@ void holdoutCheck(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& te
                   const DiagnoseOptions& opt, DiagnosisResult* out) {
   const int n = static_cast<int>(r.rows());
   const int half = n / 2;
-  if (half < 200) {
-    out->notes.push_back("held-out check skipped: fewer than 200 bins per half");
+  if (half < opt.finder.min_holdout_bins) {
+    out->notes.push_back(fmt::format("held-out check skipped: fewer than {} bins per half",
+                                     opt.finder.min_holdout_bins));
     return;
   }
   const SelectionResult sel = selectTerms(r, terms, opt.selection, 0, half);

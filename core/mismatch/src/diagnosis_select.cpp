@@ -17,10 +17,6 @@ namespace graftnav::diagnosis_detail {
 
 namespace {
 
-// A time_offset pivot within this of the joint fit's tau is its own pivot (the linear model is
-// exact there); farther, the selection runs again around the joint fit's tau.
-constexpr double kPivotToleranceS = 1e-5;
-
 int indexOfTerm(const std::vector<CandidateTerm>& terms, TermKind kind) {
   int idx = -1;
   for (std::size_t t = 0; t < terms.size(); ++t)
@@ -77,7 +73,7 @@ void jointFitTimeOffset(const ExplainInputs& ex, double pv, const ImuSeries& shi
   const JointFitResult jf = jointFitWithTimeOffset(ex.bins.r, shifted_signal, ex.bins.grid,
                                                    e->terms, e->sel, to_idx, pv, ex.opt.joint_fit);
   e->sel.log.push_back(jf.summary);
-  if (jf.converged && std::abs(jf.tau_s - pv) <= kPivotToleranceS) {
+  if (jf.converged && std::abs(jf.tau_s - pv) <= ex.opt.finder.pivot_tolerance_s) {
     // At its own pivot the linear model is exact in tau, and its terms were fitted by GLS
     // (term_selection.h step 3), which weighs a slow regressor against the bias wander of its
     // time scales; the joint fit whitens AR(1) only. A speed-driven vibration level next to a
@@ -116,10 +112,11 @@ Explanation explainAgain(const ExplainInputs& ex, double pv, const Explanation& 
 
 // The chord regressor is exact only at its pivot: with road vibration (20-40 Hz) a pivot 0.1 ms
 // from the offset leaves a residual that terms like scale_factor take up (three random cases with
-// 1.4-17 ms offsets). When the joint fit moved tau by more than 10 us, the selection runs again
-// around the joint fit's tau. Returns the reason, or nothing.
-std::optional<std::string> timePivotMoved(const Explanation& e, double pivot_s) {
-  if (!(std::isfinite(e.tau_joint_s) && std::abs(e.tau_joint_s - pivot_s) > kPivotToleranceS))
+// 1.4-17 ms offsets). When the joint fit moved tau by more than pivot_tolerance_s (10 us), the
+// selection runs again around the joint fit's tau. Returns the reason, or nothing.
+std::optional<std::string> timePivotMoved(const Explanation& e, double pivot_s,
+                                          const FinderOptions& fo) {
+  if (!(std::isfinite(e.tau_joint_s) && std::abs(e.tau_joint_s - pivot_s) > fo.pivot_tolerance_s))
     return std::nullopt;
   return fmt::format(
       "selection repeated with the time_offset pivot at the joint fit's tau ({:.6f} s, "
@@ -130,16 +127,18 @@ std::optional<std::string> timePivotMoved(const Explanation& e, double pivot_s) 
 // first-order columns (a gyro "scale factor" of -0.4 % at 4 deg; -11 ppm on x for the concealed
 // misalignment case, beyond the fit's 1 ppm under common random numbers). When that exceeds
 // 1 ppm the selection runs again with the rotation linearized at the fitted one (candidate
-// library: mounting_rotation_pivot_rad) until the rotation moves by < 1 %. Returns the new pivot.
+// library: mounting_rotation_pivot_rad) until the rotation moves by < 1 % (FinderOptions).
+// Returns the new pivot.
 std::optional<Eigen::Vector3d> rotationPivotMoved(const Explanation& e,
-                                                  const Eigen::Vector3d& pivot_rad) {
+                                                  const Eigen::Vector3d& pivot_rad,
+                                                  const FinderOptions& fo) {
   const TermFit* rot = nullptr;
   for (const TermFit& tf : e.sel.selected)
     if (kindOf(e.terms[tf.term]) == TermKind::mounting_misalignment) rot = &tf;
   if (rot == nullptr || rot->theta.size() != 3) return std::nullopt;
   const Eigen::Vector3d phi = rot->theta;
-  if (!phi.allFinite() || 0.5 * phi.squaredNorm() < 1e-6 ||
-      (phi - pivot_rad).norm() < 0.01 * phi.norm())
+  if (!phi.allFinite() || 0.5 * phi.squaredNorm() < fo.rotation_second_order_min ||
+      (phi - pivot_rad).norm() < fo.rotation_rel_change * phi.norm())
     return std::nullopt;
   return phi;
 }
@@ -182,7 +181,7 @@ Explanation explainAt(const ExplainInputs& ex, double pv, RegressorState* reg,
   e.terms = maskedLibrary(reg->ri, ex);
   e.sel = selectTerms(ex.bins.r, e.terms, ex.opt.selection);
   derivativeSecondPass(ex, pv, &reg->ri, &e);
-  e.sel = applyLabGates(ex.bins.r, e.terms, ex.in, ex.opt.selection, ex.bins.grid,
+  e.sel = applyLabGates(ex.bins.r, e.terms, ex.in, ex.opt, ex.bins.grid,
                         std::move(e.sel), &e.notes, &e.calibration_gated);
   if (ex.opt.ceres_joint_fit) jointFitTimeOffset(ex, pv, reg->shiftedSignal(ex.in), &e);
   return e;
@@ -193,13 +192,14 @@ SelectionPasses runSelectionPasses(const ExplainInputs& ex, double pivot_s, Regr
   SelectionPasses p;
   p.pivot_s = pivot_s;
   p.explanation = explainAt(ex, p.pivot_s, reg, report_notes);
-  if (const auto why = timePivotMoved(p.explanation, p.pivot_s)) {
+  if (const auto why = timePivotMoved(p.explanation, p.pivot_s, ex.opt.finder)) {
     p.pivot_s = p.explanation.tau_joint_s;
     p.explanation = explainAgain(ex, p.pivot_s, p.explanation, *why, reg, report_notes,
                                  &p.repeat_notes);
   }
-  for (int rot_pass = 0; rot_pass < 2; ++rot_pass) {
-    const auto phi = rotationPivotMoved(p.explanation, reg->ri.mounting_rotation_pivot_rad);
+  for (int rot_pass = 0; rot_pass < ex.opt.finder.max_rotation_passes; ++rot_pass) {
+    const auto phi = rotationPivotMoved(p.explanation, reg->ri.mounting_rotation_pivot_rad,
+                                        ex.opt.finder);
     if (!phi) break;
     reg->ri.mounting_rotation_pivot_rad = *phi;
     const std::string why = fmt::format(

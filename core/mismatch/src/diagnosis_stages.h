@@ -107,7 +107,7 @@ struct SelectionPasses {
 SelectionPasses runSelectionPasses(const ExplainInputs& ex, double pivot_s, RegressorState* reg,
                                    std::vector<std::string>* report_notes);
 SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
-                              const DiagnosisInputs& in, const SelectionOptions& options,
+                              const DiagnosisInputs& in, const DiagnoseOptions& opt,
                               const GridSpec& grid, SelectionResult sel,
                               std::vector<std::string>* notes,
                               std::vector<int>* calibration_gated);
@@ -159,7 +159,7 @@ double sharedRotationLabSigma(const DiagnosisInputs& in, int axis);
 // Whether either sensor has a lab calibration matrix uncertainty.
 bool anyLabCalibration(const DiagnosisInputs& in);
 double labRotationSigma(const std::optional<Eigen::Matrix3d>& M_sigma, int axis);
-bool sensorsOwnQuadratic(const LabQuadratic& lab, Effect* e);
+bool sensorsOwnQuadratic(const LabQuadratic& lab, double gate_sigmas, Effect* e);
 std::string limitReason(const CandidateTerm& t, const SelectionResult& sel, double bin_s, int n);
 std::vector<Effect> labModelledTerms(const DiagnosisInputs& in,
                                      const std::vector<std::string>& not_listed);

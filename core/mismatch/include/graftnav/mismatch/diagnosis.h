@@ -22,6 +22,7 @@
 
 #include "graftnav/mismatch/candidate_terms.h"
 #include "graftnav/mismatch/common_grid.h"
+#include "graftnav/mismatch/finder_options.h"
 #include "graftnav/mismatch/joint_fit.h"
 #include "graftnav/mismatch/linear_response.h"
 #include "graftnav/mismatch/locate.h"
@@ -143,6 +144,7 @@ struct DiagnoseOptions {
   // ceres::Problem (joint_fit.h); the reported parameters and covariances are then Ceres'.
   bool ceres_joint_fit = true;
   JointFitOptions joint_fit;
+  FinderOptions finder;  // the finder's own gates, pass counts and minimum sizes
   void validate() const;
 };
 

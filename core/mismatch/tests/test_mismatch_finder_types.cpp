@@ -3,6 +3,8 @@
 #include <stdexcept>
 
 #include "graftnav/mismatch/candidate_terms.h"
+#include "graftnav/mismatch/diagnosis.h"
+#include "graftnav/mismatch/finder_options.h"
 #include "graftnav/mismatch/sensor.h"
 #include "graftnav/mismatch/term_kind.h"
 
@@ -42,6 +44,34 @@ TEST(MismatchTermKind, EveryLibraryTermHasItsKind) {
     }
   EXPECT_EQ(termKindNamed("scale_factor"), TermKind::scale_factor);
   EXPECT_EQ(termKindNamed("no_such_term"), TermKind::other);
+}
+
+TEST(MismatchFinderOptions, DefaultsValidAndEachBadValueNamed) {
+  EXPECT_NO_THROW(FinderOptions{}.validate());
+  EXPECT_NO_THROW(DiagnoseOptions{}.validate());
+  const auto message = [](const FinderOptions& o) {
+    try {
+      o.validate();
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  FinderOptions o;
+  o.lab_gate_sigmas = 0.0;
+  EXPECT_NE(message(o).find("lab_gate_sigmas"), std::string::npos);
+  o = FinderOptions{};
+  o.max_gate_passes = 0;
+  EXPECT_NE(message(o).find("max_gate_passes"), std::string::npos);
+  o = FinderOptions{};
+  o.rotation_rel_change = 1.0;
+  EXPECT_NE(message(o).find("rotation_rel_change"), std::string::npos);
+  o = FinderOptions{};
+  o.min_holdout_bins = 1;
+  EXPECT_NE(message(o).find("min_holdout_bins"), std::string::npos);
+  DiagnoseOptions d;
+  d.finder.pivot_tolerance_s = -1.0;
+  EXPECT_THROW(d.validate(), std::invalid_argument);
 }
 
 }  // namespace
