@@ -188,8 +188,9 @@ struct DiagnoseArgs {
 
 // The finder's inputs from the loaded case: records, plausible ranges, and the simulation with
 // its priors (SG#2 from the lab data, or the static-bias simulation without). The records are
-// moved out of the selections, so the case holds each IMU series once.
-DiagnosisInputs diagnosisInputsOf(const CaseInputs& c, const DiagnoseArgs& args,
+// moved out of the selections, so the case holds each IMU series once; so is the truth (the
+// attitude along the record) when the navigation level does not need it.
+DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const DiagnoseArgs& args,
                                   const RunConfig& rc, ImuSelection* ref_imu,
                                   ImuSelection* tested, std::vector<std::string>* notes) {
   const CaseConfig& cfg = c.config;
@@ -209,7 +210,8 @@ DiagnosisInputs diagnosisInputsOf(const CaseInputs& c, const DiagnoseArgs& args,
   if (in.tested_plausible_ranges) in.tested_plausible_ranges->validate();
   // A case with a truth trajectory is simulated: its reference IMU may lack navigation physics.
   in.reference_is_simulated = c.reference_is_truth;
-  if (in.reference_is_simulated) in.attitude = c.reference;
+  if (in.reference_is_simulated)
+    in.attitude = args.estimator.empty() ? std::move(c.reference) : c.reference;
   if (CasePaths::exists(c.paths().labStatic())) {
     fmt::print(stderr, "diagnose: lab data found: simulation = SG#2 from the lab calibration\n");
     PerSensor<double> ref_scale_std;
@@ -287,7 +289,7 @@ void runDiagnose(const DiagnoseArgs& args) {
   CaseLoadOptions lo;
   lo.lenient = true;
   lo.load_gnss = !args.estimator.empty() && CasePaths::exists(CasePaths(args.case_dir).gnssPos());
-  const CaseInputs c = loadCaseInputs(args.case_dir, lo);
+  CaseInputs c = loadCaseInputs(args.case_dir, lo);
   std::vector<std::string> warnings = c.warnings;
   DiagnoseOptions opt;
   if (!args.config.empty()) opt = loadDiagnoseConfig(args.config, &warnings);

@@ -96,12 +96,15 @@ void jointFitTimeOffset(const ExplainInputs& ex, double pv, const ImuSeries& shi
   }
 }
 
-// The explanation again at pivot pv, keeping the earlier selection log and the reason.
-Explanation explainAgain(const ExplainInputs& ex, double pv, const Explanation& before,
+// The explanation again at pivot pv, keeping the earlier selection log and the reason. The
+// earlier explanation is released first: its candidate library (tens of MB on an hour of data)
+// is not held next to the new one.
+Explanation explainAgain(const ExplainInputs& ex, double pv, Explanation* before,
                          const std::string& why, RegressorState* reg,
                          std::vector<std::string>* report_notes,
                          std::vector<std::string>* repeat_notes) {
-  std::vector<std::string> log = before.sel.log;
+  std::vector<std::string> log = std::move(before->sel.log);
+  *before = Explanation{};
   Explanation e = explainAt(ex, pv, reg, report_notes);
   log.push_back(why);
   log.insert(log.end(), e.sel.log.begin(), e.sel.log.end());
@@ -194,7 +197,7 @@ SelectionPasses runSelectionPasses(const ExplainInputs& ex, double pivot_s, Regr
   p.explanation = explainAt(ex, p.pivot_s, reg, report_notes);
   if (const auto why = timePivotMoved(p.explanation, p.pivot_s, ex.opt.finder)) {
     p.pivot_s = p.explanation.tau_joint_s;
-    p.explanation = explainAgain(ex, p.pivot_s, p.explanation, *why, reg, report_notes,
+    p.explanation = explainAgain(ex, p.pivot_s, &p.explanation, *why, reg, report_notes,
                                  &p.repeat_notes);
   }
   for (int rot_pass = 0; rot_pass < ex.opt.finder.max_rotation_passes; ++rot_pass) {
@@ -206,7 +209,7 @@ SelectionPasses runSelectionPasses(const ExplainInputs& ex, double pivot_s, Regr
         "selection repeated with mounting_misalignment linearized at the fitted rotation [{:.5f} "
         "{:.5f} {:.5f}] rad (its second order, up to {:.2g}, is then modelled)", (*phi)(0),
         (*phi)(1), (*phi)(2), 0.5 * phi->squaredNorm());
-    p.explanation = explainAgain(ex, p.pivot_s, p.explanation, why, reg, report_notes,
+    p.explanation = explainAgain(ex, p.pivot_s, &p.explanation, why, reg, report_notes,
                                  &p.repeat_notes);
   }
   if (const auto r = leverArmToMoveForce(p.explanation)) {
@@ -223,7 +226,7 @@ SelectionPasses runSelectionPasses(const ExplainInputs& ex, double pivot_s, Regr
         "selection repeated with the specific force of the vibration level and of "
         "g_sensitivity moved to the tested IMU by the fitted lever arm [{:.4f} {:.4f} "
         "{:.4f}] m", (*r)(0), (*r)(1), (*r)(2));
-    p.explanation = explainAgain(ex, p.pivot_s, p.explanation, why, reg, report_notes,
+    p.explanation = explainAgain(ex, p.pivot_s, &p.explanation, why, reg, report_notes,
                                  &p.repeat_notes);
   }
   return p;
