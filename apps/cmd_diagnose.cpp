@@ -1,5 +1,5 @@
 // graftnav diagnose CASE_DIR --out OUT_DIR [--estimator ekf|rts|fgo] [--config FILE] [--no-plots]
-// The mismatch finder (issue 7): where the simulation of the tested IMU and its real recording
+// The mismatch finder: where the simulation of the tested IMU and its real recording
 // differ, which physics explains it, and how much the fit improves when that physics is grafted.
 #include <fmt/core.h>
 #include <yaml-cpp/yaml.h>

@@ -39,7 +39,7 @@ json statsJson(const DriftStats& s, bool fraction) {
               {"heading_deg", num(s.heading_rad * k)}};
 }
 
-// An effect as issue 7 item 5 writes it: parameters and their 1-sigma keyed alike.
+// An effect as diagnosis.json writes it: parameters and their 1-sigma keyed alike.
 json effectJson(const Effect& e, json evidence) {
   json p = json::object(), u = json::object();
   for (const EffectParameter& q : e.parameters) {

@@ -1,5 +1,5 @@
 #pragma once
-// The mismatch finder's pipeline (issue 7): given the reference signals x, a simulation of the
+// The mismatch finder (its stages: src/diagnosis_stages.h): given the reference signals x, a simulation of the
 // tested IMU and the tested IMU's real recording,
 //   1. bin all three on one grid (common_grid.h);
 //   2. estimate the time offset of the real record by cross-correlation (time_offset.h); it is the
@@ -158,7 +158,7 @@ struct EffectParameter {
 };
 
 struct Effect {
-  std::string name;          // issue 7 effect name
+  std::string name;          // effect name as diagnosis.json writes it
   std::string sensor;        // gyro | accel | both
   std::vector<EffectParameter> parameters;
   double delta_bic = 0.0;

@@ -2,7 +2,7 @@
 // Time offset between a tested IMU record and a simulation of it (or the reference signals),
 // estimated before anything else because every other term is fitted on aligned signals.
 //
-// Convention (issue 7): tau_s > 0 when the tested IMU's time tags are late, i.e. the tested
+// Convention: tau_s > 0 when the tested IMU's time tags are late, i.e. the tested
 // sample tagged t was measured at t - tau_s: tested(t) = x(t - tau_s). The cross-covariance
 // c(L) = sum_t x(t) tested(t + L) of the mean-removed angular rates (bins of bin_s, summed over
 // the three axes so that the axis with most motion dominates) peaks at L = tau_s; the peak is
