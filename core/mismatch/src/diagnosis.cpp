@@ -1,12 +1,13 @@
 // The mismatch finder (diagnosis.h) as a pipeline of named stages over typed values
 // (diagnosis_stages.h): align time -> grid -> residual -> regressors -> select (with the lab
 // gates and the passes it calls for) -> locate -> claims -> checks -> model and report.
+#include "graftnav/mismatch/diagnosis.h"
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
 
 #include "diagnosis_stages.h"
-#include "graftnav/mismatch/diagnosis.h"
 #include "graftnav/mismatch/locate.h"
 
 namespace graftnav {
@@ -17,11 +18,10 @@ void DiagnoseOptions::validate() const {
   if (!(bin_s > 0.0 && bin_s <= 1.0))
     throw std::invalid_argument("DiagnoseOptions: bin_s = " + std::to_string(bin_s) +
                                 " must be in (0, 1] s");
-  if (!(margin_s >= 0.0))
-    throw std::invalid_argument("DiagnoseOptions: margin_s must be >= 0");
+  if (!(margin_s >= 0.0)) throw std::invalid_argument("DiagnoseOptions: margin_s must be >= 0");
   if (!(realign_offset_s > 0.0))
-    throw std::invalid_argument("DiagnoseOptions: realign_offset_s = " +
-                                std::to_string(realign_offset_s) + " must be > 0");
+    throw std::invalid_argument(
+        "DiagnoseOptions: realign_offset_s = " + std::to_string(realign_offset_s) + " must be > 0");
   if (!(locate.window_s >= 2.0 * bin_s))
     throw std::invalid_argument("DiagnoseOptions: locate.window_s = " +
                                 std::to_string(locate.window_s) + " must be >= 2 bins");
@@ -67,7 +67,8 @@ Eigen::Matrix<double, 6, 1> locateBeforeModelling(const ResidualBins& bins,
 DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt_in) {
   opt_in.validate();
   if (in.reference.empty() || in.simulated.empty() || in.real.empty())
-    throw std::invalid_argument("diagnose: reference, simulated and real records must be non-empty");
+    throw std::invalid_argument(
+        "diagnose: reference, simulated and real records must be non-empty");
   DiagnosisResult out;
   out.case_name = in.case_name;
   out.simulation_kind = in.simulation_kind;
@@ -82,8 +83,7 @@ DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt_i
   out.notes.insert(out.notes.end(), ex.notes.begin(), ex.notes.end());
   out.notes.insert(out.notes.end(), passes.repeat_notes.begin(), passes.repeat_notes.end());
   const Vector6d bin_variance = binNoiseVariance(ex.sel);
-  const Eigen::Matrix<double, 6, 1> noise_ms =
-      locateBeforeModelling(bins, opt, bin_variance, &out);
+  const Eigen::Matrix<double, 6, 1> noise_ms = locateBeforeModelling(bins, opt, bin_variance, &out);
   out.selection = ex.sel;
   const ClaimInputs claims{in, opt, bins, ex, reg, alignment, passes.pivot_s};
   std::vector<std::string> lab_quadratic_not_listed = claimEffects(claims, &out);

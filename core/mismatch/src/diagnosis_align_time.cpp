@@ -1,12 +1,12 @@
 // The finder's first stages: align time (cross-correlation offset, realignment of a large one),
 // the grid inside all three records, and the residual real - simulated on it.
+#include <fmt/core.h>
+
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <stdexcept>
 #include <string>
-
-#include <fmt/core.h>
 
 #include "diagnosis_stages.h"
 
@@ -46,10 +46,10 @@ void maskSamplingGaps(std::initializer_list<const ImuSeries*> records, const Gri
         n));
   out->notes.push_back(fmt::format(
       "{} bins ({:.2f} s) overlapping sampling gaps (an interval > 1.5 x the median) are left out "
-      "of every fit and RMS: {} span(s), {}{}", masked, masked * grid.bin_s,
-      out->masked_spans.size(), spans, out->masked_spans.size() > 5 ? ", ..." : ""));
+      "of every fit and RMS: {} span(s), {}{}",
+      masked, masked * grid.bin_s, out->masked_spans.size(), spans,
+      out->masked_spans.size() > 5 ? ", ..." : ""));
 }
-
 
 }  // namespace
 
@@ -60,13 +60,16 @@ TimeAlignment alignTime(const DiagnosisInputs& in, const DiagnoseOptions& opt,
   double pivot = 0.0;
   try {
     out->time_offset_xcorr = estimateTimeOffset(in.reference, in.real, opt.time_offset);
-    if (out->time_offset_xcorr.reliable) pivot = out->time_offset_xcorr.tau_s;
+    if (out->time_offset_xcorr.reliable)
+      pivot = out->time_offset_xcorr.tau_s;
     else
       out->notes.push_back(fmt::format(
           "cross-correlation time offset not reliable (peak correlation {:.3f}); the time_offset "
-          "term uses the derivative regressor", out->time_offset_xcorr.peak_correlation));
+          "term uses the derivative regressor",
+          out->time_offset_xcorr.peak_correlation));
   } catch (const std::invalid_argument& e) {
-    out->notes.push_back(std::string("time offset not estimated by cross-correlation: ") + e.what());
+    out->notes.push_back(std::string("time offset not estimated by cross-correlation: ") +
+                         e.what());
   }
   // A large offset (separately started loggers) is taken out first: the real record's tags are
   // moved by it, so the joint fit's first-order shift of the other terms stays small, and the
@@ -103,14 +106,16 @@ GridSpec finderGrid(const DiagnosisInputs& in, const ImuSeries& real, double piv
     grid.t_begin_s = t0;
     grid.count = static_cast<int>(std::floor((t1 - t0) / opt.bin_s + 1e-9));
     if (grid.count < opt.finder.min_grid_bins)
-      throw std::invalid_argument(fmt::format("diagnose: the records overlap by {} bins, fewer "
-                                              "than {} (finder.min_grid_bins)", grid.count,
-                                              opt.finder.min_grid_bins));
+      throw std::invalid_argument(
+          fmt::format("diagnose: the records overlap by {} bins, fewer "
+                      "than {} (finder.min_grid_bins)",
+                      grid.count, opt.finder.min_grid_bins));
   }
   if (std::abs(pivot) > opt.margin_s)
     notes->push_back(fmt::format(
         "time offset {:.3f} s exceeds the {:.1f}-s margin: the grid keeps {:.3f} s from the "
-        "records' ends", pivot, opt.margin_s, margin_s));
+        "records' ends",
+        pivot, opt.margin_s, margin_s));
   return grid;
 }
 
@@ -120,9 +125,8 @@ DiagnoseOptions optionsOnGrid(const DiagnosisInputs& in, const GridSpec& grid,
   // Slow-noise blocks: slow_block_s, shortened so that a short record still has min_slow_blocks.
   DiagnoseOptions opt = opt_in;
   if (opt.selection.slow_block_bins == 0 && opt.slow_block_s > 0.0)
-    opt.selection.slow_block_bins =
-        std::min(static_cast<int>(std::round(opt.slow_block_s / opt.bin_s)),
-                 n / opt.finder.min_slow_blocks);
+    opt.selection.slow_block_bins = std::min(
+        static_cast<int>(std::round(opt.slow_block_s / opt.bin_s)), n / opt.finder.min_slow_blocks);
   opt.selection.bin_s = grid.bin_s;
   if (in.graft_static_record_s > 0.0 && !in.simulated.empty()) {
     // The tiling clock starts at the simulation's first interval (grafting.cpp).

@@ -124,13 +124,14 @@ void setGainsPerSign(const SensorPriors& prior, const TermFit& fit_asym,
   missing_pos.key = "k_pos_missing";
   missing_neg.key = "k_neg_missing";
   e->parameters = {kp, kn, missing_pos, missing_neg};
-  e->explanation += " (k_pos / k_neg: the sensor's gains per sign relative to the "
-                    "simulation's linear gain, i.e. its own asymmetry +-d fitted on tested "
-                    "minus reference (beside the curvature its lab measured) plus the scale "
-                    "factor the simulation lacks; only k_pos - k_neg is "
-                    "identifiable, their mean is the lab's, and their uncertainty includes "
-                    "that of the lab's and the reference's gain; *_missing: the part the "
-                    "simulation lacks)";
+  e->explanation +=
+      " (k_pos / k_neg: the sensor's gains per sign relative to the "
+      "simulation's linear gain, i.e. its own asymmetry +-d fitted on tested "
+      "minus reference (beside the curvature its lab measured) plus the scale "
+      "factor the simulation lacks; only k_pos - k_neg is "
+      "identifiable, their mean is the lab's, and their uncertainty includes "
+      "that of the lab's and the reference's gain; *_missing: the part the "
+      "simulation lacks)";
 }
 
 }  // namespace

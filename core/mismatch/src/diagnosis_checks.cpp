@@ -1,15 +1,15 @@
 // The finder's checks on its claims that do not change the model: the reference IMU's share in
 // a scale factor, the names of one-signed gains, value lattices, correlations and ranges.
+#include <fmt/core.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
 
-#include <fmt/core.h>
-
 #include "diagnosis_stages.h"
-#include "graftnav/mismatch/term_kind.h"
 #include "graftnav/mismatch/claim_checks.h"
 #include "graftnav/mismatch/gain_or_curvature.h"
+#include "graftnav/mismatch/term_kind.h"
 
 namespace graftnav::diagnosis_detail {
 
@@ -55,9 +55,11 @@ void claimQuantization(const ImuSeries& real, const ImuSeries& simulated, bool g
       p.sigma.push_back(q.claimed[a] ? 1e-6 * q.step(a) : kNaN);
     }
     e.parameters.push_back(p);
-    e.explanation = "the real " + e.sensor + " increments are whole multiples of a step "
+    e.explanation = "the real " + e.sensor +
+                    " increments are whole multiples of a step "
                     "coarser than the file's printed resolution, and its noise is resolvable "
-                    "against the white noise; the simulation's are not (" + q.summary() + ")";
+                    "against the white noise; the simulation's are not (" +
+                    q.summary() + ")";
     out->effects.push_back(e);
   } else if (!q.simulation_on_same_lattice) {
     e.evidence_method = "detection_limit";
@@ -72,8 +74,7 @@ void claimQuantization(const ImuSeries& real, const ImuSeries& simulated, bool g
 
 }  // namespace
 
-ReferenceInputStats referenceInputStats(const ResidualBins& bins,
-                                        const std::vector<char>& masked) {
+ReferenceInputStats referenceInputStats(const ResidualBins& bins, const std::vector<char>& masked) {
   Eigen::MatrixXd ref_inputs(bins.n(), kMismatchChannels);
   ref_inputs << bins.x.omega_rad_s, bins.x.f_m_s2;
   ReferenceInputStats st;

@@ -1,11 +1,11 @@
 // The finder's claims stage: effects from the selected terms (with the lab quadratic's checks),
 // the ambiguous ones, the detection limits of the candidates left out, and the realignment's
 // time offset when its remainder is not claimed.
+#include <fmt/core.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
-
-#include <fmt/core.h>
 
 #include "diagnosis_stages.h"
 #include "graftnav/mismatch/term_kind.h"
@@ -18,26 +18,29 @@ namespace {
 // the lab's rotation uncertainty (the larger sensor's, as for the gate).
 void widenMisalignmentSigma(const DiagnosisInputs& in, Effect* e, DiagnosisResult* out) {
   for (int a = 0; a < 3; ++a)
-    e->parameters[0].sigma[a] = std::hypot(e->parameters[0].sigma[a], sharedRotationLabSigma(in, a));
-  out->notes.push_back("mounting_misalignment uncertainty includes the lab calibration's "
-                       "rotation uncertainty (the frames it is measured between)");
+    e->parameters[0].sigma[a] =
+        std::hypot(e->parameters[0].sigma[a], sharedRotationLabSigma(in, a));
+  out->notes.push_back(
+      "mounting_misalignment uncertainty includes the lab calibration's "
+      "rotation uncertainty (the frames it is measured between)");
 }
 
 enum class QuadraticVerdict { claimed, cancels_lab, within_lab };
 
 // A scale_nonlinearity beside SG#2's lab quadratic: the sensor's own k2 (sensorsOwnQuadratic) is
 // claimed only when it is non-zero and what SG#2 lacks exceeds the lab's own c2 uncertainty.
-QuadraticVerdict checkAgainstLabQuadratic(const LabQuadratic& lab_q, double gate_sigmas,
-                                          Effect* e, DiagnosisResult* out) {
+QuadraticVerdict checkAgainstLabQuadratic(const LabQuadratic& lab_q, double gate_sigmas, Effect* e,
+                                          DiagnosisResult* out) {
   if (!sensorsOwnQuadratic(lab_q, gate_sigmas, e)) {
     const EffectParameter& own = e->parameters[0];
     out->notes.push_back(fmt::format(
         "{} scale_nonlinearity: the residual's quadratic [{:.3g} {:.3g} {:.3g}] cancels SG#2's "
         "lab polynomial term c2 [{:.3g} {:.3g} {:.3g}]; the sensor's own k2 [{:.3g} {:.3g} "
         "{:.3g}] is zero within {:g} sigma: modelled in SG#3, not claimed (the simulation's "
-        "artefact, not a non-linearity of the sensor)", e->sensor, e->parameters[1].values[0],
-        e->parameters[1].values[1], e->parameters[1].values[2], lab_q.c2(0), lab_q.c2(1),
-        lab_q.c2(2), own.values[0], own.values[1], own.values[2], gate_sigmas));
+        "artefact, not a non-linearity of the sensor)",
+        e->sensor, e->parameters[1].values[0], e->parameters[1].values[1],
+        e->parameters[1].values[2], lab_q.c2(0), lab_q.c2(1), lab_q.c2(2), own.values[0],
+        own.values[1], own.values[2], gate_sigmas));
     return QuadraticVerdict::cancels_lab;
   }
   // The sensor does bend, but what SG#2 lacks is the lab's c2 being off by no more than its own
@@ -57,8 +60,8 @@ QuadraticVerdict checkAgainstLabQuadratic(const LabQuadratic& lab_q, double gate
       "{} scale_nonlinearity: the sensor's k2 [{:.3g} {:.3g} {:.3g}] is what SG#2's lab "
       "polynomial holds (c2 [{:.3g} {:.3g} {:.3g}]) within {:g} sigma of the lab's own c2 "
       "uncertainty; the missing part [{:.3g} {:.3g} {:.3g}] ({:.2f} x its limit) is "
-      "calibration error: modelled in SG#3, not claimed", e->sensor,
-      e->parameters[0].values[0], e->parameters[0].values[1], e->parameters[0].values[2],
+      "calibration error: modelled in SG#3, not claimed",
+      e->sensor, e->parameters[0].values[0], e->parameters[0].values[1], e->parameters[0].values[2],
       lab_q.c2(0), lab_q.c2(1), lab_q.c2(2), gate_sigmas, miss.values[0], miss.values[1],
       miss.values[2], worst));
   return QuadraticVerdict::within_lab;
@@ -74,8 +77,8 @@ void listAmbiguous(const ClaimInputs& c, const TermFit& tf, const Effect& e,
       "{} {} (delta_bic {:.1f}): its shape is not settled, its evidence over {} is {:.1f} "
       "where a name needs {:.1f}; modelled in SG#3 as {}, not claimed (listed under "
       "'ambiguous')",
-      e.sensor, e.name, tf.delta_bic, alternative, tf.name_margin,
-      c.opt.selection.min_name_margin, e.name));
+      e.sensor, e.name, tf.delta_bic, alternative, tf.name_margin, c.opt.selection.min_name_margin,
+      e.name));
   if (terms[tf.term].regressor == "replaces_lab_quadratic")
     not_listed->push_back(e.sensor);  // SG#3 takes it out
   out->ambiguous.push_back({e, alternative, tf.name_margin});
@@ -125,8 +128,9 @@ Effect realignmentOffset(const ClaimInputs& c) {
   // Sigma: the lag grid's resolution (the parabola refines it; a conservative bound).
   e.parameters.push_back(scalarParam("tau_s", c.alignment.realign_s + c.pivot_s,
                                      c.opt.time_offset.bin_s / std::sqrt(12.0)));
-  e.explanation = "the tested IMU's time tags are offset (late when positive) from the "
-                  "reference's by more than the realignment threshold";
+  e.explanation =
+      "the tested IMU's time tags are offset (late when positive) from the "
+      "reference's by more than the realignment threshold";
   return e;
 }
 
@@ -148,9 +152,8 @@ std::vector<std::string> claimEffects(const ClaimInputs& c, DiagnosisResult* out
     if (kind == TermKind::mounting_misalignment && anyLabCalibration(in))
       widenMisalignmentSigma(in, &e, out);
     if (kind == TermKind::scale_nonlinearity && in.priors[sensorNamed(e.sensor)].lab_quadratic) {
-      const QuadraticVerdict v =
-          checkAgainstLabQuadratic(*in.priors[sensorNamed(e.sensor)].lab_quadratic,
-                                   c.opt.finder.lab_gate_sigmas, &e, out);
+      const QuadraticVerdict v = checkAgainstLabQuadratic(
+          *in.priors[sensorNamed(e.sensor)].lab_quadratic, c.opt.finder.lab_gate_sigmas, &e, out);
       if (v == QuadraticVerdict::cancels_lab) not_listed.push_back(e.sensor);
       if (v != QuadraticVerdict::claimed) continue;
     }
@@ -167,7 +170,8 @@ std::vector<std::string> claimEffects(const ClaimInputs& c, DiagnosisResult* out
       out->notes.push_back(fmt::format(
           "{} scale_asymmetry replaces SG#2's lab quadratic c2 [{:.3g} {:.3g} {:.3g}]: the lab's "
           "poses at +-g (rate-table turns of both signs) see an asymmetric gain d |x| as c2 x^2; "
-          "SG#3 grafts the asymmetry and takes c2 out", e.sensor, c2(0), c2(1), c2(2)));
+          "SG#3 grafts the asymmetry and takes c2 out",
+          e.sensor, c2(0), c2(1), c2(2)));
     }
     out->effects.push_back(e);
   }

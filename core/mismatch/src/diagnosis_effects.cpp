@@ -1,12 +1,12 @@
 // Shared helpers of the finder's stages: effects from fitted terms, masked means and RMS, the
 // lab's rotation uncertainty, and the report's text for limits and lab-modelled terms.
+#include <fmt/core.h>
+
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
-
-#include <Eigen/QR>
-#include <fmt/core.h>
 
 #include "diagnosis_stages.h"
 #include "graftnav/mismatch/term_kind.h"
@@ -92,9 +92,15 @@ Effect effectFromTerm(const CandidateTerm& term, const TermFit& tf, int n_bins) 
   e.cv_gain = tf.cv_gain;
   std::vector<EffectParameter>& ps = e.parameters;
   switch (kindOf(term)) {
-    case TermKind::scale_factor: ps.push_back(vecParam("k", tf, 0, 3)); break;
-    case TermKind::non_orthogonality: ps.push_back(nonOrthogonalityParam(term, tf)); break;
-    case TermKind::g_sensitivity: ps.push_back(vecParam("G", tf, 0, 9)); break;
+    case TermKind::scale_factor:
+      ps.push_back(vecParam("k", tf, 0, 3));
+      break;
+    case TermKind::non_orthogonality:
+      ps.push_back(nonOrthogonalityParam(term, tf));
+      break;
+    case TermKind::g_sensitivity:
+      ps.push_back(vecParam("G", tf, 0, 9));
+      break;
     case TermKind::scale_asymmetry: {
       // The residual's d |x|: gains +d for positive and -d for negative inputs.
       EffectParameter kp = vecParam("k_pos", tf, 0, 3), kn = kp;
@@ -104,17 +110,25 @@ Effect effectFromTerm(const CandidateTerm& term, const TermFit& tf, int n_bins) 
       ps.push_back(kn);
       break;
     }
-    case TermKind::scale_nonlinearity: ps.push_back(vecParam("k2", tf, 0, 3)); break;
+    case TermKind::scale_nonlinearity:
+      ps.push_back(vecParam("k2", tf, 0, 3));
+      break;
     case TermKind::temperature_bias:
       ps.push_back(vecParam("per_degC", tf, 0, 3));
       ps.push_back(scalarParam("t_ref_degC", term.t_ref_degC, 0.0));
       break;
-    case TermKind::temperature_scale: ps.push_back(vecParam("per_degC", tf, 0, 3)); break;
+    case TermKind::temperature_scale:
+      ps.push_back(vecParam("per_degC", tf, 0, 3));
+      break;
     case TermKind::time_offset:
       ps.push_back(scalarParam("tau_s", tf.theta(0), tf.sigma(0)));
       break;
-    case TermKind::lever_arm: ps.push_back(vecParam("r_m", tf, 0, 3)); break;
-    case TermKind::mounting_misalignment: ps.push_back(vecParam("rotation_rad", tf, 0, 3)); break;
+    case TermKind::lever_arm:
+      ps.push_back(vecParam("r_m", tf, 0, 3));
+      break;
+    case TermKind::mounting_misalignment:
+      ps.push_back(vecParam("rotation_rad", tf, 0, 3));
+      break;
     case TermKind::vibration_rectification: {
       ps.push_back(vecParam("coeff", tf, 0, 3));
       EffectParameter r;
@@ -130,7 +144,8 @@ Effect effectFromTerm(const CandidateTerm& term, const TermFit& tf, int n_bins) 
     case TermKind::gravity_model:
       ps.push_back(scalarParam("delta_g_m_s2", tf.theta(0), tf.sigma(0)));
       break;
-    default: break;  // earth_rotation_omitted: no parameters
+    default:
+      break;  // earth_rotation_omitted: no parameters
   }
   return e;
 }
@@ -186,8 +201,8 @@ void zeroMaskedRows(const std::vector<char>& masked, std::vector<CandidateTerm>*
 Eigen::MatrixXd nuisanceOnlyFit(const Eigen::MatrixXd& r, int a, int b, bool drift,
                                 const std::vector<char>& masked) {
   const int n = static_cast<int>(r.rows());
-  const Eigen::VectorXd ramp = drift ? Eigen::VectorXd::LinSpaced(n, -1.0, 1.0).eval()
-                                     : Eigen::VectorXd::Zero(n).eval();
+  const Eigen::VectorXd ramp =
+      drift ? Eigen::VectorXd::LinSpaced(n, -1.0, 1.0).eval() : Eigen::VectorXd::Zero(n).eval();
   Eigen::MatrixXd A(b - a, 2);
   A.col(0).setOnes();
   A.col(1) = ramp.segment(a, b - a);
@@ -200,7 +215,6 @@ Eigen::MatrixXd nuisanceOnlyFit(const Eigen::MatrixXd& r, int a, int b, bool dri
   }
   return out;
 }
-
 
 // 1-sigma of the rotation about `axis` that a lab calibration leaves in a sensor triad's frame:
 // a rotation is indistinguishable from the antisymmetric part of the cross-axis terms, phi_z from

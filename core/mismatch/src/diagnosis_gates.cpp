@@ -1,12 +1,12 @@
 // The lab gates of the finder's selection: what the lab calibration's own uncertainty explains is
 // not claimed (docs/mismatch.md, Method, gates a, b, d).
+#include <fmt/core.h>
+
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
-
-#include <Eigen/QR>
-#include <fmt/core.h>
 
 #include "diagnosis_stages.h"
 #include "graftnav/mismatch/term_kind.h"
@@ -38,8 +38,7 @@ SelectionResult refitKeepingLog(const Eigen::MatrixXd& r, const std::vector<Cand
 SelectionResult withCalibrationErrorFitted(const Eigen::MatrixXd& r,
                                            const std::vector<CandidateTerm>& terms,
                                            const SelectionOptions& options, int max_passes,
-                                           SelectionResult sel,
-                                           const std::vector<int>& gated,
+                                           SelectionResult sel, const std::vector<int>& gated,
                                            std::vector<std::string>* notes) {
   if (gated.empty() || sel.selected.empty()) return sel;
   std::string gated_names;
@@ -80,7 +79,8 @@ SelectionResult withCalibrationErrorFitted(const Eigen::MatrixXd& r,
   sel.nuisance = fitTerms(rest, terms, {}, options).nuisance;
   notes->push_back(fmt::format(
       "the claimed terms are fitted with the lab calibration error ({}) in the model, so they do "
-      "not take it up; it is not grafted into SG#3", gated_names));
+      "not take it up; it is not grafted into SG#3",
+      gated_names));
   return sel;
 }
 
@@ -100,8 +100,7 @@ const Eigen::VectorXd* columnOn(const std::vector<CandidateTerm>& terms, TermKin
 // the gain and the bias the asymmetry is fitted with: the |x| coefficient of x^2 regressed on
 // 1, x, |x| over the drive's inputs (1/s or 1/(m/s^2) times e; per axis, 0 where x keeps one
 // sign and |x| is the gain's column).
-Eigen::Vector3d quadraticReadAsAsymmetry(const std::vector<CandidateTerm>& terms,
-                                         Sensor sensor) {
+Eigen::Vector3d quadraticReadAsAsymmetry(const std::vector<CandidateTerm>& terms, Sensor sensor) {
   Eigen::Vector3d out = Eigen::Vector3d::Zero();
   for (int a = 0; a < 3; ++a) {
     const int c = firstChannel(sensor) + a;
@@ -175,10 +174,9 @@ std::optional<HoldBack> gateCalibrationMatrix(const GateContext& g, const TermFi
   // sensor's cross-axis terms then take up the difference. Their lab budget adds the other
   // sensor's rotation uncertainty about the complementary axis.
   const std::optional<Eigen::Matrix3d>& other_Msig = g.in.priors[otherSensor(sensor)].lab_M_sigma;
-  const bool shared_rotation =
-      std::any_of(g.sel.selected.begin(), g.sel.selected.end(), [&](const TermFit& o) {
-        return kindOf(g.terms[o.term]) == TermKind::mounting_misalignment;
-      });
+  const bool shared_rotation = std::any_of(
+      g.sel.selected.begin(), g.sel.selected.end(),
+      [&](const TermFit& o) { return kindOf(g.terms[o.term]) == TermKind::mounting_misalignment; });
   bool beyond = false;
   double worst_ratio = 0.0;  // largest |value| / limit, for the note
   std::size_t worst_k = 0;
@@ -189,8 +187,7 @@ std::optional<HoldBack> gateCalibrationMatrix(const GateContext& g, const TermFi
     double lab_sigma = (*Msig)(i, j);
     if (!scale && shared_rotation)
       lab_sigma = std::hypot(lab_sigma, labRotationSigma(other_Msig, 3 - i - j));
-    if (scale && ref_scale_sigma)
-      lab_sigma = std::hypot(lab_sigma, *ref_scale_sigma);
+    if (scale && ref_scale_sigma) lab_sigma = std::hypot(lab_sigma, *ref_scale_sigma);
     // SG#2's gain at the drive's mean input x0 is c1 + 2 c2 x0: the lab's c2 uncertainty is a
     // gain uncertainty there (f_z ~ -g: 2 g sigma_c2; under common random numbers a c2_z 2 sigma
     // off was claimed as a -6.3e-4 z scale factor, random_14_22).
@@ -209,10 +206,12 @@ std::optional<HoldBack> gateCalibrationMatrix(const GateContext& g, const TermFi
   return HoldBack{fmt::format(
       "{} {} fitted but within {:g} sigma of the lab calibration's own uncertainty{}{}: not "
       "claimed (calibration error, not missing physics; largest element {}[{}] = {:.3g}, "
-      "{:.2f} x its limit)", t.sensor, t.name, g.gate_sigmas,
+      "{:.2f} x its limit)",
+      t.sensor, t.name, g.gate_sigmas,
       with_quad ? " (with its quadratic's at the drive's mean input)" : "",
       with_ref ? fmt::format(" and the reference IMU's scale uncertainty ({:.3g} ppm, "
-                             "its profile)", 1e6 * *ref_scale_sigma)
+                             "its profile)",
+                             1e6 * *ref_scale_sigma)
                : "",
       q.key, worst_k, q.values[worst_k], worst_ratio)};
 }
@@ -230,8 +229,8 @@ std::optional<HoldBack> gateAsymmetry(const GateContext& g, const TermFit& tf) {
   const Effect e = effectFromTerm(t, tf, g.grid.count);
   const EffectParameter& d = e.parameters[0];
   const Eigen::Vector3d lab_c2_sigma = quad ? quad->c2_sigma : Eigen::Vector3d::Zero();
-  const Eigen::Vector3d per_c2 = lab_c2_sigma.isZero() ? Eigen::Vector3d::Zero()
-                                                       : quadraticReadAsAsymmetry(g.terms, sensor);
+  const Eigen::Vector3d per_c2 =
+      lab_c2_sigma.isZero() ? Eigen::Vector3d::Zero() : quadraticReadAsAsymmetry(g.terms, sensor);
   bool beyond = false;
   double worst_ratio = 0.0;
   int worst_a = 0;
@@ -245,10 +244,11 @@ std::optional<HoldBack> gateAsymmetry(const GateContext& g, const TermFit& tf) {
     }
   }
   if (beyond) return std::nullopt;
-  return HoldBack{fmt::format(
-      "{} scale_asymmetry fitted but within {:g} sigma of the fit and of the lab "
-      "quadratic's uncertainty as it reads on |x|: not claimed (largest: axis {}, "
-      "d = {:.3g}, {:.2f} x its limit)", t.sensor, g.gate_sigmas, worst_a, d.values[worst_a], worst_ratio)};
+  return HoldBack{
+      fmt::format("{} scale_asymmetry fitted but within {:g} sigma of the fit and of the lab "
+                  "quadratic's uncertainty as it reads on |x|: not claimed (largest: axis {}, "
+                  "d = {:.3g}, {:.2f} x its limit)",
+                  t.sensor, g.gate_sigmas, worst_a, d.values[worst_a], worst_ratio)};
 }
 
 // Gate (d): for either sensor a rotation is indistinguishable from the antisymmetric part of its
@@ -265,10 +265,11 @@ std::optional<HoldBack> gateMisalignment(const GateContext& g, const TermFit& tf
     beyond |= std::abs(q.values[a]) >
               g.gate_sigmas * std::hypot(q.sigma[a], sharedRotationLabSigma(g.in, a));
   if (beyond) return std::nullopt;
-  return HoldBack{fmt::format("mounting_misalignment fitted but within {:g} sigma of the lab "
-                              "calibration's rotation uncertainty (antisymmetric cross-axis "
-                              "terms): not claimed (calibration error, not missing physics)",
-                              g.gate_sigmas)};
+  return HoldBack{
+      fmt::format("mounting_misalignment fitted but within {:g} sigma of the lab "
+                  "calibration's rotation uncertainty (antisymmetric cross-axis "
+                  "terms): not claimed (calibration error, not missing physics)",
+                  g.gate_sigmas)};
 }
 
 // A bias_instability is claimed only when some axis wanders beyond what two independent
@@ -284,12 +285,14 @@ std::optional<HoldBack> gateBiasWander(const GateContext& g, const TermFit& tf) 
   for (int a = 0; a < 3; ++a)
     beyond |= e.parameters[0].values[a] > kWanderSdQuantile999 * expected(a);
   if (beyond) return std::nullopt;
-  return HoldBack{fmt::format(
-      "{} bias wander [{:.3g} {:.3g} {:.3g}] is within {} x the wander the lab's bias "
-      "instability and rate random walk predict for two realizations [{:.3g} {:.3g} "
-      "{:.3g}]: not claimed (the graft already carries it)", t.sensor,
-      e.parameters[0].values[0], e.parameters[0].values[1], e.parameters[0].values[2],
-      kWanderSdQuantile999, expected(0), expected(1), expected(2)), false};
+  return HoldBack{
+      fmt::format("{} bias wander [{:.3g} {:.3g} {:.3g}] is within {} x the wander the lab's bias "
+                  "instability and rate random walk predict for two realizations [{:.3g} {:.3g} "
+                  "{:.3g}]: not claimed (the graft already carries it)",
+                  t.sensor, e.parameters[0].values[0], e.parameters[0].values[1],
+                  e.parameters[0].values[2], kWanderSdQuantile999, expected(0), expected(1),
+                  expected(2)),
+      false};
 }
 
 // The terms one pass keeps in the model, and which of them stay only as companions.
@@ -314,8 +317,8 @@ void holdBack(const GateContext& g, const TermFit& tf, const HoldBack& why, Gate
     return;
   }
   pass->gated = true;
-  if (why.calibration && std::find(calibration_gated->begin(), calibration_gated->end(),
-                                   tf.term) == calibration_gated->end())
+  if (why.calibration && std::find(calibration_gated->begin(), calibration_gated->end(), tf.term) ==
+                             calibration_gated->end())
     calibration_gated->push_back(tf.term);
   notes->push_back(why.note);
 }
@@ -342,15 +345,16 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
       if (!why) why = gateAsymmetry(g, tf);
       if (!why) why = gateMisalignment(g, tf);
       if (!why) why = gateBiasWander(g, tf);
-      if (why) holdBack(g, tf, *why, &pass, notes, calibration_gated);
-      else pass.keep.push_back(tf.term);
+      if (why)
+        holdBack(g, tf, *why, &pass, notes, calibration_gated);
+      else
+        pass.keep.push_back(tf.term);
     }
     if (!pass.gated) break;
     sel = refitKeepingLog(r, terms, pass.keep, options, sel);
   }
   for (TermFit& tf : sel.selected)
-    if (std::find(pass.companions.begin(), pass.companions.end(), tf.term) !=
-        pass.companions.end())
+    if (std::find(pass.companions.begin(), pass.companions.end(), tf.term) != pass.companions.end())
       tf.claimed = false;
   return withCalibrationErrorFitted(r, terms, options, opt.finder.max_calibration_refit_passes,
                                     std::move(sel), *calibration_gated, notes);

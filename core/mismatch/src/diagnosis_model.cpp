@@ -1,10 +1,10 @@
 // The finder's model stage: the model the selection settled on, residual RMS before and after,
 // the spans still above noise, the held-out check, and SG#3.
+#include <fmt/core.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
-
-#include <fmt/core.h>
 
 #include "diagnosis_stages.h"
 #include "graftnav/mismatch/term_kind.h"
@@ -21,8 +21,9 @@ Eigen::MatrixXd wanderWithinLab(const ClaimInputs& c, const Eigen::MatrixXd& aft
   const GridSpec& grid = c.bins.grid;
   const int n = grid.count;
   Eigen::MatrixXd expected_wander;
-  out->wander = checkWander(after, c.ex.terms, c.in.priors[Sensor::gyro].lab_noise, c.in.priors[Sensor::accel].lab_noise,
-                            bin_variance, grid, out->masked_bins, &expected_wander);
+  out->wander = checkWander(after, c.ex.terms, c.in.priors[Sensor::gyro].lab_noise,
+                            c.in.priors[Sensor::accel].lab_noise, bin_variance, grid,
+                            out->masked_bins, &expected_wander);
   std::string within;
   for (const WanderCheck& k : out->wander)
     if (k.within) within += (within.empty() ? "" : ", ") + k.channel;
@@ -30,7 +31,8 @@ Eigen::MatrixXd wanderWithinLab(const ClaimInputs& c, const Eigen::MatrixXd& aft
     out->notes.push_back(fmt::format(
         "slow bias wander of {} is within {} x what the lab's bias instability and rate random "
         "walk predict for two realizations over {:.0f} s (table 'wander'): treated as noise, not "
-        "listed as unexplained", within, kWanderSdQuantile999, n * grid.bin_s));
+        "listed as unexplained",
+        within, kWanderSdQuantile999, n * grid.bin_s));
   return expected_wander;
 }
 
@@ -44,20 +46,21 @@ void removeCalibrationGated(const ClaimInputs& c, Eigen::MatrixXd* unexplained_r
   const std::vector<CandidateTerm>& terms = c.ex.terms;
   const int n = c.bins.n();
   if (calibration_gated.empty()) return;
-  const SelectionResult cal = fitTerms(*unexplained_residual, terms, calibration_gated,
-                                       c.opt.selection);
+  const SelectionResult cal =
+      fitTerms(*unexplained_residual, terms, calibration_gated, c.opt.selection);
   Eigen::MatrixXd cal_model = predictSelection(cal, terms, n, true);
   zeroMaskedRows(out->masked_bins, &cal_model);
   *unexplained_residual -= cal_model;
   std::string names;
   for (int t : calibration_gated) names += (names.empty() ? "" : ", ") + terms[t].key();
-  const ChannelRms cal_rms = rmsOf(cal_model.rowwise() - cal_model.colwise().mean(),
-                                   out->masked_bins);
+  const ChannelRms cal_rms =
+      rmsOf(cal_model.rowwise() - cal_model.colwise().mean(), out->masked_bins);
   out->notes.push_back(fmt::format(
       "held back as lab calibration error ({}): fitted on the modelled residual and removed "
       "before unexplained spans are located (RMS gyro [{:.2g} {:.2g} {:.2g}] rad/s, accel "
-      "[{:.2g} {:.2g} {:.2g}] m/s^2); not grafted into SG#3", names, cal_rms.gyro(0),
-      cal_rms.gyro(1), cal_rms.gyro(2), cal_rms.accel(0), cal_rms.accel(1), cal_rms.accel(2)));
+      "[{:.2g} {:.2g} {:.2g}] m/s^2); not grafted into SG#3",
+      names, cal_rms.gyro(0), cal_rms.gyro(1), cal_rms.gyro(2), cal_rms.accel(0), cal_rms.accel(1),
+      cal_rms.accel(2)));
 }
 
 // SG#3 takes each term's variation, not its record mean: a constant part is confounded with the
@@ -77,16 +80,17 @@ Eigen::MatrixXd sg3Contribution(const ClaimInputs& c, DiagnosisResult* out) {
     // its own channel, so unit coefficients give every column's mean at once).
     const Sensor sensor = sensorNamed(term.sensor);
     const int s0 = firstChannel(sensor);
-    const Vector6d column_mean = meanOf(
-        termContribution(term, Eigen::VectorXd::Ones(tf.theta.size()), n), out->masked_bins);
+    const Vector6d column_mean =
+        meanOf(termContribution(term, Eigen::VectorXd::Ones(tf.theta.size()), n), out->masked_bins);
     Eigen::Vector3d sigma = Eigen::Vector3d::Constant(kNaN);
     for (int a = 0; a < 3 && a < static_cast<int>(tf.sigma.size()); ++a)
       sigma(a) = tf.sigma(a) * std::abs(column_mean(s0 + a));
     out->notes.push_back(fmt::format(
         "SG#3 carries the {} bias change from the simulation's temperature ({:.1f} degC) to the "
         "field's: [{:.3g} {:.3g} {:.3g}] {} (1-sigma [{:.2g} {:.2g} {:.2g}]), per_degC times the "
-        "mean temperature difference", term.sensor, term.t_ref_degC, offset(s0), offset(s0 + 1),
-        offset(s0 + 2), sensor == Sensor::gyro ? "rad/s" : "m/s^2", sigma(0), sigma(1), sigma(2)));
+        "mean temperature difference",
+        term.sensor, term.t_ref_degC, offset(s0), offset(s0 + 1), offset(s0 + 2),
+        sensor == Sensor::gyro ? "rad/s" : "m/s^2", sigma(0), sigma(1), sigma(2)));
   }
   return sg3_model;
 }
@@ -122,12 +126,11 @@ void holdoutCheck(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& te
       nuisanceOnlyFit(r, 0, half, opt.library.linear_drift_nuisance, out->masked_bins);
   for (int i = half; i < n; ++i) base.row(i) = base.row(half - 1);
   out->holdout_before = rmsOf(second - base.bottomRows(n - half), out->masked_bins, half);
-  out->holdout_after = rmsOf(second - bias.bottomRows(n - half) - pred.bottomRows(n - half),
-                             out->masked_bins, half);
+  out->holdout_after =
+      rmsOf(second - bias.bottomRows(n - half) - pred.bottomRows(n - half), out->masked_bins, half);
   out->holdout_split_s = out->grid.binStart(half);
   out->has_holdout = true;
 }
-
 
 void modelAndReport(const ClaimInputs& c, const Eigen::Matrix<double, 6, 1>& noise_ms,
                     const Vector6d& bin_variance, DiagnosisResult* out) {
@@ -143,9 +146,9 @@ void modelAndReport(const ClaimInputs& c, const Eigen::Matrix<double, 6, 1>& noi
   const Eigen::MatrixXd bias = termContribution(terms[0], sel.nuisance.theta, n);
   out->nuisance = bias;
   out->rms_raw = rmsOf(c.alignment.realign_s != 0.0 ? c.bins.r0 : r, out->masked_bins);
-  out->rms_before = rmsOf(
-      r - nuisanceOnlyFit(r, 0, n, opt.library.linear_drift_nuisance, out->masked_bins),
-      out->masked_bins);
+  out->rms_before =
+      rmsOf(r - nuisanceOnlyFit(r, 0, n, opt.library.linear_drift_nuisance, out->masked_bins),
+            out->masked_bins);
   Eigen::MatrixXd after = r - bias - out->model;
   zeroMaskedRows(out->masked_bins, &after);
   out->rms_after = rmsOf(after, out->masked_bins);

@@ -1,10 +1,10 @@
 // The finder's regressor stage: what the candidate library is built from. The reference as the
 // lab-calibrated tested IMU responds to it (what a time offset shifts), the temperatures, the
 // attitude for the Earth terms, and the motion regressors at a time_offset pivot.
+#include <fmt/core.h>
+
 #include <cmath>
 #include <string>
-
-#include <fmt/core.h>
 
 #include "diagnosis_stages.h"
 #include "graftnav/nav/earth.h"
@@ -21,9 +21,10 @@ std::vector<Eigen::Matrix3d> attitudeAlongGrid(const BinnedImu& x, const NavStat
   if (!attitude.empty()) {
     for (int i = 0; i < x.size(); ++i) {
       const std::optional<NavState> s = interpolateNav(attitude, x.grid.binMid(i), 1.0);
-      const Eigen::Quaterniond q = s ? s->q_nb
-                                     : (x.grid.binMid(i) < attitude.front().t_s ? attitude.front().q_nb
-                                                                                : attitude.back().q_nb);
+      const Eigen::Quaterniond q =
+          s ? s->q_nb
+            : (x.grid.binMid(i) < attitude.front().t_s ? attitude.front().q_nb
+                                                       : attitude.back().q_nb);
       C_bn[i] = q.normalized().toRotationMatrix().transpose();
     }
     return C_bn;
@@ -40,7 +41,6 @@ std::vector<Eigen::Matrix3d> attitudeAlongGrid(const BinnedImu& x, const NavStat
   }
   return C_bn;
 }
-
 
 // What the time offset shifts: the reference as the tested IMU's lab-calibrated response sees
 // it, M x + c2 x^2 per sample (SensorPriors::lab_M, lab_quadratic); empty (the reference itself)
@@ -87,18 +87,20 @@ RegressorState initialRegressors(const DiagnosisInputs& in, const ResidualBins& 
   ri.tested_temperature_degC = bins.y.temperature_degC;
   if (bins.s.temperature_degC.allFinite()) {
     ri.simulated_temperature_degC = bins.s.temperature_degC;
-    notes->push_back("the simulation carries a temperature history: temperature_bias is fitted "
-                     "on tested minus simulated temperature");
+    notes->push_back(
+        "the simulation carries a temperature history: temperature_bias is fitted "
+        "on tested minus simulated temperature");
   }
   buildMotionRegressors(in, bins, pivot_s, &reg, notes);
   if (in.initial_state && in.reference_is_simulated) {
     ri.C_bn = attitudeAlongGrid(bins.x, *in.initial_state, in.attitude);
     ri.omega_ie_n = earth::omega_ie_n(in.initial_state->pos.lat_rad);
   } else {
-    notes->push_back(in.reference_is_simulated
-                         ? "no initial attitude: earth_rotation_omitted and gravity_model not tested"
-                         : "the reference signals are a recording (they carry the Earth's rotation "
-                           "and the true gravity): earth_rotation_omitted and gravity_model not tested");
+    notes->push_back(
+        in.reference_is_simulated
+            ? "no initial attitude: earth_rotation_omitted and gravity_model not tested"
+            : "the reference signals are a recording (they carry the Earth's rotation "
+              "and the true gravity): earth_rotation_omitted and gravity_model not tested");
   }
   return reg;
 }

@@ -1,17 +1,17 @@
 // The finder's selection stage: the candidate library at a time_offset pivot, forward selection,
 // the second pass of the derivative regressor, the lab gates and the joint fit; then the passes
 // the first explanation calls for (time pivot, mounting rotation, lever arm), each a named step.
+#include <fmt/core.h>
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
 #include <string>
 
-#include <fmt/core.h>
-
 #include "diagnosis_stages.h"
-#include "graftnav/mismatch/term_kind.h"
 #include "graftnav/imu/imu_error_model.h"
 #include "graftnav/mismatch/joint_fit.h"
+#include "graftnav/mismatch/term_kind.h"
 
 namespace graftnav::diagnosis_detail {
 
@@ -35,8 +35,7 @@ std::vector<CandidateTerm> maskedLibrary(const RegressorInputs& ri, const Explai
 // (other selected terms), not of x alone; a lever arm or misalignment would otherwise bias tau by
 // their share of the signal. At a pivot pv != 0 the other terms are already built at t - pv,
 // which is exact there.
-void derivativeSecondPass(const ExplainInputs& ex, double pv, RegressorInputs* ri,
-                          Explanation* e) {
+void derivativeSecondPass(const ExplainInputs& ex, double pv, RegressorInputs* ri, Explanation* e) {
   const int n = ex.bins.n();
   const int to_idx = indexOfTerm(e->terms, TermKind::time_offset);
   Eigen::MatrixXd C = Eigen::MatrixXd::Zero(n, kMismatchChannels);
@@ -123,7 +122,8 @@ std::optional<std::string> timePivotMoved(const Explanation& e, double pivot_s,
     return std::nullopt;
   return fmt::format(
       "selection repeated with the time_offset pivot at the joint fit's tau ({:.6f} s, "
-      "{:.6f} s before)", e.tau_joint_s, pivot_s);
+      "{:.6f} s before)",
+      e.tau_joint_s, pivot_s);
 }
 
 // A mounting rotation of phi rad leaves second-order terms of |phi|^2 / 2 under the library's
@@ -163,9 +163,9 @@ std::optional<Eigen::Vector3d> leverArmToMoveForce(const Explanation& e) {
     const CandidateTerm& t = e.terms[tf.term];
     const TermKind kind = kindOf(t);
     if (kind == TermKind::lever_arm) lever = &tf;
-    reads_f |= (kind == TermKind::vibration_rectification &&
-                t.regressor == "specific_force_hp_sq") ||
-               kind == TermKind::g_sensitivity;
+    reads_f |=
+        (kind == TermKind::vibration_rectification && t.regressor == "specific_force_hp_sq") ||
+        kind == TermKind::g_sensitivity;
   }
   if (lever != nullptr && reads_f && lever->theta.size() == 3 && lever->theta.allFinite())
     return Eigen::Vector3d(lever->theta);
@@ -184,8 +184,8 @@ Explanation explainAt(const ExplainInputs& ex, double pv, RegressorState* reg,
   e.terms = maskedLibrary(reg->ri, ex);
   e.sel = selectTerms(ex.bins.r, e.terms, ex.opt.selection);
   derivativeSecondPass(ex, pv, &reg->ri, &e);
-  e.sel = applyLabGates(ex.bins.r, e.terms, ex.in, ex.opt, ex.bins.grid,
-                        std::move(e.sel), &e.notes, &e.calibration_gated);
+  e.sel = applyLabGates(ex.bins.r, e.terms, ex.in, ex.opt, ex.bins.grid, std::move(e.sel), &e.notes,
+                        &e.calibration_gated);
   if (ex.opt.ceres_joint_fit) jointFitTimeOffset(ex, pv, reg->shiftedSignal(ex.in), &e);
   return e;
 }
@@ -197,20 +197,20 @@ SelectionPasses runSelectionPasses(const ExplainInputs& ex, double pivot_s, Regr
   p.explanation = explainAt(ex, p.pivot_s, reg, report_notes);
   if (const auto why = timePivotMoved(p.explanation, p.pivot_s, ex.opt.finder)) {
     p.pivot_s = p.explanation.tau_joint_s;
-    p.explanation = explainAgain(ex, p.pivot_s, &p.explanation, *why, reg, report_notes,
-                                 &p.repeat_notes);
+    p.explanation =
+        explainAgain(ex, p.pivot_s, &p.explanation, *why, reg, report_notes, &p.repeat_notes);
   }
   for (int rot_pass = 0; rot_pass < ex.opt.finder.max_rotation_passes; ++rot_pass) {
-    const auto phi = rotationPivotMoved(p.explanation, reg->ri.mounting_rotation_pivot_rad,
-                                        ex.opt.finder);
+    const auto phi =
+        rotationPivotMoved(p.explanation, reg->ri.mounting_rotation_pivot_rad, ex.opt.finder);
     if (!phi) break;
     reg->ri.mounting_rotation_pivot_rad = *phi;
     const std::string why = fmt::format(
         "selection repeated with mounting_misalignment linearized at the fitted rotation [{:.5f} "
-        "{:.5f} {:.5f}] rad (its second order, up to {:.2g}, is then modelled)", (*phi)(0),
-        (*phi)(1), (*phi)(2), 0.5 * phi->squaredNorm());
-    p.explanation = explainAgain(ex, p.pivot_s, &p.explanation, why, reg, report_notes,
-                                 &p.repeat_notes);
+        "{:.5f} {:.5f}] rad (its second order, up to {:.2g}, is then modelled)",
+        (*phi)(0), (*phi)(1), (*phi)(2), 0.5 * phi->squaredNorm());
+    p.explanation =
+        explainAgain(ex, p.pivot_s, &p.explanation, why, reg, report_notes, &p.repeat_notes);
   }
   if (const auto r = leverArmToMoveForce(p.explanation)) {
     ImuErrorModel moved;
@@ -225,9 +225,10 @@ SelectionPasses runSelectionPasses(const ExplainInputs& ex, double pivot_s, Regr
     const std::string why = fmt::format(
         "selection repeated with the specific force of the vibration level and of "
         "g_sensitivity moved to the tested IMU by the fitted lever arm [{:.4f} {:.4f} "
-        "{:.4f}] m", (*r)(0), (*r)(1), (*r)(2));
-    p.explanation = explainAgain(ex, p.pivot_s, &p.explanation, why, reg, report_notes,
-                                 &p.repeat_notes);
+        "{:.4f}] m",
+        (*r)(0), (*r)(1), (*r)(2));
+    p.explanation =
+        explainAgain(ex, p.pivot_s, &p.explanation, why, reg, report_notes, &p.repeat_notes);
   }
   return p;
 }

@@ -109,8 +109,7 @@ SelectionPasses runSelectionPasses(const ExplainInputs& ex, double pivot_s, Regr
 SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
                               const DiagnosisInputs& in, const DiagnoseOptions& opt,
                               const GridSpec& grid, SelectionResult sel,
-                              std::vector<std::string>* notes,
-                              std::vector<int>* calibration_gated);
+                              std::vector<std::string>* notes, std::vector<int>* calibration_gated);
 
 // ---- 6. claims ----
 struct ClaimInputs {
@@ -131,8 +130,7 @@ struct ReferenceInputStats {
   Vector6d mean = Vector6d::Zero();
   ChannelRms sd;
 };
-ReferenceInputStats referenceInputStats(const ResidualBins& bins,
-                                        const std::vector<char>& masked);
+ReferenceInputStats referenceInputStats(const ResidualBins& bins, const std::vector<char>& masked);
 // Scale asymmetry's own gains per sign (fitted on tested minus reference).
 void ownAsymmetryGains(const ClaimInputs& c, const Vector6d& ref_input_mean, DiagnosisResult* out);
 // Reference-scale shares, one-signed gains, nuisance, quantization lattices, correlations and

@@ -40,9 +40,11 @@ StaticBiasSimulation simulateFromReferenceAndStaticBias(const ImuSeries& referen
   out.t_start_s = g.binStart(a);
   out.t_end_s = g.binStart(b);
   out.gyro_bias_rad_s = (y.omega_rad_s.middleRows(a, b - a) - x.omega_rad_s.middleRows(a, b - a))
-                            .colwise().mean().transpose();
-  out.accel_bias_m_s2 = (y.f_m_s2.middleRows(a, b - a) - x.f_m_s2.middleRows(a, b - a))
-                            .colwise().mean().transpose();
+                            .colwise()
+                            .mean()
+                            .transpose();
+  out.accel_bias_m_s2 =
+      (y.f_m_s2.middleRows(a, b - a) - x.f_m_s2.middleRows(a, b - a)).colwise().mean().transpose();
   // The temperature behind this bias is the tested IMU's over the span (NaN without one), not
   // the reference IMU's: temperature_bias is regressed on the tested minus this temperature.
   const Eigen::VectorXd span_degC = y.temperature_degC.segment(a, b - a);

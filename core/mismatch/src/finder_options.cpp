@@ -22,8 +22,8 @@ void FinderOptions::validate() const {
   require(max_calibration_refit_passes >= 1, "max_calibration_refit_passes",
           max_calibration_refit_passes, ">= 1");
   require(max_rotation_passes >= 0, "max_rotation_passes", max_rotation_passes, ">= 0");
-  require(rotation_second_order_min >= 0.0, "rotation_second_order_min",
-          rotation_second_order_min, ">= 0");
+  require(rotation_second_order_min >= 0.0, "rotation_second_order_min", rotation_second_order_min,
+          ">= 0");
   require(rotation_rel_change >= 0.0 && rotation_rel_change < 1.0, "rotation_rel_change",
           rotation_rel_change, "in [0, 1)");
   require(pivot_tolerance_s > 0.0, "pivot_tolerance_s", pivot_tolerance_s, "> 0");

@@ -1,6 +1,6 @@
 #pragma once
-// The mismatch finder (its stages: src/diagnosis_stages.h): given the reference signals x, a simulation of the
-// tested IMU and the tested IMU's real recording,
+// The mismatch finder (its stages: src/diagnosis_stages.h): given the reference signals x, a
+// simulation of the tested IMU and the tested IMU's real recording,
 //   1. bin all three on one grid (common_grid.h);
 //   2. estimate the time offset of the real record by cross-correlation (time_offset.h); it is the
 //      pivot of the time_offset regressor, so the offset is then fitted jointly with the rest;
