@@ -1,5 +1,5 @@
 // graftnav diagnose CASE_DIR --out OUT_DIR [--estimator ekf|rts|fgo] [--config FILE] [--no-plots]
-// The mismatch finder (issue 7): where the simulation of the tested IMU and its real recording
+// The mismatch finder: where the simulation of the tested IMU and its real recording
 // differ, which physics explains it, and how much the fit improves when that physics is grafted.
 #include <fmt/core.h>
 #include <yaml-cpp/yaml.h>
@@ -22,15 +22,14 @@
 #include "graftnav/eval/evaluation.h"
 #include "graftnav/sg/sg_statistics.h"
 #include "run_config.h"
-#include "graftnav/calibration/lab_calibration.h"
 #include "graftnav/calibration/lab_data.h"
 #include "graftnav/io/case_config.h"
 #include "graftnav/io/atomic_file.h"
 #include "graftnav/io/imu_io.h"
 #include "graftnav/io/imu_profile_io.h"
-#include "graftnav/sg/graft_case.h"
 #include "graftnav/mismatch/diagnosis.h"
 #include "graftnav/mismatch/diagnosis_report.h"
+#include "graftnav/mismatch/diagnosis_setup.h"
 #include "graftnav/nav/units.h"
 
 namespace graftnav::app {
@@ -86,6 +85,19 @@ DiagnoseOptions loadDiagnoseConfig(const std::string& path, std::vector<std::str
     else if (k == "quantization_min_step_over_resolution") num(v, k, &o.quantization.min_step_over_resolution);
     else if (k == "quantization_resolvable_sigmas") num(v, k, &o.quantization.resolvable_sigmas);
     else if (k == "max_claim_correlation") num(v, k, &o.max_claim_correlation);
+    else if (k == "lab_gate_sigmas") num(v, k, &o.finder.lab_gate_sigmas);
+    else if (k == "max_gate_passes") { num(v, k, &d); o.finder.max_gate_passes = static_cast<int>(d); }
+    else if (k == "max_calibration_refit_passes") { num(v, k, &d); o.finder.max_calibration_refit_passes = static_cast<int>(d); }
+    else if (k == "max_rotation_passes") { num(v, k, &d); o.finder.max_rotation_passes = static_cast<int>(d); }
+    else if (k == "rotation_second_order_min") num(v, k, &o.finder.rotation_second_order_min);
+    else if (k == "rotation_rel_change") num(v, k, &o.finder.rotation_rel_change);
+    else if (k == "pivot_tolerance_s") num(v, k, &o.finder.pivot_tolerance_s);
+    else if (k == "min_pivot_bins") num(v, k, &o.finder.min_pivot_bins);
+    else if (k == "pivot_margin_s") num(v, k, &o.finder.pivot_margin_s);
+    else if (k == "min_grid_bins") { num(v, k, &d); o.finder.min_grid_bins = static_cast<int>(d); }
+    else if (k == "min_slow_blocks") { num(v, k, &d); o.finder.min_slow_blocks = static_cast<int>(d); }
+    else if (k == "min_holdout_bins") { num(v, k, &d); o.finder.min_holdout_bins = static_cast<int>(d); }
+    else if (k == "reference_scale_share_limit") num(v, k, &o.finder.reference_scale_share_limit);
     else if (k == "separation_rate_deg_s") {
       num(v, k, &d);
       o.linear_response.excitation_rate_rad_s = d * units::kDegToRad;
@@ -101,28 +113,6 @@ DiagnoseOptions loadDiagnoseConfig(const std::string& path, std::vector<std::str
     throw std::runtime_error(path + ": " + e.what());
   }
   return o;
-}
-
-// scripts/plot_diagnosis.py next to the build tree (the binary lives in the build directory).
-// SG#2's basic error signal is the lab static record tiled over the field test, so it carries the
-// lab record's temperature history; the same tiling of the lab temperature gives each SG#2 sample
-// the temperature behind its bias (left NaN when the lab file has no temperature).
-void attachLabTemperature(const ImuSeries& lab_static, double start_offset_s, ImuSeries* sg2) {
-  if (lab_static.empty() || sg2->empty() ||
-      !std::all_of(lab_static.begin(), lab_static.end(),
-                   [](const ImuSample& s) { return s.hasTemperature(); }))
-    return;
-  ImuSeries temp = lab_static;
-  for (ImuSample& s : temp) {
-    s.dtheta_rad = Eigen::Vector3d(s.temperature_degC * s.dt_s, 0.0, 0.0);
-    s.dvel_m_s.setZero();
-  }
-  const BasicErrorSignal tiled(temp);
-  const double t0 = sg2->front().t_s - sg2->front().dt_s;
-  for (ImuSample& s : *sg2) {
-    const double u1 = s.t_s - t0 + start_offset_s;
-    s.temperature_degC = tiled.integral(u1 - s.dt_s, u1)(0) / s.dt_s;
-  }
 }
 
 // Navigation level: SG#2, SG#3 and REAL navigated with one estimator and outage schedule,
@@ -189,15 +179,163 @@ NavigationComparison navigateComparison(const CaseInputs& c, const ImuSelection&
   return nav;
 }
 
+
+struct DiagnoseArgs {
+  std::string case_dir, out, estimator, config, run_config, tested_profile;
+  std::optional<double> outage_length_s, outage_period_s, outage_start_s;
+  bool no_plots = false;
+};
+
+// The finder's inputs from the loaded case: records, plausible ranges, and the simulation with
+// its priors (SG#2 from the lab data, or the static-bias simulation without). The records are
+// moved out of the selections, so the case holds each IMU series once; so is the truth (the
+// attitude along the record) when the navigation level does not need it.
+DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const DiagnoseArgs& args,
+                                  const RunConfig& rc, ImuSelection* ref_imu,
+                                  ImuSelection* tested, std::vector<std::string>* notes) {
+  const CaseConfig& cfg = c.config;
+  DiagnosisInputs in;
+  in.case_name = cfg.name;
+  in.reference = std::move(ref_imu->imu);
+  in.real = std::move(tested->imu);
+  in.initial_state = cfg.initial_state;
+  // The ranges a claimed value must lie in: the tested profile's (its class, or its grade's).
+  if (!args.tested_profile.empty()) {
+    std::vector<std::string> profile_warnings;
+    in.tested_plausible_ranges = loadImuProfile(args.tested_profile, &profile_warnings).plausible_ranges;
+    for (const auto& w : profile_warnings) fmt::print(stderr, "warning: {}\n", w);
+  } else if (cfg.tested_imu) {
+    in.tested_plausible_ranges = cfg.tested_imu->plausible_ranges;
+  }
+  if (in.tested_plausible_ranges) in.tested_plausible_ranges->validate();
+  // A case with a truth trajectory is simulated: its reference IMU may lack navigation physics.
+  in.reference_is_simulated = c.reference_is_truth;
+  if (in.reference_is_simulated)
+    in.attitude = args.estimator.empty() ? std::move(c.reference) : c.reference;
+  if (CasePaths::exists(c.paths().labStatic())) {
+    fmt::print(stderr, "diagnose: lab data found: simulation = SG#2 from the lab calibration\n");
+    PerSensor<double> ref_scale_std;
+    if (cfg.reference_imu) {
+      ref_scale_std[Sensor::gyro] = cfg.reference_imu->gyro_scale_std;
+      ref_scale_std[Sensor::accel] = cfg.reference_imu->accel_scale_std;
+    }
+    simulateFromLab(loadLabData(args.case_dir), rc.grafting.start_offset_s, ref_scale_std, &in);
+  } else {
+    std::vector<std::string> warnings;
+    simulateWithoutLab(&in, notes, &warnings);
+    for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
+  }
+  return in;
+}
+
+// The outage schedule given on the command line (none: the run config's).
+std::optional<OutageScheduleConfig> outagesFromArgs(const DiagnoseArgs& args) {
+  if (!(args.outage_length_s || args.outage_period_s || args.outage_start_s)) return std::nullopt;
+  OutageScheduleConfig oc;
+  if (args.outage_length_s) oc.length_s = *args.outage_length_s;
+  if (args.outage_period_s) oc.period_s = *args.outage_period_s;
+  if (args.outage_start_s) oc.start_s = *args.outage_start_s;
+  return oc;
+}
+
+// outages.csv and the DIFF lines of the navigation level.
+void writeNavigationOutputs(const std::string& out, const NavigationComparison& nav) {
+  std::string csv = "t_start,t_end,sg2_horizontal_m,sg3_horizontal_m,real_horizontal_m,share\n";
+  for (const auto& o : nav.outages)
+    csv += fmt::format("{:.3f},{:.3f},{:.4f},{:.4f},{:.4f},{:.4f}\n", o.window.start_s,
+                       o.window.end_s, o.sg2_horizontal_m, o.sg3_horizontal_m,
+                       o.real_horizontal_m, o.share);
+  writeFileAtomically(out + "/outages.csv", csv);
+  const auto pct = [](const DriftStats& d) {
+    return fmt::format("{:.1f} / {:.1f} / {:.1f} / {:.1f} / {:.1f} %", 100 * d.horizontal_m,
+                       100 * d.vertical_m, 100 * d.roll_rad, 100 * d.pitch_rad, 100 * d.heading_rad);
+  };
+  fmt::print("  DIFF before (SG2) h/v/roll/pitch/heading: {}\n", pct(nav.diff_before));
+  fmt::print("  DIFF after  (SG3) h/v/roll/pitch/heading: {}\n", pct(nav.diff_after));
+}
+
+// The effects and residual RMS on stdout.
+void printSummary(const std::string& case_name, const DiagnosisResult& res) {
+  fmt::print("diagnosis of {}: {} located spans, {} effects, {} unexplained spans\n", case_name,
+             res.located.size(), res.effects.size(), res.unexplained.size());
+  for (const Effect& e : res.effects) {
+    std::string p;
+    for (const EffectParameter& q : e.parameters) {
+      if (!q.text.empty()) { p += q.key + "=" + q.text + " "; continue; }
+      p += q.key + "=[";
+      for (std::size_t i = 0; i < q.values.size(); ++i)
+        p += fmt::format("{}{:.4g}+-{:.2g}", i ? " " : "", q.values[i], q.sigma[i]);
+      p += "] ";
+    }
+    fmt::print("  {} ({}): {}delta_bic {:.1f} cv_gain {:.4f}\n", e.name, e.sensor, p, e.delta_bic, e.cv_gain);
+  }
+  const auto line = [](const char* name, const ChannelRms& r) {
+    fmt::print("  {:<28} gyro [{:.4f} {:.4f} {:.4f}] deg/s  accel [{:.4f} {:.4f} {:.4f}] m/s^2\n", name,
+               r.gyro.x() * units::kRadToDeg, r.gyro.y() * units::kRadToDeg, r.gyro.z() * units::kRadToDeg,
+               r.accel.x(), r.accel.y(), r.accel.z());
+  };
+  line("residual RMS before", res.rms_before);
+  line("residual RMS after", res.rms_after);
+  if (res.has_holdout) {
+    line("2nd half before (1st-half fit)", res.holdout_before);
+    line("2nd half after (1st-half fit)", res.holdout_after);
+  }
+}
+
+// The whole command: load, diagnose, optionally navigate, write and print.
+void runDiagnose(const DiagnoseArgs& args) {
+  std::filesystem::create_directories(args.out);
+  // One load of the case for both levels: GNSS only when the navigation level runs.
+  CaseLoadOptions lo;
+  lo.lenient = true;
+  lo.load_gnss = !args.estimator.empty() && CasePaths::exists(CasePaths(args.case_dir).gnssPos());
+  CaseInputs c = loadCaseInputs(args.case_dir, lo);
+  std::vector<std::string> warnings = c.warnings;
+  DiagnoseOptions opt;
+  if (!args.config.empty()) opt = loadDiagnoseConfig(args.config, &warnings);
+  for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
+  // The run config, read once: its grafting section for SG#2, the rest for the navigation level.
+  RunConfig rc;
+  std::vector<std::string> notes;
+  if (!args.run_config.empty()) rc = loadRunConfig(args.run_config, &notes);
+  if (!CasePaths::exists(c.paths().testedImu()))
+    throw std::runtime_error(c.paths().testedImu() + ": diagnose needs the tested IMU's field recording");
+  ImuSelection ref_imu = selectImu(c, "ref", "", true);
+  ImuSelection tested = selectImu(c, "tested", "", true);
+  for (const ImuSelection* sel : {&ref_imu, &tested})
+    if (!sel->read_summary.empty()) fmt::print(stderr, "warning: {}\n", sel->read_summary);
+  const DiagnosisInputs in = diagnosisInputsOf(c, args, rc, &ref_imu, &tested, &notes);
+  fmt::print(stderr, "diagnose: {} reference, {} tested samples; simulation: {}\n",
+             in.reference.size(), in.real.size(), in.simulation_kind);
+  DiagnosisResult res = diagnose(in, opt);
+  res.notes.insert(res.notes.end(), notes.begin(), notes.end());
+  std::optional<NavigationComparison> nav;
+  if (!args.estimator.empty()) {
+    try {
+      fmt::print(stderr, "diagnose: navigating SG#2, SG#3 and REAL with {}\n", args.estimator);
+      tested.imu = in.real;  // REAL, navigated as the tested IMU
+      nav = navigateComparison(c, tested, args.estimator, rc, outagesFromArgs(args),
+                               in.simulated, res.sg3, &res.notes);
+    } catch (const std::exception& e) {
+      res.notes.push_back(std::string("navigation level skipped: ") + e.what());
+      fmt::print(stderr, "warning: navigation level skipped: {}\n", e.what());
+    }
+  }
+  writeDiagnosisFiles(args.out, res, nav ? &*nav : nullptr);
+  if (nav) writeNavigationOutputs(args.out, *nav);
+  writeImu(args.out + "/IMU_SG3.txt", res.sg3);
+  printSummary(c.config.name, res);
+  fmt::print("  wrote {0}/diagnosis.json, {0}/diagnosis.md, {0}/residual.csv, {0}/IMU_SG3.txt\n", args.out);
+  if (!args.no_plots) {
+    const std::string w = runPythonScript("plot_diagnosis.py", {args.out});
+    if (!w.empty()) fmt::print(stderr, "warning: {}; the numbers are written\n", w);
+  }
+}
+
 }  // namespace
 
 void registerDiagnose(CLI::App& app) {
-  struct Args {
-    std::string case_dir, out, estimator, config, run_config, tested_profile;
-    std::optional<double> outage_length_s, outage_period_s, outage_start_s;
-    bool no_plots = false;
-  };
-  auto args = std::make_shared<Args>();
+  auto args = std::make_shared<DiagnoseArgs>();
   CLI::App* cmd = app.add_subcommand(
       "diagnose", "Mismatch finder: locate, explain and model where the simulated and the real tested IMU differ");
   cmd->add_option("case_dir", args->case_dir, "case directory")->required()->check(CLI::ExistingDirectory);
@@ -216,183 +354,7 @@ void registerDiagnose(CLI::App& app) {
   cmd->add_option("--outage-length", args->outage_length_s, "outage length (s), with --estimator");
   cmd->add_option("--outage-period", args->outage_period_s, "outage start-to-start period (s)");
   cmd->add_option("--outage-start", args->outage_start_s, "first outage start after the first epoch (s)");
-  cmd->callback([args]() {
-    std::filesystem::create_directories(args->out);
-    // One load of the case for both levels: GNSS only when the navigation level runs.
-    CaseLoadOptions lo;
-    lo.lenient = true;
-    lo.load_gnss = !args->estimator.empty() && CasePaths::exists(CasePaths(args->case_dir).gnssPos());
-    const CaseInputs c = loadCaseInputs(args->case_dir, lo);
-    const CasePaths paths = c.paths();
-    const CaseConfig& cfg = c.config;
-    std::vector<std::string> warnings = c.warnings;
-    DiagnoseOptions opt;
-    if (!args->config.empty()) opt = loadDiagnoseConfig(args->config, &warnings);
-    for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
-    // The run config, read once: its grafting section for SG#2, the rest for the navigation level.
-    RunConfig rc;
-    std::vector<std::string> notes;
-    if (!args->run_config.empty()) rc = loadRunConfig(args->run_config, &notes);
-
-    if (!CasePaths::exists(paths.testedImu()))
-      throw std::runtime_error(paths.testedImu() + ": diagnose needs the tested IMU's field recording");
-    const ImuSelection ref_imu = selectImu(c, "ref", "", true);
-    const ImuSelection tested = selectImu(c, "tested", "", true);
-    for (const ImuSelection* sel : {&ref_imu, &tested})
-      if (!sel->read_summary.empty()) fmt::print(stderr, "warning: {}\n", sel->read_summary);
-    const ImuSeries& ref = ref_imu.imu;
-    const ImuSeries& real = tested.imu;
-
-    DiagnosisInputs in;
-    in.case_name = cfg.name;
-    in.reference = ref;
-    in.real = real;
-    in.initial_state = cfg.initial_state;
-    // The ranges a claimed value must lie in: the tested profile's (its class, or its grade's).
-    if (!args->tested_profile.empty()) {
-      std::vector<std::string> profile_warnings;
-      in.tested_plausible_ranges = loadImuProfile(args->tested_profile, &profile_warnings).plausible_ranges;
-      for (const auto& w : profile_warnings) fmt::print(stderr, "warning: {}\n", w);
-    }
-    else if (cfg.tested_imu)
-      in.tested_plausible_ranges = cfg.tested_imu->plausible_ranges;
-    if (in.tested_plausible_ranges) in.tested_plausible_ranges->validate();
-    // A case with a truth trajectory is simulated: its reference IMU may lack navigation physics.
-    in.reference_is_simulated = c.reference_is_truth;
-    if (in.reference_is_simulated) in.attitude = c.reference;
-    if (CasePaths::exists(paths.labStatic())) {
-      fmt::print(stderr, "diagnose: lab data found: simulation = SG#2 from the lab calibration\n");
-      const LabData lab = loadLabData(args->case_dir);
-      const LabCalibrationReport report = calibrateLab(lab);
-      GraftCaseOptions go;
-      go.graft.start_offset_s = rc.grafting.start_offset_s;
-      const GraftedCase g = graftCase(ref, report, go);
-      in.simulated = g.sg2;
-      attachLabTemperature(lab.static_imu, g.start_offset_s, &in.simulated);
-      in.graft_static_record_s = g.static_record_s;
-      in.graft_start_offset_s = g.start_offset_s;
-      in.simulation_kind = "SG#2 (lab calibration + grafting)";
-      in.lab_gyro_M_sigma = report.result.gyro.M_sigma;
-      in.lab_accel_M_sigma = report.result.accel.M_sigma;
-      in.lab_gyro_M = report.result.gyro.M;
-      in.lab_accel_M = report.result.accel.M;
-      if (cfg.reference_imu && cfg.reference_imu->gyro_scale_std > 0.0)
-        in.reference_gyro_scale_sigma = cfg.reference_imu->gyro_scale_std;
-      if (cfg.reference_imu && cfg.reference_imu->accel_scale_std > 0.0)
-        in.reference_accel_scale_sigma = cfg.reference_imu->accel_scale_std;
-      for (const auto& [cal, noise] : {std::make_pair(&report.result.gyro, &in.lab_gyro_noise),
-                                       std::make_pair(&report.result.accel, &in.lab_accel_noise)})
-        if (cal->has_allan)
-          *noise = LabNoiseFigures{cal->allan.bias_instability, cal->allan.rate_random_walk};
-      for (const auto& [cal, quad] :
-           {std::make_pair(&report.result.gyro, &in.lab_gyro_quadratic),
-            std::make_pair(&report.result.accel, &in.lab_accel_quadratic)}) {
-        if (!cal->has_fit) continue;
-        LabQuadratic q;
-        for (int a = 0; a < 3; ++a) {
-          if (cal->fit[a].degree >= 2 && cal->fit[a].coeffs.size() >= 3) {
-            q.c2(a) = cal->fit[a].coeffs[2];
-            q.c2_sigma(a) = cal->fit[a].coeffs_sigma.size() >= 3 ? cal->fit[a].coeffs_sigma[2] : 0.0;
-          }
-          q.c2_tested(a) = cal->fit[a].c2_tested;
-          q.c2_tested_sigma(a) = cal->fit[a].c2_tested_sigma;
-          q.slope_per_abs(a) = cal->fit[a].slope_per_abs;
-          q.slope_per_sq(a) = cal->fit[a].slope_per_sq;
-          q.c2_tested_per_abs(a) = cal->fit[a].c2_tested_per_abs;
-        }
-        *quad = q;
-      }
-    } else {
-      try {
-        const StaticBiasSimulation sim = simulateFromReferenceAndStaticBias(ref, real);
-        in.simulated = sim.simulated;
-        in.simulation_kind = fmt::format(
-            "reference IMU + tested IMU static bias (no lab data; bias from the static span "
-            "{:.2f}-{:.2f} s: gyro [{:.4f} {:.4f} {:.4f}] deg/s, accel [{:.4f} {:.4f} {:.4f}] m/s^2)",
-            sim.t_start_s, sim.t_end_s, sim.gyro_bias_rad_s.x() * units::kRadToDeg,
-            sim.gyro_bias_rad_s.y() * units::kRadToDeg, sim.gyro_bias_rad_s.z() * units::kRadToDeg,
-            sim.accel_bias_m_s2.x(), sim.accel_bias_m_s2.y(), sim.accel_bias_m_s2.z());
-      } catch (const std::runtime_error& e) {
-        // A recording that starts moving has no static span: the simulation is the reference
-        // alone; the per-channel constant of the model (the nuisance) carries the bias instead.
-        in.simulated = ref;
-        in.simulation_kind = "reference IMU (no lab data, no static span for the tested bias)";
-        notes.push_back(std::string("no static span in the tested record (") + e.what() +
-                        "): the simulation is the reference IMU alone and the tested bias is "
-                        "the fitted constant (constant_bias in diagnosis.json)");
-        fmt::print(stderr, "warning: {}\n", notes.back());
-      }
-      notes.push_back("the reference IMU's own errors are in the simulation: effects are relative to it");
-    }
-    fmt::print(stderr, "diagnose: {} reference, {} tested samples; simulation: {}\n", ref.size(),
-               real.size(), in.simulation_kind);
-    DiagnosisResult res = diagnose(in, opt);
-    res.notes.insert(res.notes.end(), notes.begin(), notes.end());
-    std::optional<NavigationComparison> nav;
-    if (!args->estimator.empty()) {
-      std::optional<OutageScheduleConfig> oc;
-      if (args->outage_length_s || args->outage_period_s || args->outage_start_s) {
-        oc = OutageScheduleConfig{};
-        if (args->outage_length_s) oc->length_s = *args->outage_length_s;
-        if (args->outage_period_s) oc->period_s = *args->outage_period_s;
-        if (args->outage_start_s) oc->start_s = *args->outage_start_s;
-      }
-      try {
-        fmt::print(stderr, "diagnose: navigating SG#2, SG#3 and REAL with {}\n", args->estimator);
-        nav = navigateComparison(c, tested, args->estimator, rc, oc,
-                                 in.simulated, res.sg3, &res.notes);
-      } catch (const std::exception& e) {
-        res.notes.push_back(std::string("navigation level skipped: ") + e.what());
-        fmt::print(stderr, "warning: navigation level skipped: {}\n", e.what());
-      }
-    }
-    writeDiagnosisFiles(args->out, res, nav ? &*nav : nullptr);
-    if (nav) {
-      std::string csv = "t_start,t_end,sg2_horizontal_m,sg3_horizontal_m,real_horizontal_m,share\n";
-      for (const auto& o : nav->outages)
-        csv += fmt::format("{:.3f},{:.3f},{:.4f},{:.4f},{:.4f},{:.4f}\n", o.window.start_s,
-                           o.window.end_s, o.sg2_horizontal_m, o.sg3_horizontal_m,
-                           o.real_horizontal_m, o.share);
-      writeFileAtomically(args->out + "/outages.csv", csv);
-      const auto pct = [](const DriftStats& d) {
-        return fmt::format("{:.1f} / {:.1f} / {:.1f} / {:.1f} / {:.1f} %", 100 * d.horizontal_m,
-                           100 * d.vertical_m, 100 * d.roll_rad, 100 * d.pitch_rad, 100 * d.heading_rad);
-      };
-      fmt::print("  DIFF before (SG2) h/v/roll/pitch/heading: {}\n", pct(nav->diff_before));
-      fmt::print("  DIFF after  (SG3) h/v/roll/pitch/heading: {}\n", pct(nav->diff_after));
-    }
-    writeImu(args->out + "/IMU_SG3.txt", res.sg3);
-
-    fmt::print("diagnosis of {}: {} located spans, {} effects, {} unexplained spans\n", cfg.name,
-               res.located.size(), res.effects.size(), res.unexplained.size());
-    for (const Effect& e : res.effects) {
-      std::string p;
-      for (const EffectParameter& q : e.parameters) {
-        if (!q.text.empty()) { p += q.key + "=" + q.text + " "; continue; }
-        p += q.key + "=[";
-        for (std::size_t i = 0; i < q.values.size(); ++i)
-          p += fmt::format("{}{:.4g}+-{:.2g}", i ? " " : "", q.values[i], q.sigma[i]);
-        p += "] ";
-      }
-      fmt::print("  {} ({}): {}delta_bic {:.1f} cv_gain {:.4f}\n", e.name, e.sensor, p, e.delta_bic, e.cv_gain);
-    }
-    auto line = [](const char* name, const ChannelRms& r) {
-      fmt::print("  {:<28} gyro [{:.4f} {:.4f} {:.4f}] deg/s  accel [{:.4f} {:.4f} {:.4f}] m/s^2\n", name,
-                 r.gyro.x() * units::kRadToDeg, r.gyro.y() * units::kRadToDeg, r.gyro.z() * units::kRadToDeg,
-                 r.accel.x(), r.accel.y(), r.accel.z());
-    };
-    line("residual RMS before", res.rms_before);
-    line("residual RMS after", res.rms_after);
-    if (res.has_holdout) {
-      line("2nd half before (1st-half fit)", res.holdout_before);
-      line("2nd half after (1st-half fit)", res.holdout_after);
-    }
-    fmt::print("  wrote {0}/diagnosis.json, {0}/diagnosis.md, {0}/residual.csv, {0}/IMU_SG3.txt\n", args->out);
-    if (!args->no_plots) {
-      const std::string w = runPythonScript("plot_diagnosis.py", {args->out});
-      if (!w.empty()) fmt::print(stderr, "warning: {}; the numbers are written\n", w);
-    }
-  });
+  cmd->callback([args]() { runDiagnose(*args); });
 }
 
 }  // namespace graftnav::app

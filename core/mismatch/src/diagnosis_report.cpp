@@ -39,7 +39,7 @@ json statsJson(const DriftStats& s, bool fraction) {
               {"heading_deg", num(s.heading_rad * k)}};
 }
 
-// An effect as issue 7 item 5 writes it: parameters and their 1-sigma keyed alike.
+// An effect as diagnosis.json writes it: parameters and their 1-sigma keyed alike.
 json effectJson(const Effect& e, json evidence) {
   json p = json::object(), u = json::object();
   for (const EffectParameter& q : e.parameters) {
@@ -73,31 +73,25 @@ std::string fmt3(const Eigen::Vector3d& v, double k) {
   return fmt::format("{:.4g} / {:.4g} / {:.4g}", v(0) * k, v(1) * k, v(2) * k);
 }
 
-}  // namespace
-
-std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* nav) {
-  json j;
-  j["case"] = r.case_name;
-  j["simulation"] = r.simulation_kind;
-  j["located"] = json::array();
-  for (const LocatedSpan& s : r.located) j["located"].push_back(spanJson(s));
-  j["effects"] = json::array();
+// Claimed, ambiguous and implausible effects.
+void addClaimsJson(const DiagnosisResult& r, json* j) {
+  (*j)["effects"] = json::array();
   for (const Effect& e : r.effects)
-    j["effects"].push_back(effectJson(e, {{"delta_bic", num(e.delta_bic)},
+    (*j)["effects"].push_back(effectJson(e, {{"delta_bic", num(e.delta_bic)},
                                           {"cv_gain", num(e.cv_gain)},
                                           {"method", e.evidence_method}}));
   // Found and modelled in SG#3 under the shape the selection chose, not claimed (diagnosis.h).
-  j["ambiguous"] = json::array();
+  (*j)["ambiguous"] = json::array();
   for (const AmbiguousEffect& a : r.ambiguous) {
     json ja = effectJson(a.effect, {{"delta_bic", num(a.effect.delta_bic)},
                                     {"cv_gain", num(a.effect.cv_gain)},
                                     {"name_margin", num(a.name_margin)},
                                     {"method", a.effect.evidence_method}});
     ja["alternative"] = a.alternative;
-    j["ambiguous"].push_back(std::move(ja));
+    (*j)["ambiguous"].push_back(std::move(ja));
   }
   // Fitted, modelled in SG#3, not claimed: outside the sensor class's plausible range.
-  j["implausible"] = json::array();
+  (*j)["implausible"] = json::array();
   for (const ImplausibleEffect& im : r.implausible) {
     json ji = effectJson(im.effect, {{"delta_bic", num(im.effect.delta_bic)},
                                      {"cv_gain", num(im.effect.cv_gain)},
@@ -107,14 +101,18 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
     ji["probably_absorbing"] = im.absorbing.empty() ? json(nullptr) : json(im.absorbing);
     ji["correlation"] = num(im.correlation);
     ji["reason"] = im.reason;
-    j["implausible"].push_back(std::move(ji));
+    (*j)["implausible"].push_back(std::move(ji));
   }
-  j["term_correlations"] = json::array();
+}
+
+// What was checked beside the claims: correlations, separation, ranges, value lattices.
+void addChecksJson(const DiagnosisResult& r, json* j) {
+  (*j)["term_correlations"] = json::array();
   for (const TermCorrelation& c : r.term_correlations)
-    j["term_correlations"].push_back(
+    (*j)["term_correlations"].push_back(
         json{{"a", c.term_a}, {"b", c.term_b}, {"canonical_correlation", num(c.canonical)}});
   if (r.separation)
-    j["separation_needed"] = {
+    (*j)["separation_needed"] = {
         {"roll_rate_s", num(r.separation->gyro_needed_s(0))},
         {"pitch_rate_s", num(r.separation->gyro_needed_s(1))},
         {"roll_rate_present_s", num(r.separation->gyro_present_s(0))},
@@ -125,24 +123,22 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
         {"tilt_deg", num(r.separation->tilt_rad * units::kRadToDeg)},
         {"nonorthogonality_bound_deg", num(r.separation->bound_rad * units::kRadToDeg)}};
   if (r.plausible_ranges)
-    j["plausible_ranges"] = {{"sensor_class", r.plausible_ranges->sensor_class},
+    (*j)["plausible_ranges"] = {{"sensor_class", r.plausible_ranges->sensor_class},
                              {"source", r.plausible_ranges->source}};
-  j["quantization_checks"] = json::array();
+  (*j)["quantization_checks"] = json::array();
   for (const QuantizationCheck& q : r.quantization_checks)
-    j["quantization_checks"].push_back(
+    (*j)["quantization_checks"].push_back(
         json{{"sensor", q.sensor}, {"step", vec3(q.step)},
              {"printed_resolution", vec3(q.printed_resolution)},
              {"white_noise_sd_per_sample", vec3(q.white_noise_sd)},
              {"noise_share", vec3(q.noise_share)}, {"resolvable_share", num(q.resolvable_share)},
              {"detectable_step", vec3(q.detectable_step)},
              {"claimed", json::array({q.claimed[0], q.claimed[1], q.claimed[2]})}});
-  j["modelled_in_simulation"] = json::array();
-  for (const Effect& e : r.in_simulation)
-    j["modelled_in_simulation"].push_back(effectJson(e, {{"method", e.evidence_method}}));
-  j["unexplained"] = json::array();
-  for (const LocatedSpan& s : r.unexplained) j["unexplained"].push_back(spanJson(s));
-  j["detection_limits"] = json::array();
-  for (const Effect& e : r.detection_limits) {
+}
+
+json detectionLimitsJson(const std::vector<Effect>& detection_limits) {
+  json out = json::array();
+  for (const Effect& e : detection_limits) {
     json lim = json::object();
     for (const EffectParameter& q : e.parameters) {
       if (!q.text.empty()) continue;
@@ -152,15 +148,13 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
     if (!e.explanation.empty()) entry["why"] = e.explanation;
     if (!e.parameters.empty() && !e.parameters.back().text.empty())
       entry["regressor"] = e.parameters.back().text;
-    j["detection_limits"].push_back(entry);
+    out.push_back(entry);
   }
-  j["masked_spans"] = json::array();
-  for (const auto& [a, b] : r.masked_spans) j["masked_spans"].push_back(json::array({a, b}));
-  j["wander"] = json::array();
-  for (const WanderCheck& k : r.wander)
-    j["wander"].push_back(json{{"channel", k.channel}, {"fitted_sd", num(k.fitted_sd)},
-                               {"expected_sd", num(k.expected_sd)}, {"limit", num(k.limit)},
-                               {"within_lab_noise", k.within}});
+  return out;
+}
+
+// Residual RMS, the held-out check and the navigation level.
+json fitJson(const DiagnosisResult& r, const NavigationComparison* nav) {
   json fit;
   fit["signal_rms_before"] = rmsJson(r.rms_before);
   fit["signal_rms_after"] = rmsJson(r.rms_after);
@@ -185,46 +179,26 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
                       {"terms_first_half", r.holdout_terms},
                       {"second_half_rms_before", rmsJson(r.holdout_before)},
                       {"second_half_rms_after", rmsJson(r.holdout_after)}};
-  j["fit"] = fit;
-  j["time_offset_xcorr"] = {{"tau_s", r.time_offset_xcorr.tau_s},
-                            {"peak_correlation", r.time_offset_xcorr.peak_correlation},
-                            {"reliable", r.time_offset_xcorr.reliable}};
-  j["noise_model"] = {{"ar1_rho", numList(std::vector<double>(r.selection.rho.data(), r.selection.rho.data() + 6))},
-                      {"innovation_sigma", numList(std::vector<double>(r.selection.sigma.data(), r.selection.sigma.data() + 6))},
-                      {"variance_inflation", num(r.selection.inflation)},
-                      {"slow_noise_inflation", numList(std::vector<double>(r.selection.slow_inflation.data(), r.selection.slow_inflation.data() + 6))},
-                      {"rows", r.selection.rows}};
-  j["constant_bias"] = numList(std::vector<double>(r.nuisance_bias.data(), r.nuisance_bias.data() + 6));
-  j["linear_drift"] = numList(std::vector<double>(r.nuisance_drift.data(), r.nuisance_drift.data() + 6));
-  j["selection_log"] = r.selection.log;
-  j["notes"] = r.notes;
-  j["grid"] = {{"t_begin", r.grid.t_begin_s}, {"bin_s", r.grid.bin_s}, {"bins", r.grid.count}};
-  return j.dump(2);
+  return fit;
 }
 
-std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparison* nav) {
-  const double d = units::kRadToDeg;
-  std::string m = fmt::format("# Mismatch diagnosis: {}\n\nSimulation: {}. Grid: {} bins of {} s "
-                              "from t = {:.3f} s.\n\n", r.case_name, r.simulation_kind,
-                              r.grid.count, r.grid.bin_s, r.grid.t_begin_s);
-  m += fmt::format("Cross-correlation time offset: {:.4f} s (peak correlation {:.4f}, {}).\n\n",
-                   r.time_offset_xcorr.tau_s, r.time_offset_xcorr.peak_correlation,
-                   r.time_offset_xcorr.reliable ? "reliable" : "not reliable");
-  m += "## Effects found\n\n| effect | sensor | parameters (SI) | 1-sigma | delta_bic | cv_gain |\n"
-       "|---|---|---|---|---|---|\n";
-  // Parameters and their 1-sigma of one effect, as two table cells.
-  const auto cells = [](const Effect& e) {
-    std::string p, s;
-    for (const EffectParameter& q : e.parameters) {
-      if (!q.text.empty()) {
-        p += q.key + "=" + q.text + " ";
-        continue;
-      }
-      p += q.key + "=" + (q.scalar ? fmt::format("{:.4g}", q.values[0]) : fmtVec(q.values)) + " ";
-      s += q.key + "=" + (q.scalar ? fmt::format("{:.2g}", q.sigma[0]) : fmtVec(q.sigma)) + " ";
+// Parameters and their 1-sigma of one effect, as two table cells.
+std::pair<std::string, std::string> cells(const Effect& e) {
+  std::string p, s;
+  for (const EffectParameter& q : e.parameters) {
+    if (!q.text.empty()) {
+      p += q.key + "=" + q.text + " ";
+      continue;
     }
-    return std::make_pair(p, s);
-  };
+    p += q.key + "=" + (q.scalar ? fmt::format("{:.4g}", q.values[0]) : fmtVec(q.values)) + " ";
+    s += q.key + "=" + (q.scalar ? fmt::format("{:.2g}", q.sigma[0]) : fmtVec(q.sigma)) + " ";
+  }
+  return std::make_pair(p, s);
+}
+
+// The effects found, and the ambiguous and implausible ones.
+std::string effectsMarkdown(const DiagnosisResult& r) {
+  std::string m;
   for (const Effect& e : r.effects) {
     const auto [p, s] = cells(e);
     m += fmt::format("| {} | {} | {} | {} | {:.1f} | {:.4f} |\n", e.name, e.sensor, p, s,
@@ -253,6 +227,11 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparis
                        s, im.effect.delta_bic, im.reason);
     }
   }
+  return m;
+}
+
+std::string checksMarkdown(const DiagnosisResult& r) {
+  std::string m;
   if (!r.term_correlations.empty()) {
     m += "\n## Correlation between fitted terms (largest canonical correlation of their columns)\n\n"
          "| term | term | correlation |\n|---|---|---|\n";
@@ -268,6 +247,13 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparis
     for (const Effect& e : r.in_simulation)
       m += "- **" + e.name + "** (" + e.sensor + "): " + e.explanation + "\n";
   }
+  return m;
+}
+
+// Residual RMS per channel, the held-out check and the navigation level.
+std::string fitMarkdown(const DiagnosisResult& r, const NavigationComparison* nav) {
+  const double d = units::kRadToDeg;
+  std::string m;
   m += "\n## Signal residual RMS per channel (gyro deg/s x/y/z; accel m/s^2 x/y/z)\n\n"
        "| | gyro | accel |\n|---|---|---|\n";
   m += fmt::format("| raw (real - simulated) | {} | {} |\n", fmt3(r.rms_raw.gyro, d), fmt3(r.rms_raw.accel, 1));
@@ -297,19 +283,17 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparis
     row("DIFF before (SG2) %", nav->diff_before, true);
     row("DIFF after (SG3) %", nav->diff_after, true);
   }
-  m += "\n## Located (residual before modelling)\n\n| channel | t_start | t_end | regime | excess_rms |\n|---|---|---|---|---|\n";
-  for (const LocatedSpan& s : r.located)
-    m += fmt::format("| {} | {:.2f} | {:.2f} | {} | {:.4g} |\n", s.channel, s.t_start, s.t_end, s.regime, s.excess_rms);
-  m += "\n## Unexplained (still above noise after modelling)\n\n| channel | t_start | t_end | regime | excess_rms |\n|---|---|---|---|---|\n";
-  for (const LocatedSpan& s : r.unexplained)
-    m += fmt::format("| {} | {:.2f} | {:.2f} | {} | {:.4g} |\n", s.channel, s.t_start, s.t_end, s.regime, s.excess_rms);
-  if (r.unexplained.empty()) m += "| (none) | | | | |\n";
-  if (!r.detection_limits.empty()) {
+  return m;
+}
+
+std::string detectionLimitsMarkdown(const std::vector<Effect>& detection_limits) {
+  std::string m;
+  if (!detection_limits.empty()) {
     m += "\n## Not claimed: detection limits (SI)\n\nThe size each parameter alone (the term's "
          "others zero) would need for its expected evidence over the final model to reach the "
          "claim threshold (about a 50 % detection probability).\n\n| term | sensor | limit |\n"
          "|---|---|---|\n";
-    for (const Effect& e : r.detection_limits) {
+    for (const Effect& e : detection_limits) {
       std::string lim;
       for (const EffectParameter& q : e.parameters) {
         if (!q.text.empty()) {
@@ -323,6 +307,69 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparis
       m += fmt::format("| {} | {} | {} |\n", e.name, e.sensor, lim);
     }
   }
+  return m;
+}
+
+}  // namespace
+
+std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* nav) {
+  json j;
+  j["case"] = r.case_name;
+  j["simulation"] = r.simulation_kind;
+  j["located"] = json::array();
+  for (const LocatedSpan& s : r.located) j["located"].push_back(spanJson(s));
+  addClaimsJson(r, &j);
+  addChecksJson(r, &j);
+  j["modelled_in_simulation"] = json::array();
+  for (const Effect& e : r.in_simulation)
+    j["modelled_in_simulation"].push_back(effectJson(e, {{"method", e.evidence_method}}));
+  j["unexplained"] = json::array();
+  for (const LocatedSpan& s : r.unexplained) j["unexplained"].push_back(spanJson(s));
+  j["detection_limits"] = detectionLimitsJson(r.detection_limits);
+  j["masked_spans"] = json::array();
+  for (const auto& [a, b] : r.masked_spans) j["masked_spans"].push_back(json::array({a, b}));
+  j["wander"] = json::array();
+  for (const WanderCheck& k : r.wander)
+    j["wander"].push_back(json{{"channel", k.channel}, {"fitted_sd", num(k.fitted_sd)},
+                               {"expected_sd", num(k.expected_sd)}, {"limit", num(k.limit)},
+                               {"within_lab_noise", k.within}});
+  j["fit"] = fitJson(r, nav);
+  j["time_offset_xcorr"] = {{"tau_s", r.time_offset_xcorr.tau_s},
+                            {"peak_correlation", r.time_offset_xcorr.peak_correlation},
+                            {"reliable", r.time_offset_xcorr.reliable}};
+  j["noise_model"] = {{"ar1_rho", numList(std::vector<double>(r.selection.rho.data(), r.selection.rho.data() + 6))},
+                      {"innovation_sigma", numList(std::vector<double>(r.selection.sigma.data(), r.selection.sigma.data() + 6))},
+                      {"variance_inflation", num(r.selection.inflation)},
+                      {"slow_noise_inflation", numList(std::vector<double>(r.selection.slow_inflation.data(), r.selection.slow_inflation.data() + 6))},
+                      {"rows", r.selection.rows}};
+  j["constant_bias"] = numList(std::vector<double>(r.nuisance_bias.data(), r.nuisance_bias.data() + 6));
+  j["linear_drift"] = numList(std::vector<double>(r.nuisance_drift.data(), r.nuisance_drift.data() + 6));
+  j["selection_log"] = r.selection.log;
+  j["notes"] = r.notes;
+  j["grid"] = {{"t_begin", r.grid.t_begin_s}, {"bin_s", r.grid.bin_s}, {"bins", r.grid.count}};
+  return j.dump(2);
+}
+
+std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparison* nav) {
+  std::string m = fmt::format("# Mismatch diagnosis: {}\n\nSimulation: {}. Grid: {} bins of {} s "
+                              "from t = {:.3f} s.\n\n", r.case_name, r.simulation_kind,
+                              r.grid.count, r.grid.bin_s, r.grid.t_begin_s);
+  m += fmt::format("Cross-correlation time offset: {:.4f} s (peak correlation {:.4f}, {}).\n\n",
+                   r.time_offset_xcorr.tau_s, r.time_offset_xcorr.peak_correlation,
+                   r.time_offset_xcorr.reliable ? "reliable" : "not reliable");
+  m += "## Effects found\n\n| effect | sensor | parameters (SI) | 1-sigma | delta_bic | cv_gain |\n"
+       "|---|---|---|---|---|---|\n";
+  m += effectsMarkdown(r);
+  m += checksMarkdown(r);
+  m += fitMarkdown(r, nav);
+  m += "\n## Located (residual before modelling)\n\n| channel | t_start | t_end | regime | excess_rms |\n|---|---|---|---|---|\n";
+  for (const LocatedSpan& s : r.located)
+    m += fmt::format("| {} | {:.2f} | {:.2f} | {} | {:.4g} |\n", s.channel, s.t_start, s.t_end, s.regime, s.excess_rms);
+  m += "\n## Unexplained (still above noise after modelling)\n\n| channel | t_start | t_end | regime | excess_rms |\n|---|---|---|---|---|\n";
+  for (const LocatedSpan& s : r.unexplained)
+    m += fmt::format("| {} | {:.2f} | {:.2f} | {} | {:.4g} |\n", s.channel, s.t_start, s.t_end, s.regime, s.excess_rms);
+  if (r.unexplained.empty()) m += "| (none) | | | | |\n";
+  m += detectionLimitsMarkdown(r.detection_limits);
   if (!r.wander.empty()) {
     m += "\n## Slow bias wander against the lab's noise figures (SI)\n\n"
          "Fitted: piecewise-linear bias of the modelled residual (sd about the mean). Expected: two "

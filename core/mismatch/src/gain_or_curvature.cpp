@@ -190,7 +190,7 @@ void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vecto
   for (Effect& e : out->effects) {
     const int s = e.sensor == "gyro" ? 0 : e.sensor == "accel" ? 1 : -1;
     const std::optional<LabQuadratic>& lab =
-        s == 0 ? in.lab_gyro_quadratic : in.lab_accel_quadratic;
+        s == 0 ? in.priors[Sensor::gyro].lab_quadratic : in.priors[Sensor::accel].lab_quadratic;
     // A curvature or an asymmetry the field named itself is already claimed: the gain stays.
     if (e.name != "scale_factor" || s < 0 || !lab || e.parameters.empty() ||
         std::find(even_claimed.begin(), even_claimed.end(), e.sensor) != even_claimed.end()) {
@@ -220,9 +220,9 @@ void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vecto
     // The field slope is measured against SG#2's gain, the lab's estimate on the reference
     // signal: their uncertainties are the slope's too (as in the scale factor's gate).
     const std::optional<Eigen::Matrix3d>& lab_M_sigma =
-        s == 0 ? in.lab_gyro_M_sigma : in.lab_accel_M_sigma;
+        s == 0 ? in.priors[Sensor::gyro].lab_M_sigma : in.priors[Sensor::accel].lab_M_sigma;
     const std::optional<double>& ref_scale_sigma =
-        s == 0 ? in.reference_gyro_scale_sigma : in.reference_accel_scale_sigma;
+        s == 0 ? in.priors[Sensor::gyro].reference_scale_sigma : in.priors[Sensor::accel].reference_scale_sigma;
     OneSignedSlopeInputs wi;
     wi.k = k.values[a];
     wi.k_sigma = std::sqrt(k.sigma[a] * k.sigma[a] +

@@ -186,7 +186,7 @@ TEST(MismatchDiagnosis, WanderWithinTheLabNoiseFiguresIsNotUnexplained) {
 
   LabNoiseFigures lab;
   lab.rate_random_walk.setConstant(1.5e-3);
-  p.in.lab_accel_noise = lab;
+  p.in.priors[Sensor::accel].lab_noise = lab;
   const DiagnosisResult within = diagnose(p.in);
   ASSERT_EQ(within.wander.size(), 3u);  // accel channels only: no gyro figures given
   for (const WanderCheck& k : within.wander) {
@@ -196,7 +196,7 @@ TEST(MismatchDiagnosis, WanderWithinTheLabNoiseFiguresIsNotUnexplained) {
   EXPECT_EQ(accelSpans(within), 0) << diagnosisMarkdown(within);
 
   lab.rate_random_walk.setConstant(5e-5);
-  p.in.lab_accel_noise = lab;
+  p.in.priors[Sensor::accel].lab_noise = lab;
   const DiagnosisResult beyond = diagnose(p.in);
   int outside = 0;
   for (const WanderCheck& k : beyond.wander) outside += !k.within;

@@ -47,7 +47,7 @@ TEST(MismatchDiagnosis, ScaleNonlinearityReportsTheSensorsOwnQuadratic) {
   ASSERT_NE(k, nullptr) << diagnosisMarkdown(plain);
   EXPECT_NEAR(k->values[2], -c2, 3.0 * k->sigma[2]);
 
-  p.in.lab_gyro_quadratic = lab;
+  p.in.priors[Sensor::gyro].lab_quadratic = lab;
   const DiagnosisResult artefact = diagnose(p.in);
   EXPECT_EQ(k2Of(artefact, "k2"), nullptr) << diagnosisMarkdown(artefact);
   // The residual cancels the lab's c2: not the sensor's, so not listed as in the simulation.
@@ -61,7 +61,7 @@ TEST(MismatchDiagnosis, ScaleNonlinearityReportsTheSensorsOwnQuadratic) {
   own.gyro.scale_nonlinearity.k2 << 0.0, 0.0, 2.0 * c2;
   Pair q = makePair(own, 31);
   q.in.simulated = applyErrors(q.in.simulated, spurious, 0);
-  q.in.lab_gyro_quadratic = lab;
+  q.in.priors[Sensor::gyro].lab_quadratic = lab;
   const DiagnosisResult real_nl = diagnose(q.in);
   const EffectParameter* k_own = k2Of(real_nl, "k2");
   const EffectParameter* k_missing = k2Of(real_nl, "k2_missing");
@@ -75,7 +75,7 @@ TEST(MismatchDiagnosis, ScaleNonlinearityReportsTheSensorsOwnQuadratic) {
   // polynomial's own error, modelled in SG#3 but not claimed, as for scale_factor.
   LabQuadratic loose = lab;
   loose.c2_sigma << 0.0, 0.0, c2 / 2.0;
-  q.in.lab_gyro_quadratic = loose;
+  q.in.priors[Sensor::gyro].lab_quadratic = loose;
   const DiagnosisResult within_lab = diagnose(q.in);
   EXPECT_EQ(k2Of(within_lab, "k2"), nullptr) << diagnosisMarkdown(within_lab);
   EXPECT_TRUE(hasNote(within_lab, "scale_nonlinearity", "calibration error"))
@@ -118,8 +118,8 @@ TEST(MismatchDiagnosis, MisalignmentWithinTheLabRotationUncertaintyIsNotClaimed)
     ASSERT_TRUE(findEffect(without_lab, "mounting_misalignment") != nullptr ||
                 (n_accel != nullptr && n_accel->sensor == "accel"))
         << "the case must show a rotation when nothing gates it\n" << diagnosisMarkdown(without_lab);
-    p.in.lab_gyro_M_sigma = lab_gyro_sigma;
-    p.in.lab_accel_M_sigma = lab_accel_sigma;
+    p.in.priors[Sensor::gyro].lab_M_sigma = lab_gyro_sigma;
+    p.in.priors[Sensor::accel].lab_M_sigma = lab_accel_sigma;
     const DiagnosisResult r = diagnose(p.in);
     EXPECT_TRUE(r.effects.empty()) << diagnosisMarkdown(r);
   }
@@ -127,8 +127,8 @@ TEST(MismatchDiagnosis, MisalignmentWithinTheLabRotationUncertaintyIsNotClaimed)
     ImuErrorModel extra;  // a mounting rotation of 1e-2 rad (0.57 deg), both sensors
     extra.mounting_misalignment.rotation_rad << 0.0, 4e-3, 1e-2;
     Pair p = makePair(extra, 12);
-    p.in.lab_gyro_M_sigma = lab_gyro_sigma;
-    p.in.lab_accel_M_sigma = lab_accel_sigma;
+    p.in.priors[Sensor::gyro].lab_M_sigma = lab_gyro_sigma;
+    p.in.priors[Sensor::accel].lab_M_sigma = lab_accel_sigma;
     const DiagnosisResult r = diagnose(p.in);
     const Effect* mm = findEffect(r, "mounting_misalignment");
     ASSERT_NE(mm, nullptr) << diagnosisMarkdown(r);
@@ -170,8 +170,8 @@ TEST(MismatchDiagnosis, CalibrationErrorWithinTheLabUncertaintyIsNotUnexplained)
                                      "reference + tested noise (as SG#2)");
   const DiagnosisResult ungated = diagnose(in);
   ASSERT_FALSE(ungated.effects.empty()) << "the error must show when nothing gates it";
-  in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-4);
-  in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(2e-3);  // 3 sigma = 6e-3: all within
+  in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-4);
+  in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(2e-3);  // 3 sigma = 6e-3: all within
   const DiagnosisResult r = diagnose(in);
   EXPECT_TRUE(r.effects.empty()) << diagnosisMarkdown(r);
   EXPECT_TRUE(r.unexplained.empty()) << diagnosisMarkdown(r);
@@ -196,8 +196,8 @@ TEST(MismatchDiagnosis, ClaimedTermIsFittedNextToTheGatedCalibrationError) {
   truth.g_sensitivity.G(0, 0) = -1.5e-4;
   DiagnosisInputs in = graftedInputs(sampleMotion(m, 100.0, T), truth, noise, 51,
                                      "reference + tested noise (as SG#2)");
-  in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(2e-3);  // 3 sigma = 6e-3: k is within
-  in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-4);
+  in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(2e-3);  // 3 sigma = 6e-3: k is within
+  in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-4);
   const DiagnosisResult r = diagnose(in);
   const Effect* g = findEffect(r, "g_sensitivity");
   ASSERT_NE(g, nullptr) << diagnosisMarkdown(r);
@@ -221,11 +221,11 @@ TEST(MismatchDiagnosis, ScaleWithinTheReferenceImusOwnUncertaintyIsNotClaimed) {
   ImuErrorModel extra;
   extra.gyro.scale_factor.k << 2e-3, -2e-3, 2e-3;
   Pair p = makePair(extra, 13);
-  p.in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-  p.in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  p.in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  p.in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   // The claimed gyro scale_factor's explanation, nullopt when none is claimed.
   const auto claimedScale = [&](std::optional<double> ref_sigma) -> std::optional<std::string> {
-    p.in.reference_gyro_scale_sigma = ref_sigma;
+    p.in.priors[Sensor::gyro].reference_scale_sigma = ref_sigma;
     const DiagnosisResult r = diagnose(p.in);
     for (const Effect& e : r.effects)
       if (e.name == "scale_factor" && e.sensor == "gyro") return e.explanation;
@@ -262,13 +262,13 @@ TEST(MismatchDiagnosis, ScaleWithinTheLabQuadraticsUncertaintyAtTheMeanInputIsNo
   sg2.accel.scale_nonlinearity.k2 << 0.0, 0.0, k2_z - 2.0 * c2_sigma;  // the lab's c2, 2 sigma off
   DiagnosisInputs in = graftedInputs(sampleMotion(m, 100.0, T), truth, sg2, 61,
                                      "reference + the lab's quadratic (as SG#2)");
-  in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-  in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   const auto claimsScale = [&](double sigma) {
     LabQuadratic q;
     q.c2 << 0.0, 0.0, k2_z - 2.0 * c2_sigma;
     q.c2_sigma << 0.0, 0.0, sigma;
-    in.lab_accel_quadratic = q;
+    in.priors[Sensor::accel].lab_quadratic = q;
     const DiagnosisResult r = diagnose(in);
     for (const Effect& e : r.effects)
       if ((e.name == "scale_factor" || e.name == "scale_nonlinearity") && e.sensor == "accel")
@@ -316,7 +316,7 @@ TEST(MismatchDiagnosis, TimeOffsetShiftsTheLabCalibratedResponse) {
                             Eigen::Matrix3d(sensor.gyro.scale_factor.k.asDiagonal());
   const auto run = [&](bool with_M) {
     DiagnosisInputs x = in;
-    if (with_M) x.lab_gyro_M = M;
+    if (with_M) x.priors[Sensor::gyro].lab_M = M;
     return diagnose(x);
   };
   // With the response shifted, only the offset is named and it is 14 us off (3.1 sigma; what is
@@ -345,11 +345,11 @@ TEST(MismatchDiagnosis, TimeOffsetShiftsTheLabQuadratic) {
   ImuErrorModel sensor;
   sensor.accel.scale_nonlinearity.k2 << 0.0, 0.0, 2e-3;
   DiagnosisInputs in = lateResponseInputs(m, T, tau, sensor, 41);
-  in.lab_accel_M = Eigen::Matrix3d::Identity();
+  in.priors[Sensor::accel].lab_M = Eigen::Matrix3d::Identity();
   LabQuadratic q;
   q.c2 = sensor.accel.scale_nonlinearity.k2;
   q.c2_sigma << 0.0, 0.0, 1e-6;
-  in.lab_accel_quadratic = q;
+  in.priors[Sensor::accel].lab_quadratic = q;
   const DiagnosisResult r = diagnose(in);
   ASSERT_EQ(r.effects.size(), 1u) << diagnosisMarkdown(r);
   EXPECT_EQ(r.effects[0].name, "time_offset");

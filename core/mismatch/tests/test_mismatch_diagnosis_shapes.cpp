@@ -40,7 +40,7 @@ TEST(MismatchDiagnosis, ScaleAsymmetryReportsTheSensorsOwnGainsPerSign) {
   LabQuadratic lab;
   lab.c2 << 0.0, 0.0, c2;
   lab.c2_sigma << 0.0, 0.0, c2 / 50.0;
-  p.in.lab_gyro_quadratic = lab;
+  p.in.priors[Sensor::gyro].lab_quadratic = lab;
   const DiagnosisResult r = diagnose(p.in);
   const Effect* sa = findEffect(r, "scale_asymmetry");
   ASSERT_NE(sa, nullptr) << diagnosisMarkdown(r);
@@ -94,8 +94,8 @@ TEST(MismatchDiagnosis, ScaleAsymmetryGainsAreRelativeToTheSimulationsGain) {
   real_off.gyro.scale_factor.k(2) += 1e-3;
   DiagnosisInputs off = graftedInputs(sampleMotion(m, 100.0, 150.0), real_off, sg2, 43,
                                       "reference + the lab's scale factor (as SG#2)");
-  off.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(5e-4);
-  off.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  off.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(5e-4);
+  off.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   const DiagnosisResult r_off = diagnose(off);
   EXPECT_EQ(findEffect(r_off, "scale_factor"), nullptr) << diagnosisMarkdown(r_off);
   const Effect* sa_off = findEffect(r_off, "scale_asymmetry");
@@ -121,8 +121,8 @@ TEST(MismatchDiagnosis, AsymmetryGateWeighsTheLabQuadraticNotItsGain) {
   DiagnosisInputs in = graftedInputs(sampleMotion(m, 100.0, 150.0), real, noise, 45,
                                      "reference + the lab's noise (as SG#2)");
   // A lab gain as uncertain as the asymmetry: it cancels in k_pos - k_neg.
-  in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(d);
-  in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(d);
+  in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   const DiagnosisResult loose_gain = diagnose(in);
   const Effect* sa = findEffect(loose_gain, "scale_asymmetry");
   ASSERT_NE(sa, nullptr) << diagnosisMarkdown(loose_gain);
@@ -133,7 +133,7 @@ TEST(MismatchDiagnosis, AsymmetryGateWeighsTheLabQuadraticNotItsGain) {
   // reads on |x| as 0.37 rad/s x 0.1 = 0.037, nine times d. Not claimed, and said why.
   LabQuadratic lab;
   lab.c2_sigma << 0.0, 0.0, 0.1;
-  in.lab_gyro_quadratic = lab;
+  in.priors[Sensor::gyro].lab_quadratic = lab;
   const DiagnosisResult loose_c2 = diagnose(in);
   EXPECT_EQ(findEffect(loose_c2, "scale_asymmetry"), nullptr) << diagnosisMarkdown(loose_c2);
   EXPECT_TRUE(hasNote(loose_c2, "gyro scale_asymmetry fitted but within 3 sigma", "lab quadratic"))
@@ -158,19 +158,19 @@ TEST(MismatchDiagnosis, AccelAsymmetryReplacesTheLabQuadraticItWasSeenAs) {
   in.case_name = "synthetic";
   in.reference = sampleMotion(m, 100.0, T);
   in.real = applyErrors(in.reference, truth, 71);
-  in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-  in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   // SG#2 with the lab's line (the mean gain), and with or without the quadratic of the poses.
   const auto run = [&](bool lab_quadratic) {
     ImuErrorModel sg2 = noise;
     sg2.accel.scale_factor.k = 0.5 * k_pos;
-    in.lab_accel_quadratic.reset();
+    in.priors[Sensor::accel].lab_quadratic.reset();
     if (lab_quadratic) {
       LabQuadratic lab;
       lab.c2 = 0.5 * k_pos / g;
       lab.c2_sigma = Eigen::Vector3d(1e-5, 1e-5, 0.0);
       sg2.accel.scale_nonlinearity.k2 = lab.c2;
-      in.lab_accel_quadratic = lab;
+      in.priors[Sensor::accel].lab_quadratic = lab;
     }
     in.simulation_kind = lab_quadratic ? "reference + the lab's line and quadratic (as SG#2)"
                                        : "reference + the lab's line (as SG#2)";
@@ -223,9 +223,9 @@ TEST(MismatchDiagnosis, GainsPerSignAreMeasuredBesideTheCurvatureTheLabMeasured)
   sg2.accel.scale_nonlinearity.k2 = lab.c2;
   DiagnosisInputs in = graftedInputs(sampleMotion(m, 100.0, T), truth, sg2, 81,
                                      "reference + the lab's line and quadratic (as SG#2)");
-  in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-  in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-  in.lab_accel_quadratic = lab;
+  in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::accel].lab_quadratic = lab;
   const DiagnosisResult r = diagnose(in);
   const Effect* sa = findEffect(r, "scale_asymmetry");
   ASSERT_NE(sa, nullptr) << diagnosisMarkdown(r);
@@ -254,12 +254,12 @@ TEST(MismatchDiagnosis, OneSignedGainIsNamedByTheLabsCurvatureEstimate) {
       real.accel.scale_factor.k << 0.0, 0.0, -2.0 * g * k2;  // the same slope at -g
     DiagnosisInputs in = graftedInputs(reference, real, noise, 51,
                                        "reference + the lab's line (as SG#2)");
-    in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-    in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+    in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+    in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
     LabQuadratic lab;  // lines on all axes; the degree-2 estimates the test dropped
     lab.c2_tested << 0.0, 0.0, c2_tested;
     lab.c2_tested_sigma << 2e-5, 2e-5, c2_tested_sigma;
-    in.lab_accel_quadratic = lab;
+    in.priors[Sensor::accel].lab_quadratic = lab;
     return diagnose(in);
   };
   const DiagnosisResult bent = run(true, 0.9 * k2, 2e-5);
@@ -320,9 +320,9 @@ TEST(MismatchDiagnosis, OneSignedGainIsWeighedAgainstAnAsymmetryTheLabFolded) {
     lab.c2_tested_per_abs.setConstant(1.0 / g);
     DiagnosisInputs in = graftedInputs(reference, real, sg2, 53,
                                        "reference + the lab's line and quadratic (as SG#2)");
-    in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-    in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-    in.lab_accel_quadratic = lab;
+    in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+    in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+    in.priors[Sensor::accel].lab_quadratic = lab;
     return diagnose(in);
   };
   const DiagnosisResult folded = run(true);

@@ -116,8 +116,8 @@ TEST(MismatchDiagnosis, AsymmetryUnderVibrationIsMeasuredOnTheSamples) {
   truth.accel.scale_asymmetry.k_neg.setZero();
   sg2.accel.scale_factor.k = 0.5 * k_pos;  // the lab's line: the mean gain
   DiagnosisInputs in = graftedInputs(ideal, truth, sg2, 81, "reference + the lab's line (as SG#2)");
-  in.lab_gyro_M_sigma = Eigen::Matrix3d::Constant(1e-6);
-  in.lab_accel_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
+  in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   const DiagnosisResult r = diagnose(in);
   EXPECT_EQ(findEffect(r, "scale_nonlinearity"), nullptr) << diagnosisMarkdown(r);
   EXPECT_EQ(findEffect(r, "vibration_rectification"), nullptr) << diagnosisMarkdown(r);
@@ -172,7 +172,7 @@ TEST(MismatchDiagnosis, SlowRegressorNextToATimeOffsetKeepsItsGlsFit) {
     Pair p = makePair(extra, seed);
     LabNoiseFigures lab;
     lab.rate_random_walk.setConstant(1e-3);
-    p.in.lab_accel_noise = lab;
+    p.in.priors[Sensor::accel].lab_noise = lab;
     const DiagnosisResult r = diagnose(p.in);
     ASSERT_NE(findEffect(r, "time_offset"), nullptr) << diagnosisMarkdown(r);
     const Effect* vr = findEffect(r, "vibration_rectification");
@@ -211,7 +211,7 @@ TEST(MismatchDiagnosis, LeverArmPassesThroughTheLabCalibratedQuadratic) {
   in.simulated = applyErrors(in.reference, quadratic, 0);
   const auto worstSigma = [&](bool with_lab_quadratic) {
     DiagnosisInputs x = in;
-    if (with_lab_quadratic) x.lab_accel_quadratic = LabQuadratic{quadratic.accel.scale_nonlinearity.k2,
+    if (with_lab_quadratic) x.priors[Sensor::accel].lab_quadratic = LabQuadratic{quadratic.accel.scale_nonlinearity.k2,
                                                                  Eigen::Vector3d::Zero()};
     const DiagnosisResult res = diagnose(x);
     const Effect* la = findEffect(res, "lever_arm");

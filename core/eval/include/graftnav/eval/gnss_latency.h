@@ -17,6 +17,9 @@
 // depend on s); fixes whose horizontal residual at the best shift exceeds outlier_m are dropped
 // and the estimate repeated once. Track errors (e.g. a track aided by single-point GNSS with its
 // own latency) enter the estimate: tau is relative to the track's time base.
+// The offset between two IMU records is estimated elsewhere (mismatch/time_offset.h, by the
+// cross-correlation of the dense rate signals); sparse fixes against a track have no such
+// correlation, hence this residual scan (the reason is stated there).
 
 #include <Eigen/Core>
 #include <vector>

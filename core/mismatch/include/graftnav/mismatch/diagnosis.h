@@ -1,6 +1,6 @@
 #pragma once
-// The mismatch finder's pipeline (issue 7): given the reference signals x, a simulation of the
-// tested IMU and the tested IMU's real recording,
+// The mismatch finder (its stages: src/diagnosis_stages.h): given the reference signals x, a
+// simulation of the tested IMU and the tested IMU's real recording,
 //   1. bin all three on one grid (common_grid.h);
 //   2. estimate the time offset of the real record by cross-correlation (time_offset.h); it is the
 //      pivot of the time_offset regressor, so the offset is then fitted jointly with the rest;
@@ -22,10 +22,12 @@
 
 #include "graftnav/mismatch/candidate_terms.h"
 #include "graftnav/mismatch/common_grid.h"
+#include "graftnav/mismatch/finder_options.h"
 #include "graftnav/mismatch/joint_fit.h"
 #include "graftnav/mismatch/linear_response.h"
 #include "graftnav/mismatch/locate.h"
 #include "graftnav/mismatch/quantization_evidence.h"
+#include "graftnav/mismatch/sensor.h"
 #include "graftnav/mismatch/term_correlation.h"
 #include "graftnav/imu/plausible_ranges.h"
 #include "graftnav/mismatch/term_selection.h"
@@ -55,6 +57,39 @@ struct LabQuadratic {
   Eigen::Vector3d c2_tested_per_abs = Eigen::Vector3d::Constant(std::nan(""));
 };
 
+// What is known about one sensor triad of the tested IMU before its field record is explained:
+// its lab calibration and the reference IMU's stated scale uncertainty. Every field is optional.
+struct SensorPriors {
+  // Lab Allan figures. When given, the slow bias wander that two independent realizations (lab
+  // graft and field) of that noise leave in the residual is noise, not missing physics: a
+  // bias_instability term is claimed only beyond it, and a channel whose fitted wander lies
+  // within it is not listed as unexplained (see WanderCheck).
+  std::optional<LabNoiseFigures> lab_noise;
+  // 1-sigma of the lab calibration matrix M (calibration_result.h). When given, a scale_factor
+  // or non_orthogonality term is claimed only if some element exceeds 3 x sqrt(fit sigma^2 +
+  // lab sigma^2): a smaller one is the lab calibration's own error, not missing physics.
+  std::optional<Eigen::Matrix3d> lab_M_sigma;
+  // The lab calibration matrix M (scale and cross-axis). The tested IMU applies it to the motion
+  // it measured at t - tau, so the time offset's signal in the residual is M (x(t - tau) - x(t)),
+  // not x(t - tau) - x(t); with a MEMS scale of 1e-3 the difference is invisible with
+  // independent noise but not under common random numbers.
+  std::optional<Eigen::Matrix3d> lab_M;
+  // 1-sigma scale-factor uncertainty of the reference IMU (its profile in case.yaml, a
+  // fraction). The simulation is built on the reference signal, so it carries the reference's own
+  // scale error; with a lab calibration a scale_factor is claimed only beyond 3 x sqrt(fit
+  // sigma^2 + lab sigma^2 + this^2) (under common random numbers a navigation-grade reference's
+  // 26 ppm was claimed on a null case).
+  std::optional<double> reference_scale_sigma;
+  // The lab polynomial's quadratic term. When given, scale_nonlinearity reports the sensor's own
+  // k2 (the lab's c2 plus the missing part the residual shows, k2_missing) and is claimed only if
+  // that is non-zero beyond 3 sigma: a residual quadratic that only cancels SG#2's c2 (e.g. a
+  // scale asymmetry folded into c2 on the rate table) is the simulation's artefact, modelled in
+  // SG#3 but not a non-linearity of the sensor. Nor is it claimed when k2_missing is within
+  // 3 x sqrt(fit sigma^2 + c2_sigma^2) on every axis: the lab's c2 is off by no more than its own
+  // uncertainty (calibration error, as for scale_factor; modelled in SG#3).
+  std::optional<LabQuadratic> lab_quadratic;
+};
+
 struct DiagnosisInputs {
   std::string case_name;
   ImuSeries reference;   // reference IMU: the true inputs x, reference body frame
@@ -73,44 +108,13 @@ struct DiagnosisInputs {
   // empty, the attitude is integrated from initial_state with the reference gyros (Earth rate
   // removed).
   NavSeries attitude;
-  // Lab Allan figures of the tested IMU, per sensor. When given, the slow bias wander that two
-  // independent realizations (lab graft and field) of that noise leave in the residual is noise,
-  // not missing physics: a bias_instability term is claimed only beyond it, and a channel whose
-  // fitted wander lies within it is not listed as unexplained (see WanderCheck).
-  std::optional<LabNoiseFigures> lab_gyro_noise;
-  std::optional<LabNoiseFigures> lab_accel_noise;
   // SG#2 replays the lab's static record (its bias wander included) tiled forward and backward
   // (GraftedCase): its length and the tiling time at the reference's first sample start. The
   // slow terms' wander model then holds that replay next to the field's own walk. 0: none.
   double graft_static_record_s = 0.0;
   double graft_start_offset_s = 0.0;
-  // 1-sigma of the lab calibration matrices M (calibration_result.h). When given, a scale_factor
-  // or non_orthogonality term is claimed only if some element exceeds 3 x sqrt(fit sigma^2 +
-  // lab sigma^2): a smaller one is the lab calibration's own error, not missing physics.
-  std::optional<Eigen::Matrix3d> lab_gyro_M_sigma;
-  std::optional<Eigen::Matrix3d> lab_accel_M_sigma;
-  // The lab calibration matrices M (scale and cross-axis of the tested IMU). The tested IMU
-  // applies them to the motion it measured at t - tau, so the time offset's signal in the
-  // residual is M (x(t - tau) - x(t)), not x(t - tau) - x(t); with a MEMS scale of 1e-3 the
-  // difference is invisible with independent noise but not under common random numbers.
-  std::optional<Eigen::Matrix3d> lab_gyro_M;
-  std::optional<Eigen::Matrix3d> lab_accel_M;
-  // 1-sigma scale-factor uncertainty of the reference IMU (its profile in case.yaml, a
-  // fraction). The simulation is built on the reference signal, so it carries the reference's own
-  // scale error; with a lab calibration a scale_factor is claimed only beyond 3 x sqrt(fit sigma^2
-  // + lab sigma^2 + this^2) (under common random numbers a navigation-grade reference's 26 ppm
-  // was claimed on a null case).
-  std::optional<double> reference_gyro_scale_sigma;
-  std::optional<double> reference_accel_scale_sigma;
-  // The lab polynomial's quadratic term. When given, scale_nonlinearity reports the sensor's own
-  // k2 (the lab's c2 plus the missing part the residual shows, k2_missing) and is claimed only
-  // if that is non-zero beyond 3 sigma: a residual quadratic that only cancels SG#2's c2 (e.g. a
-  // scale asymmetry folded into c2 on the rate table) is the simulation's artefact, modelled in
-  // SG#3 but not a non-linearity of the sensor. Nor is it claimed when k2_missing is within
-  // 3 x sqrt(fit sigma^2 + c2_sigma^2) on every axis: the lab's c2 is off by no more than its own
-  // uncertainty (calibration error, as for scale_factor; modelled in SG#3).
-  std::optional<LabQuadratic> lab_gyro_quadratic;
-  std::optional<LabQuadratic> lab_accel_quadratic;
+  // What is known beforehand about each sensor triad of the tested IMU (SensorPriors).
+  PerSensor<SensorPriors> priors;
   // The tested IMU's plausible ranges (its profile's, or its grade's class defaults). A fitted
   // value outside them is not claimed as that physics (claim_checks.h). Unset: no range check.
   std::optional<PlausibleRanges> tested_plausible_ranges;
@@ -140,6 +144,7 @@ struct DiagnoseOptions {
   // ceres::Problem (joint_fit.h); the reported parameters and covariances are then Ceres'.
   bool ceres_joint_fit = true;
   JointFitOptions joint_fit;
+  FinderOptions finder;  // the finder's own gates, pass counts and minimum sizes
   void validate() const;
 };
 
@@ -153,7 +158,7 @@ struct EffectParameter {
 };
 
 struct Effect {
-  std::string name;          // issue 7 effect name
+  std::string name;          // effect name as diagnosis.json writes it
   std::string sensor;        // gyro | accel | both
   std::vector<EffectParameter> parameters;
   double delta_bic = 0.0;

@@ -1,5 +1,5 @@
 #pragma once
-// What `graftnav diagnose` writes: diagnosis.json in the shape of issue 7 item 5 (plus extra
+// What `graftnav diagnose` writes: diagnosis.json in the shape the finder specifies (plus extra
 // keys), a Markdown report, and residual.csv for the plots (scripts/plot_diagnosis.py).
 //
 // diagnosis.json: {"case", "located": [{channel, t_start, t_end, regime, excess_rms}],

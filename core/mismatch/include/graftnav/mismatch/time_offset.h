@@ -2,13 +2,24 @@
 // Time offset between a tested IMU record and a simulation of it (or the reference signals),
 // estimated before anything else because every other term is fitted on aligned signals.
 //
-// Convention (issue 7): tau_s > 0 when the tested IMU's time tags are late, i.e. the tested
+// Convention: tau_s > 0 when the tested IMU's time tags are late, i.e. the tested
 // sample tagged t was measured at t - tau_s: tested(t) = x(t - tau_s). The cross-covariance
 // c(L) = sum_t x(t) tested(t + L) of the mean-removed angular rates (bins of bin_s, summed over
 // the three axes so that the axis with most motion dominates) peaks at L = tau_s; the peak is
 // located to a fraction of a bin by a parabola through the three best lags. Two stages: a coarse
 // search over +/- coarse_max_offset_s on coarse_bin_s bins (separately started loggers can be
 // seconds apart), then the fine search over +/- max_offset_s around the coarse peak.
+//
+// Why this is not the GNSS latency estimator (eval/gnss_latency.h), and the joint fit
+// (joint_fit.h) is not a third estimator: the three answer different questions on different
+// data. Here two dense records of the same quantity (angular rates at 100-200 Hz) are compared,
+// so their cross-correlation peak finds an offset of seconds without a model. GNSS latency
+// compares sparse position fixes (1 Hz) with a trajectory, where no correlation exists and the
+// shift is found by the horizontal residual RMS it leaves (plus a slope estimate), per fix and
+// with outliers dropped. The joint fit does not estimate an offset on its own: it refines this
+// one, started at its pivot, as a non-linear parameter beside every other selected term, which
+// the cross-correlation cannot (a lever arm or misalignment would bias it). The shared part of
+// the first two, a parabola through the best three grid points, is three lines.
 
 #include <Eigen/Core>
 

@@ -1,0 +1,100 @@
+#include "graftnav/mismatch/diagnosis_setup.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
+
+#include "graftnav/calibration/lab_calibration.h"
+#include "graftnav/nav/units.h"
+#include "graftnav/sg/graft_case.h"
+#include "graftnav/sg/grafting.h"
+
+namespace graftnav {
+
+SensorPriors labPriors(const SensorCalibration& cal) {
+  SensorPriors p;
+  p.lab_M_sigma = cal.M_sigma;
+  p.lab_M = cal.M;
+  if (cal.has_allan)
+    p.lab_noise = LabNoiseFigures{cal.allan.bias_instability, cal.allan.rate_random_walk};
+  if (!cal.has_fit) return p;
+  LabQuadratic q;
+  for (int a = 0; a < 3; ++a) {
+    const PolynomialFit& fit = cal.fit[a];
+    if (fit.degree >= 2 && fit.coeffs.size() >= 3) {
+      q.c2(a) = fit.coeffs[2];
+      q.c2_sigma(a) = fit.coeffs_sigma.size() >= 3 ? fit.coeffs_sigma[2] : 0.0;
+    }
+    q.c2_tested(a) = fit.c2_tested;
+    q.c2_tested_sigma(a) = fit.c2_tested_sigma;
+    q.slope_per_abs(a) = fit.slope_per_abs;
+    q.slope_per_sq(a) = fit.slope_per_sq;
+    q.c2_tested_per_abs(a) = fit.c2_tested_per_abs;
+  }
+  p.lab_quadratic = q;
+  return p;
+}
+
+void simulateFromLab(const LabData& lab, double start_offset_s,
+                     const PerSensor<double>& reference_scale_std, DiagnosisInputs* in) {
+  const LabCalibrationReport report = calibrateLab(lab);
+  GraftCaseOptions go;
+  go.graft.start_offset_s = start_offset_s;
+  GraftedCase g = graftCase(in->reference, report, go);
+  in->simulated = std::move(g.sg2);
+  attachLabTemperature(lab.static_imu, g.start_offset_s, &in->simulated);
+  in->graft_static_record_s = g.static_record_s;
+  in->graft_start_offset_s = g.start_offset_s;
+  in->simulation_kind = "SG#2 (lab calibration + grafting)";
+  in->priors[Sensor::gyro] = labPriors(report.result.gyro);
+  in->priors[Sensor::accel] = labPriors(report.result.accel);
+  for (const Sensor s : kSensors)
+    if (reference_scale_std[s] > 0.0) in->priors[s].reference_scale_sigma = reference_scale_std[s];
+}
+
+void simulateWithoutLab(DiagnosisInputs* in, std::vector<std::string>* notes,
+                        std::vector<std::string>* warnings) {
+  try {
+    StaticBiasSimulation sim = simulateFromReferenceAndStaticBias(in->reference, in->real);
+    in->simulated = std::move(sim.simulated);
+    in->simulation_kind = fmt::format(
+        "reference IMU + tested IMU static bias (no lab data; bias from the static span "
+        "{:.2f}-{:.2f} s: gyro [{:.4f} {:.4f} {:.4f}] deg/s, accel [{:.4f} {:.4f} {:.4f}] m/s^2)",
+        sim.t_start_s, sim.t_end_s, sim.gyro_bias_rad_s.x() * units::kRadToDeg,
+        sim.gyro_bias_rad_s.y() * units::kRadToDeg, sim.gyro_bias_rad_s.z() * units::kRadToDeg,
+        sim.accel_bias_m_s2.x(), sim.accel_bias_m_s2.y(), sim.accel_bias_m_s2.z());
+  } catch (const std::runtime_error& e) {
+    // A recording that starts moving has no static span: the simulation is the reference alone;
+    // the per-channel constant of the model (the nuisance) carries the bias instead.
+    in->simulated = in->reference;
+    in->simulation_kind = "reference IMU (no lab data, no static span for the tested bias)";
+    notes->push_back(std::string("no static span in the tested record (") + e.what() +
+                     "): the simulation is the reference IMU alone and the tested bias is the "
+                     "fitted constant (constant_bias in diagnosis.json)");
+    warnings->push_back(notes->back());
+  }
+  notes->push_back(
+      "the reference IMU's own errors are in the simulation: effects are relative to it");
+}
+
+void attachLabTemperature(const ImuSeries& lab_static, double start_offset_s, ImuSeries* sg2) {
+  if (lab_static.empty() || sg2->empty() ||
+      !std::all_of(lab_static.begin(), lab_static.end(),
+                   [](const ImuSample& s) { return s.hasTemperature(); }))
+    return;
+  ImuSeries temp = lab_static;
+  for (ImuSample& s : temp) {
+    s.dtheta_rad = Eigen::Vector3d(s.temperature_degC * s.dt_s, 0.0, 0.0);
+    s.dvel_m_s.setZero();
+  }
+  const BasicErrorSignal tiled(temp);
+  const double t0 = sg2->front().t_s - sg2->front().dt_s;
+  for (ImuSample& s : *sg2) {
+    const double u1 = s.t_s - t0 + start_offset_s;
+    s.temperature_degC = tiled.integral(u1 - s.dt_s, u1)(0) / s.dt_s;
+  }
+}
+
+}  // namespace graftnav
