@@ -1,6 +1,6 @@
 #pragma once
-// Joint non-linear fit of the time offset and the selected terms (issue 7 item 3, "fit with
-// Ceres"). The linear selection (term_selection.h) treats the time offset through a regressor
+// Joint non-linear fit of the time offset and the selected terms with Ceres.
+// The linear selection (term_selection.h) treats the time offset through a regressor
 // linearised at a pivot; here tau_s is a genuinely non-linear parameter of a ceres::Problem:
 //
 //   r(t) = [X_tau(t) - X(t)] + K(t) - tau K'(t) + sum_j theta_j (u_j(t) - tau u_j'(t)) + e(t)
