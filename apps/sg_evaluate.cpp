@@ -103,8 +103,10 @@ SgEvaluationInputs pipelineInputs(const SgEvaluateOptions& o, const CaseInputs& 
   return in;
 }
 
-void writeSgOutputs(const SgEvaluateOptions& o, const SgEvaluationReport& rep, const LogFn& log) {
-  const fs::path out(o.out_dir);
+}  // namespace
+
+void writeSgOutputs(const std::string& out_dir, const SgEvaluationReport& rep, bool plots, const LogFn& log) {
+  const fs::path out(out_dir);
   for (const auto& s : rep.solutions) {
     writeErrorsCsv((out / ("errors_" + s.label + ".csv")).string(), s.evaluation, 1.0 / rep.csv_rate_hz);
   }
@@ -113,13 +115,11 @@ void writeSgOutputs(const SgEvaluateOptions& o, const SgEvaluationReport& rep, c
   writeEvaluationCsv((out / "evaluation.csv").string(), rep);
   writePredictiveCsv((out / "predictive.csv").string(), rep);
   writePerOutageCsv((out / "outage_drift.csv").string(), rep);
-  if (o.plots) {
-    const std::string w = runPythonScript("plot_sg.py", {o.out_dir});
+  if (plots) {
+    const std::string w = runPythonScript("plot_sg.py", {out_dir});
     if (!w.empty()) log("warning: " + w);
   }
 }
-
-}  // namespace
 
 SgEvaluationReport runSgEvaluation(const SgEvaluateOptions& o, const LogFn& log_in) {
   const LogFn log = log_in ? log_in : [](const std::string&) {};
@@ -160,7 +160,7 @@ SgEvaluationReport runSgEvaluation(const SgEvaluateOptions& o, const LogFn& log_
   rep.case_name = c.config.name;
   rep.tested_grade = c.config.tested_imu->grade;
   rep.csv_rate_hz = rc.evaluation.csv_rate_hz;
-  writeSgOutputs(o, rep, log);
+  writeSgOutputs(o.out_dir, rep, o.plots, log);
   return rep;
 }
 

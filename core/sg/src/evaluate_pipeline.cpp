@@ -165,6 +165,8 @@ SgEvaluationPipeline::SgEvaluationPipeline(const SgEvaluationOptions& options, G
   ro.count = options_.realizations;
   ro.seed = options_.seed;
   ro.vary_segment = options_.start_offset_s < 0.0;
+  ro.vary_turn_on_bias = options_.vary_turn_on_bias;
+  ro.vary_bias_wander = options_.vary_bias_wander;
   draws_ = drawRealizations(ro, plan_.basic, inputs_.tested_profile, t_last_s_ - t_first_s_);
   if (!ro.vary_segment)
     for (auto& d : draws_) d.start_offset_s = options_.start_offset_s;

@@ -33,6 +33,11 @@ struct SgEvaluationOptions {
   std::uint64_t seed = 1;
   // Where the field test starts in the tiled lab record (s); negative: drawn per realization.
   double start_offset_s = -1.0;
+  // What a realization varies besides the lab-noise segment (sg/realization.h). A basic error
+  // signal recorded in the same power-on as the field test (real-sg's standstills) already holds
+  // that power-on's bias: no turn-on bias is drawn for it.
+  bool vary_turn_on_bias = true;
+  bool vary_bias_wander = true;
   std::vector<SgStrategy> strategies{SgStrategy::kBasic, SgStrategy::kFull};
   int jobs = 0;  // navigations in parallel; 0 = all cores
   EvaluationOptions evaluation;
