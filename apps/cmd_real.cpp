@@ -49,6 +49,12 @@ struct RealArgs {
   std::vector<int> latency_types{4, 5};
   std::vector<std::string> latency_estimators{"ekf", "rts"};
   bool no_plots = false;
+  // The latency scan's track uses only these fix types (single point: independent of the RTK
+  // epochs whose latency is scanned); then each of scan_fix_types is scanned against it, with
+  // residuals beyond outlier_m (single point: outlier_single_m) dropped.
+  std::vector<int> track_fix_types{1};
+  std::vector<int> scan_fix_types{4, 5, 1};
+  double outlier_m = 3.0, outlier_single_m = 10.0;
 };
 
 struct RunRow {
@@ -114,29 +120,12 @@ void writeRealSummaryJson(const std::string& path, const std::vector<RunRow>& ro
   writeFileAtomically(path, j.dump(2) + "\n");
 }
 
-void runReal(const RealArgs& a) {
-  const CaseInputs c = loadReal(a.case_dir);
-  std::vector<std::string> warnings;
-  const RunConfig rc = loadRunConfig(a.config, &warnings);
-  recordConfigFile(a.config);
-  for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
-  if (!rc.outages_given) throw std::runtime_error(a.config + ": an outages: section is required");
-  const ImuSelection imu = loadImuReal(c, a.imu, a.profile);
-  if (!imu.profile_given) throw std::runtime_error("no noise parameters for the IMU: pass --profile");
-  const EstimationProblem pr = problemReal(c, imu, rc, rc.outages, true);
-  const GnssSeries checkpoints =
-      gnssOfFixTypes(c.gnss, rc.gnss.checkpoint_fix_types, rc.gnss.selection);
-  int checkpoints_in_outages = 0;
-  for (const auto& f : checkpoints)
-    for (const auto& w : pr.outages) checkpoints_in_outages += w.contains(f.t_s) ? 1 : 0;
-  fmt::print(stderr, "  {} outages; {} check points inside them (of {} epochs of the fix types in "
-             "gnss.checkpoint_fix_types, time tags corrected like the navigation's), lever arm "
-             "[{:.2f} {:.2f} {:.2f}] m\n",
-             pr.outages.size(), checkpoints_in_outages, checkpoints.size(), pr.lever_arm_b_m.x(),
-             pr.lever_arm_b_m.y(), pr.lever_arm_b_m.z());
-  fs::create_directories(a.out);
+// Each estimator on the problem: solution.nav and checkpoints.csv per estimator; a failure is
+// printed and listed in *failed, the others go on.
+std::vector<RunRow> runEstimators(const RealArgs& a, const CaseInputs& c, const RunConfig& rc,
+                                  const EstimationProblem& pr, const GnssSeries& checkpoints,
+                                  std::vector<std::string>* failed) {
   std::vector<RunRow> rows;
-  std::vector<std::string> failed;
   for (const auto& est : a.estimators) {
     RunRow r;
     r.label = est;
@@ -147,7 +136,7 @@ void runReal(const RealArgs& a) {
         if (!st.v_n.allFinite() || !std::isfinite(st.pos.lat_rad)) throw std::runtime_error("non-finite state at t=" + std::to_string(st.t_s));
     } catch (const std::exception& e) {
       fmt::print(stderr, "  {}: FAILED: {}\n", est, e.what());
-      failed.push_back(est + ": " + e.what());
+      failed->push_back(est + ": " + e.what());
       continue;
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -160,6 +149,12 @@ void runReal(const RealArgs& a) {
                r.seconds, r.sol.gnss_used, r.sol.gnss_rejected, r.sol.gnss_withheld);
     rows.push_back(std::move(r));
   }
+  return rows;
+}
+
+// summary.md's main table and, per outage, the maximum horizontal error at the check points.
+std::string mainTablesMd(const std::vector<RunRow>& rows, const std::vector<std::string>& failed,
+                         const EstimationProblem& pr, const RunConfig& rc, const ImuSelection& imu) {
   std::string md;
   md += fmt::format("Outage errors, {} outages of {:.1f} s; check points = withheld GNSS epochs of fix types",
                     pr.outages.size(), pr.outages.empty() ? 0.0 : pr.outages.front().length_s());
@@ -193,70 +188,106 @@ void runReal(const RealArgs& a) {
       md += "\n";
     }
   }
+  return md;
+}
 
-  if (a.latency_scan) {
-    // Track from the other fix types only (no outages, RTS), then each RTK type against it and
-    // against the reference solution.
-    // Same initial state as the main problem (its alignment), GNSS = single-point epochs only.
-    GnssSelectionOptions so;
-    so.accepted_fix_types = {1};
-    so.max_horizontal_std_m = rc.gnss.selection.max_horizontal_std_m;
-    so.max_vertical_std_m = rc.gnss.selection.max_vertical_std_m;
-    const GnssSelection sel = selectGnss(c.gnss, so);
-    fmt::print(stderr, "latency scan: RTS track from the single-point (fix 1) epochs only; {}\n", sel.counts.summary());
-    EstimationProblem pt = pr;
-    pt.gnss = sel.kept;
-    pt.outages.clear();
-    const NavSolution track = runEstimator("rts", pt, rc);
-    writeNav((fs::path(a.out) / "latency_track_rts_fix1.nav").string(), track.states);
-    md += "\nGNSS time-tag latency (tau > 0: the fix is the position tau seconds BEFORE its stamp); "
-          "grid = minimum of the horizontal residual RMS over shifts, slope = along-track least squares.\n\n";
-    md += "| fix type | track | fixes used (slow, outliers) | tau grid (s) | tau slope (s) | RMS h at 0 (m) | RMS h at tau (m) |\n|---|---|---|---|---|---|---|\n";
-    std::string csv = "fix_type,track,shift_s,rms_h_m\n";
-    struct Track { std::string name; const NavSeries* s; };
-    const std::vector<Track> tracks = {{"RTS(fix 1 only)", &track.states}, {"reference.nav", &c.reference}};
-    for (int ft : {4, 5, 1}) {
-      const GnssSeries fixes = gnssOfFixTypes(c.gnss, {ft}, GnssSelectionOptions{});
-      for (const auto& tr : tracks) {
-        if (tr.s->empty() || (ft == 1 && tr.s == &track.states)) continue;
-        try {
-          LatencyScanOptions lo;
-          lo.outlier_m = ft == 1 ? 10.0 : 3.0;
-          const LatencyEstimate e = estimateGnssLatency(*tr.s, fixes, pr.lever_arm_b_m, lo);
-          md += fmt::format("| {} | {} | {} ({}, {}) | {:+.3f} | {:+.3f} | {:.2f} | {:.2f} |\n", ft, tr.name,
-                            e.fixes_used, e.fixes_slow, e.fixes_outliers, e.grid_s, e.slope_s,
-                            e.rms_h_at_zero_m, e.grid_rms_h_m);
-          for (std::size_t i = 0; i < e.shift_s.size(); ++i)
-            csv += fmt::format("{},{},{:.3f},{:.4f}\n", ft, tr.name, e.shift_s[i], e.rms_h_m[i]);
-        } catch (const std::exception& ex) {
-          md += fmt::format("| {} | {} | not estimated: {} | | | | |\n", ft, tr.name, ex.what());
-        }
-      }
-    }
-    writeFileAtomically((fs::path(a.out) / "latency_scan.csv").string(), csv);
-  }
-
-  if (!a.latency_grid.empty()) {
-    md += "\nEffect of the time-tag correction of the RTK epochs (fix types";
-    for (int t : a.latency_types) md += fmt::format(" {}", t);
-    md += ") on the outage errors (check points corrected by the same latency).\n\n| latency (s) | estimator | GNSS used / gated | RMS h (m) | RMS of max h (m) | RMS v (m) | vs reference.nav RMS of max h (m) |\n|---|---|---|---|---|---|---|\n";
-    for (double L : a.latency_grid) {
-      RunConfig rl = rc;
-      rl.gnss.given = true;
-      for (int t : a.latency_types) rl.gnss.selection.latency_s_by_fix_type[t] = L;
-      const EstimationProblem pl = problemReal(c, imu, rl, rl.outages, false);
-      const GnssSeries cps = gnssOfFixTypes(c.gnss, rl.gnss.checkpoint_fix_types, rl.gnss.selection);
-      for (const auto& est : a.latency_estimators) {
-        const NavSolution s = runEstimator(est, pl, rl);
-        const CheckpointEvaluation cp = evaluateAtCheckpoints(s.states, cps, pl.outages, pl.lever_arm_b_m);
-        const auto ev = evalRef(s, c.reference, pl.outages, rl);
-        md += fmt::format("| {:.2f} | {} | {} / {} | {:.2f} | {:.2f} | {:.2f} | {} |\n", L, est, s.gnss_used,
-                          s.gnss_rejected, cp.rms_h_m, cp.rms_of_max_h_m, cp.rms_v_m,
-                          fmtOr(ev ? ev->outage_max_rms.horizontal_m : std::nan("")));
-        fmt::print(stderr, "  latency {:.2f} s, {}: check-point RMS h {:.2f} m\n", L, est, cp.rms_h_m);
+// The GNSS time-tag latency per fix type: against an RTS track from the track fix types only
+// (same initial state, no outages) and against the case's reference solution.
+std::string latencyScanMd(const RealArgs& a, const CaseInputs& c, const RunConfig& rc, const EstimationProblem& pr) {
+  std::string md;
+  // Track from the other fix types only (no outages, RTS), then each RTK type against it and
+  // against the reference solution.
+  // Same initial state as the main problem (its alignment), GNSS = single-point epochs only.
+  GnssSelectionOptions so;
+  so.accepted_fix_types = a.track_fix_types;
+  so.max_horizontal_std_m = rc.gnss.selection.max_horizontal_std_m;
+  so.max_vertical_std_m = rc.gnss.selection.max_vertical_std_m;
+  const GnssSelection sel = selectGnss(c.gnss, so);
+  fmt::print(stderr, "latency scan: RTS track from the single-point (fix 1) epochs only; {}\n", sel.counts.summary());
+  EstimationProblem pt = pr;
+  pt.gnss = sel.kept;
+  pt.outages.clear();
+  const NavSolution track = runEstimator("rts", pt, rc);
+  writeNav((fs::path(a.out) / "latency_track_rts_fix1.nav").string(), track.states);
+  md += "\nGNSS time-tag latency (tau > 0: the fix is the position tau seconds BEFORE its stamp); "
+        "grid = minimum of the horizontal residual RMS over shifts, slope = along-track least squares.\n\n";
+  md += "| fix type | track | fixes used (slow, outliers) | tau grid (s) | tau slope (s) | RMS h at 0 (m) | RMS h at tau (m) |\n|---|---|---|---|---|---|---|\n";
+  std::string csv = "fix_type,track,shift_s,rms_h_m\n";
+  struct Track { std::string name; const NavSeries* s; };
+  const std::vector<Track> tracks = {{"RTS(fix 1 only)", &track.states}, {"reference.nav", &c.reference}};
+  for (int ft : a.scan_fix_types) {
+    const GnssSeries fixes = gnssOfFixTypes(c.gnss, {ft}, GnssSelectionOptions{});
+    for (const auto& tr : tracks) {
+      if (tr.s->empty() || (ft == 1 && tr.s == &track.states)) continue;
+      try {
+        LatencyScanOptions lo;
+        lo.outlier_m = ft == 1 ? a.outlier_single_m : a.outlier_m;
+        const LatencyEstimate e = estimateGnssLatency(*tr.s, fixes, pr.lever_arm_b_m, lo);
+        md += fmt::format("| {} | {} | {} ({}, {}) | {:+.3f} | {:+.3f} | {:.2f} | {:.2f} |\n", ft, tr.name,
+                          e.fixes_used, e.fixes_slow, e.fixes_outliers, e.grid_s, e.slope_s,
+                          e.rms_h_at_zero_m, e.grid_rms_h_m);
+        for (std::size_t i = 0; i < e.shift_s.size(); ++i)
+          csv += fmt::format("{},{},{:.3f},{:.4f}\n", ft, tr.name, e.shift_s[i], e.rms_h_m[i]);
+      } catch (const std::exception& ex) {
+        md += fmt::format("| {} | {} | not estimated: {} | | | | |\n", ft, tr.name, ex.what());
       }
     }
   }
+  writeFileAtomically((fs::path(a.out) / "latency_scan.csv").string(), csv);
+  return md;
+}
+
+// The outage errors with the RTK epochs' time tags corrected by each latency of the grid.
+std::string latencyGridMd(const RealArgs& a, const CaseInputs& c, const RunConfig& rc, const ImuSelection& imu) {
+  std::string md;
+  md += "\nEffect of the time-tag correction of the RTK epochs (fix types";
+  for (int t : a.latency_types) md += fmt::format(" {}", t);
+  md += ") on the outage errors (check points corrected by the same latency).\n\n| latency (s) | estimator | GNSS used / gated | RMS h (m) | RMS of max h (m) | RMS v (m) | vs reference.nav RMS of max h (m) |\n|---|---|---|---|---|---|---|\n";
+  for (double L : a.latency_grid) {
+    RunConfig rl = rc;
+    rl.gnss.given = true;
+    for (int t : a.latency_types) rl.gnss.selection.latency_s_by_fix_type[t] = L;
+    const EstimationProblem pl = problemReal(c, imu, rl, rl.outages, false);
+    const GnssSeries cps = gnssOfFixTypes(c.gnss, rl.gnss.checkpoint_fix_types, rl.gnss.selection);
+    for (const auto& est : a.latency_estimators) {
+      const NavSolution s = runEstimator(est, pl, rl);
+      const CheckpointEvaluation cp = evaluateAtCheckpoints(s.states, cps, pl.outages, pl.lever_arm_b_m);
+      const auto ev = evalRef(s, c.reference, pl.outages, rl);
+      md += fmt::format("| {:.2f} | {} | {} / {} | {:.2f} | {:.2f} | {:.2f} | {} |\n", L, est, s.gnss_used,
+                        s.gnss_rejected, cp.rms_h_m, cp.rms_of_max_h_m, cp.rms_v_m,
+                        fmtOr(ev ? ev->outage_max_rms.horizontal_m : std::nan("")));
+      fmt::print(stderr, "  latency {:.2f} s, {}: check-point RMS h {:.2f} m\n", L, est, cp.rms_h_m);
+    }
+  }
+  return md;
+}
+
+void runReal(const RealArgs& a) {
+  const CaseInputs c = loadReal(a.case_dir);
+  std::vector<std::string> warnings;
+  const RunConfig rc = loadRunConfig(a.config, &warnings);
+  recordConfigFile(a.config);
+  for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
+  if (!rc.outages_given) throw std::runtime_error(a.config + ": an outages: section is required");
+  const ImuSelection imu = loadImuReal(c, a.imu, a.profile);
+  if (!imu.profile_given) throw std::runtime_error("no noise parameters for the IMU: pass --profile");
+  const EstimationProblem pr = problemReal(c, imu, rc, rc.outages, true);
+  const GnssSeries checkpoints =
+      gnssOfFixTypes(c.gnss, rc.gnss.checkpoint_fix_types, rc.gnss.selection);
+  int checkpoints_in_outages = 0;
+  for (const auto& f : checkpoints)
+    for (const auto& w : pr.outages) checkpoints_in_outages += w.contains(f.t_s) ? 1 : 0;
+  fmt::print(stderr, "  {} outages; {} check points inside them (of {} epochs of the fix types in "
+             "gnss.checkpoint_fix_types, time tags corrected like the navigation's), lever arm "
+             "[{:.2f} {:.2f} {:.2f}] m\n",
+             pr.outages.size(), checkpoints_in_outages, checkpoints.size(), pr.lever_arm_b_m.x(),
+             pr.lever_arm_b_m.y(), pr.lever_arm_b_m.z());
+  fs::create_directories(a.out);
+  std::vector<std::string> failed;
+  const std::vector<RunRow> rows = runEstimators(a, c, rc, pr, checkpoints, &failed);
+  std::string md = mainTablesMd(rows, failed, pr, rc, imu);
+  if (a.latency_scan) md += latencyScanMd(a, c, rc, pr);
+  if (!a.latency_grid.empty()) md += latencyGridMd(a, c, rc, imu);
   writeFileAtomically((fs::path(a.out) / "summary.md").string(), md);
   writeRealSummaryJson((fs::path(a.out) / "summary.json").string(), rows, pr.outages, checkpoints_in_outages,
                        failed);
