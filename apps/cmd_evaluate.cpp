@@ -18,6 +18,8 @@ namespace {
 
 std::string cell(double v, int digits) { return std::isfinite(v) ? fmt::format("{:.{}f}", v, digits) : "n/a"; }
 
+}  // namespace
+
 void printEvaluationSummary(const SgEvaluationReport& r) {
   fmt::print("{}: {} outages of {:.0f} s{}, estimator {}, SOL_REF {}\n", r.case_name, r.outages.size(), r.outage_length_s,
              r.outage_shifts > 1 ? fmt::format(" at {} shifted schedules", r.outage_shifts) : "", r.estimator,
@@ -50,8 +52,6 @@ void printEvaluationSummary(const SgEvaluationReport& r) {
   }
   for (const auto& l : readingLines(r)) fmt::print("  - {}\n", l);
 }
-
-}  // namespace
 
 void registerEvaluate(CLI::App& app) {
   auto o = std::make_shared<SgEvaluateOptions>();

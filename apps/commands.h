@@ -14,7 +14,8 @@ void registerCalibrate(CLI::App& app);  // cmd_calibrate.cpp
 void registerCompare(CLI::App& app);  // cmd_compare.cpp
 void registerNavigate(CLI::App& app);  // cmd_navigate.cpp
 void registerDiagnose(CLI::App& app);  // cmd_diagnose.cpp
-void registerReal(CLI::App& app);  // cmd_real.cpp (real and real-sg)
+void registerReal(CLI::App& app);  // cmd_real.cpp
+void registerRealSg(CLI::App& app);  // cmd_real_sg.cpp
 void registerImport(CLI::App& app);  // cmd_import.cpp (kf-gins, ob-gins)
 
 }  // namespace graftnav::app

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   graftnav::app::registerNavigate(app);
   graftnav::app::registerDiagnose(app);
   graftnav::app::registerReal(app);
+  graftnav::app::registerRealSg(app);
   graftnav::app::registerImport(app);
   try {
     app.parse(argc, argv);

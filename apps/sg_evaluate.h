@@ -35,8 +35,20 @@ using LogFn = std::function<void(const std::string&)>;
 
 // Throws std::runtime_error naming the file or key for a bad case (missing lab file, mismatched
 // rates, no reference, no outage inside the data, ...) before writing any result. Writes
+// The console summary of `evaluate` and `real-sg`: ERR with intervals, REAL's percentile and
+// verdict, DIFF and the reading sentences (cmd_evaluate.cpp).
+void printEvaluationSummary(const SgEvaluationReport& report);
+
 // evaluation.json, tables.md, evaluation.csv, predictive.csv, outage_drift.csv,
 // errors_<LABEL>.csv and plots into out_dir.
 SgEvaluationReport runSgEvaluation(const SgEvaluateOptions& options, const LogFn& log = {});
+
+// The console summary of `evaluate` and `real-sg`: ERR with intervals, REAL's percentile and
+// verdict, DIFF and the reading sentences (cmd_evaluate.cpp).
+void printEvaluationSummary(const SgEvaluationReport& report);
+
+// evaluation.json, tables.md, evaluation.csv, predictive.csv, outage_drift.csv, errors_<LABEL>.csv
+// and (plots) the plots of a report into out_dir (shared with `real-sg`).
+void writeSgOutputs(const std::string& out_dir, const SgEvaluationReport& report, bool plots, const LogFn& log);
 
 }  // namespace graftnav::app

@@ -9,10 +9,6 @@
 
 namespace graftnav {
 
-Eigen::Vector2d levelFromSpecificForce(const Eigen::Vector3d& f) {
-  return {std::atan2(-f.y(), -f.z()), std::atan2(f.x(), std::hypot(f.y(), f.z()))};
-}
-
 StaticAlignment alignStatic(const ImuSeries& imu, double t_begin_s, double duration_s,
                             const Geodetic& pos, const ImuProfile& profile,
                             double max_heading_std_rad) {

@@ -193,9 +193,10 @@ TEST(BatchRuns, AFailedTaskLeavesItsMessageInTheDatabase) {
                "SELECT count(*) FROM runs WHERE status = 'failed' AND error LIKE '%no_such_case%'"),
       1);
   EXPECT_EQ(queryInt(db, "SELECT count(*) FROM tasks"), 2);
-  // The good task's statistics and per-outage rows (3 outages x SG1, SG2, REAL).
+  // The good task's statistics and per-outage rows (configs/evaluate_sample.yaml: 8 outages x
+  // SG1, SG2, REAL).
   EXPECT_EQ(queryInt(db, "SELECT count(*) FROM run_statistics"), 15);
-  EXPECT_EQ(queryInt(db, "SELECT count(*) FROM outages"), 9);
+  EXPECT_EQ(queryInt(db, "SELECT count(*) FROM outages"), 24);
   EXPECT_EQ(
       queryInt(db,
                "SELECT count(*) FROM run_statistics WHERE solution = 'REAL' AND diff IS NOT NULL"),

@@ -93,7 +93,8 @@ TEST(CliVocabulary, OldSpellingsWarnAndStillWork) {
                               "/configs/navigate.yaml --estimator ekf");
   ASSERT_EQ(o.status, 0) << o.text;
   EXPECT_THAT(o.text, HasSubstr("warning: --config is deprecated, use --run-config"));
-  EXPECT_THAT(o.text, HasSubstr("outages (1)"));  // the config was applied
+  // The config was applied: its 60 s outages every 180 s from 300 s give 3 in the 870 s sample.
+  EXPECT_THAT(o.text, HasSubstr("outages (3)"));
   const Output s = runCapture("simulate --out " + out + "/sim");
   EXPECT_NE(s.status, 0);
   EXPECT_THAT(s.text, HasSubstr("--sim-config"));

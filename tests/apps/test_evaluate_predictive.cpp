@@ -98,8 +98,8 @@ TEST(EvaluatePredictive, OutageShiftsRepeatTheScheduleForSgAndRealAlike) {
   const auto two = nlohmann::json::parse(slurp(base + "/two/evaluation.json"));
   EXPECT_EQ(two["outage_shifts"], 2);
   ASSERT_EQ(two["outage_shift_starts_s"].size(), 2u);
-  // The sample's schedule starts at 60 s with a 110 s period: the second start is 55 s later.
-  EXPECT_NEAR(two["outage_shift_starts_s"][1].get<double>() - two["outage_shift_starts_s"][0].get<double>(), 55.0,
+  // The sample's schedule starts at 60 s with a 100 s period: the second start is 50 s later.
+  EXPECT_NEAR(two["outage_shift_starts_s"][1].get<double>() - two["outage_shift_starts_s"][0].get<double>(), 50.0,
               1e-9);
   EXPECT_NE(one["err"]["REAL"]["horizontal_m"], two["err"]["REAL"]["horizontal_m"]);
 }

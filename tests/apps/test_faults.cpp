@@ -188,7 +188,7 @@ TEST(Faults, TruthMissingInsideAnOutageIsAnError) {
   const std::string c = copyCase("tactical", "truth_part");
   const std::string truth = c + "/field/truth.nav";
   std::vector<std::string> lines = readLines(truth);
-  lines.resize(lines.size() / 3);  // 130 s of 390: the outages at 170 s and 280 s have no truth
+  lines.resize(lines.size() / 3);  // 290 s of 870: the outages from 360 s on have no truth
   writeLines(truth, lines);
   const std::string out = test::makeTempDir("truth_part") + "/out";
   const RunResult r = run("evaluate " + c + " --out " + out + " --config " + sampleConfig() + " --no-plots");
@@ -199,18 +199,18 @@ TEST(Faults, TruthCoveringPartOfTheSpanWarnsAndStaysFinite) {
   const std::string c = copyCase("tactical", "truth_part2");
   const std::string truth = c + "/field/truth.nav";
   std::vector<std::string> lines = readLines(truth);
-  lines.resize(lines.size() * 7 / 8);  // 341 s of 390 s; the outages (100, 200, 300 s + 30 s) keep their truth
+  lines.resize(lines.size() * 7 / 8);  // 761 s of 870 s; the outages (100, 300, 500, 700 s + 30 s) keep their truth
   writeLines(truth, lines);
   const std::string out = test::makeTempDir("truth_part2") + "/out";
   const RunResult r = run("navigate " + c + " --out " + out +
-                          " --outage-start 100 --outage-length 30 --outage-period 100 --no-plots");
+                          " --outage-start 100 --outage-length 30 --outage-period 200 --no-plots");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("warning: " + truth + " covers"), std::string::npos) << r.output;
   std::ifstream f(out + "/errors.json");
   const auto j = nlohmann::json::parse(f);
   EXPECT_EQ(countNonFinite(j), 0);
   EXPECT_TRUE(j["outage"]["horizontal_m"].is_number());
-  EXPECT_EQ(j["outages"]["count"], 3);
+  EXPECT_EQ(j["outages"]["count"], 4);
   EXPECT_FALSE(hasNonFiniteToken(out + "/errors.csv"));
 }
 
@@ -222,7 +222,7 @@ TEST(Faults, NoGnssEpochInsideTheImuSpanIsAnErrorUnlessFreeInertial) {
                                                            std::to_string(460000.0 + static_cast<double>(i)));
   const std::string out = test::makeTempDir("gnss_out") + "/out";
   RunResult r = run("navigate " + c + " --out " + out + " --no-plots");
-  expectFailedCleanly(r, out, {pos, "0 of 391 GNSS epochs", "--free-inertial"});
+  expectFailedCleanly(r, out, {pos, "0 of 871 GNSS epochs", "--free-inertial"});
   r = run("navigate " + c + " --out " + out + " --free-inertial --no-plots");
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }

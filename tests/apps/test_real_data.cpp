@@ -93,7 +93,7 @@ TEST(RealData, WidCarGraftedDotFromItsOwnStandstill) {
                           "/configs/real/wid_dot.yaml' --static-gyro-threshold 0.02 --static-accel-threshold 0.65 > '" +
                           log + "' 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
-  std::ifstream f(out + "/summary.md");
+  std::ifstream f(out + "/standstills.md");
   ASSERT_TRUE(f.good());
   std::stringstream ss;
   ss << f.rdbuf();
@@ -104,7 +104,28 @@ TEST(RealData, WidCarGraftedDotFromItsOwnStandstill) {
   EXPECT_NEAR(std::stod(m[1]), -0.82, 0.05);
   EXPECT_NEAR(std::stod(m[2]), -1.00, 0.05);
   EXPECT_NEAR(std::stod(m[3]), -0.26, 0.05);
-  EXPECT_NE(md.find("DIFF = SG#1 - REAL"), std::string::npos);
+  // K realizations like `evaluate` (the same default K and the same keys): SG#1 only, since a
+  // standstill gives no dynamic model.
+  std::ifstream jf(out + "/evaluation.json");
+  const auto j = nlohmann::json::parse(jf);
+  EXPECT_EQ(j["realizations"], 20);
+  EXPECT_FALSE(j["predictive"].contains("SG2"));
+  for (const std::string s : {"horizontal_m", "vertical_m", "roll_deg", "pitch_deg", "heading_deg"}) {
+    const auto& p = j["predictive"]["SG1"][s];
+    EXPECT_LE(p["p05"].get<double>(), p["p95"].get<double>()) << s;
+    const double real = j["err"]["REAL"][s];
+    const std::string v = j["verdict"]["SG1"][s];
+    EXPECT_EQ(v, real < p["p05"].get<double>()   ? "pessimistic"
+                 : real > p["p95"].get<double>() ? "optimistic"
+                                                 : "consistent")
+        << s;
+    EXPECT_GE(j["real_percentile"]["SG1"][s].get<double>(), 0.0);
+    EXPECT_LE(j["diff_interval"]["SG1"][s][0].get<double>(), j["diff_interval"]["SG1"][s][1].get<double>());
+  }
+  std::ifstream tf(out + "/tables.md");
+  std::stringstream ts;
+  ts << tf.rdbuf();
+  EXPECT_NE(ts.str().find("REAL in SG#1"), std::string::npos);
   // The log states the reader results and the GNSS selection counts (never silent).
   std::ifstream lf(log);
   std::stringstream ls;

@@ -77,6 +77,10 @@ Eigen::Vector3d eulerFromQuat(const Eigen::Quaterniond& q_nb) {
   return eulerFromDcm(q_nb.toRotationMatrix());
 }
 
+Eigen::Vector2d levelFromSpecificForce(const Eigen::Vector3d& f) {
+  return {std::atan2(-f.y(), -f.z()), std::atan2(f.x(), std::hypot(f.y(), f.z()))};
+}
+
 double wrapAngle(double a) {
   a = std::remainder(a, 2.0 * M_PI);  // [-pi, pi]
   if (a <= -M_PI) a += 2.0 * M_PI;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "graftnav/imu/imu_profile.h"
+#include "graftnav/nav/rotation.h"  // levelFromSpecificForce
 #include "graftnav/nav/types.h"
 
 namespace graftnav {
@@ -43,8 +44,5 @@ struct MotionAlignmentOptions {
 std::optional<NavState> alignInMotion(const ImuSeries& imu, const GnssSeries& gnss,
                                       const Eigen::Vector3d& lever_arm_b_m,
                                       const MotionAlignmentOptions& options = {});
-
-// Roll and pitch from a mean specific force in body axes (at rest f_b = C_bn [0, 0, -g]).
-Eigen::Vector2d levelFromSpecificForce(const Eigen::Vector3d& f_b);
 
 }  // namespace graftnav

@@ -40,6 +40,9 @@ Eigen::Quaterniond quatFromEuler(const Eigen::Vector3d& euler_rad);
 Eigen::Vector3d eulerFromDcm(const Eigen::Matrix3d& C_nb);
 Eigen::Vector3d eulerFromQuat(const Eigen::Quaterniond& q_nb);
 
+// Roll and pitch from a mean specific force in body axes (at rest f_b = C_bn [0, 0, -g]).
+Eigen::Vector2d levelFromSpecificForce(const Eigen::Vector3d& f_b);
+
 // Wraps an angle to (-pi, pi].
 double wrapAngle(double angle_rad);
 
