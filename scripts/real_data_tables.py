@@ -103,7 +103,9 @@ def wid_car(binary, data, work, commit):
                            "0.02", "--static-accel-threshold", "0.65", "--no-plots"],
                   os.path.join(work, f"wid_sg_{est}.log"))
         md += f"## {est.upper()}\n\n`{cmd.replace(data, 'DATA').replace(work, 'OUT')}`\n\n"
-        md += drop_columns(read(os.path.join(out, "summary.md"))) + "\n"
+        tables = read(os.path.join(out, "tables.md"))
+        tables = tables.split("\n", 1)[1] if tables.startswith("# ") else tables  # our own title
+        md += drop_columns(tables.replace("\n## ", "\n### ")) + "\n"
     return md
 
 

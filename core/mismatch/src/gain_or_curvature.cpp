@@ -175,6 +175,88 @@ Effect asymmetryEffect(const Effect& e, int a, const OneSignedSlope& w,
   return c;
 }
 
+// How the field's slope on `axis` was weighed against the lab's degree-2 coefficient, for the
+// effect's explanation.
+std::string describeWeighing(int a, double x_mean, double x_sd, const OneSignedSlopeInputs& wi,
+                           bool kept_quadratic, double lab_c2, const OneSignedSlope& w) {
+  const char axis = "xyz"[a];
+  std::string weighed = fmt::format(
+      "on {} the input keeps one sign (mean {:.3g}, sd {:.2g}), where a gain, a curvature and "
+      "an asymmetry are one column: the field's slope k_{} = {:.3g} +- {:.2g} against SG#2 "
+      "(its gain uncertainty included; SG#2 grafts {}) is weighed with the lab's degree-2 "
+      "coefficient there, {:.3g} +- {:.2g} "
+      "({}); chi-square of one-parameter explanations: a gain change between lab and field "
+      "{:.1f}, a curvature {:.1f} (k2 = {:.3g} +- {:.2g})",
+      axis, x_mean, x_sd, axis, wi.k, wi.k_sigma,
+      kept_quadratic ? fmt::format("the lab's quadratic, c2 = {:.3g}", lab_c2)
+                     : std::string("the lab's line"),
+      wi.c2_lab, wi.c2_lab_sigma,
+      kept_quadratic ? "kept by its degree test; its -g/0/+g poses see an asymmetry d |x| as "
+                       "a quadratic"
+                     : "not significant at its degree test",
+      w.chi2_gain, w.chi2_curvature, w.k2, w.k2_sigma);
+  if (std::isfinite(w.chi2_asymmetry))
+    weighed += fmt::format(", an asymmetry the lab folded into its quadratic {:.1f} (d = {:.3g} "
+                           "+- {:.2g} with a curvature {:.3g} +- {:.2g} beside it)",
+                           w.chi2_asymmetry, w.d, w.d_sigma, w.k2_beside_d, w.k2_beside_d_sigma);
+  return weighed;
+}
+
+// Settles one axis's one-signed slope: a gain (kept), a curvature or an asymmetry (replacing the
+// gain), or not settled (listed as ambiguous).
+void settleOneSignedSlope(Effect e, int a, const OneSignedSlope& w, const OneSignedSlopeInputs& wi,
+                          const LabQuadratic& lab, double min_margin, std::string weighed,
+                          DiagnosisResult* out, std::vector<Effect>* kept,
+                          std::vector<std::string>* lab_quadratic_not_listed) {
+  if (w.best == SlopeCause::kUnsettled) {
+    // No single cause fits: a gain change beside the lab's curvature and an asymmetry beside a
+    // curvature are exact two-parameter fits alike.
+    e.explanation += "; " + weighed + ": none fits alone (chi-square > 9); " +
+                     (std::isfinite(w.chi2_asymmetry)
+                          ? "a gain change beside a curvature and an asymmetry beside a "
+                            "curvature fit alike: not settled"
+                          : "a gain change beside a curvature fits, and the lab's responses "
+                            "needed to weigh an asymmetry are missing: not settled");
+    const std::string alternative =
+        std::isfinite(w.chi2_asymmetry) ? "scale_asymmetry" : "scale_nonlinearity";
+    out->ambiguous.push_back({std::move(e), alternative, 0.0});
+    return;
+  }
+  if (w.margin < min_margin) {
+    weighed += fmt::format(": {} leads {} by {:.1f}, not settled", slopeCauseName(w.best),
+                           slopeCauseName(w.runner_up), w.margin);
+    if (w.best == SlopeCause::kGain || w.runner_up == SlopeCause::kGain) {
+      // The gain is one of the two: listed as fitted, the other cause the alternative, the
+      // margin the gain's evidence over it (negative when the other fits better).
+      const bool gain_best = w.best == SlopeCause::kGain;
+      e.explanation += "; " + weighed;
+      out->ambiguous.push_back({std::move(e), slopeCauseName(gain_best ? w.runner_up : w.best),
+                                gain_best ? w.margin : -w.margin});
+    } else {
+      // A curvature against an asymmetry, the gain out of it: listed under the better.
+      out->ambiguous.push_back({w.best == SlopeCause::kCurvature
+                                    ? curvatureEffect(e, a, w, wi.c2_simulated, lab, weighed)
+                                    : asymmetryEffect(e, a, w, weighed),
+                                slopeCauseName(w.runner_up), w.margin});
+    }
+    return;
+  }
+  weighed += fmt::format(": {} leads by {:.1f}", slopeCauseName(w.best), w.margin);
+  if (w.best == SlopeCause::kGain) {
+    e.explanation += "; " + weighed + ": a gain";
+    kept->push_back(std::move(e));
+    return;
+  }
+  if (w.best == SlopeCause::kAsymmetry) {
+    kept->push_back(asymmetryEffect(e, a, w, weighed));
+    return;
+  }
+  kept->push_back(curvatureEffect(e, a, w, wi.c2_simulated, lab, weighed));
+  if (std::find(lab_quadratic_not_listed->begin(), lab_quadratic_not_listed->end(), e.sensor) ==
+      lab_quadratic_not_listed->end())
+    lab_quadratic_not_listed->push_back(e.sensor);
+}
+
 }  // namespace
 
 void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vector3d, 2>& input_mean,
@@ -190,7 +272,7 @@ void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vecto
   for (Effect& e : out->effects) {
     const int s = e.sensor == "gyro" ? 0 : e.sensor == "accel" ? 1 : -1;
     const std::optional<LabQuadratic>& lab =
-        s == 0 ? in.priors[Sensor::gyro].lab_quadratic : in.priors[Sensor::accel].lab_quadratic;
+        in.priors[s == 0 ? Sensor::gyro : Sensor::accel].lab_quadratic;
     // A curvature or an asymmetry the field named itself is already claimed: the gain stays.
     if (e.name != "scale_factor" || s < 0 || !lab || e.parameters.empty() ||
         std::find(even_claimed.begin(), even_claimed.end(), e.sensor) != even_claimed.end()) {
@@ -220,9 +302,9 @@ void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vecto
     // The field slope is measured against SG#2's gain, the lab's estimate on the reference
     // signal: their uncertainties are the slope's too (as in the scale factor's gate).
     const std::optional<Eigen::Matrix3d>& lab_M_sigma =
-        s == 0 ? in.priors[Sensor::gyro].lab_M_sigma : in.priors[Sensor::accel].lab_M_sigma;
+        in.priors[s == 0 ? Sensor::gyro : Sensor::accel].lab_M_sigma;
     const std::optional<double>& ref_scale_sigma =
-        s == 0 ? in.priors[Sensor::gyro].reference_scale_sigma : in.priors[Sensor::accel].reference_scale_sigma;
+        in.priors[s == 0 ? Sensor::gyro : Sensor::accel].reference_scale_sigma;
     OneSignedSlopeInputs wi;
     wi.k = k.values[a];
     wi.k_sigma = std::sqrt(k.sigma[a] * k.sigma[a] +
@@ -237,73 +319,10 @@ void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vecto
     wi.slope_per_abs = lab->slope_per_abs(a);
     wi.c2_per_abs = lab->c2_tested_per_abs(a);
     const OneSignedSlope w = weighOneSignedSlope(wi);
-    const char axis = "xyz"[a];
-    std::string weighed = fmt::format(
-        "on {} the input keeps one sign (mean {:.3g}, sd {:.2g}), where a gain, a curvature and "
-        "an asymmetry are one column: the field's slope k_{} = {:.3g} +- {:.2g} against SG#2 "
-        "(its gain uncertainty included; SG#2 grafts {}) is weighed with the lab's degree-2 "
-        "coefficient there, {:.3g} +- {:.2g} "
-        "({}); chi-square of one-parameter explanations: a gain change between lab and field "
-        "{:.1f}, a curvature {:.1f} (k2 = {:.3g} +- {:.2g})",
-        axis, input_mean[s](a), input_sd[s](a), axis, wi.k, wi.k_sigma,
-        kept_quadratic ? fmt::format("the lab's quadratic, c2 = {:.3g}", lab->c2(a))
-                       : std::string("the lab's line"),
-        c2_lab, c2_lab_sigma,
-        kept_quadratic ? "kept by its degree test; its -g/0/+g poses see an asymmetry d |x| as "
-                         "a quadratic"
-                       : "not significant at its degree test",
-        w.chi2_gain, w.chi2_curvature, w.k2, w.k2_sigma);
-    if (std::isfinite(w.chi2_asymmetry))
-      weighed += fmt::format(", an asymmetry the lab folded into its quadratic {:.1f} (d = {:.3g} "
-                             "+- {:.2g} with a curvature {:.3g} +- {:.2g} beside it)",
-                             w.chi2_asymmetry, w.d, w.d_sigma, w.k2_beside_d, w.k2_beside_d_sigma);
-    if (w.best == SlopeCause::kUnsettled) {
-      // No single cause fits: a gain change beside the lab's curvature and an asymmetry beside a
-      // curvature are exact two-parameter fits alike.
-      e.explanation += "; " + weighed + ": none fits alone (chi-square > 9); " +
-                       (std::isfinite(w.chi2_asymmetry)
-                            ? "a gain change beside a curvature and an asymmetry beside a "
-                              "curvature fit alike: not settled"
-                            : "a gain change beside a curvature fits, and the lab's responses "
-                              "needed to weigh an asymmetry are missing: not settled");
-      const std::string alternative =
-          std::isfinite(w.chi2_asymmetry) ? "scale_asymmetry" : "scale_nonlinearity";
-      out->ambiguous.push_back({std::move(e), alternative, 0.0});
-      continue;
-    }
-    if (w.margin < min_margin) {
-      weighed += fmt::format(": {} leads {} by {:.1f}, not settled", slopeCauseName(w.best),
-                             slopeCauseName(w.runner_up), w.margin);
-      if (w.best == SlopeCause::kGain || w.runner_up == SlopeCause::kGain) {
-        // The gain is one of the two: listed as fitted, the other cause the alternative, the
-        // margin the gain's evidence over it (negative when the other fits better).
-        const bool gain_best = w.best == SlopeCause::kGain;
-        e.explanation += "; " + weighed;
-        out->ambiguous.push_back({std::move(e), slopeCauseName(gain_best ? w.runner_up : w.best),
-                                  gain_best ? w.margin : -w.margin});
-      } else {
-        // A curvature against an asymmetry, the gain out of it: listed under the better.
-        out->ambiguous.push_back({w.best == SlopeCause::kCurvature
-                                      ? curvatureEffect(e, a, w, wi.c2_simulated, *lab, weighed)
-                                      : asymmetryEffect(e, a, w, weighed),
-                                  slopeCauseName(w.runner_up), w.margin});
-      }
-      continue;
-    }
-    weighed += fmt::format(": {} leads by {:.1f}", slopeCauseName(w.best), w.margin);
-    if (w.best == SlopeCause::kGain) {
-      e.explanation += "; " + weighed + ": a gain";
-      kept.push_back(std::move(e));
-      continue;
-    }
-    if (w.best == SlopeCause::kAsymmetry) {
-      kept.push_back(asymmetryEffect(e, a, w, weighed));
-      continue;
-    }
-    kept.push_back(curvatureEffect(e, a, w, wi.c2_simulated, *lab, weighed));
-    if (std::find(lab_quadratic_not_listed->begin(), lab_quadratic_not_listed->end(), e.sensor) ==
-        lab_quadratic_not_listed->end())
-      lab_quadratic_not_listed->push_back(e.sensor);
+    settleOneSignedSlope(std::move(e), a, w, wi, *lab, min_margin,
+                         describeWeighing(a, input_mean[s](a), input_sd[s](a), wi, kept_quadratic,
+                                          kept_quadratic ? lab->c2(a) : 0.0, w),
+                         out, &kept, lab_quadratic_not_listed);
   }
   out->effects = std::move(kept);
 }

@@ -186,6 +186,12 @@ void SgEvaluationPipeline::describeRealizations() {
       "tiling; {} realizations start at {} of the tiled record",
       b.recordLength_s(), span, K,
       b.recordLength_s() >= K * span ? "disjoint segments" : "offsets spread over twice its length"));
+  if (!draws_.empty() && draws_.front().surrogate_seed) {
+    header_.notes.push_back(
+        "the record is shorter than the realizations' field spans: each realization grafts a phase-randomized "
+        "surrogate of it (its mean and spectrum at short periods) whose slower content is drawn from the tested "
+        "IMU's noise model (docs/grafting.md)");
+  }
   if (header_.shared_sample_fraction > 0.0) {
     header_.notes.push_back(fmt::format("{:.0f} % of realization pairs take the same lab sample at the same field time "
                                         "(a fixed grafting.start_offset_s): their lab noise is shared",
