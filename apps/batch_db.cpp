@@ -296,10 +296,12 @@ BatchPredictive readPredictive(const std::string& path) {
       r.sd = jsonNumber(v, "sd");
       // REAL's place sits beside "predictive", under the same solution and statistic keys.
       const nlohmann::json pct = j.value("real_percentile", nlohmann::json::object());
-      if (pct.contains(solution) && pct[solution].contains(statistic) && pct[solution][statistic].is_number())
+      if (pct.contains(solution) && pct[solution].contains(statistic) &&
+          pct[solution][statistic].is_number())
         r.real_percentile = pct[solution][statistic].get<double>();
       const nlohmann::json ver = j.value("verdict", nlohmann::json::object());
-      if (ver.contains(solution) && ver[solution].contains(statistic) && ver[solution][statistic].is_string())
+      if (ver.contains(solution) && ver[solution].contains(statistic) &&
+          ver[solution][statistic].is_string())
         r.verdict = ver[solution][statistic].get<std::string>();
       out.rows.push_back(std::move(r));
     }

@@ -43,11 +43,13 @@ OutageScheduleSpec parseSchedule(const yf::Context& ctx, const YAML::Node& s) {
     else if (k == "start_s")
       o.start_s = x;
     else
-      throw std::runtime_error(yf::where(ctx, f.first) + ": unknown key 'outage_schedules." + k + "'");
+      throw std::runtime_error(yf::where(ctx, f.first) + ": unknown key 'outage_schedules." + k +
+                               "'");
   }
   if (!(o.length_s > 0 && o.period_s >= o.length_s && o.start_s >= 0)) {
-    throw std::runtime_error(yf::where(ctx, s) +
-                             ": outage schedule needs length_s > 0, period_s >= length_s, start_s >= 0");
+    throw std::runtime_error(
+        yf::where(ctx, s) +
+        ": outage schedule needs length_s > 0, period_s >= length_s, start_s >= 0");
   }
   return o;
 }
@@ -72,7 +74,8 @@ void parseCases(const yf::Context& ctx, const YAML::Node& v, const Resolve& rel,
     const std::string c = rel(yf::asString(ctx, e, "cases"));
     const std::string name = caseName(c);
     if (name.empty() || name == "." || name == "..") {
-      throw std::runtime_error(fmt::format("{}: case '{}' has no folder name", yf::where(ctx, e), c));
+      throw std::runtime_error(
+          fmt::format("{}: case '{}' has no folder name", yf::where(ctx, e), c));
     }
     requireUnique(seen, name, ctx, e, "cases (folder names)");
     m.cases.push_back(c);
@@ -123,7 +126,8 @@ BatchManifest loadBatchManifest(const std::string& path) {
   for (const auto& kv : root) {
     const std::string key = yf::asString(ctx, kv.first, "(top level)");
     const YAML::Node& v = kv.second;
-    if ((key == "seed" || key == "seeds") && seeds_set) yf::fail(ctx, kv.first, key, "give 'seed' or 'seeds', not both");
+    if ((key == "seed" || key == "seeds") && seeds_set)
+      yf::fail(ctx, kv.first, key, "give 'seed' or 'seeds', not both");
     if (key == "out") {
       m.out_dir = rel(yf::asString(ctx, v, key));
     } else if (key == "jobs") {
@@ -150,7 +154,8 @@ BatchManifest loadBatchManifest(const std::string& path) {
     }
   }
   if (m.out_dir.empty()) throw std::runtime_error(path + ": missing required key 'out'");
-  if (m.cases.empty()) throw std::runtime_error(path + ": missing required key 'cases' (a non-empty list)");
+  if (m.cases.empty())
+    throw std::runtime_error(path + ": missing required key 'cases' (a non-empty list)");
   if (m.estimators.empty()) throw std::runtime_error(path + ": 'estimators' is empty");
   return m;
 }

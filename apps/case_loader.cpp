@@ -35,7 +35,8 @@ CaseInputs loadCaseInputs(const std::string& case_dir, const CaseLoadOptions& o)
     }
     const std::string ft = CasePaths::exists(paths.gnssFixType()) ? paths.gnssFixType() : "";
     std::vector<ReadReport> reports;
-    c.gnss = readGnss(paths.gnssPos(), ft, o.lenient ? GnssReadPolicy::real() : GnssReadPolicy{}, &reports);
+    c.gnss = readGnss(paths.gnssPos(), ft, o.lenient ? GnssReadPolicy::real() : GnssReadPolicy{},
+                      &reports);
     for (const auto& r : reports)
       if (!r.summary().empty()) c.warnings.push_back(r.summary());
   }
@@ -52,8 +53,8 @@ CaseInputs loadCaseInputs(const std::string& case_dir, const CaseLoadOptions& o)
   return c;
 }
 
-ImuSelection selectImu(const CaseInputs& c, const std::string& which, const std::string& profile_file,
-                       bool lenient, bool read_samples) {
+ImuSelection selectImu(const CaseInputs& c, const std::string& which,
+                       const std::string& profile_file, bool lenient, bool read_samples) {
   const CasePaths paths = c.paths();
   const CaseConfig& cfg = c.config;
   ImuSelection s;
@@ -98,15 +99,17 @@ void restrictToTimeRange(const TimeRangeConfig& range, CaseInputs* c, ImuSelecti
   for (const auto& s : imu->imu)
     if (s.t_s - s.dt_s >= t0 - 1e-6 && s.t_s <= t1) kept.push_back(s);
   if (kept.empty()) {
-    throw std::runtime_error(fmt::format("time range [{}, {}] holds no sample of '{}' ({:.3f} .. {:.3f})",
-                                         t0, t1, imu->path, imu->imu.front().t_s, imu->imu.back().t_s));
+    throw std::runtime_error(
+        fmt::format("time range [{}, {}] holds no sample of '{}' ({:.3f} .. {:.3f})", t0, t1,
+                    imu->path, imu->imu.front().t_s, imu->imu.back().t_s));
   }
   GnssSeries gnss;
   for (const auto& f : c->gnss)
     if (f.t_s >= t0 && f.t_s <= t1) gnss.push_back(f);
-  notes->push_back(fmt::format("time range {:.3f} .. {:.3f}: {} of {} IMU samples, {} of {} GNSS epochs",
-                               kept.front().t_s - kept.front().dt_s, kept.back().t_s, kept.size(),
-                               imu->imu.size(), gnss.size(), c->gnss.size()));
+  notes->push_back(
+      fmt::format("time range {:.3f} .. {:.3f}: {} of {} IMU samples, {} of {} GNSS epochs",
+                  kept.front().t_s - kept.front().dt_s, kept.back().t_s, kept.size(),
+                  imu->imu.size(), gnss.size(), c->gnss.size()));
   imu->imu = std::move(kept);
   c->gnss = std::move(gnss);
 }
@@ -115,14 +118,16 @@ namespace {
 
 // Static alignment over the first static_alignment_s of the IMU record; the heading from
 // case.yaml when the gyros cannot find it.
-void alignStaticInto(EstimationProblem& pr, const CaseConfig& cfg, const RunConfig& rc, double t_first, int week,
-                     bool from_truth, std::vector<std::string>* notes) {
+void alignStaticInto(EstimationProblem& pr, const CaseConfig& cfg, const RunConfig& rc,
+                     double t_first, int week, bool from_truth, std::vector<std::string>* notes) {
   Geodetic pos = pr.initial.pos;
   if (!cfg.initial_state && !from_truth) {
-    if (pr.gnss.empty()) throw std::runtime_error("static alignment needs a position (initial_state or GNSS)");
+    if (pr.gnss.empty())
+      throw std::runtime_error("static alignment needs a position (initial_state or GNSS)");
     pos = pr.gnss.front().pos;
   }
-  const StaticAlignment al = alignStatic(pr.imu, t_first, rc.alignment.static_duration_s, pos, pr.imu_profile);
+  const StaticAlignment al =
+      alignStatic(pr.imu, t_first, rc.alignment.static_duration_s, pos, pr.imu_profile);
   NavState s;
   s.t_s = t_first + rc.alignment.static_duration_s;
   s.pos = pos;
@@ -137,7 +142,8 @@ void alignStaticInto(EstimationProblem& pr, const CaseConfig& cfg, const RunConf
   s.q_nb = quatFromEuler(e);
   pr.initial = s;
   pr.initial_sigma << 1.0, 1.0, 1.0, 0.05, 0.05, 0.05, std::max(al.level_std_rad, 1e-4),
-      std::max(al.level_std_rad, 1e-4), al.heading_valid ? std::max(al.heading_std_rad, 1e-3) : 0.05;
+      std::max(al.level_std_rad, 1e-4),
+      al.heading_valid ? std::max(al.heading_std_rad, 1e-3) : 0.05;
   notes->push_back(fmt::format("static alignment: roll {:.4f} pitch {:.4f} yaw {:.4f} deg",
                                e.x() * kRadToDeg, e.y() * kRadToDeg, e.z() * kRadToDeg));
 }
@@ -148,16 +154,19 @@ void alignInMotionInto(EstimationProblem& pr, const CaseConfig& cfg, const RunCo
                        std::vector<std::string>* notes) {
   GnssSeries precise;
   for (const auto& f : pr.gnss)
-    if (std::max(f.std_ned_m.x(), f.std_ned_m.y()) <= rc.alignment.motion_max_std_m) precise.push_back(f);
+    if (std::max(f.std_ned_m.x(), f.std_ned_m.y()) <= rc.alignment.motion_max_std_m)
+      precise.push_back(f);
   if (precise.size() < pr.gnss.size()) {
-    notes->push_back(fmt::format("in-motion alignment from the {} of {} GNSS epochs with horizontal std <= {} m",
-                                 precise.size(), pr.gnss.size(), rc.alignment.motion_max_std_m));
+    notes->push_back(
+        fmt::format("in-motion alignment from the {} of {} GNSS epochs with horizontal std <= {} m",
+                    precise.size(), pr.gnss.size(), rc.alignment.motion_max_std_m));
   }
   const auto st = alignInMotion(pr.imu, precise, pr.lever_arm_b_m, rc.alignment.motion);
   if (!st) throw std::runtime_error("in-motion alignment: no GNSS epoch reaches the minimum speed");
   pr.initial = *st;
   pr.initial.gnss_week = week;
-  pr.initial_sigma << 0.5, 0.5, 0.5, 0.3, 0.3, 0.3, 1.0 * kDegToRad, 1.0 * kDegToRad, 3.0 * kDegToRad;
+  pr.initial_sigma << 0.5, 0.5, 0.5, 0.3, 0.3, 0.3, 1.0 * kDegToRad, 1.0 * kDegToRad,
+      3.0 * kDegToRad;
   notes->push_back(fmt::format("in-motion alignment at t={:.3f}", st->t_s));
   if (cfg.initial_state) {
     const double yaw_case = eulerFromQuat(cfg.initial_state->q_nb).z() * kRadToDeg;
@@ -188,7 +197,9 @@ EstimationProblem makeProblem(const CaseInputs& c, const ImuSelection& sel, cons
     const GnssSelection gnss_sel = selectGnss(c.gnss, rc.gnss.selection);
     pr.gnss = gnss_sel.kept;
     notes->push_back(gnss_sel.counts.summary());
-    if (pr.gnss.empty()) throw std::runtime_error("GNSS selection of the run config rejected every epoch of '" + c.dir + "'");
+    if (pr.gnss.empty())
+      throw std::runtime_error("GNSS selection of the run config rejected every epoch of '" +
+                               c.dir + "'");
   }
   if (cfg.lever_arm_m) {
     pr.lever_arm_b_m = *cfg.lever_arm_m;
@@ -199,7 +210,8 @@ EstimationProblem makeProblem(const CaseInputs& c, const ImuSelection& sel, cons
   const double t_first = pr.imu.front().t_s - pr.imu.front().dt_s;
   const int week = cfg.gnss_week.value_or(c.reference.empty() ? 0 : c.reference.front().gnss_week);
   std::optional<NavState> from_truth;
-  if (c.reference_is_truth) from_truth = interpolateNav(c.reference, std::max(t_first, c.reference.front().t_s), 1e-3);
+  if (c.reference_is_truth)
+    from_truth = interpolateNav(c.reference, std::max(t_first, c.reference.front().t_s), 1e-3);
   if (from_truth) {
     pr.initial = *from_truth;
     notes->push_back(fmt::format("initial state from truth.nav at t={:.3f}", pr.initial.t_s));

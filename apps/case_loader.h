@@ -16,9 +16,9 @@ namespace graftnav::app {
 struct CaseInputs {
   std::string dir;
   CaseConfig config;
-  GnssSeries gnss;              // empty when not loaded
-  NavSeries reference;          // truth.nav, else the case's reference solution (may be empty)
-  std::string reference_name;   // its path
+  GnssSeries gnss;             // empty when not loaded
+  NavSeries reference;         // truth.nav, else the case's reference solution (may be empty)
+  std::string reference_name;  // its path
   bool reference_is_truth = false;
   std::vector<std::string> warnings;  // from the readers and case.yaml (print them)
   CasePaths paths() const { return CasePaths(dir); }
@@ -40,12 +40,13 @@ struct ImuSelection {
   bool profile_given = false;  // noise parameters known (case.yaml or a profile file)
   std::string path;
   std::string label;
-  std::string read_summary;  // the reader's conditions met (repairs/warnings); empty when clean
+  std::string read_summary;     // the reader's conditions met (repairs/warnings); empty when clean
   ImuReadOptions read_options;  // how the file is (or is to be) read
 };
 // read_samples = false leaves `imu` empty (for a run that streams the file with read_options).
-ImuSelection selectImu(const CaseInputs& c, const std::string& which, const std::string& profile_file = "",
-                       bool lenient = false, bool read_samples = true);
+ImuSelection selectImu(const CaseInputs& c, const std::string& which,
+                       const std::string& profile_file = "", bool lenient = false,
+                       bool read_samples = true);
 
 // Keeps the IMU samples whose interval lies in the range (end time > start, <= end) and the GNSS
 // epochs inside it. Throws std::runtime_error naming the range when no IMU sample is left.

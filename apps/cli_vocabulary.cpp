@@ -17,7 +17,8 @@ std::vector<std::string> splitEstimatorList(const std::string& list) {
     std::string name = list.substr(begin, end - begin);
     name.erase(0, name.find_first_not_of(" \t"));
     name.erase(name.find_last_not_of(" \t") + 1);
-    if (name.empty()) throw std::invalid_argument("--estimator '" + list + "': empty name in the list");
+    if (name.empty())
+      throw std::invalid_argument("--estimator '" + list + "': empty name in the list");
     out.push_back(name);
     begin = end + 1;
   }
@@ -73,17 +74,20 @@ void addTimeRangeOptions(CLI::App* cmd, TimeRangeConfig* range) {
       "navigate up to this time (GNSS s of week; default: run config time_range, else the data end)");
 }
 
-TimeRangeConfig mergeTimeRange(const TimeRangeConfig& from_config, const TimeRangeConfig& from_cli) {
+TimeRangeConfig mergeTimeRange(const TimeRangeConfig& from_config,
+                               const TimeRangeConfig& from_cli) {
   TimeRangeConfig r = from_config;
   if (from_cli.start_s) r.start_s = from_cli.start_s;
   if (from_cli.end_s) r.end_s = from_cli.end_s;
   if (r.start_s && r.end_s && !(*r.end_s > *r.start_s)) {
-    throw std::runtime_error(fmt::format("time range: end {} must be after start {}", *r.end_s, *r.start_s));
+    throw std::runtime_error(
+        fmt::format("time range: end {} must be after start {}", *r.end_s, *r.start_s));
   }
   return r;
 }
 
-std::string resolveUserPath(const std::string& path, const std::string& case_dir, const std::string& what) {
+std::string resolveUserPath(const std::string& path, const std::string& case_dir,
+                            const std::string& what) {
   std::vector<fs::path> tried;
   if (fs::path(path).is_absolute() || case_dir.empty()) {
     tried.push_back(path);
@@ -94,7 +98,8 @@ std::string resolveUserPath(const std::string& path, const std::string& case_dir
   for (const auto& p : tried)
     if (fs::exists(p)) return p.string();
   std::string list;
-  for (const auto& p : tried) list += (list.empty() ? "'" : ", '") + fs::absolute(p).lexically_normal().string() + "'";
+  for (const auto& p : tried)
+    list += (list.empty() ? "'" : ", '") + fs::absolute(p).lexically_normal().string() + "'";
   throw std::runtime_error(what + " '" + path + "' not found; tried " + list);
 }
 

@@ -39,7 +39,8 @@ TimeRangeConfig mergeTimeRange(const TimeRangeConfig& from_config, const TimeRan
 
 // A path given by the user: absolute as is; relative, tried against case_dir first, then the
 // current folder. Throws std::runtime_error "<what> 'p' not found; tried 'a', 'b'".
-std::string resolveUserPath(const std::string& path, const std::string& case_dir, const std::string& what);
+std::string resolveUserPath(const std::string& path, const std::string& case_dir,
+                            const std::string& what);
 
 // The run config of a case run: the given file (resolved as above), else CASE/run.yaml when it
 // exists (written by `graftnav import`), else none (empty string).

@@ -65,12 +65,14 @@ std::vector<std::string> splitList(const std::string& s) {
 
 NavSolution runNamed(const std::string& name, const EstimationProblem& p, const RunConfig& cfg) {
   const std::string suffix = "-noearth";
-  if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+  if (name.size() > suffix.size() &&
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
     RunConfig c = cfg;
     c.fgo.earth_rotation = false;
     const std::string base = name.substr(0, name.size() - suffix.size());
     if (base != "fgo" && base != "fgo-window") {
-      throw std::invalid_argument("compare: '" + name + "': -noearth applies to fgo and fgo-window");
+      throw std::invalid_argument("compare: '" + name +
+                                  "': -noearth applies to fgo and fgo-window");
     }
     NavSolution sol = runEstimator(base, p, c);
     sol.estimator = name;
@@ -98,9 +100,13 @@ struct Row {
 
 // One drift statistic as JSON (degrees for angles, null for a non-finite value).
 nlohmann::json driftJson(const DriftStats& d) {
-  auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
-  return {{"horizontal_m", num(d.horizontal_m)}, {"vertical_m", num(d.vertical_m)},
-          {"roll_deg", num(d.roll_rad * units::kRadToDeg)}, {"pitch_deg", num(d.pitch_rad * units::kRadToDeg)},
+  auto num = [](double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+  };
+  return {{"horizontal_m", num(d.horizontal_m)},
+          {"vertical_m", num(d.vertical_m)},
+          {"roll_deg", num(d.roll_rad * units::kRadToDeg)},
+          {"pitch_deg", num(d.pitch_rad * units::kRadToDeg)},
           {"heading_deg", num(d.heading_rad * units::kRadToDeg)}};
 }
 
@@ -116,14 +122,16 @@ struct Cells {
   }
   std::string driftMd(const DriftStats& d) {
     Cells& c = *this;
-    return fmt::format("{} | {} | {} | {} | {}", c(d.horizontal_m, "{:.3f}", "-"), c(d.vertical_m, "{:.3f}", "-"),
+    return fmt::format("{} | {} | {} | {} | {}", c(d.horizontal_m, "{:.3f}", "-"),
+                       c(d.vertical_m, "{:.3f}", "-"),
                        c(d.roll_rad * units::kRadToDeg, "{:.4f}", "-"),
                        c(d.pitch_rad * units::kRadToDeg, "{:.4f}", "-"),
                        c(d.heading_rad * units::kRadToDeg, "{:.4f}", "-"));
   }
   std::string driftCsv(const DriftStats& d) {
     Cells& c = *this;
-    return fmt::format("{},{},{},{},{}", c(d.horizontal_m, "{:.6f}", ""), c(d.vertical_m, "{:.6f}", ""),
+    return fmt::format("{},{},{},{},{}", c(d.horizontal_m, "{:.6f}", ""),
+                       c(d.vertical_m, "{:.6f}", ""),
                        c(d.roll_rad * units::kRadToDeg, "{:.6f}", ""),
                        c(d.pitch_rad * units::kRadToDeg, "{:.6f}", ""),
                        c(d.heading_rad * units::kRadToDeg, "{:.6f}", ""));
@@ -157,7 +165,8 @@ CompareInputs loadCompareInputs(const CompareArgs& a) {
   in.c = loadCaseInputs(a.case_dir, lo);
   const CaseInputs& c = in.c;
   for (const auto& w : c.warnings) fmt::print(stderr, "warning: {}\n", w);
-  if (c.reference.empty()) throw std::runtime_error(a.case_dir + ": compare needs truth.nav or a reference");
+  if (c.reference.empty())
+    throw std::runtime_error(a.case_dir + ": compare needs truth.nav or a reference");
   OutageScheduleConfig oc = in.cfg.outages;
   if (!in.cfg.outages_given) {
     oc.length_s = a.outage_length_s;
@@ -169,7 +178,8 @@ CompareInputs loadCompareInputs(const CompareArgs& a) {
   const ImuSelection imu = selectImu(c, a.imu, a.profile, a.lenient);
   if (!imu.read_summary.empty()) fmt::print(stderr, "warning: {}\n", imu.read_summary);
   if (!imu.profile_given) {
-    throw std::runtime_error("no noise parameters for IMU '" + a.imu + "' in case.yaml: pass --profile FILE");
+    throw std::runtime_error("no noise parameters for IMU '" + a.imu +
+                             "' in case.yaml: pass --profile FILE");
   }
   for (const auto& w : checkGnssCoverage(c.gnss, c.paths().gnssPos(), imu.imu, false))
     fmt::print(stderr, "warning: {}\n", w);
@@ -182,14 +192,16 @@ CompareInputs loadCompareInputs(const CompareArgs& a) {
   return in;
 }
 
-std::string compareMarkdown(const CompareArgs& a, const CompareInputs& in, const std::vector<Row>& rows,
-                            const std::vector<Pair>& pairs, Cells& cell) {
+std::string compareMarkdown(const CompareArgs& a, const CompareInputs& in,
+                            const std::vector<Row>& rows, const std::vector<Pair>& pairs,
+                            Cells& cell) {
   const EstimationProblem& p = in.p;
   std::ostringstream md;
-  md << fmt::format("# Estimator comparison: {}\n\nIMU: {} ({}), {} outages of {:.0f} s every "
-                    "{:.0f} s from {:.0f} s; errors against the {}.\n\n",
-                    a.case_dir, a.imu, p.imu_profile.name, p.outages.size(), a.outage_length_s,
-                    a.outage_period_s, a.outage_start_s, in.c.reference_name);
+  md << fmt::format(
+      "# Estimator comparison: {}\n\nIMU: {} ({}), {} outages of {:.0f} s every "
+      "{:.0f} s from {:.0f} s; errors against the {}.\n\n",
+      a.case_dir, a.imu, p.imu_profile.name, p.outages.size(), a.outage_length_s, a.outage_period_s,
+      a.outage_start_s, in.c.reference_name);
   md << "## Outage errors, RMS over outage epochs (seed Tables 2-3)\n\n"
         "| estimator | horiz. (m) | vert. (m) | roll (deg) | pitch (deg) | heading (deg) | "
         "run (s) | GNSS rejected |\n|---|---|---|---|---|---|---|---|\n";
@@ -204,12 +216,15 @@ std::string compareMarkdown(const CompareArgs& a, const CompareInputs& in, const
     md << fmt::format("| {} | {} |\n", r.name, cell.driftMd(r.eval.outage_max_rms));
   }
   if (!rows.empty()) {
-    md << fmt::format("\n## Ratios to {} (outage RMS)\n\n| estimator | horiz. | vert. | heading |\n"
-                      "|---|---|---|---|\n", rows.front().name);
+    md << fmt::format(
+        "\n## Ratios to {} (outage RMS)\n\n| estimator | horiz. | vert. | heading |\n"
+        "|---|---|---|---|\n",
+        rows.front().name);
     const DriftStats& b = rows.front().eval.outage_rms;
     for (const Row& r : rows) {
       const DriftStats& d = r.eval.outage_rms;
-      md << fmt::format("| {} | {} | {} | {} |\n", r.name, cell(d.horizontal_m / b.horizontal_m, "{:.3f}", "-"),
+      md << fmt::format("| {} | {} | {} | {} |\n", r.name,
+                        cell(d.horizontal_m / b.horizontal_m, "{:.3f}", "-"),
                         cell(d.vertical_m / b.vertical_m, "{:.3f}", "-"),
                         cell(d.heading_rad / b.heading_rad, "{:.3f}", "-"));
     }
@@ -217,7 +232,8 @@ std::string compareMarkdown(const CompareArgs& a, const CompareInputs& in, const
   md << "\n## Differences between estimators inside outages (RMS over outage epochs)\n\n"
         "| a - b | horiz. (m) | vert. (m) | roll (deg) | pitch (deg) | heading (deg) |\n"
         "|---|---|---|---|---|---|\n";
-  for (const Pair& q : pairs) md << fmt::format("| {} - {} | {} |\n", q.a, q.b, cell.driftMd(q.rms));
+  for (const Pair& q : pairs)
+    md << fmt::format("| {} - {} | {} |\n", q.a, q.b, cell.driftMd(q.rms));
   return md.str();
 }
 
@@ -227,16 +243,17 @@ std::string compareCsv(const std::vector<Row>& rows, const std::vector<Pair>& pa
   csv << "kind,name,statistic,horizontal_m,vertical_m,roll_deg,pitch_deg,heading_deg,run_s,"
          "gnss_rejected\n";
   for (const Row& r : rows) {
-    csv << fmt::format("error,{},outage_rms,{},{:.3f},{}\n", r.name, cell.driftCsv(r.eval.outage_rms),
-                       r.seconds, r.gnss_rejected);
+    csv << fmt::format("error,{},outage_rms,{},{:.3f},{}\n", r.name,
+                       cell.driftCsv(r.eval.outage_rms), r.seconds, r.gnss_rejected);
     csv << fmt::format("error,{},outage_max_rms,{},{:.3f},{}\n", r.name,
                        cell.driftCsv(r.eval.outage_max_rms), r.seconds, r.gnss_rejected);
-    csv << fmt::format("error,{},overall_rms,{},{:.3f},{}\n", r.name, cell.driftCsv(r.eval.overall_rms),
-                       r.seconds, r.gnss_rejected);
+    csv << fmt::format("error,{},overall_rms,{},{:.3f},{}\n", r.name,
+                       cell.driftCsv(r.eval.overall_rms), r.seconds, r.gnss_rejected);
   }
   for (const Pair& q : pairs) {
     csv << fmt::format("difference,{}-{},outage_rms,{},,\n", q.a, q.b, cell.driftCsv(q.rms));
-    csv << fmt::format("difference,{}-{},outage_max_rms,{},,\n", q.a, q.b, cell.driftCsv(q.max_rms));
+    csv << fmt::format("difference,{}-{},outage_max_rms,{},,\n", q.a, q.b,
+                       cell.driftCsv(q.max_rms));
   }
   return csv.str();
 }
@@ -245,7 +262,8 @@ std::string compareCsv(const std::vector<Row>& rows, const std::vector<Pair>& pa
 std::string errorSeriesCsv(const std::vector<Row>& rows, Cells& cell) {
   std::ostringstream ser;
   ser << "t_s";
-  for (const Row& r : rows) ser << fmt::format(",{0}_horizontal_m,{0}_vertical_m,{0}_heading_deg", r.name);
+  for (const Row& r : rows)
+    ser << fmt::format(",{0}_horizontal_m,{0}_vertical_m,{0}_heading_deg", r.name);
   ser << "\n";
   std::vector<size_t> idx(rows.size(), 0);
   const std::vector<EpochError>& first = rows.front().eval.epochs;
@@ -268,19 +286,26 @@ std::string errorSeriesCsv(const std::vector<Row>& rows, Cells& cell) {
 }
 
 // compare.json: the numbers of compare.csv, and the run's provenance.
-nlohmann::json compareJson(const CompareArgs& a, const EstimationProblem& p, const std::vector<Row>& rows,
-                           const std::vector<Pair>& pairs) {
-  nlohmann::json js = {{"case", a.case_dir}, {"imu", a.imu}, {"outage_count", p.outages.size()},
-                       {"estimators", nlohmann::json::array()}, {"differences", nlohmann::json::array()},
+nlohmann::json compareJson(const CompareArgs& a, const EstimationProblem& p,
+                           const std::vector<Row>& rows, const std::vector<Pair>& pairs) {
+  nlohmann::json js = {{"case", a.case_dir},
+                       {"imu", a.imu},
+                       {"outage_count", p.outages.size()},
+                       {"estimators", nlohmann::json::array()},
+                       {"differences", nlohmann::json::array()},
                        {"provenance", provenanceJson()}};
   for (const Row& r : rows) {
-    js["estimators"].push_back({{"name", r.name}, {"run_s", r.seconds}, {"gnss_rejected", r.gnss_rejected},
+    js["estimators"].push_back({{"name", r.name},
+                                {"run_s", r.seconds},
+                                {"gnss_rejected", r.gnss_rejected},
                                 {"outage_rms", driftJson(r.eval.outage_rms)},
                                 {"outage_max_rms", driftJson(r.eval.outage_max_rms)},
                                 {"overall_rms", driftJson(r.eval.overall_rms)}});
   }
   for (const Pair& q : pairs) {
-    js["differences"].push_back({{"a", q.a}, {"b", q.b}, {"outage_rms", driftJson(q.rms)},
+    js["differences"].push_back({{"a", q.a},
+                                 {"b", q.b},
+                                 {"outage_rms", driftJson(q.rms)},
                                  {"outage_max_rms", driftJson(q.max_rms)}});
   }
   return js;
@@ -333,9 +358,13 @@ void runCompare(const CompareArgs& a) {
   writeFileAtomically(a.out + "/compare.json", compareJson(a, p, rows, pairs).dump(2) + "\n");
   fmt::print("{}", md);
   if (cell.absent > 0)
-    fmt::print(stderr, "warning: {} statistics could not be computed (no outage epoch or a zero denominator): "
-                       "written as '-' in compare.md and empty cells in the CSV files\n", cell.absent);
-  fmt::print("\nwrote {0}/compare.md, {0}/compare.json, {0}/compare.csv, {0}/compare_errors.csv\n", a.out);
+    fmt::print(
+        stderr,
+        "warning: {} statistics could not be computed (no outage epoch or a zero denominator): "
+        "written as '-' in compare.md and empty cells in the CSV files\n",
+        cell.absent);
+  fmt::print("\nwrote {0}/compare.md, {0}/compare.json, {0}/compare.csv, {0}/compare_errors.csv\n",
+             a.out);
   if (a.no_plots) return;
   const std::string w = runPythonScript("plot_compare.py", {a.out});
   if (!w.empty()) fmt::print(stderr, "warning: {}\n", w);
@@ -346,8 +375,11 @@ void runCompare(const CompareArgs& a) {
 void registerCompare(CLI::App& app) {
   auto a = std::make_shared<CompareArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "compare", "Run several estimators on one case; table and plot of outage errors and differences");
-  cmd->add_option("case_dir", a->case_dir, "case directory")->required()->check(CLI::ExistingDirectory);
+      "compare",
+      "Run several estimators on one case; table and plot of outage errors and differences");
+  cmd->add_option("case_dir", a->case_dir, "case directory")
+      ->required()
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--out", a->out, "output directory")->required();
   cmd->add_option("--estimator", a->estimators,
                   "comma list of the estimator table's names, plus fgo-noearth, fgo-window-noearth")
@@ -355,15 +387,21 @@ void registerCompare(CLI::App& app) {
   addDeprecatedOption(cmd, "--estimators", "--estimator", &a->estimators);
   cmd->add_option("--imu", a->imu, "ref | tested | FILE (an IMU text file, tested IMU's profile)")
       ->capture_default_str();
-  cmd->add_option("--outage-length", a->outage_length_s, "outage length (s)")->capture_default_str();
-  cmd->add_option("--outage-period", a->outage_period_s, "start-to-start spacing (s)")->capture_default_str();
-  cmd->add_option("--outage-start", a->outage_start_s, "first outage start after the first IMU epoch (s)")
+  cmd->add_option("--outage-length", a->outage_length_s, "outage length (s)")
+      ->capture_default_str();
+  cmd->add_option("--outage-period", a->outage_period_s, "start-to-start spacing (s)")
+      ->capture_default_str();
+  cmd->add_option("--outage-start", a->outage_start_s,
+                  "first outage start after the first IMU epoch (s)")
       ->capture_default_str();
   cmd->add_flag("--no-outages", a->no_outages, "use every GNSS fix");
-  cmd->add_option("--run-config", a->config, "run config YAML (ekf:, fgo:, outages: sections; outages: "
-                  "there overrides the outage flags)")->check(CLI::ExistingFile);
+  cmd->add_option("--run-config", a->config,
+                  "run config YAML (ekf:, fgo:, outages: sections; outages: "
+                  "there overrides the outage flags)")
+      ->check(CLI::ExistingFile);
   addDeprecatedOption(cmd, "--config", "--run-config", &a->config);
-  cmd->add_option("--profile", a->profile, "IMU profile YAML (default: from case.yaml)")->check(CLI::ExistingFile);
+  cmd->add_option("--profile", a->profile, "IMU profile YAML (default: from case.yaml)")
+      ->check(CLI::ExistingFile);
   cmd->add_flag("--no-plots", a->no_plots, "do not call scripts/plot_compare.py");
   cmd->add_flag("--lenient", a->lenient, "real-data read policies (repair/warn instead of error)");
   cmd->callback([a]() { runCompare(*a); });

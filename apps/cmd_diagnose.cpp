@@ -30,91 +30,13 @@
 #include "graftnav/mismatch/diagnosis.h"
 #include "graftnav/mismatch/diagnosis_report.h"
 #include "graftnav/mismatch/diagnosis_setup.h"
+#include "graftnav/mismatch/diagnose_config.h"
 #include "graftnav/nav/units.h"
 
 namespace graftnav::app {
 namespace {
 
 // configs/diagnose.yaml -> DiagnoseOptions (every key optional; unknown keys are warnings).
-DiagnoseOptions loadDiagnoseConfig(const std::string& path, std::vector<std::string>* warnings) {
-  DiagnoseOptions o;
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(path + ": " + e.what());
-  }
-  auto num = [&](const YAML::Node& n, const std::string& key, double* out) {
-    try {
-      *out = n.as<double>();
-    } catch (const YAML::Exception&) {
-      throw std::runtime_error(fmt::format("{}:{}: key '{}' must be a number", path,
-                                           n.Mark().line + 1, key));
-    }
-  };
-  auto flag = [&](const YAML::Node& n, const std::string& key, bool* out) {
-    try {
-      *out = n.as<bool>();
-    } catch (const YAML::Exception&) {
-      throw std::runtime_error(fmt::format("{}:{}: key '{}' must be true or false, not '{}'",
-                                           path, n.Mark().line + 1, key,
-                                           n.IsScalar() ? n.Scalar() : std::string("(not a scalar)")));
-    }
-  };
-  for (const auto& kv : root) {
-    const std::string k = kv.first.as<std::string>();
-    const YAML::Node& v = kv.second;
-    double d = 0.0;
-    if (k == "bin_s") num(v, k, &o.bin_s);
-    else if (k == "margin_s") num(v, k, &o.margin_s);
-    else if (k == "window_s") num(v, k, &o.locate.window_s);
-    else if (k == "locate_false_alarm") num(v, k, &o.locate.false_alarm);
-    else if (k == "knot_spacing_s") num(v, k, &o.library.knot_spacing_s);
-    else if (k == "max_knots") { num(v, k, &d); o.library.max_knots = static_cast<int>(d); }
-    else if (k == "min_delta_bic") num(v, k, &o.selection.min_delta_bic);
-    else if (k == "min_name_margin") num(v, k, &o.selection.min_name_margin);
-    else if (k == "min_cv_gain") num(v, k, &o.selection.min_cv_gain);
-    else if (k == "folds") { num(v, k, &d); o.selection.folds = static_cast<int>(d); }
-    else if (k == "max_terms") { num(v, k, &d); o.selection.max_terms = static_cast<int>(d); }
-    else if (k == "max_time_offset_s") num(v, k, &o.time_offset.max_offset_s);
-    else if (k == "coarse_max_time_offset_s") num(v, k, &o.time_offset.coarse_max_offset_s);
-    else if (k == "realign_offset_s") num(v, k, &o.realign_offset_s);
-    else if (k == "holdout") flag(v, k, &o.holdout);
-    else if (k == "detect_quantization") flag(v, k, &o.detect_quantization);
-    else if (k == "random_walk_sandwich") flag(v, k, &o.selection.random_walk_sandwich);
-    else if (k == "quantization_min_step_over_resolution") num(v, k, &o.quantization.min_step_over_resolution);
-    else if (k == "quantization_resolvable_sigmas") num(v, k, &o.quantization.resolvable_sigmas);
-    else if (k == "max_claim_correlation") num(v, k, &o.max_claim_correlation);
-    else if (k == "lab_gate_sigmas") num(v, k, &o.finder.lab_gate_sigmas);
-    else if (k == "max_gate_passes") { num(v, k, &d); o.finder.max_gate_passes = static_cast<int>(d); }
-    else if (k == "max_calibration_refit_passes") { num(v, k, &d); o.finder.max_calibration_refit_passes = static_cast<int>(d); }
-    else if (k == "max_rotation_passes") { num(v, k, &d); o.finder.max_rotation_passes = static_cast<int>(d); }
-    else if (k == "rotation_second_order_min") num(v, k, &o.finder.rotation_second_order_min);
-    else if (k == "rotation_rel_change") num(v, k, &o.finder.rotation_rel_change);
-    else if (k == "pivot_tolerance_s") num(v, k, &o.finder.pivot_tolerance_s);
-    else if (k == "min_pivot_bins") num(v, k, &o.finder.min_pivot_bins);
-    else if (k == "pivot_margin_s") num(v, k, &o.finder.pivot_margin_s);
-    else if (k == "min_grid_bins") { num(v, k, &d); o.finder.min_grid_bins = static_cast<int>(d); }
-    else if (k == "min_slow_blocks") { num(v, k, &d); o.finder.min_slow_blocks = static_cast<int>(d); }
-    else if (k == "min_holdout_bins") { num(v, k, &d); o.finder.min_holdout_bins = static_cast<int>(d); }
-    else if (k == "reference_scale_share_limit") num(v, k, &o.finder.reference_scale_share_limit);
-    else if (k == "separation_rate_deg_s") {
-      num(v, k, &d);
-      o.linear_response.excitation_rate_rad_s = d * units::kDegToRad;
-    } else if (k == "separation_tilt_deg") {
-      num(v, k, &d);
-      o.linear_response.excitation_tilt_rad = d * units::kDegToRad;
-    }
-    else warnings->push_back(fmt::format("{}:{}: unknown key '{}' ignored", path, kv.first.Mark().line + 1, k));
-  }
-  try {
-    o.validate();
-  } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(path + ": " + e.what());
-  }
-  return o;
-}
-
 // Navigation level: SG#2, SG#3 and REAL navigated with one estimator and outage schedule,
 // evaluated against SOL_REF (truth, the case's reference solution, or the RTS-smoothed reference
 // IMU). Throws std::runtime_error when the case cannot be navigated.
@@ -138,7 +60,8 @@ NavigationComparison navigateComparison(const CaseInputs& c, const ImuSelection&
     notes->push_back("SOL_REF: RTS-smoothed reference IMU with all GNSS");
   }
   if (!tested.profile_given)
-    notes->push_back("tested_imu has no noise parameters in case.yaml: the estimator's defaults are used");
+    notes->push_back(
+        "tested_imu has no noise parameters in case.yaml: the estimator's defaults are used");
   NavigationComparison nav;
   nav.estimator = estimator;
   std::array<Evaluation, 3> ev;
@@ -168,9 +91,11 @@ NavigationComparison navigateComparison(const CaseInputs& c, const ImuSelection&
     o.window = ev[2].outages[i].window;
     o.real_horizontal_m = ev[2].outages[i].max.horizontal_m;
     for (const auto& od : ev[0].outages)
-      if (std::abs(od.window.start_s - o.window.start_s) < 1e-6) o.sg2_horizontal_m = od.max.horizontal_m;
+      if (std::abs(od.window.start_s - o.window.start_s) < 1e-6)
+        o.sg2_horizontal_m = od.max.horizontal_m;
     for (const auto& od : ev[1].outages)
-      if (std::abs(od.window.start_s - o.window.start_s) < 1e-6) o.sg3_horizontal_m = od.max.horizontal_m;
+      if (std::abs(od.window.start_s - o.window.start_s) < 1e-6)
+        o.sg3_horizontal_m = od.max.horizontal_m;
     o.share = std::abs(o.sg2_horizontal_m - o.real_horizontal_m);
     total += o.share;
     nav.outages.push_back(o);
@@ -178,7 +103,6 @@ NavigationComparison navigateComparison(const CaseInputs& c, const ImuSelection&
   for (auto& o : nav.outages) o.share = total > 0.0 ? o.share / total : 0.0;
   return nav;
 }
-
 
 struct DiagnoseArgs {
   std::string case_dir, out, estimator, config, run_config, tested_profile;
@@ -190,9 +114,9 @@ struct DiagnoseArgs {
 // its priors (SG#2 from the lab data, or the static-bias simulation without). The records are
 // moved out of the selections, so the case holds each IMU series once; so is the truth (the
 // attitude along the record) when the navigation level does not need it.
-DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const DiagnoseArgs& args,
-                                  const RunConfig& rc, ImuSelection* ref_imu,
-                                  ImuSelection* tested, std::vector<std::string>* notes) {
+DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const DiagnoseArgs& args, const RunConfig& rc,
+                                  ImuSelection* ref_imu, ImuSelection* tested,
+                                  std::vector<std::string>* notes) {
   const CaseConfig& cfg = c.config;
   DiagnosisInputs in;
   in.case_name = cfg.name;
@@ -202,7 +126,8 @@ DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const DiagnoseArgs& args,
   // The ranges a claimed value must lie in: the tested profile's (its class, or its grade's).
   if (!args.tested_profile.empty()) {
     std::vector<std::string> profile_warnings;
-    in.tested_plausible_ranges = loadImuProfile(args.tested_profile, &profile_warnings).plausible_ranges;
+    in.tested_plausible_ranges =
+        loadImuProfile(args.tested_profile, &profile_warnings).plausible_ranges;
     for (const auto& w : profile_warnings) fmt::print(stderr, "warning: {}\n", w);
   } else if (cfg.tested_imu) {
     in.tested_plausible_ranges = cfg.tested_imu->plausible_ranges;
@@ -242,13 +167,14 @@ std::optional<OutageScheduleConfig> outagesFromArgs(const DiagnoseArgs& args) {
 void writeNavigationOutputs(const std::string& out, const NavigationComparison& nav) {
   std::string csv = "t_start,t_end,sg2_horizontal_m,sg3_horizontal_m,real_horizontal_m,share\n";
   for (const auto& o : nav.outages)
-    csv += fmt::format("{:.3f},{:.3f},{:.4f},{:.4f},{:.4f},{:.4f}\n", o.window.start_s,
-                       o.window.end_s, o.sg2_horizontal_m, o.sg3_horizontal_m,
-                       o.real_horizontal_m, o.share);
+    csv +=
+        fmt::format("{:.3f},{:.3f},{:.4f},{:.4f},{:.4f},{:.4f}\n", o.window.start_s, o.window.end_s,
+                    o.sg2_horizontal_m, o.sg3_horizontal_m, o.real_horizontal_m, o.share);
   writeFileAtomically(out + "/outages.csv", csv);
   const auto pct = [](const DriftStats& d) {
     return fmt::format("{:.1f} / {:.1f} / {:.1f} / {:.1f} / {:.1f} %", 100 * d.horizontal_m,
-                       100 * d.vertical_m, 100 * d.roll_rad, 100 * d.pitch_rad, 100 * d.heading_rad);
+                       100 * d.vertical_m, 100 * d.roll_rad, 100 * d.pitch_rad,
+                       100 * d.heading_rad);
   };
   fmt::print("  DIFF before (SG2) h/v/roll/pitch/heading: {}\n", pct(nav.diff_before));
   fmt::print("  DIFF after  (SG3) h/v/roll/pitch/heading: {}\n", pct(nav.diff_after));
@@ -261,18 +187,22 @@ void printSummary(const std::string& case_name, const DiagnosisResult& res) {
   for (const Effect& e : res.effects) {
     std::string p;
     for (const EffectParameter& q : e.parameters) {
-      if (!q.text.empty()) { p += q.key + "=" + q.text + " "; continue; }
+      if (!q.text.empty()) {
+        p += q.key + "=" + q.text + " ";
+        continue;
+      }
       p += q.key + "=[";
       for (std::size_t i = 0; i < q.values.size(); ++i)
         p += fmt::format("{}{:.4g}+-{:.2g}", i ? " " : "", q.values[i], q.sigma[i]);
       p += "] ";
     }
-    fmt::print("  {} ({}): {}delta_bic {:.1f} cv_gain {:.4f}\n", e.name, e.sensor, p, e.delta_bic, e.cv_gain);
+    fmt::print("  {} ({}): {}delta_bic {:.1f} cv_gain {:.4f}\n", e.name, e.sensor, p, e.delta_bic,
+               e.cv_gain);
   }
   const auto line = [](const char* name, const ChannelRms& r) {
-    fmt::print("  {:<28} gyro [{:.4f} {:.4f} {:.4f}] deg/s  accel [{:.4f} {:.4f} {:.4f}] m/s^2\n", name,
-               r.gyro.x() * units::kRadToDeg, r.gyro.y() * units::kRadToDeg, r.gyro.z() * units::kRadToDeg,
-               r.accel.x(), r.accel.y(), r.accel.z());
+    fmt::print("  {:<28} gyro [{:.4f} {:.4f} {:.4f}] deg/s  accel [{:.4f} {:.4f} {:.4f}] m/s^2\n",
+               name, r.gyro.x() * units::kRadToDeg, r.gyro.y() * units::kRadToDeg,
+               r.gyro.z() * units::kRadToDeg, r.accel.x(), r.accel.y(), r.accel.z());
   };
   line("residual RMS before", res.rms_before);
   line("residual RMS after", res.rms_after);
@@ -299,7 +229,8 @@ void runDiagnose(const DiagnoseArgs& args) {
   std::vector<std::string> notes;
   if (!args.run_config.empty()) rc = loadRunConfig(args.run_config, &notes);
   if (!CasePaths::exists(c.paths().testedImu()))
-    throw std::runtime_error(c.paths().testedImu() + ": diagnose needs the tested IMU's field recording");
+    throw std::runtime_error(c.paths().testedImu() +
+                             ": diagnose needs the tested IMU's field recording");
   ImuSelection ref_imu = selectImu(c, "ref", "", true);
   ImuSelection tested = selectImu(c, "tested", "", true);
   for (const ImuSelection* sel : {&ref_imu, &tested})
@@ -314,8 +245,8 @@ void runDiagnose(const DiagnoseArgs& args) {
     try {
       fmt::print(stderr, "diagnose: navigating SG#2, SG#3 and REAL with {}\n", args.estimator);
       tested.imu = in.real;  // REAL, navigated as the tested IMU
-      nav = navigateComparison(c, tested, args.estimator, rc, outagesFromArgs(args),
-                               in.simulated, res.sg3, &res.notes);
+      nav = navigateComparison(c, tested, args.estimator, rc, outagesFromArgs(args), in.simulated,
+                               res.sg3, &res.notes);
     } catch (const std::exception& e) {
       res.notes.push_back(std::string("navigation level skipped: ") + e.what());
       fmt::print(stderr, "warning: navigation level skipped: {}\n", e.what());
@@ -325,7 +256,8 @@ void runDiagnose(const DiagnoseArgs& args) {
   if (nav) writeNavigationOutputs(args.out, *nav);
   writeImu(args.out + "/IMU_SG3.txt", res.sg3);
   printSummary(c.config.name, res);
-  fmt::print("  wrote {0}/diagnosis.json, {0}/diagnosis.md, {0}/residual.csv, {0}/IMU_SG3.txt\n", args.out);
+  fmt::print("  wrote {0}/diagnosis.json, {0}/diagnosis.md, {0}/residual.csv, {0}/IMU_SG3.txt\n",
+             args.out);
   if (!args.no_plots) {
     const std::string w = runPythonScript("plot_diagnosis.py", {args.out});
     if (!w.empty()) fmt::print(stderr, "warning: {}; the numbers are written\n", w);
@@ -337,8 +269,11 @@ void runDiagnose(const DiagnoseArgs& args) {
 void registerDiagnose(CLI::App& app) {
   auto args = std::make_shared<DiagnoseArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "diagnose", "Mismatch finder: locate, explain and model where the simulated and the real tested IMU differ");
-  cmd->add_option("case_dir", args->case_dir, "case directory")->required()->check(CLI::ExistingDirectory);
+      "diagnose",
+      "Mismatch finder: locate, explain and model where the simulated and the real tested IMU differ");
+  cmd->add_option("case_dir", args->case_dir, "case directory")
+      ->required()
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--out", args->out, "output directory")->required();
   cmd->add_option("--estimator", args->estimator,
                   "also navigate SG#2, SG#3 and REAL with this estimator (ekf|rts|fgo)");
@@ -353,7 +288,8 @@ void registerDiagnose(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--outage-length", args->outage_length_s, "outage length (s), with --estimator");
   cmd->add_option("--outage-period", args->outage_period_s, "outage start-to-start period (s)");
-  cmd->add_option("--outage-start", args->outage_start_s, "first outage start after the first epoch (s)");
+  cmd->add_option("--outage-start", args->outage_start_s,
+                  "first outage start after the first epoch (s)");
   cmd->callback([args]() { runDiagnose(*args); });
 }
 

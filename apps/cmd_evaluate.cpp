@@ -16,16 +16,21 @@
 namespace graftnav::app {
 namespace {
 
-std::string cell(double v, int digits) { return std::isfinite(v) ? fmt::format("{:.{}f}", v, digits) : "n/a"; }
+std::string cell(double v, int digits) {
+  return std::isfinite(v) ? fmt::format("{:.{}f}", v, digits) : "n/a";
+}
 
 }  // namespace
 
 void printEvaluationSummary(const SgEvaluationReport& r) {
-  fmt::print("{}: {} outages of {:.0f} s{}, estimator {}, SOL_REF {}\n", r.case_name, r.outages.size(), r.outage_length_s,
-             r.outage_shifts > 1 ? fmt::format(" at {} shifted schedules", r.outage_shifts) : "", r.estimator,
-             r.reference);
-  fmt::print("  ERR: mean over {} realizations [90 % interval of one realization]\n", r.realizations);
-  static const std::array<const char*, 5> names{"horizontal_m", "vertical_m", "roll_deg", "pitch_deg", "heading_deg"};
+  fmt::print("{}: {} outages of {:.0f} s{}, estimator {}, SOL_REF {}\n", r.case_name,
+             r.outages.size(), r.outage_length_s,
+             r.outage_shifts > 1 ? fmt::format(" at {} shifted schedules", r.outage_shifts) : "",
+             r.estimator, r.reference);
+  fmt::print("  ERR: mean over {} realizations [90 % interval of one realization]\n",
+             r.realizations);
+  static const std::array<const char*, 5> names{"horizontal_m", "vertical_m", "roll_deg",
+                                                "pitch_deg", "heading_deg"};
   const SgSolutionErrors* real = r.find("REAL");
   for (int i = 0; i < 5; ++i) {
     const double u = i < 2 ? 1.0 : units::kRadToDeg;
@@ -35,10 +40,11 @@ void printEvaluationSummary(const SgEvaluationReport& r) {
     for (const auto& s : r.solutions) {
       if (s.draws.empty()) continue;
       const PredictiveSummary& q = s.predictive.summary[i];
-      line += fmt::format("  {} {} [{}, {}]", s.label, cell(q.mean * u, digits), cell(q.p05 * u, digits),
-                          cell(q.p95 * u, digits));
+      line += fmt::format("  {} {} [{}, {}]", s.label, cell(q.mean * u, digits),
+                          cell(q.p05 * u, digits), cell(q.p95 * u, digits));
       if (real && s.predictive.real_valid[i])
-        line += fmt::format(" REAL@{:.0f}% {}", 100.0 * s.predictive.real_percentile[i], verdictName(s.predictive.verdict[i]));
+        line += fmt::format(" REAL@{:.0f}% {}", 100.0 * s.predictive.real_percentile[i],
+                            verdictName(s.predictive.verdict[i]));
     }
     fmt::print("{}\n", line);
   }
@@ -46,8 +52,8 @@ void printEvaluationSummary(const SgEvaluationReport& r) {
     if (s.label == "REAL") continue;
     if (auto d = r.diff(s.label)) {
       const auto a = asArray(*d);
-      fmt::print("  DIFF_{} (of the mean) {:.1f}% {:.1f}% {:.1f}% {:.1f}% {:.1f}%\n", s.label.substr(2), 100 * a[0],
-                 100 * a[1], 100 * a[2], 100 * a[3], 100 * a[4]);
+      fmt::print("  DIFF_{} (of the mean) {:.1f}% {:.1f}% {:.1f}% {:.1f}% {:.1f}%\n",
+                 s.label.substr(2), 100 * a[0], 100 * a[1], 100 * a[2], 100 * a[3], 100 * a[4]);
     }
   }
   for (const auto& l : readingLines(r)) fmt::print("  - {}\n", l);
@@ -55,30 +61,42 @@ void printEvaluationSummary(const SgEvaluationReport& r) {
 
 void registerEvaluate(CLI::App& app) {
   auto o = std::make_shared<SgEvaluateOptions>();
-  auto len = std::make_shared<std::optional<double>>(), per = std::make_shared<std::optional<double>>(),
+  auto len = std::make_shared<std::optional<double>>(),
+       per = std::make_shared<std::optional<double>>(),
        st = std::make_shared<std::optional<double>>();
   auto k = std::make_shared<std::optional<int>>(), shifts = std::make_shared<std::optional<int>>();
   CLI::App* cmd = app.add_subcommand(
-      "evaluate", "Calibrate, graft SG#1/SG#2, navigate SG1/SG2/REAL with GNSS outages, tabulate ERR and DIFF");
-  cmd->add_option("case_dir", o->case_dir, "case directory")->required()->check(CLI::ExistingDirectory);
+      "evaluate",
+      "Calibrate, graft SG#1/SG#2, navigate SG1/SG2/REAL with GNSS outages, tabulate ERR and DIFF");
+  cmd->add_option("case_dir", o->case_dir, "case directory")
+      ->required()
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--out", o->out_dir, "output directory")->required();
-  cmd->add_option("--estimator", o->estimator, "ekf | rts | fgo | fgo-window")->capture_default_str();
-  cmd->add_option("--run-config", o->config_path, "run config YAML (outages:, ekf:, fgo:, evaluation:)")
+  cmd->add_option("--estimator", o->estimator, "ekf | rts | fgo | fgo-window")
+      ->capture_default_str();
+  cmd->add_option("--run-config", o->config_path,
+                  "run config YAML (outages:, ekf:, fgo:, evaluation:)")
       ->check(CLI::ExistingFile);
   addDeprecatedOption(cmd, "--config", "--run-config", &o->config_path);
   cmd->add_option("--outage-length", *len, "outage length (s), default 60");
   cmd->add_option("--outage-period", *per, "outage start-to-start period (s), default 180");
-  cmd->add_option("--outage-start", *st, "first outage start after the first IMU epoch (s), default 300");
+  cmd->add_option("--outage-start", *st,
+                  "first outage start after the first IMU epoch (s), default 300");
   cmd->add_option("--sol-ref", o->sol_ref, "auto (truth > reference solution > smoothed) | smooth")
       ->check(CLI::IsMember({"auto", "smooth"}))
       ->capture_default_str();
-  cmd->add_option("--seed", o->seed, "grafting seed (realization k draws from seed and k)")->capture_default_str();
-  cmd->add_option("--realizations", *k, "grafted realizations per SG strategy, K (default 20, or grafting.realizations)");
-  cmd->add_option("--outage-shifts", *shifts,
-                  "repeat the outage schedule at N starts spread over one period and average ERR (default 1)");
-  cmd->add_flag("--no-cross-axis", [o](int64_t) { o->use_cross_axis = false; },
-                "SG#2 with per-axis fitting functions only, as in the seed");
-  cmd->add_flag("--no-plots", [o](int64_t) { o->plots = false; }, "skip the matplotlib plots");
+  cmd->add_option("--seed", o->seed, "grafting seed (realization k draws from seed and k)")
+      ->capture_default_str();
+  cmd->add_option("--realizations", *k,
+                  "grafted realizations per SG strategy, K (default 20, or grafting.realizations)");
+  cmd->add_option(
+      "--outage-shifts", *shifts,
+      "repeat the outage schedule at N starts spread over one period and average ERR (default 1)");
+  cmd->add_flag(
+      "--no-cross-axis", [o](int64_t) { o->use_cross_axis = false; },
+      "SG#2 with per-axis fitting functions only, as in the seed");
+  cmd->add_flag(
+      "--no-plots", [o](int64_t) { o->plots = false; }, "skip the matplotlib plots");
   cmd->add_option("--jobs", o->jobs, "solutions navigated in parallel (0: all cores)");
   cmd->callback([o, len, per, st, k, shifts]() {
     o->outage_length_s = *len;
@@ -87,12 +105,15 @@ void registerEvaluate(CLI::App& app) {
     o->realizations = *k;
     o->outage_shifts = *shifts;
     const auto t0 = std::chrono::steady_clock::now();
-    auto el = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-    const SgEvaluationReport r =
-        runSgEvaluation(*o, [&](const std::string& m) { fmt::print(stderr, "[{:6.1f} s] {}\n", el(), m); });
+    auto el = [&] {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+    const SgEvaluationReport r = runSgEvaluation(
+        *o, [&](const std::string& m) { fmt::print(stderr, "[{:6.1f} s] {}\n", el(), m); });
     printEvaluationSummary(r);
-    fmt::print("  wrote evaluation.json, tables.md, evaluation.csv, predictive.csv, outage_drift.csv, plots in {} ({:.1f} s)\n",
-               o->out_dir, el());
+    fmt::print(
+        "  wrote evaluation.json, tables.md, evaluation.csv, predictive.csv, outage_drift.csv, plots in {} ({:.1f} s)\n",
+        o->out_dir, el());
   });
 }
 

@@ -27,9 +27,12 @@ void registerGraft(CLI::App& app) {
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
       "graft", "Write IMU_SG#1 (basic errors) and IMU_SG#2 (full errors) for a case");
-  cmd->add_option("case_dir", args->case_dir, "case directory")->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("case_dir", args->case_dir, "case directory")
+      ->required()
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--out", args->out, "output directory (default CASE_DIR/graft)");
-  cmd->add_option("--seed", args->seed, "seed choosing where the field test starts in the tiled lab record")
+  cmd->add_option("--seed", args->seed,
+                  "seed choosing where the field test starts in the tiled lab record")
       ->capture_default_str();
   cmd->add_flag("--no-cross-axis", args->no_cross_axis,
                 "SG#2 with per-axis fitting functions only, as in the seed (no non-orthogonality)");
@@ -59,20 +62,24 @@ void registerGraft(CLI::App& app) {
 
     fmt::print("grafted {} reference samples ({:.1f} s) -> {}/IMU_SG1.txt, {}/IMU_SG2.txt\n",
                ref.size(), ref.back().t_s - ref.front().t_s + ref.front().dt_s, out, out);
-    fmt::print("  basic error signal: static record {:.1f} s, mirrored tiling over {} record lengths, "
-               "start offset {:.2f} s (seed {})\n",
-               g.static_record_s, g.tiles, g.start_offset_s, args->seed);
+    fmt::print(
+        "  basic error signal: static record {:.1f} s, mirrored tiling over {} record lengths, "
+        "start offset {:.2f} s (seed {})\n",
+        g.static_record_s, g.tiles, g.start_offset_s, args->seed);
     const auto& bg = report.basic.gyro_mean_rad_s;
     const auto& ba = report.basic.accel_mean_m_s2;
-    fmt::print("  basic biases: gyro [{:.3f} {:.3f} {:.3f}] deg/h, accel [{:.3f} {:.3f} {:.3f}] mg\n",
-               bg.x() / units::kDegPerHourToRadPerSec, bg.y() / units::kDegPerHourToRadPerSec,
-               bg.z() / units::kDegPerHourToRadPerSec, ba.x() / units::kMilliGToMPerSec2,
-               ba.y() / units::kMilliGToMPerSec2, ba.z() / units::kMilliGToMPerSec2);
-    if (cfg.reference_imu && cfg.tested_imu && cfg.reference_imu_noise_given && cfg.tested_imu_noise_given) {
+    fmt::print(
+        "  basic biases: gyro [{:.3f} {:.3f} {:.3f}] deg/h, accel [{:.3f} {:.3f} {:.3f}] mg\n",
+        bg.x() / units::kDegPerHourToRadPerSec, bg.y() / units::kDegPerHourToRadPerSec,
+        bg.z() / units::kDegPerHourToRadPerSec, ba.x() / units::kMilliGToMPerSec2,
+        ba.y() / units::kMilliGToMPerSec2, ba.z() / units::kMilliGToMPerSec2);
+    if (cfg.reference_imu && cfg.tested_imu && cfg.reference_imu_noise_given &&
+        cfg.tested_imu_noise_given) {
       const Eigen::Vector2d f = referenceResidualFraction(*cfg.reference_imu, *cfg.tested_imu);
-      fmt::print("  reference IMU's own white noise grafted along: {:.2f} % (gyro), {:.2f} % (accel) "
-                 "of the tested IMU's\n",
-                 100.0 * f[0], 100.0 * f[1]);
+      fmt::print(
+          "  reference IMU's own white noise grafted along: {:.2f} % (gyro), {:.2f} % (accel) "
+          "of the tested IMU's\n",
+          100.0 * f[0], 100.0 * f[1]);
     }
     fmt::print("  calibration: {}/calibration.yaml\n", out);
   });

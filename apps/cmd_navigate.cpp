@@ -52,24 +52,27 @@ struct NavigateArgs {
 // The error summary of a run against its truth or reference, on stdout.
 void printEvaluation(const Evaluation& ev) {
   const double r2d = kRadToDeg;
-  fmt::print("  overall RMS: horizontal {:.3f} m, vertical {:.3f} m, roll {:.4f}, pitch {:.4f}, "
-             "heading {:.4f} deg\n",
-             ev.overall_rms.horizontal_m, ev.overall_rms.vertical_m, ev.overall_rms.roll_rad * r2d,
-             ev.overall_rms.pitch_rad * r2d, ev.overall_rms.heading_rad * r2d);
+  fmt::print(
+      "  overall RMS: horizontal {:.3f} m, vertical {:.3f} m, roll {:.4f}, pitch {:.4f}, "
+      "heading {:.4f} deg\n",
+      ev.overall_rms.horizontal_m, ev.overall_rms.vertical_m, ev.overall_rms.roll_rad * r2d,
+      ev.overall_rms.pitch_rad * r2d, ev.overall_rms.heading_rad * r2d);
   if (!ev.outages.empty()) {
-    fmt::print("  outages ({}): RMS over outage epochs: horizontal {:.3f} m, vertical {:.3f} m, "
-               "roll {:.4f}, pitch {:.4f}, heading {:.4f} deg\n",
-               ev.outages.size(), ev.outage_rms.horizontal_m, ev.outage_rms.vertical_m,
-               ev.outage_rms.roll_rad * r2d, ev.outage_rms.pitch_rad * r2d,
-               ev.outage_rms.heading_rad * r2d);
-    fmt::print("  outages: RMS of per-outage maxima: horizontal {:.3f} m, vertical {:.3f} m, "
-               "heading {:.4f} deg\n",
-               ev.outage_max_rms.horizontal_m, ev.outage_max_rms.vertical_m,
-               ev.outage_max_rms.heading_rad * r2d);
+    fmt::print(
+        "  outages ({}): RMS over outage epochs: horizontal {:.3f} m, vertical {:.3f} m, "
+        "roll {:.4f}, pitch {:.4f}, heading {:.4f} deg\n",
+        ev.outages.size(), ev.outage_rms.horizontal_m, ev.outage_rms.vertical_m,
+        ev.outage_rms.roll_rad * r2d, ev.outage_rms.pitch_rad * r2d,
+        ev.outage_rms.heading_rad * r2d);
+    fmt::print(
+        "  outages: RMS of per-outage maxima: horizontal {:.3f} m, vertical {:.3f} m, "
+        "heading {:.4f} deg\n",
+        ev.outage_max_rms.horizontal_m, ev.outage_max_rms.vertical_m,
+        ev.outage_max_rms.heading_rad * r2d);
   }
   if (ev.nees_samples > 0) {
-    fmt::print("  NEES {:.2f} (9 PVA states, {} samples; 95% band [{:.2f}, {:.2f}])\n", ev.nees_mean,
-               ev.nees_samples, ev.nees_band_low, ev.nees_band_high);
+    fmt::print("  NEES {:.2f} (9 PVA states, {} samples; 95% band [{:.2f}, {:.2f}])\n",
+               ev.nees_mean, ev.nees_samples, ev.nees_band_low, ev.nees_band_high);
   }
 }
 
@@ -120,7 +123,8 @@ ImuSeries scanStreamedImu(ImuSelection* sel) {
 void selectNavigateImu(const NavigateArgs& a, NavigateSetup* s) {
   const std::string imu_which =
       a.imu == "ref" || a.imu == "tested" ? a.imu : resolveUserPath(a.imu, a.case_dir, "IMU file");
-  const std::string profile = a.profile.empty() ? a.profile : resolveUserPath(a.profile, a.case_dir, "IMU profile");
+  const std::string profile =
+      a.profile.empty() ? a.profile : resolveUserPath(a.profile, a.case_dir, "IMU profile");
   if (!profile.empty()) recordConfigFile(profile);
   const TimeRangeConfig range = mergeTimeRange(s->rc.time_range, a.time_range);
   s->stream = streamable(a.free_inertial ? "free-inertial" : a.estimator, s->rc, range);
@@ -163,7 +167,8 @@ NavigateSetup prepareNavigate(const NavigateArgs& a) {
   if (a.free_inertial) s.rc.alignment.mode = "given";
 
   selectNavigateImu(a, &s);
-  if (!a.free_inertial) warnAll(checkGnssCoverage(s.c.gnss, s.c.paths().gnssPos(), s.imu.imu, false), &s.notes);
+  if (!a.free_inertial)
+    warnAll(checkGnssCoverage(s.c.gnss, s.c.paths().gnssPos(), s.imu.imu, false), &s.notes);
 
   // Outages: config section, overridden by the command line; none for a free-inertial run.
   const bool cli_outage = a.outage_length || a.outage_period || a.outage_start;
@@ -182,7 +187,8 @@ NavigateSetup prepareNavigate(const NavigateArgs& a) {
     const double t0 = s.pr.imu.front().t_s - s.pr.imu.front().dt_s;
     requireOutagesInsideData(*outages, s.pr.outages, t0, s.pr.imu.back().t_s);
   }
-  warnAll(checkReferenceCoverage(s.c.reference, s.c.reference_name, s.pr.imu, s.pr.outages), &s.notes);
+  warnAll(checkReferenceCoverage(s.c.reference, s.c.reference_name, s.pr.imu, s.pr.outages),
+          &s.notes);
   if (s.stream) {  // the checks above needed only the span; the run reads the file in blocks
     s.pr.imu = {};
     s.imu.imu = {};
@@ -204,8 +210,8 @@ void writeEvaluation(const NavigateArgs& a, const NavigateSetup& s, const std::s
   notes.push_back("reference: " + s.c.reference_name);
   const fs::path out(a.out);
   std::vector<std::string> warnings = writeErrorsJson((out / "errors.json").string(), meta, ev);
-  const auto run_info_warnings =
-      writeRunInfoJson((out / "run_info.json").string(), meta, ev, sol, s.pr.outages, notes, run_time);
+  const auto run_info_warnings = writeRunInfoJson((out / "run_info.json").string(), meta, ev, sol,
+                                                  s.pr.outages, notes, run_time);
   warnings.insert(warnings.end(), run_info_warnings.begin(), run_info_warnings.end());
   writeErrorsCsv((out / "errors.csv").string(), ev, 1.0 / s.rc.evaluation.csv_rate_hz);
   writeOutageCsv((out / "outage_drift.csv").string(), ev);
@@ -228,7 +234,8 @@ class NavFileSink : public SolutionSink {
  public:
   NavFileSink(const fs::path& out, bool with_imu_errors, NavSolution* keep)
       : nav_((out / "solution.nav").string()),
-        outputs_((out / "imu_errors.txt").string(), (out / "state_std.txt").string(), with_imu_errors) {
+        outputs_((out / "imu_errors.txt").string(), (out / "state_std.txt").string(),
+                 with_imu_errors) {
     if (keep) keep_.emplace(keep);
   }
   void add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate& sensors) override {
@@ -252,14 +259,14 @@ class NavFileSink : public SolutionSink {
 
 // Streamed run: the IMU read in blocks, the files written as it goes; the epochs are kept in the
 // returned solution only when `keep`. Byte-identical files to inMemoryRun's.
-NavSolution streamedRun(const std::string& estimator, const NavigateSetup& s, const fs::path& out, bool keep,
-                        const BeforeCommitFn& before_commit, RunFiles* files) {
+NavSolution streamedRun(const std::string& estimator, const NavigateSetup& s, const fs::path& out,
+                        bool keep, const BeforeCommitFn& before_commit, RunFiles* files) {
   NavSolution sol;
   // The factor graphs give no scale-factor series: no imu_errors.txt, as in memory.
   const bool with_imu_errors = estimator != "fgo" && estimator != "fgo-window";
   NavFileSink sink(out, with_imu_errors, keep ? &sol : nullptr);
-  const NavSolution book =
-      runEstimatorStreaming(estimator, s.pr, imuFileStream(s.imu.path, s.imu.read_options), s.rc, sink);
+  const NavSolution book = runEstimatorStreaming(
+      estimator, s.pr, imuFileStream(s.imu.path, s.imu.read_options), s.rc, sink);
   sol.estimator = book.estimator;
   sol.gnss_used = book.gnss_used;
   sol.gnss_rejected = book.gnss_rejected;
@@ -270,7 +277,8 @@ NavSolution streamedRun(const std::string& estimator, const NavigateSetup& s, co
 }
 
 NavSolution inMemoryRun(const std::string& estimator, const NavigateSetup& s, const fs::path& out,
-                        const ProgressFn& progress, const BeforeCommitFn& before_commit, RunFiles* files) {
+                        const ProgressFn& progress, const BeforeCommitFn& before_commit,
+                        RunFiles* files) {
   NavSolution sol = runEstimator(estimator, s.pr, s.rc, progress);
   before_commit(sol);
   writeNav((out / "solution.nav").string(), sol.states);
@@ -292,11 +300,12 @@ void runNavigateOne(const NavigateArgs& a) {
 
   const std::string estimator = a.free_inertial ? "free-inertial" : a.estimator;
   if (s.stream) {
-    fmt::print(stderr, "[{:6.1f} s] streaming the {} IMU: {} on {} in blocks, {} GNSS fixes, {} outages\n",
+    fmt::print(stderr,
+               "[{:6.1f} s] streaming the {} IMU: {} on {} in blocks, {} GNSS fixes, {} outages\n",
                elapsed(), a.imu, estimator, s.imu.path, s.pr.gnss.size(), s.pr.outages.size());
   } else {
-    fmt::print(stderr, "[{:6.1f} s] {} on {} IMU samples, {} GNSS fixes, {} outages\n", elapsed(), estimator,
-               s.pr.imu.size(), s.pr.gnss.size(), s.pr.outages.size());
+    fmt::print(stderr, "[{:6.1f} s] {} on {} IMU samples, {} GNSS fixes, {} outages\n", elapsed(),
+               estimator, s.pr.imu.size(), s.pr.gnss.size(), s.pr.outages.size());
   }
   int last_decile = -1;
   const ProgressFn progress = [&](double f) {
@@ -313,12 +322,13 @@ void runNavigateOne(const NavigateArgs& a) {
   const fs::path out_dir(a.out);
   const double t_run0 = elapsed();
   RunFiles files;
-  const NavSolution sol = s.stream ? streamedRun(estimator, s, out_dir, !s.c.reference.empty(), check, &files)
-                                   : inMemoryRun(estimator, s, out_dir, progress, check, &files);
+  const NavSolution sol =
+      s.stream ? streamedRun(estimator, s, out_dir, !s.c.reference.empty(), check, &files)
+               : inMemoryRun(estimator, s, out_dir, progress, check, &files);
   const double run_time = elapsed() - t_run0;
 
-  fmt::print("{}: {} epochs -> {} ({:.2f} s)\n", estimator, files.epochs, (out_dir / "solution.nav").string(),
-             run_time);
+  fmt::print("{}: {} epochs -> {} ({:.2f} s)\n", estimator, files.epochs,
+             (out_dir / "solution.nav").string(), run_time);
   if (files.imu_errors) fmt::print("  wrote imu_errors.txt\n");
   if (files.state_std) fmt::print("  wrote state_std.txt\n");
   if (!a.free_inertial) {
@@ -327,10 +337,11 @@ void runNavigateOne(const NavigateArgs& a) {
   }
   if (s.c.reference.empty()) {
     for (const auto& w : writeRunInfoJson((out_dir / "run_info.json").string(),
-                                          ReportMeta{estimator, s.imu.label, 0, 0.0}, Evaluation{}, sol,
-                                          s.pr.outages, notes, run_time))
+                                          ReportMeta{estimator, s.imu.label, 0, 0.0}, Evaluation{},
+                                          sol, s.pr.outages, notes, run_time))
       fmt::print(stderr, "warning: {}\n", w);
-    fmt::print("  no field/truth.nav or reference solution: no errors written (run_info.json only)\n");
+    fmt::print(
+        "  no field/truth.nav or reference solution: no errors written (run_info.json only)\n");
     return;
   }
   writeEvaluation(a, s, estimator, sol, run_time, notes);
@@ -377,7 +388,8 @@ void registerNavigate(CLI::App& app) {
   cmd->add_option("--outage-length", a->outage_length, "GNSS outage length (s)");
   cmd->add_option("--outage-period", a->outage_period, "outage start-to-start period (s)");
   cmd->add_option("--outage-start", a->outage_start, "first outage start after the data start (s)");
-  cmd->add_option("--run-config", a->config, "run config YAML (configs/navigate.yaml; default CASE/run.yaml)");
+  cmd->add_option("--run-config", a->config,
+                  "run config YAML (configs/navigate.yaml; default CASE/run.yaml)");
   addDeprecatedOption(cmd, "--config", "--run-config", &a->config);
   addDeprecatedFlag(cmd, "--free-inertial", "--estimator free-inertial", &a->free_inertial);
   addTimeRangeOptions(cmd, &a->time_range);

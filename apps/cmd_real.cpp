@@ -89,7 +89,9 @@ void writeCheckpointCsv(const std::string& path, const CheckpointEvaluation& cp)
   writeFileAtomically(path, o);
 }
 
-nlohmann::json numOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+nlohmann::json numOrNull(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
 
 // summary.json: the numbers of summary.md's main table, one object per estimator, plus the run's
 // provenance (version, commit, command line, config hashes). Angles in degrees; NaN as null.
@@ -98,14 +100,18 @@ void writeRealSummaryJson(const std::string& path, const std::vector<RunRow>& ro
                           const std::vector<std::string>& failed) {
   nlohmann::json est = nlohmann::json::array();
   for (const auto& r : rows) {
-    nlohmann::json e = {{"estimator", r.label},
-                        {"gnss", {{"used", r.sol.gnss_used}, {"rejected", r.sol.gnss_rejected},
-                                  {"withheld", r.sol.gnss_withheld}}},
-                        {"checkpoints", {{"n", r.cp.n},
-                                         {"rms_h_m", numOrNull(r.cp.n ? r.cp.rms_h_m : std::nan(""))},
-                                         {"rms_of_max_h_m", numOrNull(r.cp.n ? r.cp.rms_of_max_h_m : std::nan(""))},
-                                         {"rms_v_m", numOrNull(r.cp.n ? r.cp.rms_v_m : std::nan(""))}}},
-                        {"run_time_s", r.seconds}};
+    nlohmann::json e = {
+        {"estimator", r.label},
+        {"gnss",
+         {{"used", r.sol.gnss_used},
+          {"rejected", r.sol.gnss_rejected},
+          {"withheld", r.sol.gnss_withheld}}},
+        {"checkpoints",
+         {{"n", r.cp.n},
+          {"rms_h_m", numOrNull(r.cp.n ? r.cp.rms_h_m : std::nan(""))},
+          {"rms_of_max_h_m", numOrNull(r.cp.n ? r.cp.rms_of_max_h_m : std::nan(""))},
+          {"rms_v_m", numOrNull(r.cp.n ? r.cp.rms_v_m : std::nan(""))}}},
+        {"run_time_s", r.seconds}};
     if (r.ref) {
       e["reference"] = {{"outage_rms_h_m", numOrNull(r.ref->outage_rms.horizontal_m)},
                         {"outage_max_rms_h_m", numOrNull(r.ref->outage_max_rms.horizontal_m)},
@@ -115,8 +121,11 @@ void writeRealSummaryJson(const std::string& path, const std::vector<RunRow>& ro
   }
   nlohmann::json w = nlohmann::json::array();
   for (const auto& t : outages) w.push_back({t.start_s, t.end_s});
-  const nlohmann::json j = {{"outage_windows_s", w}, {"checkpoints_in_outages", checkpoints_in_outages},
-                            {"estimators", est}, {"failed", failed}, {"provenance", provenanceJson()}};
+  const nlohmann::json j = {{"outage_windows_s", w},
+                            {"checkpoints_in_outages", checkpoints_in_outages},
+                            {"estimators", est},
+                            {"failed", failed},
+                            {"provenance", provenanceJson()}};
   writeFileAtomically(path, j.dump(2) + "\n");
 }
 
@@ -133,7 +142,8 @@ std::vector<RunRow> runEstimators(const RealArgs& a, const CaseInputs& c, const 
     try {
       r.sol = runEstimator(est, pr, rc);
       for (const auto& st : r.sol.states)
-        if (!st.v_n.allFinite() || !std::isfinite(st.pos.lat_rad)) throw std::runtime_error("non-finite state at t=" + std::to_string(st.t_s));
+        if (!st.v_n.allFinite() || !std::isfinite(st.pos.lat_rad))
+          throw std::runtime_error("non-finite state at t=" + std::to_string(st.t_s));
     } catch (const std::exception& e) {
       fmt::print(stderr, "  {}: FAILED: {}\n", est, e.what());
       failed->push_back(est + ": " + e.what());
@@ -154,18 +164,21 @@ std::vector<RunRow> runEstimators(const RealArgs& a, const CaseInputs& c, const 
 
 // summary.md's main table and, per outage, the maximum horizontal error at the check points.
 std::string mainTablesMd(const std::vector<RunRow>& rows, const std::vector<std::string>& failed,
-                         const EstimationProblem& pr, const RunConfig& rc, const ImuSelection& imu) {
+                         const EstimationProblem& pr, const RunConfig& rc,
+                         const ImuSelection& imu) {
   std::string md;
-  md += fmt::format("Outage errors, {} outages of {:.1f} s; check points = withheld GNSS epochs of fix types",
-                    pr.outages.size(), pr.outages.empty() ? 0.0 : pr.outages.front().length_s());
+  md += fmt::format(
+      "Outage errors, {} outages of {:.1f} s; check points = withheld GNSS epochs of fix types",
+      pr.outages.size(), pr.outages.empty() ? 0.0 : pr.outages.front().length_s());
   for (int t : rc.gnss.checkpoint_fix_types) md += fmt::format(" {}", t);
   md += " inside the outages.\n\n";
-  md += "| estimator | GNSS used / gated / withheld | check points | RMS h (m) | RMS of per-outage max h (m) | RMS v (m) | vs reference.nav: outage RMS h (m) | RMS of max h (m) | heading RMS (deg) | run (s) |\n";
+  md +=
+      "| estimator | GNSS used / gated / withheld | check points | RMS h (m) | RMS of per-outage max h (m) | RMS v (m) | vs reference.nav: outage RMS h (m) | RMS of max h (m) | heading RMS (deg) | run (s) |\n";
   md += "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     const double nan = std::nan("");
-    md += fmt::format("| {} | {} / {} / {} | {} | {} | {} | {} | {} | {} | {} | {:.1f} |\n", r.label,
-                      r.sol.gnss_used, r.sol.gnss_rejected, r.sol.gnss_withheld, r.cp.n,
+    md += fmt::format("| {} | {} / {} / {} | {} | {} | {} | {} | {} | {} | {} | {:.1f} |\n",
+                      r.label, r.sol.gnss_used, r.sol.gnss_rejected, r.sol.gnss_withheld, r.cp.n,
                       fmtOr(r.cp.n ? r.cp.rms_h_m : nan), fmtOr(r.cp.n ? r.cp.rms_of_max_h_m : nan),
                       fmtOr(r.cp.n ? r.cp.rms_v_m : nan),
                       fmtOr(r.ref ? r.ref->outage_rms.horizontal_m : nan),
@@ -175,7 +188,8 @@ std::string mainTablesMd(const std::vector<RunRow>& rows, const std::vector<std:
   for (const auto& f : failed) md += "\nFAILED " + f + "\n";
   // Per outage, per estimator: max horizontal error at the check points.
   if (!rows.empty() && !rows.front().cp.windows.empty()) {
-    md += "\nPer outage: maximum horizontal error at the check points (m), number of check points\n\n| outage (s after start) | n |";
+    md +=
+        "\nPer outage: maximum horizontal error at the check points (m), number of check points\n\n| outage (s after start) | n |";
     for (const auto& r : rows) md += " " + r.label + " |";
     md += "\n|---|---|";
     for (std::size_t i = 0; i < rows.size(); ++i) md += "---|";
@@ -183,8 +197,10 @@ std::string mainTablesMd(const std::vector<RunRow>& rows, const std::vector<std:
     const double t_first = imu.imu.front().t_s - imu.imu.front().dt_s;
     for (std::size_t w = 0; w < rows.front().cp.windows.size(); ++w) {
       const auto& win = rows.front().cp.windows[w];
-      md += fmt::format("| {:.0f}-{:.0f} | {} |", win.window.start_s - t_first, win.window.end_s - t_first, win.n);
-      for (const auto& r : rows) md += w < r.cp.windows.size() ? fmt::format(" {:.2f} |", r.cp.windows[w].max_h_m) : " - |";
+      md += fmt::format("| {:.0f}-{:.0f} | {} |", win.window.start_s - t_first,
+                        win.window.end_s - t_first, win.n);
+      for (const auto& r : rows)
+        md += w < r.cp.windows.size() ? fmt::format(" {:.2f} |", r.cp.windows[w].max_h_m) : " - |";
       md += "\n";
     }
   }
@@ -193,7 +209,8 @@ std::string mainTablesMd(const std::vector<RunRow>& rows, const std::vector<std:
 
 // The GNSS time-tag latency per fix type: against an RTS track from the track fix types only
 // (same initial state, no outages) and against the case's reference solution.
-std::string latencyScanMd(const RealArgs& a, const CaseInputs& c, const RunConfig& rc, const EstimationProblem& pr) {
+std::string latencyScanMd(const RealArgs& a, const CaseInputs& c, const RunConfig& rc,
+                          const EstimationProblem& pr) {
   std::string md;
   // Track from the other fix types only (no outages, RTS), then each RTK type against it and
   // against the reference solution.
@@ -203,18 +220,25 @@ std::string latencyScanMd(const RealArgs& a, const CaseInputs& c, const RunConfi
   so.max_horizontal_std_m = rc.gnss.selection.max_horizontal_std_m;
   so.max_vertical_std_m = rc.gnss.selection.max_vertical_std_m;
   const GnssSelection sel = selectGnss(c.gnss, so);
-  fmt::print(stderr, "latency scan: RTS track from the single-point (fix 1) epochs only; {}\n", sel.counts.summary());
+  fmt::print(stderr, "latency scan: RTS track from the single-point (fix 1) epochs only; {}\n",
+             sel.counts.summary());
   EstimationProblem pt = pr;
   pt.gnss = sel.kept;
   pt.outages.clear();
   const NavSolution track = runEstimator("rts", pt, rc);
   writeNav((fs::path(a.out) / "latency_track_rts_fix1.nav").string(), track.states);
-  md += "\nGNSS time-tag latency (tau > 0: the fix is the position tau seconds BEFORE its stamp); "
-        "grid = minimum of the horizontal residual RMS over shifts, slope = along-track least squares.\n\n";
-  md += "| fix type | track | fixes used (slow, outliers) | tau grid (s) | tau slope (s) | RMS h at 0 (m) | RMS h at tau (m) |\n|---|---|---|---|---|---|---|\n";
+  md +=
+      "\nGNSS time-tag latency (tau > 0: the fix is the position tau seconds BEFORE its stamp); "
+      "grid = minimum of the horizontal residual RMS over shifts, slope = along-track least squares.\n\n";
+  md +=
+      "| fix type | track | fixes used (slow, outliers) | tau grid (s) | tau slope (s) | RMS h at 0 (m) | RMS h at tau (m) |\n|---|---|---|---|---|---|---|\n";
   std::string csv = "fix_type,track,shift_s,rms_h_m\n";
-  struct Track { std::string name; const NavSeries* s; };
-  const std::vector<Track> tracks = {{"RTS(fix 1 only)", &track.states}, {"reference.nav", &c.reference}};
+  struct Track {
+    std::string name;
+    const NavSeries* s;
+  };
+  const std::vector<Track> tracks = {{"RTS(fix 1 only)", &track.states},
+                                     {"reference.nav", &c.reference}};
   for (int ft : a.scan_fix_types) {
     const GnssSeries fixes = gnssOfFixTypes(c.gnss, {ft}, GnssSelectionOptions{});
     for (const auto& tr : tracks) {
@@ -223,9 +247,9 @@ std::string latencyScanMd(const RealArgs& a, const CaseInputs& c, const RunConfi
         LatencyScanOptions lo;
         lo.outlier_m = ft == 1 ? a.outlier_single_m : a.outlier_m;
         const LatencyEstimate e = estimateGnssLatency(*tr.s, fixes, pr.lever_arm_b_m, lo);
-        md += fmt::format("| {} | {} | {} ({}, {}) | {:+.3f} | {:+.3f} | {:.2f} | {:.2f} |\n", ft, tr.name,
-                          e.fixes_used, e.fixes_slow, e.fixes_outliers, e.grid_s, e.slope_s,
-                          e.rms_h_at_zero_m, e.grid_rms_h_m);
+        md += fmt::format("| {} | {} | {} ({}, {}) | {:+.3f} | {:+.3f} | {:.2f} | {:.2f} |\n", ft,
+                          tr.name, e.fixes_used, e.fixes_slow, e.fixes_outliers, e.grid_s,
+                          e.slope_s, e.rms_h_at_zero_m, e.grid_rms_h_m);
         for (std::size_t i = 0; i < e.shift_s.size(); ++i)
           csv += fmt::format("{},{},{:.3f},{:.4f}\n", ft, tr.name, e.shift_s[i], e.rms_h_m[i]);
       } catch (const std::exception& ex) {
@@ -238,11 +262,13 @@ std::string latencyScanMd(const RealArgs& a, const CaseInputs& c, const RunConfi
 }
 
 // The outage errors with the RTK epochs' time tags corrected by each latency of the grid.
-std::string latencyGridMd(const RealArgs& a, const CaseInputs& c, const RunConfig& rc, const ImuSelection& imu) {
+std::string latencyGridMd(const RealArgs& a, const CaseInputs& c, const RunConfig& rc,
+                          const ImuSelection& imu) {
   std::string md;
   md += "\nEffect of the time-tag correction of the RTK epochs (fix types";
   for (int t : a.latency_types) md += fmt::format(" {}", t);
-  md += ") on the outage errors (check points corrected by the same latency).\n\n| latency (s) | estimator | GNSS used / gated | RMS h (m) | RMS of max h (m) | RMS v (m) | vs reference.nav RMS of max h (m) |\n|---|---|---|---|---|---|---|\n";
+  md +=
+      ") on the outage errors (check points corrected by the same latency).\n\n| latency (s) | estimator | GNSS used / gated | RMS h (m) | RMS of max h (m) | RMS v (m) | vs reference.nav RMS of max h (m) |\n|---|---|---|---|---|---|---|\n";
   for (double L : a.latency_grid) {
     RunConfig rl = rc;
     rl.gnss.given = true;
@@ -251,12 +277,14 @@ std::string latencyGridMd(const RealArgs& a, const CaseInputs& c, const RunConfi
     const GnssSeries cps = gnssOfFixTypes(c.gnss, rl.gnss.checkpoint_fix_types, rl.gnss.selection);
     for (const auto& est : a.latency_estimators) {
       const NavSolution s = runEstimator(est, pl, rl);
-      const CheckpointEvaluation cp = evaluateAtCheckpoints(s.states, cps, pl.outages, pl.lever_arm_b_m);
+      const CheckpointEvaluation cp =
+          evaluateAtCheckpoints(s.states, cps, pl.outages, pl.lever_arm_b_m);
       const auto ev = evalRef(s, c.reference, pl.outages, rl);
-      md += fmt::format("| {:.2f} | {} | {} / {} | {:.2f} | {:.2f} | {:.2f} | {} |\n", L, est, s.gnss_used,
-                        s.gnss_rejected, cp.rms_h_m, cp.rms_of_max_h_m, cp.rms_v_m,
+      md += fmt::format("| {:.2f} | {} | {} / {} | {:.2f} | {:.2f} | {:.2f} | {} |\n", L, est,
+                        s.gnss_used, s.gnss_rejected, cp.rms_h_m, cp.rms_of_max_h_m, cp.rms_v_m,
                         fmtOr(ev ? ev->outage_max_rms.horizontal_m : std::nan("")));
-      fmt::print(stderr, "  latency {:.2f} s, {}: check-point RMS h {:.2f} m\n", L, est, cp.rms_h_m);
+      fmt::print(stderr, "  latency {:.2f} s, {}: check-point RMS h {:.2f} m\n", L, est,
+                 cp.rms_h_m);
     }
   }
   return md;
@@ -270,14 +298,16 @@ void runReal(const RealArgs& a) {
   for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
   if (!rc.outages_given) throw std::runtime_error(a.config + ": an outages: section is required");
   const ImuSelection imu = loadImuReal(c, a.imu, a.profile);
-  if (!imu.profile_given) throw std::runtime_error("no noise parameters for the IMU: pass --profile");
+  if (!imu.profile_given)
+    throw std::runtime_error("no noise parameters for the IMU: pass --profile");
   const EstimationProblem pr = problemReal(c, imu, rc, rc.outages, true);
   const GnssSeries checkpoints =
       gnssOfFixTypes(c.gnss, rc.gnss.checkpoint_fix_types, rc.gnss.selection);
   int checkpoints_in_outages = 0;
   for (const auto& f : checkpoints)
     for (const auto& w : pr.outages) checkpoints_in_outages += w.contains(f.t_s) ? 1 : 0;
-  fmt::print(stderr, "  {} outages; {} check points inside them (of {} epochs of the fix types in "
+  fmt::print(stderr,
+             "  {} outages; {} check points inside them (of {} epochs of the fix types in "
              "gnss.checkpoint_fix_types, time tags corrected like the navigation's), lever arm "
              "[{:.2f} {:.2f} {:.2f}] m\n",
              pr.outages.size(), checkpoints_in_outages, checkpoints.size(), pr.lever_arm_b_m.x(),
@@ -289,12 +319,15 @@ void runReal(const RealArgs& a) {
   if (a.latency_scan) md += latencyScanMd(a, c, rc, pr);
   if (!a.latency_grid.empty()) md += latencyGridMd(a, c, rc, imu);
   writeFileAtomically((fs::path(a.out) / "summary.md").string(), md);
-  writeRealSummaryJson((fs::path(a.out) / "summary.json").string(), rows, pr.outages, checkpoints_in_outages,
-                       failed);
+  writeRealSummaryJson((fs::path(a.out) / "summary.json").string(), rows, pr.outages,
+                       checkpoints_in_outages, failed);
   fmt::print("{}", md);
-  fmt::print("wrote {0}/summary.md, {0}/summary.json and per-estimator solution.nav/checkpoints.csv\n", a.out);
+  fmt::print(
+      "wrote {0}/summary.md, {0}/summary.json and per-estimator solution.nav/checkpoints.csv\n",
+      a.out);
   if (a.latency_scan && !a.no_plots) {
-    const std::string w = runPythonScript("real_plots.py", {"latency", a.out, (fs::path(a.out) / "latency.png").string()});
+    const std::string w = runPythonScript(
+        "real_plots.py", {"latency", a.out, (fs::path(a.out) / "latency.png").string()});
     if (!w.empty()) fmt::print(stderr, "warning: {}\n", w);
   }
 }
@@ -304,26 +337,35 @@ void runReal(const RealArgs& a) {
 void registerReal(CLI::App& app) {
   auto a = std::make_shared<RealArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "real", "real recording: estimators, errors at withheld GNSS check points and vs the reference, GNSS latency");
+      "real",
+      "real recording: estimators, errors at withheld GNSS check points and vs the reference, GNSS latency");
   cmd->add_option("case_dir", a->case_dir, "case directory")->required();
   cmd->add_option("--out", a->out, "output directory")->required();
-  cmd->add_option("--run-config", a->config, "run config YAML (outages:, gnss:, ekf:, fgo:); required")
+  cmd->add_option("--run-config", a->config,
+                  "run config YAML (outages:, gnss:, ekf:, fgo:); required")
       ->check(CLI::ExistingFile);
   addDeprecatedOption(cmd, "--config", "--run-config", &a->config);
   cmd->add_option("--imu", a->imu, "ref | tested | FILE (default ref)");
   cmd->add_option("--profile", a->profile, "IMU profile YAML")->check(CLI::ExistingFile);
-  cmd->add_option("--estimator", a->estimators, "comma list of estimators (default ekf,rts,fgo)")->delimiter(',');
+  cmd->add_option("--estimator", a->estimators, "comma list of estimators (default ekf,rts,fgo)")
+      ->delimiter(',');
   addDeprecatedOption(cmd, "--estimators", "--estimator", &a->estimators);
   cmd->add_flag("--no-plots", a->no_plots, "do not call scripts/real_plots.py");
-  cmd->add_flag("--latency-scan", a->latency_scan, "estimate the GNSS time-tag latency per fix type");
-  cmd->add_option("--latency-grid", a->latency_grid, "latencies (s) applied to --latency-types, outage errors for each")->delimiter(',');
-  cmd->add_option("--latency-types", a->latency_types, "fix types the latency grid applies to (default 4,5)")->delimiter(',');
-  cmd->add_option("--latency-estimators", a->latency_estimators, "estimators of the latency grid (default ekf,rts)")->delimiter(',');
+  cmd->add_flag("--latency-scan", a->latency_scan,
+                "estimate the GNSS time-tag latency per fix type");
+  cmd->add_option("--latency-grid", a->latency_grid,
+                  "latencies (s) applied to --latency-types, outage errors for each")
+      ->delimiter(',');
+  cmd->add_option("--latency-types", a->latency_types,
+                  "fix types the latency grid applies to (default 4,5)")
+      ->delimiter(',');
+  cmd->add_option("--latency-estimators", a->latency_estimators,
+                  "estimators of the latency grid (default ekf,rts)")
+      ->delimiter(',');
   cmd->callback([a]() {
     requireValue(a->config, "--run-config");
     runReal(*a);
   });
-
 }
 
 }  // namespace graftnav::app

@@ -41,33 +41,40 @@ struct RealSgArgs {
 };
 
 // The standstills of the tested IMU as a basic error signal, and their description.
-BasicErrorSignal standstillSignal(const RealSgArgs& a, const CaseInputs& c, const ImuSelection& tested,
-                                  std::string* md) {
+BasicErrorSignal standstillSignal(const RealSgArgs& a, const CaseInputs& c,
+                                  const ImuSelection& tested, std::string* md) {
   const StandstillSpans sp = findStandstills(tested.imu, c.gnss, a.standstill);
-  fmt::print(stderr, "static detector: {} spans, {} dropped because the median GNSS speed inside exceeds {:.2f} m/s\n",
-             sp.detection.intervals.size(), sp.dropped_moving, a.standstill.max_gnss_speed_m_s);
-  const double yaw0 = c.config.initial_state ? eulerFromQuat(c.config.initial_state->q_nb).z() : 0.0;
+  fmt::print(
+      stderr,
+      "static detector: {} spans, {} dropped because the median GNSS speed inside exceeds {:.2f} m/s\n",
+      sp.detection.intervals.size(), sp.dropped_moving, a.standstill.max_gnss_speed_m_s);
+  const double yaw0 =
+      c.config.initial_state ? eulerFromQuat(c.config.initial_state->q_nb).z() : 0.0;
   const Geodetic pos0 = c.config.initial_state ? c.config.initial_state->pos : c.gnss.front().pos;
   BasicErrorSignal basic(staticErrorIncrements(tested.imu, sp.kept, pos0, yaw0));
   const double t_first = tested.imu.front().t_s - tested.imu.front().dt_s;
-  *md = fmt::format("Standstill spans of the tested IMU (static detector: gyro <= {:.3f} rad/s, accel <= {:.2f} "
-                    "m/s^2 std over 1 s, >= {:.1f} s, {:.1f} s trimmed): ",
-                    sp.detection.gyro_threshold_rad_s, sp.detection.accel_threshold_m_s2,
-                    a.standstill.detector.min_duration_s, a.standstill.detector.trim_s);
-  for (const auto& s : sp.kept) *md += fmt::format("{:.1f}-{:.1f} s, ", s.t_begin_s - t_first, s.t_end_s - t_first);
-  *md += fmt::format("({} detected spans dropped: median GNSS speed above {:.2f} m/s inside), ", sp.dropped_moving,
-                     a.standstill.max_gnss_speed_m_s);
+  *md = fmt::format(
+      "Standstill spans of the tested IMU (static detector: gyro <= {:.3f} rad/s, accel <= {:.2f} "
+      "m/s^2 std over 1 s, >= {:.1f} s, {:.1f} s trimmed): ",
+      sp.detection.gyro_threshold_rad_s, sp.detection.accel_threshold_m_s2,
+      a.standstill.detector.min_duration_s, a.standstill.detector.trim_s);
+  for (const auto& s : sp.kept)
+    *md += fmt::format("{:.1f}-{:.1f} s, ", s.t_begin_s - t_first, s.t_end_s - t_first);
+  *md += fmt::format("({} detected spans dropped: median GNSS speed above {:.2f} m/s inside), ",
+                     sp.dropped_moving, a.standstill.max_gnss_speed_m_s);
   const Eigen::Vector3d bg = basic.meanGyro_rad_s() * kRadToDeg, ba = basic.meanAccel_m_s2();
-  *md += fmt::format("total {:.1f} s.\nBasic biases (mean of the error signal): gyro [{:.3f} {:.3f} {:.3f}] deg/s, "
-                     "accel [{:.3f} {:.3f} {:.3f}] m/s^2 (horizontal accel bias absorbed by levelling).\n\n",
-                     basic.recordLength_s(), bg.x(), bg.y(), bg.z(), ba.x(), ba.y(), ba.z());
+  *md += fmt::format(
+      "total {:.1f} s.\nBasic biases (mean of the error signal): gyro [{:.3f} {:.3f} {:.3f}] deg/s, "
+      "accel [{:.3f} {:.3f} {:.3f}] m/s^2 (horizontal accel bias absorbed by levelling).\n\n",
+      basic.recordLength_s(), bg.x(), bg.y(), bg.z(), ba.x(), ba.y(), ba.z());
   return basic;
 }
 
 // Grafted series navigated with the tested IMU's profile; REAL is the tested IMU itself.
 SgNavigator realNavigator(const CaseInputs& c, const RunConfig& rc, const ImuSelection& ref,
                           const ImuSelection& tested, const std::string& estimator) {
-  return [&c, &rc, &ref, &tested, estimator](std::optional<ImuSeries> grafted, const OutageScheduleConfig& schedule) {
+  return [&c, &rc, &ref, &tested, estimator](std::optional<ImuSeries> grafted,
+                                             const OutageScheduleConfig& schedule) {
     SgNavigation nav;
     EstimationProblem pr;
     if (grafted) {
@@ -118,7 +125,8 @@ void runRealSg(const RealSgArgs& a) {
   in.has_real = true;
   in.real_imu_file = tested.path;
   in.outages = rc.outages;
-  const SgEvaluationPipeline pipeline(po, GraftPlan{standstillSignal(a, c, tested, &md), {}, {}}, std::move(in));
+  const SgEvaluationPipeline pipeline(po, GraftPlan{standstillSignal(a, c, tested, &md), {}, {}},
+                                      std::move(in));
   fmt::print(stderr, "{}", md);
 
   fmt::print(stderr, "SOL_REF: reference IMU, rts, no outages\n");
@@ -126,8 +134,9 @@ void runRealSg(const RealSgArgs& a) {
   fs::create_directories(a.out);
   writeNav((fs::path(a.out) / "sol_ref.nav").string(), sol_ref.states);
   const auto log = [](const std::string& m) { fmt::print(stderr, "{}\n", m); };
-  SgEvaluationReport rep = pipeline.run({sol_ref.states, "RTS-smoothed reference IMU with all GNSS"},
-                                        realNavigator(c, rc, ref, tested, a.estimator), a.estimator, log);
+  SgEvaluationReport rep =
+      pipeline.run({sol_ref.states, "RTS-smoothed reference IMU with all GNSS"},
+                   realNavigator(c, rc, ref, tested, a.estimator), a.estimator, log);
   rep.case_name = c.config.name;
   rep.tested_grade = c.config.tested_imu ? c.config.tested_imu->grade : "";
   rep.csv_rate_hz = rc.evaluation.csv_rate_hz;
@@ -136,7 +145,9 @@ void runRealSg(const RealSgArgs& a) {
   writeSgOutputs(a.out, rep, !a.no_plots, log);
   writeFileAtomically((fs::path(a.out) / "standstills.md").string(), md);
   printEvaluationSummary(rep);
-  fmt::print("wrote {0}/tables.md, {0}/evaluation.json, standstills.md, predictive.csv, sol_ref.nav\n", a.out);
+  fmt::print(
+      "wrote {0}/tables.md, {0}/evaluation.json, standstills.md, predictive.csv, sol_ref.nav\n",
+      a.out);
 }
 
 }  // namespace
@@ -144,25 +155,36 @@ void runRealSg(const RealSgArgs& a) {
 void registerRealSg(CLI::App& app) {
   auto s = std::make_shared<RealSgArgs>();
   CLI::App* sg = app.add_subcommand(
-      "real-sg", "real-data signal grafting: K realizations of the tested IMU's standstill errors on the reference IMU");
-  sg->add_option("case_dir", s->case_dir, "case directory (ref_imu.txt and tested_imu.txt)")->required();
+      "real-sg",
+      "real-data signal grafting: K realizations of the tested IMU's standstill errors on the reference IMU");
+  sg->add_option("case_dir", s->case_dir, "case directory (ref_imu.txt and tested_imu.txt)")
+      ->required();
   sg->add_option("--out", s->out, "output directory")->required();
-  sg->add_option("--run-config", s->config, "run config YAML (outages:, gnss:, ekf:, grafting:); required")
+  sg->add_option("--run-config", s->config,
+                 "run config YAML (outages:, gnss:, ekf:, grafting:); required")
       ->check(CLI::ExistingFile);
   addDeprecatedOption(sg, "--config", "--run-config", &s->config);
   sg->add_flag("--no-plots", s->no_plots, "skip the matplotlib plots");
-  sg->add_option("--ref-profile", s->ref_profile, "reference IMU profile")->required()->check(CLI::ExistingFile);
-  sg->add_option("--tested-profile", s->tested_profile, "tested IMU profile")->required()->check(CLI::ExistingFile);
+  sg->add_option("--ref-profile", s->ref_profile, "reference IMU profile")
+      ->required()
+      ->check(CLI::ExistingFile);
+  sg->add_option("--tested-profile", s->tested_profile, "tested IMU profile")
+      ->required()
+      ->check(CLI::ExistingFile);
   sg->add_option("--estimator", s->estimator, "estimator (default rts)");
   sg->add_option("--seed", s->seed, "grafting seed (realization k draws from seed and k)");
-  sg->add_option("--realizations", s->realizations, "grafted realizations, K (default 20, or grafting.realizations)");
+  sg->add_option("--realizations", s->realizations,
+                 "grafted realizations, K (default 20, or grafting.realizations)");
   sg->add_option("--jobs", s->jobs, "solutions navigated in parallel (0: all cores)");
   StaticDetectorOptions& d = s->standstill.detector;
-  sg->add_option("--static-gyro-threshold", d.gyro_threshold_rad_s, "static detector gyro threshold (rad/s)");
-  sg->add_option("--static-accel-threshold", d.accel_threshold_m_s2, "static detector accel threshold (m/s^2)");
+  sg->add_option("--static-gyro-threshold", d.gyro_threshold_rad_s,
+                 "static detector gyro threshold (rad/s)");
+  sg->add_option("--static-accel-threshold", d.accel_threshold_m_s2,
+                 "static detector accel threshold (m/s^2)");
   sg->add_option("--min-static", d.min_duration_s, "minimum standstill span (s)");
-  sg->add_option("--max-static-speed", s->standstill.max_gnss_speed_m_s,
-                 "median GNSS speed (1-s chords) above which a detected span is not a standstill (m/s)");
+  sg->add_option(
+      "--max-static-speed", s->standstill.max_gnss_speed_m_s,
+      "median GNSS speed (1-s chords) above which a detected span is not a standstill (m/s)");
   sg->callback([s]() {
     requireValue(s->config, "--run-config");
     runRealSg(*s);

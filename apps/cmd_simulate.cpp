@@ -24,7 +24,8 @@ void registerSimulate(CLI::App& app) {
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
-      "simulate", "Simulate a whole case (field IMUs, GNSS, truth, lab sessions) from a sim config");
+      "simulate",
+      "Simulate a whole case (field IMUs, GNSS, truth, lab sessions) from a sim config");
   cmd->add_option("--sim-config", args->config, "sim config YAML (configs/sim/*.yaml); required")
       ->check(CLI::ExistingFile);
   addDeprecatedOption(cmd, "--config", "--sim-config", &args->config);
@@ -64,11 +65,12 @@ void registerSimulate(CLI::App& app) {
     fmt::print("  IMU samples {}, truth epochs {}, GNSS fixes {}, lab files {}, seed {}\n",
                s.imu_samples, s.truth_epochs, s.gnss_fixes, s.lab_files, cfg.seed);
     if (cfg.track) {
-      fmt::print("  track fit: {} fixes used, {} rejected, {} stops, rms residual N/E/D "
-                 "{:.3f}/{:.3f}/{:.3f} m\n",
-                 s.track_fit.fixes_used, s.track_fit.fixes_rejected, s.track_fit.stops,
-                 s.track_fit.rms_residual_m[0], s.track_fit.rms_residual_m[1],
-                 s.track_fit.rms_residual_m[2]);
+      fmt::print(
+          "  track fit: {} fixes used, {} rejected, {} stops, rms residual N/E/D "
+          "{:.3f}/{:.3f}/{:.3f} m\n",
+          s.track_fit.fixes_used, s.track_fit.fixes_rejected, s.track_fit.stops,
+          s.track_fit.rms_residual_m[0], s.track_fit.rms_residual_m[1],
+          s.track_fit.rms_residual_m[2]);
     }
   });
 }

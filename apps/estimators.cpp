@@ -11,7 +11,8 @@ namespace graftnav::app {
 
 namespace {
 FgoEpochFn toSink(SolutionSink& sink) {
-  return [&sink](const NavState& s, const PvaSigma* sigma, const Eigen::Vector3d& bg, const Eigen::Vector3d& ba) {
+  return [&sink](const NavState& s, const PvaSigma* sigma, const Eigen::Vector3d& bg,
+                 const Eigen::Vector3d& ba) {
     ImuErrorEstimate e;
     e.gyro_bias_rad_s = bg;
     e.accel_bias_m_s2 = ba;
@@ -26,31 +27,30 @@ const std::vector<EstimatorEntry>& estimatorTable() {
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn& f) {
          return runEkf(p, c.ekf, nullptr, f);
        },
-       [](const EstimationProblem& p, const ImuStream& imu, const RunConfig& c, SolutionSink& sink) {
-         return runEkfStreaming(p, c.ekf, imu.pass, sink);
-       }},
+       [](const EstimationProblem& p, const ImuStream& imu, const RunConfig& c,
+          SolutionSink& sink) { return runEkfStreaming(p, c.ekf, imu.pass, sink); }},
       {"rts", "EKF + Rauch-Tung-Striebel smoother",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn& f) {
          return runRts(p, c.ekf, nullptr, nullptr, f);
        },
-       [](const EstimationProblem& p, const ImuStream& imu, const RunConfig& c, SolutionSink& sink) {
-         return runRtsStreaming(p, c.ekf, imu.pass, sink);
-       }},
+       [](const EstimationProblem& p, const ImuStream& imu, const RunConfig& c,
+          SolutionSink& sink) { return runRtsStreaming(p, c.ekf, imu.pass, sink); }},
       {"fgo", "factor-graph batch smoother (Ceres, SuiteSparse), docs/fgo.md",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn&) {
          return solveBatchFgo(p, c.fgo);
        },
-       [](const EstimationProblem& p, const ImuStream& imu, const RunConfig& c, SolutionSink& sink) {
-         return solveBatchFgo(p, imu.pass, c.fgo, nullptr, toSink(sink));
-       }},
+       [](const EstimationProblem& p, const ImuStream& imu, const RunConfig& c,
+          SolutionSink& sink) { return solveBatchFgo(p, imu.pass, c.fgo, nullptr, toSink(sink)); }},
       {"fgo-window", "factor-graph sliding window with marginalization, causal output",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn&) {
          return solveWindowFgo(p, c.fgo);
        },
-       [](const EstimationProblem& p, const ImuStream& imu, const RunConfig& c, SolutionSink& sink) {
+       [](const EstimationProblem& p, const ImuStream& imu, const RunConfig& c,
+          SolutionSink& sink) {
          return solveWindowFgo(p, imu.pass, c.fgo, nullptr, toSink(sink));
        }},
-      {"free-inertial", "mechanization from the initial state, no GNSS",
+      {"free-inertial",
+       "mechanization from the initial state, no GNSS",
        [](const EstimationProblem& p, const RunConfig& c, const ProgressFn& f) {
          return runFreeInertial(p, c.ekf.output_decimation, f);
        },
@@ -84,7 +84,8 @@ NavSolution runEstimator(const std::string& name, const EstimationProblem& probl
 
 bool canStream(const std::string& name) { return static_cast<bool>(findEstimator(name).stream); }
 
-ImuStream imuFileStream(const std::string& path, const ImuReadOptions& options, ReadReport* report) {
+ImuStream imuFileStream(const std::string& path, const ImuReadOptions& options,
+                        ReadReport* report) {
   ImuStream s;
   s.pass = [path, options, report](const ImuBlockFn& block) {
     ImuBlockReader reader(path, options);
@@ -96,7 +97,8 @@ ImuStream imuFileStream(const std::string& path, const ImuReadOptions& options, 
 }
 
 NavSolution runEstimatorStreaming(const std::string& name, const EstimationProblem& problem,
-                                  const ImuStream& imu, const RunConfig& config, SolutionSink& sink) {
+                                  const ImuStream& imu, const RunConfig& config,
+                                  SolutionSink& sink) {
   const EstimatorEntry& e = findEstimator(name);
   if (!e.stream) throw std::invalid_argument("estimator '" + name + "' has no streamed form");
   return e.stream(problem, imu, config, sink);

@@ -45,10 +45,12 @@ bool canStream(const std::string& name);
 // An IMU file read in blocks (ImuBlockReader; options.nominal_rate_hz > 0); each pass reads the
 // file again. *report (when given) receives the last pass's
 // reader report.
-ImuStream imuFileStream(const std::string& path, const ImuReadOptions& options, ReadReport* report = nullptr);
+ImuStream imuFileStream(const std::string& path, const ImuReadOptions& options,
+                        ReadReport* report = nullptr);
 
 // Runs the streamed form of `name`; throws std::invalid_argument when it has none.
 NavSolution runEstimatorStreaming(const std::string& name, const EstimationProblem& problem,
-                                  const ImuStream& imu, const RunConfig& config, SolutionSink& sink);
+                                  const ImuStream& imu, const RunConfig& config,
+                                  SolutionSink& sink);
 
 }  // namespace graftnav::app

@@ -27,20 +27,25 @@ double imuBegin(const ImuSeries& imu) { return imu.front().t_s - imu.front().dt_
 
 void InputCheckOptions::validate() const {
   if (min_gnss_epochs < 1)
-    throw std::invalid_argument(fmt::format("InputCheckOptions.min_gnss_epochs must be >= 1, got {}", min_gnss_epochs));
+    throw std::invalid_argument(
+        fmt::format("InputCheckOptions.min_gnss_epochs must be >= 1, got {}", min_gnss_epochs));
   if (!(lab_static_floor_s > 0.0) || !std::isfinite(lab_static_floor_s))
-    throw std::invalid_argument(fmt::format("InputCheckOptions.lab_static_floor_s must be > 0, got {}", lab_static_floor_s));
+    throw std::invalid_argument(fmt::format(
+        "InputCheckOptions.lab_static_floor_s must be > 0, got {}", lab_static_floor_s));
 }
 
-void validateOutageOptions(const std::optional<double>& length_s, const std::optional<double>& period_s,
+void validateOutageOptions(const std::optional<double>& length_s,
+                           const std::optional<double>& period_s,
                            const std::optional<double>& start_s) {
   requirePositive(length_s, "--outage-length");
   requirePositive(period_s, "--outage-period");
   if (start_s && !(std::isfinite(*start_s) && *start_s >= 0.0))
-    throw std::runtime_error(fmt::format("--outage-start {}: must be >= 0 s (seconds after the data start)", *start_s));
+    throw std::runtime_error(
+        fmt::format("--outage-start {}: must be >= 0 s (seconds after the data start)", *start_s));
   if (length_s && period_s && *period_s < *length_s)
-    throw std::runtime_error(fmt::format("--outage-period {} is shorter than --outage-length {}: outages would overlap",
-                                         *period_s, *length_s));
+    throw std::runtime_error(
+        fmt::format("--outage-period {} is shorter than --outage-length {}: outages would overlap",
+                    *period_s, *length_s));
 }
 
 void requireOutagesInsideData(const OutageScheduleConfig& c, const std::vector<TimeWindow>& windows,
@@ -48,32 +53,37 @@ void requireOutagesInsideData(const OutageScheduleConfig& c, const std::vector<T
   if (!c.enabled || !windows.empty()) return;
   const double span = t_end_s - t_begin_s;
   if (!c.explicit_windows.empty())
-    throw std::runtime_error(fmt::format("outages.windows: no window lies inside the data [{:.3f}, {:.3f}] s",
-                                         t_begin_s, t_end_s));
+    throw std::runtime_error(fmt::format(
+        "outages.windows: no window lies inside the data [{:.3f}, {:.3f}] s", t_begin_s, t_end_s));
   throw std::runtime_error(fmt::format(
       "outage start {:g} s + length {:g} s (+ end margin {:g} s) lies beyond the data, which last {:.1f} s: "
       "no outage fits (check --outage-start / --outage-length or outages: in the config)",
       c.start_s, c.length_s, c.end_margin_s, span));
 }
 
-std::vector<std::string> checkGnssCoverage(const GnssSeries& gnss, const std::string& gnss_path, const ImuSeries& imu,
-                                           bool free_inertial, const InputCheckOptions& o) {
+std::vector<std::string> checkGnssCoverage(const GnssSeries& gnss, const std::string& gnss_path,
+                                           const ImuSeries& imu, bool free_inertial,
+                                           const InputCheckOptions& o) {
   o.validate();
   if (imu.empty()) throw std::runtime_error("checkGnssCoverage: no IMU samples");
   const double t0 = imuBegin(imu), t1 = imu.back().t_s;
   const auto inside = std::count_if(gnss.begin(), gnss.end(),
                                     [&](const GnssFix& f) { return f.t_s >= t0 && f.t_s <= t1; });
   if (inside >= o.min_gnss_epochs) return {};
-  std::string what = fmt::format("{}: {} of {} GNSS epochs lie inside the IMU span [{:.3f}, {:.3f}] s", gnss_path,
-                                 inside, gnss.size(), t0, t1);
+  std::string what =
+      fmt::format("{}: {} of {} GNSS epochs lie inside the IMU span [{:.3f}, {:.3f}] s", gnss_path,
+                  inside, gnss.size(), t0, t1);
   if (!gnss.empty())
     what += fmt::format(" (GNSS span [{:.3f}, {:.3f}] s)", gnss.front().t_s, gnss.back().t_s);
   what += fmt::format("; at least {} are needed for GNSS/INS", o.min_gnss_epochs);
-  if (!free_inertial) throw std::runtime_error(what + ": the run would be free-inertial (pass --free-inertial if that is meant)");
+  if (!free_inertial)
+    throw std::runtime_error(
+        what + ": the run would be free-inertial (pass --free-inertial if that is meant)");
   return {what + "; running FREE-INERTIAL as asked"};
 }
 
-std::vector<std::string> checkGnssUsed(int gnss_used, bool free_inertial, const InputCheckOptions& o) {
+std::vector<std::string> checkGnssUsed(int gnss_used, bool free_inertial,
+                                       const InputCheckOptions& o) {
   o.validate();
   if (free_inertial || gnss_used >= o.min_gnss_epochs) return {};
   throw std::runtime_error(fmt::format(
@@ -82,12 +92,15 @@ std::vector<std::string> checkGnssUsed(int gnss_used, bool free_inertial, const 
       gnss_used, o.min_gnss_epochs));
 }
 
-std::vector<std::string> checkReferenceCoverage(const NavSeries& ref, const std::string& path, const ImuSeries& imu,
+std::vector<std::string> checkReferenceCoverage(const NavSeries& ref, const std::string& path,
+                                                const ImuSeries& imu,
                                                 const std::vector<TimeWindow>& outages) {
   if (ref.empty() || imu.empty()) return {};
   const double r0 = ref.front().t_s, r1 = ref.back().t_s;
   for (const TimeWindow& w : outages) {
-    const bool any = std::any_of(ref.begin(), ref.end(), [&](const NavState& s) { return s.t_s >= w.start_s && s.t_s <= w.end_s; });
+    const bool any = std::any_of(ref.begin(), ref.end(), [&](const NavState& s) {
+      return s.t_s >= w.start_s && s.t_s <= w.end_s;
+    });
     if (!any)
       throw std::runtime_error(fmt::format(
           "{}: no reference epoch inside the outage [{:.3f}, {:.3f}] s (reference span [{:.3f}, {:.3f}] s): its "
@@ -97,9 +110,10 @@ std::vector<std::string> checkReferenceCoverage(const NavSeries& ref, const std:
   const double t0 = imuBegin(imu), t1 = imu.back().t_s;
   const double covered = std::max(0.0, std::min(t1, r1) - std::max(t0, r0));
   if (covered < 0.99 * (t1 - t0))
-    return {fmt::format("{} covers {:.1f} s of the {:.1f} s IMU span ([{:.3f}, {:.3f}] s vs [{:.3f}, {:.3f}] s): "
-                        "errors are evaluated only where it exists",
-                        path, covered, t1 - t0, r0, r1, t0, t1)};
+    return {fmt::format(
+        "{} covers {:.1f} s of the {:.1f} s IMU span ([{:.3f}, {:.3f}] s vs [{:.3f}, {:.3f}] s): "
+        "errors are evaluated only where it exists",
+        path, covered, t1 - t0, r0, r1, t0, t1)};
   return {};
 }
 
@@ -111,8 +125,8 @@ double outageSpacing(const std::vector<TimeWindow>& windows) {
   return spacing;
 }
 
-std::vector<std::string> checkLabStaticRecord(double record_s, const std::string& path, double outage_spacing_s,
-                                              const InputCheckOptions& o) {
+std::vector<std::string> checkLabStaticRecord(double record_s, const std::string& path,
+                                              double outage_spacing_s, const InputCheckOptions& o) {
   o.validate();
   if (!(record_s >= o.lab_static_floor_s))
     throw std::runtime_error(fmt::format(
@@ -120,16 +134,19 @@ std::vector<std::string> checkLabStaticRecord(double record_s, const std::string
         "inside one outage)",
         path, record_s, o.lab_static_floor_s));
   if (record_s < outage_spacing_s)
-    return {fmt::format("{}: the lab static record lasts {:.1f} s, shorter than the outage spacing of {:.1f} s: "
-                        "consecutive outages graft overlapping stretches of the same noise (record at least the "
-                        "outage period recommended)",
-                        path, record_s, outage_spacing_s)};
+    return {fmt::format(
+        "{}: the lab static record lasts {:.1f} s, shorter than the outage spacing of {:.1f} s: "
+        "consecutive outages graft overlapping stretches of the same noise (record at least the "
+        "outage period recommended)",
+        path, record_s, outage_spacing_s)};
   return {};
 }
 
 std::vector<std::string> checkEvaluationInputs(const SgEvaluateOptions& o) {
   std::vector<std::string> w;
-  const auto add = [&](std::vector<std::string> more) { w.insert(w.end(), more.begin(), more.end()); };
+  const auto add = [&](std::vector<std::string> more) {
+    w.insert(w.end(), more.begin(), more.end());
+  };
   const std::vector<std::string> names = estimatorNames();
   if (std::find(names.begin(), names.end(), o.estimator) == names.end()) {
     std::string known;
@@ -145,7 +162,8 @@ std::vector<std::string> checkEvaluationInputs(const SgEvaluateOptions& o) {
   if (o.outage_period_s) oc.period_s = *o.outage_period_s;
   if (o.outage_start_s) oc.start_s = *o.outage_start_s;
   const ImuSelection ref = selectImu(c, "ref");
-  if (CasePaths::exists(c.paths().testedImu())) selectImu(c, "tested");  // range checks of the tested file
+  if (CasePaths::exists(c.paths().testedImu()))
+    selectImu(c, "tested");  // range checks of the tested file
   add(checkGnssCoverage(c.gnss, c.paths().gnssPos(), ref.imu, false));
   const double t0 = imuBegin(ref.imu), t1 = ref.imu.back().t_s;
   std::vector<TimeWindow> windows;
@@ -160,7 +178,8 @@ std::vector<std::string> checkEvaluationInputs(const SgEvaluateOptions& o) {
   if (CasePaths::exists(static_path)) {
     ImuReadOptions ro;
     ro.nominal_rate_hz = c.config.testedImuRateHz();
-    ro.policy = ImuReadPolicy::real();  // only the span and the range checks; loadLabData applies its own rules
+    ro.policy = ImuReadPolicy::
+        real();  // only the span and the range checks; loadLabData applies its own rules
     const ImuSeries st = readImu(static_path, ro);
     add(checkLabStaticRecord(st.back().t_s - imuBegin(st), static_path, outageSpacing(windows)));
   }

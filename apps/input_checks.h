@@ -35,13 +35,15 @@ struct InputCheckOptions {
 
 // --outage-length/-period/-start values (std::nullopt = not given); errors name the flag.
 // Lengths and periods must be > 0 and finite, the start >= 0 and finite, the period >= length.
-void validateOutageOptions(const std::optional<double>& length_s, const std::optional<double>& period_s,
+void validateOutageOptions(const std::optional<double>& length_s,
+                           const std::optional<double>& period_s,
                            const std::optional<double>& start_s);
 
 // After buildOutageWindows: a schedule that was asked for but has no window inside the data span
 // [t_begin_s, t_end_s] is an error naming the start, length and span.
-void requireOutagesInsideData(const OutageScheduleConfig& config, const std::vector<TimeWindow>& windows,
-                              double t_begin_s, double t_end_s);
+void requireOutagesInsideData(const OutageScheduleConfig& config,
+                              const std::vector<TimeWindow>& windows, double t_begin_s,
+                              double t_end_s);
 
 // GNSS epochs inside the IMU span. None, or fewer than options.min_gnss_epochs: an error naming the
 // file and both spans, unless free_inertial (then a warning). Returns warnings.
@@ -49,18 +51,22 @@ std::vector<std::string> checkGnssCoverage(const GnssSeries& gnss, const std::st
                                            const ImuSeries& imu, bool free_inertial,
                                            const InputCheckOptions& options = {});
 // After the run: the number of GNSS epochs the estimator used, same rule.
-std::vector<std::string> checkGnssUsed(int gnss_used, bool free_inertial, const InputCheckOptions& options = {});
+std::vector<std::string> checkGnssUsed(int gnss_used, bool free_inertial,
+                                       const InputCheckOptions& options = {});
 
 // The reference (truth.nav or a reference solution) must hold epochs inside every outage window
 // (else the outage statistics cannot be computed: an error naming the file, its span and the
 // window); covering only part of the IMU span is a warning. No check when `reference` is empty.
-std::vector<std::string> checkReferenceCoverage(const NavSeries& reference, const std::string& reference_path,
-                                                const ImuSeries& imu, const std::vector<TimeWindow>& outages);
+std::vector<std::string> checkReferenceCoverage(const NavSeries& reference,
+                                                const std::string& reference_path,
+                                                const ImuSeries& imu,
+                                                const std::vector<TimeWindow>& outages);
 
 // Length of the lab static record: an error below options.lab_static_floor_s, a warning below
 // `outage_spacing_s` (the largest start-to-start spacing of the run's outages; 0: none). Returns
 // the warnings.
-std::vector<std::string> checkLabStaticRecord(double record_s, const std::string& path, double outage_spacing_s,
+std::vector<std::string> checkLabStaticRecord(double record_s, const std::string& path,
+                                              double outage_spacing_s,
                                               const InputCheckOptions& options = {});
 // The largest start-to-start spacing of consecutive windows (the length for a single window; 0 for none).
 double outageSpacing(const std::vector<TimeWindow>& windows);

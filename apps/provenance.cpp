@@ -60,7 +60,8 @@ void recordConfigFile(const std::string& path) {
 nlohmann::json provenanceJson() {
   std::lock_guard<std::mutex> lock(registry().mutex);
   nlohmann::json configs = nlohmann::json::array();
-  for (const auto& c : registry().configs) configs.push_back({{"path", c.first}, {"fnv1a64", c.second}});
+  for (const auto& c : registry().configs)
+    configs.push_back({{"path", c.first}, {"fnv1a64", c.second}});
   return {{"version", graftnavVersion()},
           {"git_commit", graftnavGitCommit()},
           {"command_line", registry().argv},

@@ -25,16 +25,19 @@ CaseInputs loadReal(const std::string& dir) {
   CaseLoadOptions lo;
   lo.lenient = true;
   CaseInputs c = loadCaseInputs(dir, lo);
-  fmt::print(stderr, "read {} (real read policies): {} GNSS epochs, reference {} ({} epochs)\n", dir,
-             c.gnss.size(), c.reference_name.empty() ? "none" : c.reference_name, c.reference.size());
+  fmt::print(stderr, "read {} (real read policies): {} GNSS epochs, reference {} ({} epochs)\n",
+             dir, c.gnss.size(), c.reference_name.empty() ? "none" : c.reference_name,
+             c.reference.size());
   if (c.warnings.empty()) fmt::print(stderr, "  readers: no repair and no warning\n");
   for (const auto& w : c.warnings) printLines("  reader/case: ", w);
   return c;
 }
 
-ImuSelection loadImuReal(const CaseInputs& c, const std::string& which, const std::string& profile) {
+ImuSelection loadImuReal(const CaseInputs& c, const std::string& which,
+                         const std::string& profile) {
   ImuSelection s = selectImu(c, which, profile, true);
-  fmt::print(stderr, "IMU '{}' {}: {} samples, profile '{}'\n", which, s.path, s.imu.size(), s.label);
+  fmt::print(stderr, "IMU '{}' {}: {} samples, profile '{}'\n", which, s.path, s.imu.size(),
+             s.label);
   if (s.read_summary.empty()) {
     fmt::print(stderr, "  reader: no repair and no warning\n");
   } else {
@@ -55,8 +58,10 @@ EstimationProblem problemReal(const CaseInputs& c, const ImuSelection& imu, cons
   while (k0 < pr.imu.size() && pr.imu[k0].t_s - pr.imu[k0].dt_s < t_init - 1e-6) ++k0;
   if (k0 > 0 && k0 < pr.imu.size()) {
     pr.imu.erase(pr.imu.begin(), pr.imu.begin() + static_cast<std::ptrdiff_t>(k0));
-    notes.push_back(fmt::format("IMU series starts at the initial state epoch t={:.3f} ({} earlier samples "
-                                "used only by the alignment)", t_init, k0));
+    notes.push_back(
+        fmt::format("IMU series starts at the initial state epoch t={:.3f} ({} earlier samples "
+                    "used only by the alignment)",
+                    t_init, k0));
   }
   // GNSS epochs before the start are not navigation inputs (the EKF skips them; the graph would
   // anchor nodes where no IMU data connects them).
@@ -73,12 +78,13 @@ EstimationProblem problemReal(const CaseInputs& c, const ImuSelection& imu, cons
       const double yaw_case = eulerFromQuat(c.config.initial_state->q_nb).z() * kRadToDeg;
       const double yaw_used = eulerFromQuat(pr.initial.q_nb).z() * kRadToDeg;
       const double d = std::remainder(yaw_used - yaw_case, 360.0);
-      fmt::print(stderr,
-                 "  {}: {} alignment from the data: yaw {:.1f} deg at t={:.3f} (case.yaml initial_state: "
-                 "{:.1f} deg at t={:.3f}; difference {:.1f} deg{})\n",
-                 std::abs(d) > 5.0 ? "WARNING" : "note", rc.alignment.mode, yaw_used, pr.initial.t_s,
-                 yaw_case, c.config.initial_state->t_s, d,
-                 std::abs(d) > 5.0 ? ": the case's initial heading is NOT used" : "");
+      fmt::print(
+          stderr,
+          "  {}: {} alignment from the data: yaw {:.1f} deg at t={:.3f} (case.yaml initial_state: "
+          "{:.1f} deg at t={:.3f}; difference {:.1f} deg{})\n",
+          std::abs(d) > 5.0 ? "WARNING" : "note", rc.alignment.mode, yaw_used, pr.initial.t_s,
+          yaw_case, c.config.initial_state->t_s, d,
+          std::abs(d) > 5.0 ? ": the case's initial heading is NOT used" : "");
     }
   }
   if (notes_out) notes_out->insert(notes_out->end(), notes.begin(), notes.end());

@@ -29,10 +29,13 @@ json drift(const DriftStats& s) {
           {"heading_deg", num(s.heading_rad * units::kRadToDeg)}};
 }
 
-void writeText(const std::string& path, const std::string& text) { writeFileAtomically(path, text); }
+void writeText(const std::string& path, const std::string& text) {
+  writeFileAtomically(path, text);
+}
 
 // Depth-first walk: a non-finite number throws, a null is listed by its JSON pointer.
-void scanJson(const json& j, const std::string& pointer, const std::string& path, std::vector<std::string>* nulls) {
+void scanJson(const json& j, const std::string& pointer, const std::string& path,
+              std::vector<std::string>* nulls) {
   if (j.is_null()) {
     nulls->push_back(pointer.empty() ? "/" : pointer);
   } else if (j.is_number_float()) {
@@ -40,20 +43,23 @@ void scanJson(const json& j, const std::string& pointer, const std::string& path
       throw std::runtime_error(path + ": result field " + pointer + " is not finite (" +
                                fmt::format("{}", j.get<double>()) + "); refusing to write it");
   } else if (j.is_object()) {
-    const bool all_null = !j.empty() && std::all_of(j.begin(), j.end(), [](const json& v) { return v.is_null(); });
+    const bool all_null =
+        !j.empty() && std::all_of(j.begin(), j.end(), [](const json& v) { return v.is_null(); });
     if (all_null) {
       nulls->push_back(pointer + "/*");
       return;
     }
     for (const auto& [k, v] : j.items()) scanJson(v, pointer + "/" + k, path, nulls);
   } else if (j.is_array()) {
-    for (std::size_t i = 0; i < j.size(); ++i) scanJson(j[i], pointer + "/" + std::to_string(i), path, nulls);
+    for (std::size_t i = 0; i < j.size(); ++i)
+      scanJson(j[i], pointer + "/" + std::to_string(i), path, nulls);
   }
 }
 
 }  // namespace
 
-std::vector<std::string> writeJsonResult(const std::string& path, const json& j, const std::string& why_null) {
+std::vector<std::string> writeJsonResult(const std::string& path, const json& j,
+                                         const std::string& why_null) {
   std::vector<std::string> nulls;
   scanJson(j, "", path, &nulls);
   writeFileAtomically(path, j.dump(2) + "\n");
@@ -70,13 +76,15 @@ std::string missingStatisticsReason(const Evaluation& ev) {
     why.push_back("no outage statistics: no outage window with a reference epoch");
   else if (ev.outage_epochs == 0)
     why.push_back("no outage statistics: no reference epoch inside the outages");
-  if (ev.nees_samples == 0) why.push_back("no NEES: no epoch with a solution sigma and a reference");
+  if (ev.nees_samples == 0)
+    why.push_back("no NEES: no epoch with a solution sigma and a reference");
   std::string s;
   for (const auto& w : why) s += (s.empty() ? "" : "; ") + w;
   return s;
 }
 
-std::vector<std::string> writeErrorsJson(const std::string& path, const ReportMeta& m, const Evaluation& ev) {
+std::vector<std::string> writeErrorsJson(const std::string& path, const ReportMeta& m,
+                                         const Evaluation& ev) {
   json j;
   j["estimator"] = m.estimator;
   j["imu"] = m.imu;
@@ -93,9 +101,11 @@ std::vector<std::string> writeErrorsJson(const std::string& path, const ReportMe
   return writeJsonResult(path, j, missingStatisticsReason(ev));
 }
 
-std::vector<std::string> writeRunInfoJson(const std::string& path, const ReportMeta& m, const Evaluation& ev,
-                      const NavSolution& sol, const std::vector<TimeWindow>& outages,
-                      const std::vector<std::string>& notes, double run_time_s) {
+std::vector<std::string> writeRunInfoJson(const std::string& path, const ReportMeta& m,
+                                          const Evaluation& ev, const NavSolution& sol,
+                                          const std::vector<TimeWindow>& outages,
+                                          const std::vector<std::string>& notes,
+                                          double run_time_s) {
   json j;
   j["estimator"] = m.estimator;
   j["imu"] = m.imu;
@@ -103,10 +113,11 @@ std::vector<std::string> writeRunInfoJson(const std::string& path, const ReportM
                {"dof", ev.nees_dof},
                {"samples", ev.nees_samples},
                {"band_95", {num(ev.nees_band_low), num(ev.nees_band_high)}},
-               {"note", "9 PVA states, diagonal sigma; samples taken every nees_interval_s are "
-                        "correlated in time, so the band is optimistic"}};
-  j["gnss"] = {{"used", sol.gnss_used}, {"rejected", sol.gnss_rejected},
-               {"withheld", sol.gnss_withheld}};
+               {"note",
+                "9 PVA states, diagonal sigma; samples taken every nees_interval_s are "
+                "correlated in time, so the band is optimistic"}};
+  j["gnss"] = {
+      {"used", sol.gnss_used}, {"rejected", sol.gnss_rejected}, {"withheld", sol.gnss_withheld}};
   json w = json::array();
   for (const TimeWindow& t : outages) w.push_back({t.start_s, t.end_s});
   j["outage_windows_s"] = w;
@@ -128,15 +139,15 @@ void writeErrorsCsv(const std::string& path, const Evaluation& ev, double min_in
     if (e.t_s - last < min_interval_s - 1e-9) continue;
     last = e.t_s;
     if (!e.pos_ned_m.allFinite() || !e.vel_ned_m_s.allFinite() || !e.euler_rad.allFinite())
-      throw std::runtime_error(fmt::format("{}: the error at t = {:.4f} s is not finite; refusing to write it", path,
-                                           e.t_s));
+      throw std::runtime_error(fmt::format(
+          "{}: the error at t = {:.4f} s is not finite; refusing to write it", path, e.t_s));
     // A NEES without a solution sigma is absent (empty cell), as in errors.json.
     const std::string nees = std::isfinite(e.nees) ? fmt::format("{:.4g}", e.nees) : std::string();
-    out += fmt::format("{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.5f},{:.5f},{:.5f},{:.6f},{:.6f},{:.6f},{},{}\n",
-                       e.t_s, e.pos_ned_m.x(), e.pos_ned_m.y(), e.pos_ned_m.z(),
-                       e.pos_ned_m.head<2>().norm(), e.vel_ned_m_s.x(), e.vel_ned_m_s.y(),
-                       e.vel_ned_m_s.z(), e.euler_rad.x() * r2d, e.euler_rad.y() * r2d,
-                       e.euler_rad.z() * r2d, nees, e.outage);
+    out += fmt::format(
+        "{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.5f},{:.5f},{:.5f},{:.6f},{:.6f},{:.6f},{},{}\n",
+        e.t_s, e.pos_ned_m.x(), e.pos_ned_m.y(), e.pos_ned_m.z(), e.pos_ned_m.head<2>().norm(),
+        e.vel_ned_m_s.x(), e.vel_ned_m_s.y(), e.vel_ned_m_s.z(), e.euler_rad.x() * r2d,
+        e.euler_rad.y() * r2d, e.euler_rad.z() * r2d, nees, e.outage);
   }
   writeText(path, out);
 }
@@ -148,13 +159,15 @@ void writeOutageCsv(const std::string& path, const Evaluation& ev) {
   const double r2d = units::kRadToDeg;
   for (size_t i = 0; i < ev.outages.size(); ++i) {
     const OutageDrift& d = ev.outages[i];
-    if (!std::isfinite(d.max.horizontal_m) || !std::isfinite(d.max.vertical_m) || !std::isfinite(d.max.roll_rad) ||
-        !std::isfinite(d.max.pitch_rad) || !std::isfinite(d.max.heading_rad))
-      throw std::runtime_error(fmt::format("{}: the maxima of outage {} are not finite; refusing to write them", path, i));
-    out += fmt::format("{},{:.3f},{:.3f},{},{:.4f},{:.4f},{:.6f},{:.6f},{:.6f}\n", i,
-                       d.window.start_s, d.window.end_s, d.epochs, d.max.horizontal_m,
-                       d.max.vertical_m, d.max.roll_rad * r2d, d.max.pitch_rad * r2d,
-                       d.max.heading_rad * r2d);
+    if (!std::isfinite(d.max.horizontal_m) || !std::isfinite(d.max.vertical_m) ||
+        !std::isfinite(d.max.roll_rad) || !std::isfinite(d.max.pitch_rad) ||
+        !std::isfinite(d.max.heading_rad))
+      throw std::runtime_error(fmt::format(
+          "{}: the maxima of outage {} are not finite; refusing to write them", path, i));
+    out +=
+        fmt::format("{},{:.3f},{:.3f},{},{:.4f},{:.4f},{:.6f},{:.6f},{:.6f}\n", i, d.window.start_s,
+                    d.window.end_s, d.epochs, d.max.horizontal_m, d.max.vertical_m,
+                    d.max.roll_rad * r2d, d.max.pitch_rad * r2d, d.max.heading_rad * r2d);
   }
   writeText(path, out);
 }

@@ -26,7 +26,8 @@ void parseTimeRange(const yf::Context& ctx, const YAML::Node& t, TimeRangeConfig
   double v = 0.0;
   if (yf::readOptional(ctx, t, "time_range", "start_s", &v)) r->start_s = v;
   if (yf::readOptional(ctx, t, "time_range", "end_s", &v)) r->end_s = v;
-  if (r->start_s && r->end_s && !(*r->end_s > *r->start_s)) yf::fail(ctx, t, "time_range", "end_s must be > start_s");
+  if (r->start_s && r->end_s && !(*r->end_s > *r->start_s))
+    yf::fail(ctx, t, "time_range", "end_s must be > start_s");
   yf::warnUnknownKeys(ctx, t, "time_range", {"start_s", "end_s"});
 }
 
@@ -39,13 +40,16 @@ void parseOutages(const yf::Context& ctx, const YAML::Node& o, OutageScheduleCon
   if (const YAML::Node w = o["windows"]) {
     if (!w.IsSequence()) yf::fail(ctx, w, "outages.windows", "expected a list of [start, end]");
     for (const auto& p : w) {
-      if (!p.IsSequence() || p.size() != 2) yf::fail(ctx, p, "outages.windows", "each window is [start_s, end_s]");
-      const TimeWindow tw{yf::asDouble(ctx, p[0], "outages.windows"), yf::asDouble(ctx, p[1], "outages.windows")};
+      if (!p.IsSequence() || p.size() != 2)
+        yf::fail(ctx, p, "outages.windows", "each window is [start_s, end_s]");
+      const TimeWindow tw{yf::asDouble(ctx, p[0], "outages.windows"),
+                          yf::asDouble(ctx, p[1], "outages.windows")};
       if (!(tw.end_s > tw.start_s)) yf::fail(ctx, p, "outages.windows", "start must be < end");
       s->explicit_windows.push_back(tw);
     }
   }
-  yf::warnUnknownKeys(ctx, o, "outages", {"length_s", "period_s", "start_s", "end_margin_s", "enabled", "windows"});
+  yf::warnUnknownKeys(ctx, o, "outages",
+                      {"length_s", "period_s", "start_s", "end_margin_s", "enabled", "windows"});
 }
 
 void parseGnss(const yf::Context& ctx, const YAML::Node& g, GnssConfig* q) {
@@ -84,16 +88,19 @@ void parseEkf(const yf::Context& ctx, const YAML::Node& e, EkfOptions* k, Alignm
   yf::readOptional(ctx, e, "ekf", "static_alignment_s", &a->static_duration_s);
   yf::readOptional(ctx, e, "ekf", "motion_min_speed_m_s", &a->motion.min_speed_m_s);
   yf::readOptional(ctx, e, "ekf", "motion_max_std_m", &a->motion_max_std_m);
-  if (!(a->motion_max_std_m > 0.0)) yf::fail(ctx, e["motion_max_std_m"], "ekf.motion_max_std_m", "must be > 0");
+  if (!(a->motion_max_std_m > 0.0))
+    yf::fail(ctx, e["motion_max_std_m"], "ekf.motion_max_std_m", "must be > 0");
   if (a->mode != "given" && a->mode != "static" && a->mode != "motion") {
-    yf::fail(ctx, e["alignment"], "ekf.alignment", "'" + a->mode + "' is not one of given, static, motion");
+    yf::fail(ctx, e["alignment"], "ekf.alignment",
+             "'" + a->mode + "' is not one of given, static, motion");
   }
   validateSection(ctx, "ekf", [&] { k->validate(); });
-  yf::warnUnknownKeys(ctx, e, "ekf",
-                      {"covariance_interval_s", "record_interval_s", "gate_probability",
-                       "max_consecutive_rejections", "gnss_std_scale", "gnss_std_floor_m", "gnss_default_std_m",
-                       "init_pos_std_m", "init_vel_std_m_s", "init_roll_pitch_std_deg", "init_heading_std_deg",
-                       "alignment", "static_alignment_s", "motion_min_speed_m_s", "motion_max_std_m"});
+  yf::warnUnknownKeys(
+      ctx, e, "ekf",
+      {"covariance_interval_s", "record_interval_s", "gate_probability",
+       "max_consecutive_rejections", "gnss_std_scale", "gnss_std_floor_m", "gnss_default_std_m",
+       "init_pos_std_m", "init_vel_std_m_s", "init_roll_pitch_std_deg", "init_heading_std_deg",
+       "alignment", "static_alignment_s", "motion_min_speed_m_s", "motion_max_std_m"});
 }
 
 void parseGrafting(const yf::Context& ctx, const YAML::Node& g, GraftingConfig* c) {
@@ -102,9 +109,11 @@ void parseGrafting(const yf::Context& ctx, const YAML::Node& g, GraftingConfig* 
   yf::readOptional(ctx, g, "grafting", "realizations", &c->realizations);
   yf::readOptional(ctx, g, "grafting", "outage_shifts", &c->outage_shifts);
   if (c->realizations < 1)
-    yf::fail(ctx, g["realizations"], "grafting.realizations", "must be >= 1, got " + std::to_string(c->realizations));
+    yf::fail(ctx, g["realizations"], "grafting.realizations",
+             "must be >= 1, got " + std::to_string(c->realizations));
   if (c->outage_shifts < 1)
-    yf::fail(ctx, g["outage_shifts"], "grafting.outage_shifts", "must be >= 1, got " + std::to_string(c->outage_shifts));
+    yf::fail(ctx, g["outage_shifts"], "grafting.outage_shifts",
+             "must be >= 1, got " + std::to_string(c->outage_shifts));
 }
 
 void parseFgo(const yf::Context& ctx, const YAML::Node& g, FgoOptions* f) {
@@ -136,19 +145,37 @@ void parseFgo(const yf::Context& ctx, const YAML::Node& g, FgoOptions* f) {
   std::string err;
   if (!f->validate(&err)) throw std::runtime_error(ctx.path + ": section fgo: " + err);
   yf::warnUnknownKeys(ctx, g, "fgo",
-                      {"earth_rotation", "max_node_spacing_s", "reintegrate_gyro_bias_rad_s",
-                       "reintegrate_accel_bias_m_s2", "max_reintegration_rounds", "robust_loss", "robust_loss_scale",
-                       "chi2_threshold", "culling_rounds", "gnss_min_std_m", "cull_grace_s", "max_consecutive_culls",
-                       "max_cull_fraction", "initial_position_std_m", "initial_velocity_std_m_s",
-                       "initial_attitude_std_rad", "max_iterations", "num_threads", "compute_covariance",
-                       "window_nodes", "window_iterations", "window_solve_stride", "window_fixed_lag_output",
+                      {"earth_rotation",
+                       "max_node_spacing_s",
+                       "reintegrate_gyro_bias_rad_s",
+                       "reintegrate_accel_bias_m_s2",
+                       "max_reintegration_rounds",
+                       "robust_loss",
+                       "robust_loss_scale",
+                       "chi2_threshold",
+                       "culling_rounds",
+                       "gnss_min_std_m",
+                       "cull_grace_s",
+                       "max_consecutive_culls",
+                       "max_cull_fraction",
+                       "initial_position_std_m",
+                       "initial_velocity_std_m_s",
+                       "initial_attitude_std_rad",
+                       "max_iterations",
+                       "num_threads",
+                       "compute_covariance",
+                       "window_nodes",
+                       "window_iterations",
+                       "window_solve_stride",
+                       "window_fixed_lag_output",
                        "batch_init_stride"});
 }
 
 void parseEvaluation(const yf::Context& ctx, const YAML::Node& v, EvaluationConfig* c) {
   yf::readOptional(ctx, v, "evaluation", "nees_interval_s", &c->options.nees_interval_s);
   yf::readOptional(ctx, v, "evaluation", "csv_rate_hz", &c->csv_rate_hz);
-  if (!(c->csv_rate_hz > 0.0)) yf::fail(ctx, v["csv_rate_hz"], "evaluation.csv_rate_hz", "must be > 0");
+  if (!(c->csv_rate_hz > 0.0))
+    yf::fail(ctx, v["csv_rate_hz"], "evaluation.csv_rate_hz", "must be > 0");
   validateSection(ctx, "evaluation", [&] { c->options.validate(); });
   yf::warnUnknownKeys(ctx, v, "evaluation", {"nees_interval_s", "csv_rate_hz"});
 }
@@ -166,10 +193,12 @@ RunConfig loadRunConfig(const std::string& path, std::vector<std::string>* warni
     if (root[peer_key]) {
       yf::fail(ctx, root[peer_key], peer_key,
                "this is a KF-GINS / OB_GINS set-up, not a run config; convert it with "
-               "`graftnav import kf-gins|ob-gins " + path + " --out CASE`");
+               "`graftnav import kf-gins|ob-gins " +
+                   path + " --out CASE`");
     }
   }
-  yf::warnUnknownKeys(ctx, root, "", {"time_range", "outages", "ekf", "evaluation", "fgo", "gnss", "grafting"});
+  yf::warnUnknownKeys(ctx, root, "",
+                      {"time_range", "outages", "ekf", "evaluation", "fgo", "gnss", "grafting"});
   if (const YAML::Node t = root["time_range"]) parseTimeRange(ctx, t, &c.time_range);
   if (const YAML::Node o = root["outages"]) {
     c.outages_given = true;

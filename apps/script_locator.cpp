@@ -10,8 +10,9 @@ std::string findScript(const std::string& name) {
   if (const char* env = std::getenv("GRAFTNAV_SCRIPTS_DIR")) return (fs::path(env) / name).string();
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  for (const fs::path& c : {exe.parent_path() / ".." / "scripts" / name,
-                            exe.parent_path() / ".." / ".." / "scripts" / name, fs::path("scripts") / name}) {
+  for (const fs::path& c :
+       {exe.parent_path() / ".." / "scripts" / name,
+        exe.parent_path() / ".." / ".." / "scripts" / name, fs::path("scripts") / name}) {
     if (fs::exists(c)) return fs::weakly_canonical(c).string();
   }
   return (fs::path("scripts") / name).string();
@@ -43,7 +44,8 @@ std::string runPythonScript(const std::string& name, const std::vector<std::stri
   const std::string script = findScript(name);
   if (!fs::exists(script)) return "plot script not found: " + script;
   const std::string& py = pythonWithMatplotlib();
-  if (py.empty()) return "python3 with matplotlib not available (apt-get install python3-matplotlib): no plots";
+  if (py.empty())
+    return "python3 with matplotlib not available (apt-get install python3-matplotlib): no plots";
   std::string cmd = py + " " + quote(script);
   for (const auto& a : args) cmd += " " + quote(a);
   cmd += " >/dev/null 2>&1";

@@ -44,24 +44,29 @@ SgEvaluationOptions pipelineOptions(const SgEvaluateOptions& o, const RunConfig&
   return p;
 }
 
-SolutionReference solutionReference(const SgEvaluateOptions& o, const CaseInputs& c, const ImuSelection& ref,
-                                    const RunConfig& rc, const LogFn& log, const std::string& tag) {
+SolutionReference solutionReference(const SgEvaluateOptions& o, const CaseInputs& c,
+                                    const ImuSelection& ref, const RunConfig& rc, const LogFn& log,
+                                    const std::string& tag) {
   if (o.sol_ref == "auto" && !c.reference.empty()) {
-    return {c.reference, c.reference_is_truth ? "truth (" + c.reference_name + ")"
-                                              : "external reference solution (" + c.reference_name + ")"};
+    return {c.reference, c.reference_is_truth
+                             ? "truth (" + c.reference_name + ")"
+                             : "external reference solution (" + c.reference_name + ")"};
   }
   if (!ref.profile_given)
-    throw std::runtime_error(c.paths().caseYaml() + ": reference_imu needs noise parameters to smooth SOL_REF");
+    throw std::runtime_error(c.paths().caseYaml() +
+                             ": reference_imu needs noise parameters to smooth SOL_REF");
   log(fmt::format("[{}] smoothing SOL_REF (rts) from the reference IMU and all GNSS", tag));
   std::vector<std::string> n;
   const EstimationProblem pr = makeProblem(c, ref, rc, std::nullopt, &n);
-  return {runEstimator("rts", pr, rc).states, "RTS-smoothed reference IMU with all GNSS (SOL_REF of the seed)"};
+  return {runEstimator("rts", pr, rc).states,
+          "RTS-smoothed reference IMU with all GNSS (SOL_REF of the seed)"};
 }
 
 // The case's navigator: makeProblem with the tested IMU's profile, then the chosen estimator.
-SgNavigator caseNavigator(const CaseInputs& c, const RunConfig& rc, const std::optional<ImuSelection>& real,
-                          const std::string& estimator) {
-  return [&c, &rc, &real, estimator](std::optional<ImuSeries> grafted, const OutageScheduleConfig& schedule) {
+SgNavigator caseNavigator(const CaseInputs& c, const RunConfig& rc,
+                          const std::optional<ImuSelection>& real, const std::string& estimator) {
+  return [&c, &rc, &real, estimator](std::optional<ImuSeries> grafted,
+                                     const OutageScheduleConfig& schedule) {
     SgNavigation nav;
     EstimationProblem pr;
     if (grafted) {
@@ -83,15 +88,17 @@ SgNavigator caseNavigator(const CaseInputs& c, const RunConfig& rc, const std::o
 void requireTestedNoise(const CaseInputs& c) {
   const CaseConfig& cfg = c.config;
   if (!cfg.tested_imu || !cfg.tested_imu_noise_given) {
-    throw std::runtime_error(c.paths().caseYaml() +
-                             ": tested_imu needs its noise parameters (arw_deg_rt_h, vrw_m_s_rt_h, "
-                             "gyro_bias_instability_deg_h, accel_bias_instability_mg) to be navigated");
+    throw std::runtime_error(
+        c.paths().caseYaml() +
+        ": tested_imu needs its noise parameters (arw_deg_rt_h, vrw_m_s_rt_h, "
+        "gyro_bias_instability_deg_h, accel_bias_instability_mg) to be navigated");
   }
 }
 
 // The pipeline's inputs from the case: the lab calibration's graft plan and the reference IMU.
-SgEvaluationInputs pipelineInputs(const SgEvaluateOptions& o, const CaseInputs& c, const ImuSelection& ref,
-                                  const OutageScheduleConfig& oc, const LabCalibrationReport& lab) {
+SgEvaluationInputs pipelineInputs(const SgEvaluateOptions& o, const CaseInputs& c,
+                                  const ImuSelection& ref, const OutageScheduleConfig& oc,
+                                  const LabCalibrationReport& lab) {
   SgEvaluationInputs in;
   in.case_name = o.case_dir;
   for (const auto& n : lab.notes) in.notes.push_back("calibration: " + n);
@@ -105,10 +112,12 @@ SgEvaluationInputs pipelineInputs(const SgEvaluateOptions& o, const CaseInputs& 
 
 }  // namespace
 
-void writeSgOutputs(const std::string& out_dir, const SgEvaluationReport& rep, bool plots, const LogFn& log) {
+void writeSgOutputs(const std::string& out_dir, const SgEvaluationReport& rep, bool plots,
+                    const LogFn& log) {
   const fs::path out(out_dir);
   for (const auto& s : rep.solutions) {
-    writeErrorsCsv((out / ("errors_" + s.label + ".csv")).string(), s.evaluation, 1.0 / rep.csv_rate_hz);
+    writeErrorsCsv((out / ("errors_" + s.label + ".csv")).string(), s.evaluation,
+                   1.0 / rep.csv_rate_hz);
   }
   writeEvaluationJson((out / "evaluation.json").string(), rep);
   writeTablesMarkdown((out / "tables.md").string(), rep);
@@ -152,11 +161,14 @@ SgEvaluationReport runSgEvaluation(const SgEvaluateOptions& o, const LogFn& log_
   writeCalibrationYaml((fs::path(o.out_dir) / "calibration.yaml").string(), lab.result);
   for (SgStrategy g : po.strategies) {
     if (o.write_grafted_imu)
-      writeImu((fs::path(o.out_dir) / (std::string("IMU_") + sgLabel(g) + ".txt")).string(), pipeline.graft(g, 0));
+      writeImu((fs::path(o.out_dir) / (std::string("IMU_") + sgLabel(g) + ".txt")).string(),
+               pipeline.graft(g, 0));
   }
-  SgEvaluationReport rep = pipeline.run(sol_ref, caseNavigator(c, rc, real, o.estimator), o.estimator, log);
+  SgEvaluationReport rep =
+      pipeline.run(sol_ref, caseNavigator(c, rc, real, o.estimator), o.estimator, log);
   for (auto& s : rep.solutions)
-    if (s.label != "REAL") s.imu_file = (fs::path(o.out_dir) / ("IMU_" + s.label + ".txt")).string();
+    if (s.label != "REAL")
+      s.imu_file = (fs::path(o.out_dir) / ("IMU_" + s.label + ".txt")).string();
   rep.case_name = c.config.name;
   rep.tested_grade = c.config.tested_imu->grade;
   rep.csv_rate_hz = rc.evaluation.csv_rate_hz;

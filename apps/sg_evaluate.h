@@ -23,7 +23,8 @@ struct SgEvaluateOptions {
   std::optional<double> outage_length_s, outage_period_s, outage_start_s;
   std::optional<int> realizations;   // K; default from the run config (20)
   std::optional<int> outage_shifts;  // N; default from the run config (1)
-  std::string sol_ref = "auto";  // auto: truth > reference_solution > smoothed; "smooth": always smooth
+  std::string sol_ref =
+      "auto";  // auto: truth > reference_solution > smoothed; "smooth": always smooth
   std::uint64_t seed = 1;
   bool use_cross_axis = true;
   bool write_grafted_imu = true;  // IMU_SG1.txt / IMU_SG2.txt (realization 0) in out_dir
@@ -49,6 +50,7 @@ void printEvaluationSummary(const SgEvaluationReport& report);
 
 // evaluation.json, tables.md, evaluation.csv, predictive.csv, outage_drift.csv, errors_<LABEL>.csv
 // and (plots) the plots of a report into out_dir (shared with `real-sg`).
-void writeSgOutputs(const std::string& out_dir, const SgEvaluationReport& report, bool plots, const LogFn& log);
+void writeSgOutputs(const std::string& out_dir, const SgEvaluationReport& report, bool plots,
+                    const LogFn& log);
 
 }  // namespace graftnav::app

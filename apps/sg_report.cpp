@@ -39,20 +39,21 @@ struct SeedRow {
   std::array<double, 5> v;
 };
 const std::vector<SeedRow>& seedTable(const std::string& grade) {
-  static const std::vector<SeedRow> tactical{
-      {"ERR_1", {3.758, 0.518, 0.027, 0.022, 0.066}},   {"ERR_2", {4.857, 0.651, 0.029, 0.025, 0.093}},
-      {"ERR_REAL", {4.688, 0.651, 0.029, 0.024, 0.097}}, {"DIFF_1", {19.84, 20.43, 6.90, 8.33, 31.96}},
-      {"DIFF_2", {3.60, 0.00, 0.00, 4.17, 4.12}}};
-  static const std::vector<SeedRow> mems{
-      {"ERR_1", {12.983, 3.131, 0.077, 0.063, 0.334}},   {"ERR_2", {20.422, 7.842, 0.113, 0.117, 0.378}},
-      {"ERR_REAL", {17.657, 6.566, 0.100, 0.098, 0.516}}, {"DIFF_1", {26.47, 52.31, 23.00, 35.71, 35.27}},
-      {"DIFF_2", {15.66, 19.43, 13.00, 19.39, 26.74}}};
+  static const std::vector<SeedRow> tactical{{"ERR_1", {3.758, 0.518, 0.027, 0.022, 0.066}},
+                                             {"ERR_2", {4.857, 0.651, 0.029, 0.025, 0.093}},
+                                             {"ERR_REAL", {4.688, 0.651, 0.029, 0.024, 0.097}},
+                                             {"DIFF_1", {19.84, 20.43, 6.90, 8.33, 31.96}},
+                                             {"DIFF_2", {3.60, 0.00, 0.00, 4.17, 4.12}}};
+  static const std::vector<SeedRow> mems{{"ERR_1", {12.983, 3.131, 0.077, 0.063, 0.334}},
+                                         {"ERR_2", {20.422, 7.842, 0.113, 0.117, 0.378}},
+                                         {"ERR_REAL", {17.657, 6.566, 0.100, 0.098, 0.516}},
+                                         {"DIFF_1", {26.47, 52.31, 23.00, 35.71, 35.27}},
+                                         {"DIFF_2", {15.66, 19.43, 13.00, 19.39, 26.74}}};
   static const std::vector<SeedRow> none;
   if (grade == "tactical") return tactical;
   if (grade == "mems") return mems;
   return none;
 }
-
 
 // The SG strategies of a report that carry realizations.
 std::vector<const SgSolutionErrors*> predictiveSolutions(const SgEvaluationReport& r) {
@@ -62,9 +63,12 @@ std::vector<const SgSolutionErrors*> predictiveSolutions(const SgEvaluationRepor
   return out;
 }
 
-const char* kStatHeader = "| | Horizontal (m) | Vertical (m) | Roll (deg) | Pitch (deg) | Heading (deg) |\n|---|---|---|---|---|---|\n";
+const char* kStatHeader =
+    "| | Horizontal (m) | Vertical (m) | Roll (deg) | Pitch (deg) | Heading (deg) |\n|---|---|---|---|---|---|\n";
 
-std::string rowName(const SgSolutionErrors& s) { return s.label == "REAL" ? "ERR_REAL" : "ERR_" + s.label.substr(2); }
+std::string rowName(const SgSolutionErrors& s) {
+  return s.label == "REAL" ? "ERR_REAL" : "ERR_" + s.label.substr(2);
+}
 
 // Means only (ERR and DIFF), one row per solution.
 std::string meanTable(const SgEvaluationReport& r, bool max_stat) {
@@ -87,7 +91,9 @@ std::string predictiveIntro(const SgEvaluationReport& r) {
       "ERR_REAL and the verdict: consistent (inside the interval), optimistic (ERR_REAL above it: "
       "the grafted IMU navigates better than the real one) or pessimistic (below it).\n\n",
       r.realizations,
-      r.outage_shifts > 1 ? fmt::format(", each averaged over {} shifted outage schedules", r.outage_shifts) : "");
+      r.outage_shifts > 1
+          ? fmt::format(", each averaged over {} shifted outage schedules", r.outage_shifts)
+          : "");
 }
 
 // The seed's Table 2/3 rows, with the predictive intervals and REAL's place when there are
@@ -116,7 +122,8 @@ std::string seedLayoutTable(const SgEvaluationReport& r) {
     for (int i = 0; i < 5; ++i) {
       md += " " + pct(d[i]);
       if (!s.draws.empty() && r.realizations > 1 && s.predictive.real_valid[i])
-        md += fmt::format(" [{}, {}]", pct(s.predictive.diff_interval[i][0]), pct(s.predictive.diff_interval[i][1]));
+        md += fmt::format(" [{}, {}]", pct(s.predictive.diff_interval[i][0]),
+                          pct(s.predictive.diff_interval[i][1]));
       md += " |";
     }
     md += "\n";
@@ -125,9 +132,10 @@ std::string seedLayoutTable(const SgEvaluationReport& r) {
     if (s.draws.empty() || r.realizations < 2) continue;
     md += fmt::format("| REAL in SG#{} |", s.label.substr(2));
     for (int i = 0; i < 5; ++i) {
-      md += s.predictive.real_valid[i] ? fmt::format(" {:.0f} % {} |", 100.0 * s.predictive.real_percentile[i],
-                                                     verdictName(s.predictive.verdict[i]))
-                                       : " n/a |";
+      md += s.predictive.real_valid[i]
+                ? fmt::format(" {:.0f} % {} |", 100.0 * s.predictive.real_percentile[i],
+                              verdictName(s.predictive.verdict[i]))
+                : " n/a |";
     }
     md += "\n";
   }
@@ -148,8 +156,11 @@ void addPredictiveJson(const SgEvaluationReport& r, nlohmann::json* j) {
       const std::string& name = driftStatNames()[i];
       const double u = i < 2 ? 1.0 : units::kRadToDeg;
       const PredictiveSummary& q = p.summary[i];
-      pred[s->label][name] = {{"p05", q.p05 * u}, {"p50", q.p50 * u}, {"p95", q.p95 * u},
-                              {"mean", q.mean * u}, {"sd", q.sd * u}};
+      pred[s->label][name] = {{"p05", q.p05 * u},
+                              {"p50", q.p50 * u},
+                              {"p95", q.p95 * u},
+                              {"mean", q.mean * u},
+                              {"sd", q.sd * u}};
       if (!p.real_valid[i]) {
         pct[s->label][name] = nullptr;
         dint[s->label][name] = nullptr;
@@ -174,9 +185,11 @@ void addPredictiveJson(const SgEvaluationReport& r, nlohmann::json* j) {
 namespace {
 
 std::string statList(const std::vector<int>& idx) {
-  static const std::array<const char*, 5> names{"horizontal", "vertical", "roll", "pitch", "heading"};
+  static const std::array<const char*, 5> names{"horizontal", "vertical", "roll", "pitch",
+                                                "heading"};
   std::string s;
-  for (std::size_t k = 0; k < idx.size(); ++k) s += (k == 0 ? "" : k + 1 == idx.size() ? " and " : ", ") + std::string(names[idx[k]]);
+  for (std::size_t k = 0; k < idx.size(); ++k)
+    s += (k == 0 ? "" : k + 1 == idx.size() ? " and " : ", ") + std::string(names[idx[k]]);
   return s;
 }
 
@@ -187,24 +200,33 @@ std::vector<std::string> verdictLines(const SgSolutionErrors& s) {
   std::vector<std::string> out;
   const std::string sg = "SG#" + s.label.substr(2);
   if (!by[0].empty())
-    out.push_back(fmt::format("{} is consistent with the real IMU on {}: ERR_REAL lies inside its 90 % interval, so "
-                              "the differences there are realization noise.", sg, statList(by[0])));
+    out.push_back(fmt::format(
+        "{} is consistent with the real IMU on {}: ERR_REAL lies inside its 90 % interval, so "
+        "the differences there are realization noise.",
+        sg, statList(by[0])));
   if (!by[1].empty())
-    out.push_back(fmt::format("{} is optimistic on {}: ERR_REAL lies above its 90 % interval, so the real IMU has an "
-                              "error this grafting leaves out.", sg, statList(by[1])));
+    out.push_back(fmt::format(
+        "{} is optimistic on {}: ERR_REAL lies above its 90 % interval, so the real IMU has an "
+        "error this grafting leaves out.",
+        sg, statList(by[1])));
   if (!by[2].empty())
-    out.push_back(fmt::format("{} is pessimistic on {}: ERR_REAL lies below its 90 % interval, so this grafting adds "
-                              "error the real IMU does not have.", sg, statList(by[2])));
+    out.push_back(fmt::format(
+        "{} is pessimistic on {}: ERR_REAL lies below its 90 % interval, so this grafting adds "
+        "error the real IMU does not have.",
+        sg, statList(by[2])));
   return out;
 }
 
-bool overlap(const PredictiveSummary& a, const PredictiveSummary& b) { return a.p05 <= b.p95 && b.p05 <= a.p95; }
+bool overlap(const PredictiveSummary& a, const PredictiveSummary& b) {
+  return a.p05 <= b.p95 && b.p05 <= a.p95;
+}
 
 // Why SG#1 and SG#2 overlap on every statistic: the statistic where their means differ most
 // (relative to SG#1's mean) against the width of SG#2's interval there. A small gap says the
 // dynamic errors barely reach the outage errors; a wide interval says the case is too short.
 std::string cannotTellLine(const SgSolutionErrors& sg1, const SgSolutionErrors& sg2) {
-  static const std::array<const char*, 5> names{"horizontal", "vertical", "roll", "pitch", "heading"};
+  static const std::array<const char*, 5> names{"horizontal", "vertical", "roll", "pitch",
+                                                "heading"};
   int worst = 0;
   double gap = -1.0;
   for (int i = 0; i < 5; ++i) {
@@ -219,7 +241,9 @@ std::string cannotTellLine(const SgSolutionErrors& sg1, const SgSolutionErrors& 
       "by at most {:.0f} % ({}), while one realization's interval there is {:.0f} % of its mean wide{}. A longer "
       "field test, more outages or --outage-shifts narrow the intervals.",
       100.0 * gap, names[worst], 100.0 * width,
-      gap < 0.1 ? ": with this estimator the dynamic errors SG#2 adds barely change the outage errors" : "");
+      gap < 0.1
+          ? ": with this estimator the dynamic errors SG#2 adds barely change the outage errors"
+          : "");
 }
 
 }  // namespace
@@ -227,24 +251,28 @@ std::string cannotTellLine(const SgSolutionErrors& sg1, const SgSolutionErrors& 
 std::vector<std::string> readingLines(const SgEvaluationReport& r) {
   std::vector<std::string> out;
   if (r.realizations < 2) {
-    out.push_back("One grafted realization: DIFF mixes what grafting gets wrong with the noise of one realization; "
-                  "run with --realizations 20 (the default) to tell them apart.");
+    out.push_back(
+        "One grafted realization: DIFF mixes what grafting gets wrong with the noise of one realization; "
+        "run with --realizations 20 (the default) to tell them apart.");
     return out;
   }
   const SgSolutionErrors* sg1 = r.find("SG1");
   const SgSolutionErrors* sg2 = r.find("SG2");
-  if (!r.find("REAL")) out.push_back("No real recording of the tested IMU: the intervals are the prediction itself.");
+  if (!r.find("REAL"))
+    out.push_back("No real recording of the tested IMU: the intervals are the prediction itself.");
   for (const SgSolutionErrors* s : {sg2, sg1})
     if (s && r.find("REAL"))
       for (auto& l : verdictLines(*s)) out.push_back(std::move(l));
   if (sg2 && r.find("REAL")) {
     int outside = 0;
     for (int i = 0; i < 5; ++i)
-      outside += sg2->predictive.real_valid[i] && sg2->predictive.verdict[i] != Verdict::kConsistent;
+      outside +=
+          sg2->predictive.real_valid[i] && sg2->predictive.verdict[i] != Verdict::kConsistent;
     if (outside == 1) {
-      out.push_back("One statistic outside a 90 % interval is what chance gives in about every second run when "
-                    "grafting is exact (five statistics); a finding holds on several statistics, or again with "
-                    "--outage-shifts or on another drive.");
+      out.push_back(
+          "One statistic outside a 90 % interval is what chance gives in about every second run when "
+          "grafting is exact (five statistics); a finding holds on several statistics, or again with "
+          "--outage-shifts or on another drive.");
     }
   }
   if (sg1 && sg2) {
@@ -257,22 +285,28 @@ std::vector<std::string> readingLines(const SgEvaluationReport& r) {
       std::vector<int> apart;
       for (int i = 0; i < 5; ++i)
         if (std::find(same.begin(), same.end(), i) == same.end()) apart.push_back(i);
-      out.push_back(fmt::format("SG#1 and SG#2 are told apart on {}: their 90 % intervals do not overlap, so there "
-                                "the verdicts say which grafting the real IMU follows.",
-                                statList(apart)));
+      out.push_back(fmt::format(
+          "SG#1 and SG#2 are told apart on {}: their 90 % intervals do not overlap, so there "
+          "the verdicts say which grafting the real IMU follows.",
+          statList(apart)));
       if (!same.empty())
-        out.push_back(fmt::format("SG#1 and SG#2 cannot be told apart on {} (their 90 % intervals overlap).", statList(same)));
+        out.push_back(
+            fmt::format("SG#1 and SG#2 cannot be told apart on {} (their 90 % intervals overlap).",
+                        statList(same)));
     }
   }
   if (sg2 && r.find("REAL") && sg2->predictive.real_valid[0]) {
-    out.push_back(fmt::format("A single grafted run would have reported a horizontal DIFF_2 anywhere in [{}, {}] from "
-                              "realization noise alone; read a single-run DIFF against that range.",
-                              pct(sg2->predictive.diff_interval[0][0]), pct(sg2->predictive.diff_interval[0][1])));
+    out.push_back(fmt::format(
+        "A single grafted run would have reported a horizontal DIFF_2 anywhere in [{}, {}] from "
+        "realization noise alone; read a single-run DIFF against that range.",
+        pct(sg2->predictive.diff_interval[0][0]), pct(sg2->predictive.diff_interval[0][1])));
   }
   return out;
 }
 
-std::string driftStatsJson(const DriftStats& s, int indent) { return statsJson(s, false).dump(indent); }
+std::string driftStatsJson(const DriftStats& s, int indent) {
+  return statsJson(s, false).dump(indent);
+}
 
 void writeEvaluationJson(const std::string& path, const SgEvaluationReport& r) {
   nlohmann::json j;
@@ -307,23 +341,27 @@ void writeTablesMarkdown(const std::string& path, const SgEvaluationReport& r) {
   md += fmt::format("# Signal-grafting evaluation: {}\n\n", r.case_name);
   md += fmt::format("Estimator `{}`; {} GNSS outages of {:.0f} s; SOL_REF: {}.\n\n", r.estimator,
                     r.outages.size(), r.outage_length_s, r.reference);
-  md += "Statistics are the seed's: RMS over all epochs inside the outages of the error against "
-        "SOL_REF (Horizontal = sqrt(dN^2 + dE^2), Vertical = |dD|); DIFF_x = |ERR_x - ERR_REAL| / "
-        "ERR_REAL.\n\n";
+  md +=
+      "Statistics are the seed's: RMS over all epochs inside the outages of the error against "
+      "SOL_REF (Horizontal = sqrt(dN^2 + dE^2), Vertical = |dD|); DIFF_x = |ERR_x - ERR_REAL| / "
+      "ERR_REAL.\n\n";
   if (r.realizations > 1) md += predictiveIntro(r);
   md += seedLayoutTable(r);
   md += "## RMS of per-outage maximum drift (the peers' statistic)\n\n";
   md += meanTable(r, true);
   const auto& seed = seedTable(r.tested_grade);
   if (!seed.empty()) {
-    md += fmt::format("## The seed's published table for a {} IMU (Niu et al. 2016)\n\n",
-                      r.tested_grade == "mems" ? "MEMS (POS1100, Table 3)" : "tactical (POS310, Table 2)");
-    md += "Different field test and IMU units: read for shape (DIFF_2 vs DIFF_1), not for equality.\n\n";
+    md += fmt::format(
+        "## The seed's published table for a {} IMU (Niu et al. 2016)\n\n",
+        r.tested_grade == "mems" ? "MEMS (POS1100, Table 3)" : "tactical (POS310, Table 2)");
+    md +=
+        "Different field test and IMU units: read for shape (DIFF_2 vs DIFF_1), not for equality.\n\n";
     md += "| | Horizontal | Vertical | Roll | Pitch | Heading |\n|---|---|---|---|---|---|\n";
     for (const auto& row : seed) {
       const bool is_pct = std::string(row.label).rfind("DIFF", 0) == 0;
       md += fmt::format("| {} |", row.label);
-      for (double v : row.v) md += is_pct ? fmt::format(" {:.2f}% |", v) : fmt::format(" {:.3f} |", v);
+      for (double v : row.v)
+        md += is_pct ? fmt::format(" {:.2f}% |", v) : fmt::format(" {:.3f} |", v);
       md += "\n";
     }
     md += "\n";
@@ -346,16 +384,17 @@ void writeEvaluationCsv(const std::string& path, const SgEvaluationReport& r) {
   for (const auto& s : r.solutions) {
     for (int k = 0; k < 2; ++k) {
       const auto a = asArray(k == 0 ? s.err_rms : s.err_max_rms);
-      csv += fmt::format("ERR_{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}\n", s.label,
-                         k == 0 ? "rms_over_outage_epochs" : "rms_of_outage_maxima", reportValue(a, 0),
-                         reportValue(a, 1), reportValue(a, 2), reportValue(a, 3), reportValue(a, 4));
+      csv +=
+          fmt::format("ERR_{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}\n", s.label,
+                      k == 0 ? "rms_over_outage_epochs" : "rms_of_outage_maxima", reportValue(a, 0),
+                      reportValue(a, 1), reportValue(a, 2), reportValue(a, 3), reportValue(a, 4));
     }
   }
   for (const auto& s : r.solutions) {
     if (s.label == "REAL" || !r.find("REAL")) continue;
     const auto d = asArray(*r.diff(s.label));
-    csv += fmt::format("DIFF_{},fraction,{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}\n", s.label, d[0], d[1], d[2],
-                       d[3], d[4]);
+    csv += fmt::format("DIFF_{},fraction,{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}\n", s.label, d[0], d[1],
+                       d[2], d[3], d[4]);
   }
   writeFileAtomically(path, csv);
 }
@@ -368,9 +407,10 @@ void writePerOutageCsv(const std::string& path, const SgEvaluationReport& r) {
     int i = 0;
     for (const auto& o : s.evaluation.outages) {
       const auto a = asArray(o.max);
-      csv += fmt::format("{},{},{:.3f},{:.3f},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}\n", s.label, i++,
-                         o.window.start_s, o.window.end_s, o.epochs, reportValue(a, 0), reportValue(a, 1),
-                         reportValue(a, 2), reportValue(a, 3), reportValue(a, 4));
+      csv +=
+          fmt::format("{},{},{:.3f},{:.3f},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}\n", s.label, i++,
+                      o.window.start_s, o.window.end_s, o.epochs, reportValue(a, 0),
+                      reportValue(a, 1), reportValue(a, 2), reportValue(a, 3), reportValue(a, 4));
     }
   }
   writeFileAtomically(path, csv);
@@ -386,8 +426,9 @@ void writePredictiveCsv(const std::string& path, const SgEvaluationReport& r) {
       const double u = i < 2 ? 1.0 : units::kRadToDeg;
       const PredictiveSummary& q = s.predictive.summary[i];
       const std::string& name = driftStatNames()[i];
-      csv += fmt::format("{},{},{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}", s.label, name.substr(0, name.rfind('_')),
-                         i < 2 ? "m" : "deg", q.count, q.mean * u, q.sd * u, q.p05 * u, q.p50 * u, q.p95 * u);
+      csv += fmt::format("{},{},{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}", s.label,
+                         name.substr(0, name.rfind('_')), i < 2 ? "m" : "deg", q.count, q.mean * u,
+                         q.sd * u, q.p05 * u, q.p50 * u, q.p95 * u);
       if (real && s.predictive.real_valid[i]) {
         csv += fmt::format(",{:.6f},{:.4f},{:.6f},{:.6f},{}\n", asArray(real->err_rms)[i] * u,
                            s.predictive.real_percentile[i], s.predictive.diff_interval[i][0],

@@ -18,7 +18,8 @@ void appendRow(std::string* out, const std::string& path, double t_s, const doub
   *out += fmt::format("{:.4f}", t_s);
   for (int i = 0; i < n; ++i) {
     if (!std::isfinite(v[i])) {
-      throw std::runtime_error(fmt::format("{}: non-finite value in column {} at t={:.4f}", path, i + 2, t_s));
+      throw std::runtime_error(
+          fmt::format("{}: non-finite value in column {} at t={:.4f}", path, i + 2, t_s));
     }
     *out += fmt::format(" {:.9g}", v[i]);
   }
@@ -34,7 +35,8 @@ constexpr const char* kStateStdHeader =
     "att_std_n_deg att_std_e_deg att_std_d_deg\n";
 
 // One row of each file (shared by the in-memory writers and the streamed sink).
-void appendImuErrorsRow(std::string* out, const std::string& path, double t_s, const ImuErrorEstimate& e) {
+void appendImuErrorsRow(std::string* out, const std::string& path, double t_s,
+                        const ImuErrorEstimate& e) {
   double v[12];
   for (int i = 0; i < 3; ++i) {
     v[i] = e.gyro_bias_rad_s[i] / units::kDegPerHourToRadPerSec;
@@ -45,7 +47,8 @@ void appendImuErrorsRow(std::string* out, const std::string& path, double t_s, c
   appendRow(out, path, t_s, v, 12);
 }
 
-void appendStateStdRow(std::string* out, const std::string& path, double t_s, const PvaSigma& sigma) {
+void appendStateStdRow(std::string* out, const std::string& path, double t_s,
+                       const PvaSigma& sigma) {
   double v[9];
   for (int i = 0; i < 9; ++i) v[i] = i < 6 ? sigma[i] : sigma[i] * units::kRadToDeg;
   appendRow(out, path, t_s, v, 9);
@@ -83,8 +86,8 @@ bool writeStateStd(const std::string& path, const NavSolution& sol) {
   return true;
 }
 
-SolutionOutputsSink::SolutionOutputsSink(const std::string& imu_errors_path, const std::string& state_std_path,
-                                         bool with_imu_errors) {
+SolutionOutputsSink::SolutionOutputsSink(const std::string& imu_errors_path,
+                                         const std::string& state_std_path, bool with_imu_errors) {
   if (with_imu_errors) imu_errors_.file = std::make_unique<AtomicFile>(imu_errors_path);
   imu_errors_.buffer = kImuErrorsHeader;
   state_std_.file = std::make_unique<AtomicFile>(state_std_path);
@@ -97,7 +100,8 @@ void SolutionOutputsSink::File::flush(bool force) {
   buffer.clear();
 }
 
-void SolutionOutputsSink::add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate& sensors) {
+void SolutionOutputsSink::add(const NavState& state, const PvaSigma* sigma,
+                              const ImuErrorEstimate& sensors) {
   ++epochs_;
   if (imu_errors_.file) {
     appendImuErrorsRow(&imu_errors_.buffer, imu_errors_.file->path(), state.t_s, sensors);

@@ -29,7 +29,8 @@ bool writeStateStd(const std::string& path, const NavSolution& sol);
 // nothing for them), since the sink's zero scales cannot tell.
 class SolutionOutputsSink : public SolutionSink {
  public:
-  SolutionOutputsSink(const std::string& imu_errors_path, const std::string& state_std_path, bool with_imu_errors);
+  SolutionOutputsSink(const std::string& imu_errors_path, const std::string& state_std_path,
+                      bool with_imu_errors);
   void add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate& sensors) override;
   // Renames the files into place; *imu_errors / *state_std tell which were written.
   void commit(bool* imu_errors, bool* state_std);

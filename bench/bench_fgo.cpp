@@ -57,7 +57,13 @@ void BM_BatchFgo(benchmark::State& state) {
   state.counters["output_s"] = rep.output_time_s;
   state.counters["iterations"] = rep.iterations;
 }
-BENCHMARK(BM_BatchFgo)->Arg(15)->Arg(30)->Arg(60)->Arg(120)->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK(BM_BatchFgo)
+    ->Arg(15)
+    ->Arg(30)
+    ->Arg(60)
+    ->Arg(120)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
 
 void BM_WindowFgo(benchmark::State& state) {
   const int minutes = static_cast<int>(state.range(0));

@@ -31,7 +31,8 @@ graftnav::ImuSeries makeImu() {
 
 const std::string& benchFile() {
   static const std::string path = [] {
-    const std::string p = (std::filesystem::temp_directory_path() / "graftnav_bench_imu_1h_200hz.txt").string();
+    const std::string p =
+        (std::filesystem::temp_directory_path() / "graftnav_bench_imu_1h_200hz.txt").string();
     graftnav::writeImu(p, makeImu());
     return p;
   }();
@@ -54,7 +55,8 @@ BENCHMARK(BM_ReadImu1h200Hz)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 void BM_WriteImu1h200Hz(benchmark::State& state) {
   const graftnav::ImuSeries imu = makeImu();
-  const std::string path = (std::filesystem::temp_directory_path() / "graftnav_bench_imu_write.txt").string();
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "graftnav_bench_imu_write.txt").string();
   for (auto _ : state) graftnav::writeImu(path, imu);
   std::remove(path.c_str());
 }

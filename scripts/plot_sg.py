@@ -25,7 +25,8 @@ STATS = [("horizontal_m", "horizontal_m", "horizontal (m)"), ("vertical_m", "dow
 def read_csv(path):
     with open(path) as f:
         rows = list(csv.DictReader(f))
-    return {k: [float(r[k]) for r in rows] for k in rows[0]} if rows else {}
+    # An empty cell (e.g. the NEES of an estimator without covariance) is not a number: NaN.
+    return {k: [float(r[k]) if r[k] != "" else float("nan") for r in rows] for k in rows[0]} if rows else {}
 
 
 def plot_intervals(ev, out):

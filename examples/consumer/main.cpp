@@ -14,7 +14,8 @@ int main() {
     imu[k].dt_s = 0.01;
     imu[k].dvel_m_s.z() = -0.0981;
   }
-  const std::string path = (std::filesystem::temp_directory_path() / "graftnav_consumer_imu.txt").string();
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "graftnav_consumer_imu.txt").string();
   graftnav::writeImu(path, imu);
   const graftnav::ImuSeries back = graftnav::readImu(path);
   const Eigen::Vector3d euler(0.1, -0.2, 2.0);

@@ -24,9 +24,9 @@ StaticAlignment alignStatic(const ImuSeries& imu, double t_begin_s, double durat
     ++n;
   }
   if (n < 10) {
-    throw std::invalid_argument("alignStatic: only " + std::to_string(n) +
-                                " IMU samples in the window starting at t=" +
-                                std::to_string(t_begin_s));
+    throw std::invalid_argument(
+        "alignStatic: only " + std::to_string(n) +
+        " IMU samples in the window starting at t=" + std::to_string(t_begin_s));
   }
   const Eigen::Vector3d f = sum_dv / T, w = sum_dth / T;
   const double g = earth::gravityMagnitude(pos);
@@ -43,8 +43,8 @@ StaticAlignment alignStatic(const ImuSeries& imu, double t_begin_s, double durat
   const Eigen::Matrix3d C_lb = dcmFromEuler({rp.x(), rp.y(), 0.0});
   const Eigen::Vector3d w_l = C_lb * w;
   const double w_h = earth::rotationRate_rad_s() * std::cos(pos.lat_rad);
-  const double gyro_sigma = std::hypot(profile.gyro_bias_instability_rad_s,
-                                       profile.arw_rad_sqrt_s / std::sqrt(T));
+  const double gyro_sigma =
+      std::hypot(profile.gyro_bias_instability_rad_s, profile.arw_rad_sqrt_s / std::sqrt(T));
   a.heading_std_rad = gyro_sigma / std::max(w_h, 1e-12);
   a.euler_rad = {rp.x(), rp.y(), 0.0};
   if (a.heading_std_rad <= max_heading_std_rad) {
@@ -53,8 +53,8 @@ StaticAlignment alignStatic(const ImuSeries& imu, double t_begin_s, double durat
   } else {
     a.note = "gyrocompassing refused: gyro bias/noise " + std::to_string(gyro_sigma) +
              " rad/s against a horizontal Earth rate of " + std::to_string(w_h) +
-             " rad/s gives a heading sigma of " +
-             std::to_string(a.heading_std_rad * kRadToDeg) + " deg";
+             " rad/s gives a heading sigma of " + std::to_string(a.heading_std_rad * kRadToDeg) +
+             " deg";
   }
   return a;
 }

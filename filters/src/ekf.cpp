@@ -252,8 +252,10 @@ EkfPass::EkfPass(const EstimationProblem& problem, const EkfOptions& options, bo
   bookkeeping_.estimator = "ekf";
   bookkeeping_.gnss_withheld = static_cast<int>(problem.gnss.size() - gnss_.size());
   filter_.enableRecording(record);
-  while (next_fix_ < gnss_.size() && gnss_[next_fix_].t_s < t_cur_ - kTimeTol_s) ++next_fix_;  // before the start
-  while (next_fix_ < gnss_.size() && gnss_[next_fix_].t_s <= t_cur_ + kTimeTol_s) applyFix(next_fix_++);  // at it
+  while (next_fix_ < gnss_.size() && gnss_[next_fix_].t_s < t_cur_ - kTimeTol_s)
+    ++next_fix_;  // before the start
+  while (next_fix_ < gnss_.size() && gnss_[next_fix_].t_s <= t_cur_ + kTimeTol_s)
+    applyFix(next_fix_++);  // at it
 }
 
 void EkfPass::applyFix(std::size_t i) {
@@ -272,7 +274,8 @@ void EkfPass::add(const ImuSample& s, SolutionSink* sink) {
     applyFix(next_fix_++);
   }
   filter_.propagate(sliceImuSample(s, piece_start, s.t_s));
-  while (next_fix_ < gnss_.size() && gnss_[next_fix_].t_s <= s.t_s + kTimeTol_s) applyFix(next_fix_++);
+  while (next_fix_ < gnss_.size() && gnss_[next_fix_].t_s <= s.t_s + kTimeTol_s)
+    applyFix(next_fix_++);
   t_cur_ = s.t_s;
   if (++processed_ % static_cast<size_t>(options_.output_decimation) == 0 && sink) {
     NavState st = filter_.state();
@@ -284,7 +287,8 @@ void EkfPass::add(const ImuSample& s, SolutionSink* sink) {
 
 NavSolution EkfPass::finish(SmootherRecords* records) {
   if (processed_ == 0) {
-    throw std::invalid_argument("runEkf: no IMU sample after the initial time " + std::to_string(t_cur_));
+    throw std::invalid_argument("runEkf: no IMU sample after the initial time " +
+                                std::to_string(t_cur_));
   }
   filter_.recordNow();
   bookkeeping_.gnss_rejected = filter_.rejected();
@@ -303,8 +307,7 @@ NavSolution runEkfStreaming(const EstimationProblem& problem, const EkfOptions& 
 }
 
 NavSolution runEkf(const EstimationProblem& problem, const EkfOptions& options,
-                   SmootherRecords* records, const ProgressFn& progress,
-                   bool keep_states) {
+                   SmootherRecords* records, const ProgressFn& progress, bool keep_states) {
   options.validate();
   if (problem.imu.empty()) throw std::invalid_argument("runEkf: the IMU series is empty");
   EkfPass pass(problem, options, records != nullptr);

@@ -12,10 +12,10 @@ using namespace ekf;
 
 ImuSample correctImuSample(const ImuSample& raw, const ImuErrorEstimate& e) {
   ImuSample s = raw;
-  s.dtheta_rad = (raw.dtheta_rad - e.gyro_bias_rad_s * raw.dt_s).cwiseQuotient(
-      Eigen::Vector3d::Ones() + e.gyro_scale);
-  s.dvel_m_s = (raw.dvel_m_s - e.accel_bias_m_s2 * raw.dt_s).cwiseQuotient(
-      Eigen::Vector3d::Ones() + e.accel_scale);
+  s.dtheta_rad = (raw.dtheta_rad - e.gyro_bias_rad_s * raw.dt_s)
+                     .cwiseQuotient(Eigen::Vector3d::Ones() + e.gyro_scale);
+  s.dvel_m_s = (raw.dvel_m_s - e.accel_bias_m_s2 * raw.dt_s)
+                   .cwiseQuotient(Eigen::Vector3d::Ones() + e.accel_scale);
   return s;
 }
 
@@ -41,7 +41,8 @@ ErrorCov errorDynamics(const NavState& s, const Eigen::Vector3d& omega_ib_b,
   F.block<3, 3>(kAtt, kGyroBias) = -C_nb;
   F.block<3, 3>(kAtt, kGyroScale) = -C_nb * omega_ib_b.asDiagonal();
   auto decay = [&](int off, double T) {
-    if (T > 0.0 && std::isfinite(T)) F.block<3, 3>(off, off) = -(1.0 / T) * Eigen::Matrix3d::Identity();
+    if (T > 0.0 && std::isfinite(T))
+      F.block<3, 3>(off, off) = -(1.0 / T) * Eigen::Matrix3d::Identity();
   };
   decay(kGyroBias, profile.gyro_bias_corr_time_s);
   decay(kAccelBias, profile.accel_bias_corr_time_s);
@@ -71,7 +72,8 @@ BlockMask blockMask(const ErrorCov& A) {
   return m;
 }
 
-void multiplyBlockSparse(const ErrorCov& A, const BlockMask& mask, const ErrorCov& B, ErrorCov* out) {
+void multiplyBlockSparse(const ErrorCov& A, const BlockMask& mask, const ErrorCov& B,
+                         ErrorCov* out) {
   out->setZero();
   for (int i = 0; i < kBlocks; ++i) {
     for (int k = 0; k < kBlocks; ++k) {

@@ -62,7 +62,8 @@ std::vector<SmoothedRecord> smoothRecords(const SmootherRecords& rec) {
   return out;
 }
 
-RtsOutputPass::RtsOutputPass(std::vector<SmoothedRecord> smoothed, int output_decimation, int gnss_week)
+RtsOutputPass::RtsOutputPass(std::vector<SmoothedRecord> smoothed, int output_decimation,
+                             int gnss_week)
     : sm_(std::move(smoothed)),
       decimation_(static_cast<std::size_t>(std::max(output_decimation, 1))),
       gnss_week_(gnss_week),
@@ -152,8 +153,8 @@ NavSolution runRtsStreaming(const EstimationProblem& problem, const EkfOptions& 
   return sol;
 }
 
-NavSolution runRts(const EstimationProblem& problem, const EkfOptions& options, NavSolution* forward,
-                   RtsStats* stats, const ProgressFn& progress) {
+NavSolution runRts(const EstimationProblem& problem, const EkfOptions& options,
+                   NavSolution* forward, RtsStats* stats, const ProgressFn& progress) {
   SmootherRecords records;
   ProgressFn fwd_progress;
   if (progress) fwd_progress = [&](double f) { progress(0.6 * f); };

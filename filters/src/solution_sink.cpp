@@ -11,7 +11,8 @@ void NavSolutionSink::reserve(std::size_t epochs) {
   sol_->accel_scale.reserve(epochs);
 }
 
-void NavSolutionSink::add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate& sensors) {
+void NavSolutionSink::add(const NavState& state, const PvaSigma* sigma,
+                          const ImuErrorEstimate& sensors) {
   sol_->states.push_back(state);
   if (sigma) sol_->sigma.push_back(*sigma);
   sol_->gyro_bias_rad_s.push_back(sensors.gyro_bias_rad_s);

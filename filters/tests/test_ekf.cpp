@@ -38,7 +38,8 @@ TEST(Ekf, RecoversInjectedMemsBiasesWithinThreeSigmaAndTracksGnssNoise) {
   size_t gi = 0;
   for (const ImuSample& s : pr.imu) {
     f.propagate(s);
-    while (gi < pr.gnss.size() && pr.gnss[gi].t_s <= s.t_s + 1e-6) f.updatePosition(pr.gnss[gi++], pr.lever_arm_b_m);
+    while (gi < pr.gnss.size() && pr.gnss[gi].t_s <= s.t_s + 1e-6)
+      f.updatePosition(pr.gnss[gi++], pr.lever_arm_b_m);
   }
   f.flushCovariance();
   const ErrorCov& P = f.covariance();
@@ -190,7 +191,8 @@ void neesCheck(const ImuProfile& p, int runs, bool smoothed = false) {
     const Evaluation ev = evaluateSolution(sol, sc.truth, pr.outages, eo);
     // Samples: the last epoch of each outage and the last epoch of the run.
     std::vector<double> times;
-    for (const TimeWindow& w : pr.outages) times.push_back(smoothed ? 0.5 * (w.start_s + w.end_s) : w.end_s - 0.5);
+    for (const TimeWindow& w : pr.outages)
+      times.push_back(smoothed ? 0.5 * (w.start_s + w.end_s) : w.end_s - 0.5);
     times.push_back(sc.truth.back().t_s);
     for (double t : times) {
       auto it = std::lower_bound(ev.epochs.begin(), ev.epochs.end(), t - 1e-6,
@@ -202,8 +204,10 @@ void neesCheck(const ImuProfile& p, int runs, bool smoothed = false) {
   }
   const double mean = sum / n;
   ::testing::Test::RecordProperty("nees_mean", std::to_string(mean));
-  const double lo = chiSquareQuantile(0.025, 9.0 * n) / n, hi = chiSquareQuantile(0.975, 9.0 * n) / n;
-  EXPECT_GT(mean, lo) << (smoothed ? "RTS " : "EKF ") << p.grade << " NEES " << mean << " band [" << lo << ", " << hi << "]";
+  const double lo = chiSquareQuantile(0.025, 9.0 * n) / n,
+               hi = chiSquareQuantile(0.975, 9.0 * n) / n;
+  EXPECT_GT(mean, lo) << (smoothed ? "RTS " : "EKF ") << p.grade << " NEES " << mean << " band ["
+                      << lo << ", " << hi << "]";
   EXPECT_LT(mean, hi) << p.grade << " NEES " << mean << " band [" << lo << ", " << hi << "]";
 }
 

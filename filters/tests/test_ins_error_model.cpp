@@ -50,8 +50,8 @@ TEST(InsErrorModel, AnalyticTransitionMatchesNumericLinearizationOfMechanization
   // latitude/longitude (~1e-9 m) does not swamp entries of ~1e-6, small enough to stay linear
   // (central differences cancel the quadratic terms).
   ErrorState scale;
-  scale << 0.5, 0.5, 0.5, 0.1, 0.1, 0.1, 1e-2, 1e-2, 1e-2, 1e-4, 1e-4, 1e-4, 1e-2, 1e-2, 1e-2,
-      1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3;
+  scale << 0.5, 0.5, 0.5, 0.1, 0.1, 0.1, 1e-2, 1e-2, 1e-2, 1e-4, 1e-4, 1e-4, 1e-2, 1e-2, 1e-2, 1e-3,
+      1e-3, 1e-3, 1e-3, 1e-3, 1e-3;
   auto propagate = [&](const Eigen::VectorXd& u) -> Eigen::VectorXd {
     const ErrorState x = scale.cwiseProduct(ErrorState(u));
     const Eigen::VectorXd x0 = x;
@@ -90,7 +90,7 @@ TEST(InsErrorModel, AnalyticTransitionMatchesNumericLinearizationOfMechanization
     }
   }
   // The blocks this test leans on are not trivially zero.
-  EXPECT_GT(std::abs(Phi(kVel, kAtt + 1)), 1.0);         // f x psi
+  EXPECT_GT(std::abs(Phi(kVel, kAtt + 1)), 1.0);             // f x psi
   EXPECT_GT(std::abs(Phi(kAtt + 2, kGyroScale + 2)), 0.05);  // omega_z scale
 }
 
@@ -124,8 +124,8 @@ TEST(InsErrorModel, LeverArmVelocityJacobianMatchesNumeric) {
   const Eigen::Vector3d v_gnss = antennaVelocity(t, kOmega_b, l);
   auto f = [&](const Eigen::VectorXd& xv) -> Eigen::VectorXd {
     const ErrorState x = xv;
-    const Eigen::Vector3d w = kOmega_b + x.segment<3>(kGyroBias) +
-                              kOmega_b.cwiseProduct(x.segment<3>(kGyroScale));
+    const Eigen::Vector3d w =
+        kOmega_b + x.segment<3>(kGyroBias) + kOmega_b.cwiseProduct(x.segment<3>(kGyroScale));
     return antennaVelocity(perturbNavState(t, x), w, l) - v_gnss;
   };
   const Eigen::MatrixXd Hn = test::numericJacobian(f, Eigen::VectorXd::Zero(kStateDim), 1e-4);

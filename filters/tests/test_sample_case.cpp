@@ -34,7 +34,8 @@ SampleCase loadSample(bool tested) {
   sc.truth = readNav(paths.truthNav());
   sc.problem.imu_profile = tested ? *cfg.tested_imu : *cfg.reference_imu;
   sc.problem.lever_arm_b_m = cfg.lever_arm_m.value_or(Eigen::Vector3d::Zero());
-  sc.problem.initial = *interpolateNav(sc.truth, sc.problem.imu.front().t_s - sc.problem.imu.front().dt_s, 1e-3);
+  sc.problem.initial =
+      *interpolateNav(sc.truth, sc.problem.imu.front().t_s - sc.problem.imu.front().dt_s, 1e-3);
   return sc;
 }
 
@@ -67,7 +68,8 @@ TEST(SampleCase, NavigateWritesTheErrorsJsonContract) {
   const std::string cmd = test::graftnavBinary() + " navigate " + test::sourceDir() +
                           "/data/sample_tactical --out " + out +
                           " --imu tested --estimator rts --outage-length 30 --outage-period 90"
-                          " --outage-start 60 --no-plots > " + out + "/log.txt 2>&1";
+                          " --outage-start 60 --no-plots > " +
+                          out + "/log.txt 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   std::ifstream f(out + "/errors.json");
   ASSERT_TRUE(f.good());
@@ -76,8 +78,8 @@ TEST(SampleCase, NavigateWritesTheErrorsJsonContract) {
   EXPECT_TRUE(j["imu"].is_string());
   EXPECT_EQ(j["outages"]["length_s"], 30.0);
   EXPECT_GE(j["outages"]["count"].get<int>(), 3);
-  for (const char* k : {"horizontal_rms_m", "vertical_rms_m", "roll_rms_deg", "pitch_rms_deg",
-                        "heading_rms_deg"}) {
+  for (const char* k :
+       {"horizontal_rms_m", "vertical_rms_m", "roll_rms_deg", "pitch_rms_deg", "heading_rms_deg"}) {
     EXPECT_TRUE(j["overall"][k].is_number()) << k;
   }
   for (const char* s : {"outage", "outage_max"}) {
@@ -87,7 +89,8 @@ TEST(SampleCase, NavigateWritesTheErrorsJsonContract) {
   }
   EXPECT_TRUE(j["nees"].is_number());
   EXPECT_EQ(j.size(), 7u);  // exactly the contract's keys
-  EXPECT_GE(j["outage_max"]["horizontal_m"].get<double>(), j["outage"]["horizontal_m"].get<double>());
+  EXPECT_GE(j["outage_max"]["horizontal_m"].get<double>(),
+            j["outage"]["horizontal_m"].get<double>());
   // solution.nav readable, one line per IMU epoch.
   EXPECT_GT(readNav(out + "/solution.nav").size(), 1000u);
   std::ifstream csv(out + "/outage_drift.csv");
@@ -98,8 +101,8 @@ TEST(SampleCase, NavigateWritesTheErrorsJsonContract) {
 
 TEST(SampleCase, NavigateFailsClearlyOnABadCaseDir) {
   const std::string out = test::makeTempDir("navigate_bad");
-  const std::string cmd = test::graftnavBinary() + " navigate " + out + " --out " + out +
-                          "/o > " + out + "/log.txt 2>&1";
+  const std::string cmd = test::graftnavBinary() + " navigate " + out + " --out " + out + "/o > " +
+                          out + "/log.txt 2>&1";
   EXPECT_NE(std::system(cmd.c_str()), 0);
   std::ifstream f(out + "/log.txt");
   const std::string log((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());

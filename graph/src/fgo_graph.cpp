@@ -36,7 +36,8 @@ FgoGraph::FgoGraph(const EstimationProblem& problem, const FgoOptions& options)
   setUp(seriesPass(problem.imu));
 }
 
-FgoGraph::FgoGraph(const EstimationProblem& problem, const FgoOptions& options, const ImuPassFn& imu)
+FgoGraph::FgoGraph(const EstimationProblem& problem, const FgoOptions& options,
+                   const ImuPassFn& imu)
     : problem_(problem), options_(options), frame_(problem.initial.pos) {
   setUp(imu);
 }
@@ -47,7 +48,8 @@ void FgoGraph::setUp(const ImuPassFn& imu) {
   const ImuProfile& prof = problem_.imu_profile;
   noise_.arw_rad_sqrt_s = std::max(prof.arw_rad_sqrt_s, options_.min_arw_rad_sqrt_s);
   noise_.vrw_m_s_sqrt_s = std::max(prof.vrw_m_s_sqrt_s, options_.min_vrw_m_s_sqrt_s);
-  gyro_process_.sigma = std::max(prof.gyro_bias_instability_rad_s, options_.min_gyro_bias_std_rad_s);
+  gyro_process_.sigma =
+      std::max(prof.gyro_bias_instability_rad_s, options_.min_gyro_bias_std_rad_s);
   gyro_process_.tau_s = prof.gyro_bias_corr_time_s;
   accel_process_.sigma =
       std::max(prof.accel_bias_instability_m_s2, options_.min_accel_bias_std_m_s2);
@@ -83,13 +85,15 @@ ImuPreintegration& FgoGraph::preintegrate(size_t k) {
 ImuPreintegration& FgoGraph::preintegrate(size_t k, const ImuSampleBuffer& samples) {
   const size_t begin = intervalBegin(k), end = intervalEnd(k);
   if (begin >= end) {
-    throw std::invalid_argument("FgoGraph::preintegrate: interval " + std::to_string(k) + " is empty");
+    throw std::invalid_argument("FgoGraph::preintegrate: interval " + std::to_string(k) +
+                                " is empty");
   }
   const ImuSample* first = &samples.at(begin);
   samples.at(end - 1);  // the whole interval is held (contiguous storage)
   const NodeValue x = blocks_[k].value();
   if (!pre_[k]) pre_[k] = std::make_unique<ImuPreintegration>(x.bg, x.ba, noise_);
-  pre_[k]->reintegrate(first, end - begin, begin > 0 ? &samples.at(begin - 1) : nullptr, x.bg, x.ba);
+  pre_[k]->reintegrate(first, end - begin, begin > 0 ? &samples.at(begin - 1) : nullptr, x.bg,
+                       x.ba);
   gravity_point_[k] = x.p_w;
   return *pre_[k];
 }
@@ -113,7 +117,8 @@ void FgoGraph::preintegrateFromPass(const ImuPassFn& imu, const std::vector<size
   });
   if (next != intervals.size()) {
     throw std::runtime_error("FgoGraph: the IMU pass ended before interval " +
-                             std::to_string(intervals[next]) + " (fewer samples than the layout's)");
+                             std::to_string(intervals[next]) +
+                             " (fewer samples than the layout's)");
   }
 }
 
@@ -154,9 +159,10 @@ NodePriorFactor* FgoGraph::makeInitialPrior() const {
     sa(i) = pick(6 + i, options_.initial_attitude_std_rad);
   }
   const ImuProfile& prof = problem_.imu_profile;
-  const double sbg = std::max(prof.gyro_bias_initial_std_rad_s > 0 ? prof.gyro_bias_initial_std_rad_s
-                                                                   : prof.gyro_bias_instability_rad_s,
-                              options_.min_gyro_bias_std_rad_s);
+  const double sbg =
+      std::max(prof.gyro_bias_initial_std_rad_s > 0 ? prof.gyro_bias_initial_std_rad_s
+                                                    : prof.gyro_bias_instability_rad_s,
+               options_.min_gyro_bias_std_rad_s);
   const double sba =
       std::max(prof.accel_bias_initial_std_m_s2 > 0 ? prof.accel_bias_initial_std_m_s2
                                                     : prof.accel_bias_instability_m_s2,
@@ -222,18 +228,24 @@ void FgoGraph::requireFinite(size_t begin, size_t end, const std::string& stage)
       }
       return true;
     };
-    if (!finite(b.p, 3)) bad = "position";
-    else if (!finite(b.q, 4)) bad = "attitude";
-    else if (!finite(b.v, 3)) bad = "velocity";
-    else if (!finite(b.bg, 3)) bad = "gyro bias";
-    else if (!finite(b.ba, 3)) bad = "accel bias";
+    if (!finite(b.p, 3))
+      bad = "position";
+    else if (!finite(b.q, 4))
+      bad = "attitude";
+    else if (!finite(b.v, 3))
+      bad = "velocity";
+    else if (!finite(b.bg, 3))
+      bad = "gyro bias";
+    else if (!finite(b.ba, 3))
+      bad = "accel bias";
     if (bad == nullptr) continue;
-    std::string msg = stage + ": node " + std::to_string(k) + " at t=" +
-                      std::to_string(nodes()[k].t_s) + " has a non-finite " + bad;
+    std::string msg = stage + ": node " + std::to_string(k) +
+                      " at t=" + std::to_string(nodes()[k].t_s) + " has a non-finite " + bad;
     if (k > 0 && hasPreintegration(k - 1)) {
-      msg += " (preintegration from node " + std::to_string(k - 1) + " at t=" +
-             std::to_string(nodes()[k - 1].t_s) + " over " + std::to_string(pre_[k - 1]->dt_s()) +
-             " s, " + std::to_string(nodes()[k].gnss.size()) + " GNSS fixes on the node)";
+      msg += " (preintegration from node " + std::to_string(k - 1) +
+             " at t=" + std::to_string(nodes()[k - 1].t_s) + " over " +
+             std::to_string(pre_[k - 1]->dt_s()) + " s, " + std::to_string(nodes()[k].gnss.size()) +
+             " GNSS fixes on the node)";
     }
     throw std::runtime_error(msg);
   }
@@ -253,10 +265,11 @@ void FgoGraph::outputPass(const ImuPassFn& imu, const std::vector<PvaSigma>& sig
                           const FgoEpochFn& output) const {
   OutputIntegrator out(frame_, problem_.initial.gnss_week, output);
   const std::vector<GraphNode>& n = nodes();
-  size_t next = 0, i = 0;  // the next node to start, the sample's index
+  size_t next = 0, i = 0;                 // the next node to start, the sample's index
   auto startNodes = [&](size_t sample) {  // every node whose interval starts at or before it
     for (; next < n.size() && n[next].sample_end <= sample; ++next) {
-      out.node(n[next].t_s, blocks_[next].value(), sigma_nodes.empty() ? nullptr : &sigma_nodes[next]);
+      out.node(n[next].t_s, blocks_[next].value(),
+               sigma_nodes.empty() ? nullptr : &sigma_nodes[next]);
     }
   };
   imu([&](const ImuSeries& block) {

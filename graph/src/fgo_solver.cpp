@@ -57,7 +57,8 @@ std::vector<PvaSigma> nodeSigmas(FgoGraph& graph, ceres::Problem& problem, int n
 // The solution's epochs from `run`, into `output`, or into the returned solution when `output`
 // is empty (the solution then holds only the GNSS bookkeeping).
 NavSolution outputSolution(const FgoGraph& graph, const std::string& estimator,
-                           const std::function<void(const FgoEpochFn&)>& run, const FgoEpochFn& output) {
+                           const std::function<void(const FgoEpochFn&)>& run,
+                           const FgoEpochFn& output) {
   NavSolution sol;
   sol.estimator = estimator;
   if (output) {
@@ -67,7 +68,8 @@ NavSolution outputSolution(const FgoGraph& graph, const std::string& estimator,
     sol.states.reserve(n_out);
     sol.gyro_bias_rad_s.reserve(n_out);
     sol.accel_bias_m_s2.reserve(n_out);
-    run([&](const NavState& s, const PvaSigma* sigma, const Eigen::Vector3d& bg, const Eigen::Vector3d& ba) {
+    run([&](const NavState& s, const PvaSigma* sigma, const Eigen::Vector3d& bg,
+            const Eigen::Vector3d& ba) {
       sol.states.push_back(s);
       sol.gyro_bias_rad_s.push_back(bg);
       sol.accel_bias_m_s2.push_back(ba);
@@ -79,8 +81,8 @@ NavSolution outputSolution(const FgoGraph& graph, const std::string& estimator,
 }
 
 bool allFinite(const NodeValue& x) {
-  return x.p_w.allFinite() && x.q_wb.coeffs().allFinite() && x.v_w.allFinite() && x.bg.allFinite() &&
-         x.ba.allFinite();
+  return x.p_w.allFinite() && x.q_wb.coeffs().allFinite() && x.v_w.allFinite() &&
+         x.bg.allFinite() && x.ba.allFinite();
 }
 
 // The window estimator's output as the window goes: each node's causal value (or, fixed-lag,
@@ -89,7 +91,9 @@ bool allFinite(const NodeValue& x) {
 class WindowOutput final : public WindowListener {
  public:
   WindowOutput(const FgoGraph& graph, bool fixed_lag, const FgoEpochFn& output)
-      : graph_(graph), fixed_lag_(fixed_lag), out_(graph.frame(), graph.problem().initial.gnss_week, output) {}
+      : graph_(graph),
+        fixed_lag_(fixed_lag),
+        out_(graph.frame(), graph.problem().initial.gnss_week, output) {}
   void entered(size_t k, const NodeValue& x, const ImuSampleBuffer& samples) override {
     if (fixed_lag_) return;
     if (k > 0) emitInterval(k - 1, held_, samples);
@@ -113,7 +117,8 @@ class WindowOutput final : public WindowListener {
                                std::to_string(graph_.nodes()[k].t_s) + " has a non-finite value");
     }
     out_.node(graph_.nodes()[k].t_s, y, nullptr);
-    for (size_t i = graph_.intervalBegin(k); i < graph_.intervalEnd(k); ++i) out_.sample(samples.at(i));
+    for (size_t i = graph_.intervalBegin(k); i < graph_.intervalEnd(k); ++i)
+      out_.sample(samples.at(i));
   }
 
   const FgoGraph& graph_;
@@ -164,9 +169,16 @@ std::vector<size_t> BatchSolver::movedIntervals() const {
   return moved;
 }
 
-BatchSolver::BatchSolver(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions& options, FgoReport* rep)
-    : graph_(graph), imu_(imu), options_(options), rep_(*rep), n_(graph.nodes().size()),
-      prob_(problemOptions()), pfs_(n_ > 0 ? n_ - 1 : 0), gnss_(n_) {
+BatchSolver::BatchSolver(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions& options,
+                         FgoReport* rep)
+    : graph_(graph),
+      imu_(imu),
+      options_(options),
+      rep_(*rep),
+      n_(graph.nodes().size()),
+      prob_(problemOptions()),
+      pfs_(n_ > 0 ? n_ - 1 : 0),
+      gnss_(n_) {
   for (size_t k = 0; k < n_; ++k) graph_.addNodeBlocks(&prob_, k);
   prob_.AddResidualBlock(graph_.makeInitialPrior(), nullptr, graph_.nodeBlocks(0));
   const std::vector<size_t> moved = movedIntervals();
@@ -179,8 +191,9 @@ BatchSolver::BatchSolver(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions
   }
   for (size_t k = 0; k < n_; ++k) {
     for (size_t fix : graph_.nodes()[k].gnss) {
-      gnss_[k].emplace_back(
-          prob_.AddResidualBlock(graph_.makeGnssFactor(fix), graph_.gnssLoss(), graph_.poseBlocks(k)), fix);
+      gnss_[k].emplace_back(prob_.AddResidualBlock(graph_.makeGnssFactor(fix), graph_.gnssLoss(),
+                                                   graph_.poseBlocks(k)),
+                            fix);
     }
   }
   so_.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
@@ -251,7 +264,8 @@ void BatchSolver::reintegrationRounds() {
 // Initial values: a fixed-lag sliding-window pass that solves every batch_init_stride nodes
 // (counts of its culling are not kept: the batch re-decides every fix). Every interval's
 // preintegration stays.
-void initializeByWindow(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions& options, FgoReport* rep) {
+void initializeByWindow(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions& options,
+                        FgoReport* rep) {
   FgoOptions init = options;
   init.window_solve_stride = options.batch_init_stride;
   init.window_nodes = std::max(options.window_nodes, 2 * options.batch_init_stride);
@@ -292,10 +306,11 @@ NavSolution solveWindowFgo(const EstimationProblem& problem, const ImuPassFn& im
   rep.gnss_factors = static_cast<int>(graph.fixes().size());
   sol.gnss_used = rep.gnss_factors - rep.gnss_culled;
   sol.gnss_rejected = rep.gnss_culled;
-  rep.summary = fmt::format("fgo-window: {} nodes, {} GNSS ({} culled), {} re-preintegrations, "
-                            "{} solves, {:.3f} s",
-                            rep.nodes, rep.gnss_factors, rep.gnss_culled, rep.reintegrations,
-                            rep.solves, rep.window_time_s);
+  rep.summary = fmt::format(
+      "fgo-window: {} nodes, {} GNSS ({} culled), {} re-preintegrations, "
+      "{} solves, {:.3f} s",
+      rep.nodes, rep.gnss_factors, rep.gnss_culled, rep.reintegrations, rep.solves,
+      rep.window_time_s);
   return sol;
 }
 
@@ -336,8 +351,8 @@ NavSolution solveBatchFgo(const EstimationProblem& problem, const ImuPassFn& imu
   rep.summary = fmt::format(
       "fgo: {} nodes, {} GNSS ({} culled), {} re-preintegrations, {} solves / {} iterations, "
       "cost {:.4g} -> {:.4g}, window init {:.3f} s, batch {:.3f} s{}",
-      rep.nodes, rep.gnss_factors, rep.gnss_culled, rep.reintegrations, rep.solves,
-      rep.iterations, rep.initial_cost, rep.final_cost, rep.window_time_s, rep.batch_time_s,
+      rep.nodes, rep.gnss_factors, rep.gnss_culled, rep.reintegrations, rep.solves, rep.iterations,
+      rep.initial_cost, rep.final_cost, rep.window_time_s, rep.batch_time_s,
       rep.cull_refused > 0 ? fmt::format(" (culling refused: {} fixes failed)", rep.cull_refused)
                            : std::string());
   return sol;

@@ -44,7 +44,8 @@ void ImuPreintegration::integrate(const ImuSample& prev, const ImuSample& cur) {
   const Eigen::Vector3d dvb = cur.dvel_m_s - ba_lin_ * dt;
   const Eigen::Vector3d pth = prev.dtheta_rad - bg_lin_ * prev.dt_s;
   const Eigen::Vector3d pdv = prev.dvel_m_s - ba_lin_ * prev.dt_s;
-  const Eigen::Vector3d dv_fb = dvb + 0.5 * dth.cross(dvb) + (pth.cross(dvb) + pdv.cross(dth)) / 12.0;
+  const Eigen::Vector3d dv_fb =
+      dvb + 0.5 * dth.cross(dvb) + (pth.cross(dvb) + pdv.cross(dth)) / 12.0;
   const Eigen::Vector3d phi = dth + pth.cross(dth) / 12.0;
   const Eigen::Vector3d a = dR_ * dv_fb;
 
@@ -102,8 +103,8 @@ void ImuPreintegration::reintegrate(const ImuSeries& imu, size_t begin, size_t e
               ba_m_s2);
 }
 
-void ImuPreintegration::reintegrate(const ImuSample* samples, size_t count,
-                                    const ImuSample* before, const Eigen::Vector3d& bg_rad_s,
+void ImuPreintegration::reintegrate(const ImuSample* samples, size_t count, const ImuSample* before,
+                                    const Eigen::Vector3d& bg_rad_s,
                                     const Eigen::Vector3d& ba_m_s2) {
   if (count == 0) {
     throw std::invalid_argument("ImuPreintegration::reintegrate: no samples in the interval");
@@ -116,8 +117,10 @@ void ImuPreintegration::reintegrate(const ImuSample* samples, size_t count,
 ImuPreintegration::Matrix9d ImuPreintegration::sqrtInformation() const {
   Eigen::LLT<Matrix9d> llt(cov_);
   if (llt.info() != Eigen::Success) {
-    throw std::runtime_error("ImuPreintegration::sqrtInformation: covariance not positive definite"
-                             " (zero ARW/VRW?) over dt=" + std::to_string(dt_s_));
+    throw std::runtime_error(
+        "ImuPreintegration::sqrtInformation: covariance not positive definite"
+        " (zero ARW/VRW?) over dt=" +
+        std::to_string(dt_s_));
   }
   Matrix9d Linv = llt.matrixL().solve(Matrix9d::Identity());
   return Linv;

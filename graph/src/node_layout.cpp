@@ -26,7 +26,8 @@ struct SampleTime {
 // max_node_spacing_s are placed on the sample times held since the previous node.
 class LayoutBuilder {
  public:
-  LayoutBuilder(const EstimationProblem& problem, const LocalFrame& frame, const FgoOptions& options)
+  LayoutBuilder(const EstimationProblem& problem, const LocalFrame& frame,
+                const FgoOptions& options)
       : problem_(problem), frame_(frame), options_(options), t0_(problem.initial.t_s) {
     for (size_t i = 0; i < problem.gnss.size(); ++i) {
       const GnssFix& f = problem.gnss[i];
@@ -109,7 +110,8 @@ class LayoutBuilder {
     std::vector<GraphNode>& nodes = layout_.nodes;
     const SampleTime a = times_[open_anchor_];
     const double t_prev = nodes.back().t_s;
-    const int n_sub = static_cast<int>(std::ceil((a.t_s - t_prev) / options_.max_node_spacing_s - 0.25));
+    const int n_sub =
+        static_cast<int>(std::ceil((a.t_s - t_prev) / options_.max_node_spacing_s - 0.25));
     for (int m = 1; m < n_sub; ++m) {
       const SampleTime s = nearest(t_prev + (a.t_s - t_prev) * m / n_sub);
       if (s.index + 1 > nodes.back().sample_end && s.index < a.index) {
@@ -138,7 +140,8 @@ class LayoutBuilder {
                                [](const SampleTime& s, double tt) { return s.t_s < tt; });
     if (it == times_.end()) --it;
     if (it->index > layout_.first_sample) {
-      if (it == times_.begin()) throw std::logic_error("LayoutBuilder: sample before the held times");
+      if (it == times_.begin())
+        throw std::logic_error("LayoutBuilder: sample before the held times");
       if (std::abs((it - 1)->t_s - t) < std::abs(it->t_s - t)) --it;
     }
     return *it;
@@ -156,7 +159,8 @@ class LayoutBuilder {
       const Eigen::Vector3d std_ned = f.std_ned_m.cwiseMax(options_.gnss_min_std_m);
       const Eigen::Matrix3d C_wn = frame_.C_nw(f.pos).transpose();
       const Eigen::Matrix3d cov_w = C_wn * std_ned.cwiseAbs2().asDiagonal() * C_wn.transpose();
-      obs.sqrt_info_w = Eigen::LLT<Eigen::Matrix3d>(cov_w).matrixL().solve(Eigen::Matrix3d::Identity());
+      obs.sqrt_info_w =
+          Eigen::LLT<Eigen::Matrix3d>(cov_w).matrixL().solve(Eigen::Matrix3d::Identity());
       obs.dt_s = p.second;
       number[p.first] = layout_.fixes.size();
       layout_.fixes.push_back(obs);
@@ -172,12 +176,12 @@ class LayoutBuilder {
   const FgoOptions& options_;
   const double t0_;
   NodeLayout layout_{{}, {}, 0, kNone, 0};
-  std::vector<size_t> by_time_;       // candidate fixes (problem indices) in time order
+  std::vector<size_t> by_time_;  // candidate fixes (problem indices) in time order
   size_t next_fix_ = 0;
-  size_t count_ = 0;                  // samples seen
-  std::vector<SampleTime> times_;     // from the sample before the last node on
-  size_t open_anchor_ = kNone;        // position in times_ of the newest fixes' sample
-  std::vector<size_t> anchor_fixes_;  // their problem indices
+  size_t count_ = 0;                               // samples seen
+  std::vector<SampleTime> times_;                  // from the sample before the last node on
+  size_t open_anchor_ = kNone;                     // position in times_ of the newest fixes' sample
+  std::vector<size_t> anchor_fixes_;               // their problem indices
   std::vector<std::pair<size_t, double>> placed_;  // (problem index, t_fix - t_node)
 };
 

@@ -33,7 +33,8 @@ bool NodePriorFactor::Evaluate(double const* const* parameters, double* residual
   }
   if (jacobians[1]) {
     // Log(q0^-1 q Exp(d)) ~= dth + Jr^-1(dth) d.
-    const Eigen::Matrix<double, 15, 3> J_t = S_.middleCols<3>(3).lazyProduct(rightJacobianInverseSO3(dth));
+    const Eigen::Matrix<double, 15, 3> J_t =
+        S_.middleCols<3>(3).lazyProduct(rightJacobianInverseSO3(dth));
     Eigen::Map<Mat154R>{jacobians[1]} = J_t * tangentToAmbientJacobian(q);
   }
   return true;

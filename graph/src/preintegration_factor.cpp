@@ -91,8 +91,7 @@ bool PreintegrationFactor::Evaluate(double const* const* parameters, double* res
     Mat93 J = Mat93::Zero();
     J.block<3, 3>(kP, 0) = -pre.dp_dbg();
     J.block<3, 3>(kV, 0) = -pre.dv_dbg();
-    J.block<3, 3>(kR, 0) =
-        -Jr_inv * M.transpose() * rightJacobianSO3(phi_b) * pre.dR_dbg();
+    J.block<3, 3>(kR, 0) = -Jr_inv * M.transpose() * rightJacobianSO3(phi_b) * pre.dR_dbg();
     Eigen::Map<Mat93R>{jacobians[3]} = sqrt_info_.lazyProduct(J);
   }
   if (jacobians[4]) {  // ba_i
@@ -145,8 +144,7 @@ void PreintegrationFactor::predict(const Eigen::Vector3d& p_i, const Eigen::Quat
   }
   *p_j = pj;
   *v_j = vj;
-  const Eigen::Matrix3d R_j =
-      dcmFromRotationVector(-w * T) * R_i * pre.correctedDeltaR(bg_i);
+  const Eigen::Matrix3d R_j = dcmFromRotationVector(-w * T) * R_i * pre.correctedDeltaR(bg_i);
   *q_j = Eigen::Quaterniond(R_j).normalized();
 }
 

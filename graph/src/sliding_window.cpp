@@ -56,7 +56,8 @@ void accumulateBlock(FgoGraph& graph, ceres::Problem& problem, size_t m,
   problem.GetParameterBlocksForResidualBlock(id, &blocks);
   const int nr = cost->num_residuals();
   const std::vector<int32_t>& sizes = cost->parameter_block_sizes();
-  std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(blocks.size());
+  std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(
+      blocks.size());
   std::vector<double*> jac_ptrs(blocks.size());
   for (size_t i = 0; i < blocks.size(); ++i) {
     J[i].resize(nr, sizes[i]);
@@ -64,7 +65,8 @@ void accumulateBlock(FgoGraph& graph, ceres::Problem& problem, size_t m,
   }
   Eigen::VectorXd r(nr);
   if (!cost->Evaluate(blocks.data(), r.data(), jac_ptrs.data())) {
-    throw std::runtime_error("marginalizeNode: a factor failed to evaluate at node " + std::to_string(m));
+    throw std::runtime_error("marginalizeNode: a factor failed to evaluate at node " +
+                             std::to_string(m));
   }
   double scale = 1.0;
   if (loss != nullptr) {
@@ -94,8 +96,8 @@ void accumulateBlock(FgoGraph& graph, ceres::Problem& problem, size_t m,
 // Schur complement of H, g on the second node, factored as S^T S = H', S^T e = g'.
 void schurOnSecondNode(const Matrix30d& H, const Vector30d& g, NodePriorFactor::Matrix15d* S,
                        NodePriorFactor::Vector15d* e) {
-  const Eigen::Matrix<double, 15, 15> Hmm = 0.5 * (H.topLeftCorner<15, 15>() +
-                                                   H.topLeftCorner<15, 15>().transpose());
+  const Eigen::Matrix<double, 15, 15> Hmm =
+      0.5 * (H.topLeftCorner<15, 15>() + H.topLeftCorner<15, 15>().transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 15, 15>> es_m(Hmm);
   const double tol_m = 1e-12 * std::max(es_m.eigenvalues().maxCoeff(), 1e-300);
   Eigen::Matrix<double, 15, 1> inv_l;
@@ -106,7 +108,8 @@ void schurOnSecondNode(const Matrix30d& H, const Vector30d& g, NodePriorFactor::
   const Eigen::Matrix<double, 15, 15> Hmm_inv =
       es_m.eigenvectors() * inv_l.asDiagonal() * es_m.eigenvectors().transpose();
   const Eigen::Matrix<double, 15, 15> Hrm = H.bottomLeftCorner<15, 15>();
-  Eigen::Matrix<double, 15, 15> Hp = H.bottomRightCorner<15, 15>() - Hrm * Hmm_inv * Hrm.transpose();
+  Eigen::Matrix<double, 15, 15> Hp =
+      H.bottomRightCorner<15, 15>() - Hrm * Hmm_inv * Hrm.transpose();
   Hp = 0.5 * (Hp + Hp.transpose()).eval();
   const Eigen::Matrix<double, 15, 1> gp = g.tail<15>() - Hrm * Hmm_inv * g.head<15>();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 15, 15>> es(Hp);
@@ -138,7 +141,8 @@ NodePriorFactor* marginalizeNode(FgoGraph& graph, ceres::Problem& problem, size_
   }
   Matrix30d H = Matrix30d::Zero();
   Vector30d g = Vector30d::Zero();
-  for (ceres::ResidualBlockId id : residuals) accumulateBlock(graph, problem, m, offset, id, &H, &g);
+  for (ceres::ResidualBlockId id : residuals)
+    accumulateBlock(graph, problem, m, offset, id, &H, &g);
   NodePriorFactor::Matrix15d S;
   NodePriorFactor::Vector15d e;
   schurOnSecondNode(H, g, &S, &e);
@@ -200,7 +204,8 @@ SlidingWindow::SlidingWindow(FgoGraph& graph, bool keep_preintegrations, WindowL
       so_(windowSolverOptions(graph.options())) {
   graph_.addNodeBlocks(&problem_, 0);
   res_.emplace_back();
-  res_.front().prior = problem_.AddResidualBlock(graph_.makeInitialPrior(), nullptr, graph_.nodeBlocks(0));
+  res_.front().prior =
+      problem_.AddResidualBlock(graph_.makeInitialPrior(), nullptr, graph_.nodeBlocks(0));
   last_gnss_t_ = reacquired_t_ = graph_.nodes()[0].t_s;
   listener_->entered(0, graph_.blocks(0).value(), ImuSampleBuffer());
 }
@@ -209,9 +214,9 @@ void SlidingWindow::solve() {
   ceres::Solver::Summary summary;
   ceres::Solve(so_, &problem_, &summary);
   if (summary.termination_type == ceres::FAILURE) {
-    throw std::runtime_error("runSlidingWindow: Ceres failed at node " + std::to_string(solving_node_) +
-                             " (t=" + std::to_string(graph_.nodes()[solving_node_].t_s) +
-                             "): " + summary.message);
+    throw std::runtime_error(
+        "runSlidingWindow: Ceres failed at node " + std::to_string(solving_node_) +
+        " (t=" + std::to_string(graph_.nodes()[solving_node_].t_s) + "): " + summary.message);
   }
   ++solves_;
   iterations_ += static_cast<int>(summary.iterations.size());
@@ -226,13 +231,14 @@ void SlidingWindow::addFactors(size_t k) {
   NodeResiduals& prev = residuals(k - 1);
   prev.preint_factor = pf;
   prev.preint_out = problem_.AddResidualBlock(pf, nullptr, graph_.preintegrationBlocks(k - 1));
-  prev.bias_out = problem_.AddResidualBlock(graph_.makeBiasFactor(k - 1), nullptr, graph_.biasBlocks(k - 1));
+  prev.bias_out =
+      problem_.AddResidualBlock(graph_.makeBiasFactor(k - 1), nullptr, graph_.biasBlocks(k - 1));
   res_.emplace_back();
   const bool reacquiring = graph_.nodes()[k].t_s - reacquired_t_ <= opt_.cull_grace_s;
   for (size_t fix : graph_.nodes()[k].gnss) {
     res_.back().gnss.emplace_back(
-        problem_.AddResidualBlock(graph_.makeGnssFactor(fix), reacquiring ? nullptr : graph_.gnssLoss(),
-                                  graph_.poseBlocks(k)),
+        problem_.AddResidualBlock(graph_.makeGnssFactor(fix),
+                                  reacquiring ? nullptr : graph_.gnssLoss(), graph_.poseBlocks(k)),
         fix);
   }
 }
@@ -269,7 +275,8 @@ void SlidingWindow::addNode(size_t k, const ImuSampleBuffer& samples) {
   graph_.preintegrate(k - 1, samples);
   graph_.predictNode(k);
   addFactors(k);
-  const bool solve_now = (k % static_cast<size_t>(opt_.window_solve_stride) == 0) || k + 1 == graph_.nodes().size();
+  const bool solve_now =
+      (k % static_cast<size_t>(opt_.window_solve_stride) == 0) || k + 1 == graph_.nodes().size();
   if (solve_now) solve();
   cullNewest(k, t_k - reacquired_t_ <= opt_.cull_grace_s, solve_now);
   if (solve_now) {
@@ -339,12 +346,11 @@ void runSlidingWindow(FgoGraph& graph, const ImuPassFn& imu, FgoReport* report,
     }
   });
   if (next < n) {
-    throw std::runtime_error("runSlidingWindow: the IMU pass ended before node " + std::to_string(next) +
-                             " (fewer samples than the layout's)");
+    throw std::runtime_error("runSlidingWindow: the IMU pass ended before node " +
+                             std::to_string(next) + " (fewer samples than the layout's)");
   }
   window.finish(samples);
   if (report) window.addCounts(report);
 }
-
 
 }  // namespace graftnav

@@ -77,7 +77,8 @@ TEST(RightQuaternionManifold, PlusIsRightMultiplication) {
   const Eigen::Vector3d d(0.01, 0.02, -0.03);
   Eigen::Quaterniond out;
   manifold.Plus(q.coeffs().data(), d.data(), out.coeffs().data());
-  EXPECT_LT((out.toRotationMatrix() - q.toRotationMatrix() * dcmFromRotationVector(d)).norm(), 1e-14);
+  EXPECT_LT((out.toRotationMatrix() - q.toRotationMatrix() * dcmFromRotationVector(d)).norm(),
+            1e-14);
 }
 
 class FactorJacobians : public ::testing::Test {
@@ -117,11 +118,12 @@ TEST_F(FactorJacobians, PreintegrationFactor) {
     Eigen::Vector3d bg(3e-4, -2e-4, 1e-4), ba(0.03, -0.02, 0.05);
     const Eigen::Vector3d w = earth ? frame_->omega_ie_w() : Eigen::Vector3d::Zero().eval();
     PreintegrationFactor f(&pre, w, frame_->linearGravity(p_i));
-    std::vector<double*> params = {p_i.data(), q_i.coeffs().data(), v_i.data(), bg.data(),
-                                   ba.data(),  p_j.data(), q_j.coeffs().data(), v_j.data()};
-    expectJacobiansMatch(f, params,
-                         {nullptr, &manifold_, nullptr, nullptr, nullptr, nullptr, &manifold_, nullptr},
-                         1e-5);
+    std::vector<double*> params = {p_i.data(),          q_i.coeffs().data(), v_i.data(),
+                                   bg.data(),           ba.data(),           p_j.data(),
+                                   q_j.coeffs().data(), v_j.data()};
+    expectJacobiansMatch(
+        f, params, {nullptr, &manifold_, nullptr, nullptr, nullptr, nullptr, &manifold_, nullptr},
+        1e-5);
 
     // The same, in the tangent space, through the suite's numericJacobian helper (q_i block).
     auto residual_of_dtheta_i = [&](const Eigen::VectorXd& d) {
@@ -132,7 +134,8 @@ TEST_F(FactorJacobians, PreintegrationFactor) {
       f.Evaluate(pp.data(), r.data(), nullptr);
       return Eigen::VectorXd(r);
     };
-    const Eigen::MatrixXd J_num = test::numericJacobian(residual_of_dtheta_i, Eigen::VectorXd::Zero(3));
+    const Eigen::MatrixXd J_num =
+        test::numericJacobian(residual_of_dtheta_i, Eigen::VectorXd::Zero(3));
     Eigen::Matrix<double, 9, 4, Eigen::RowMajor> J_amb;
     std::vector<double*> jac(8, nullptr);
     jac[1] = J_amb.data();
@@ -150,7 +153,8 @@ TEST_F(FactorJacobians, GnssPositionFactor) {
   Eigen::Quaterniond q = quatFromEuler(Eigen::Vector3d(0.05, -0.03, 1.2));
   Eigen::Matrix3d S;
   S << 2.0, 0.1, 0.0, 0.0, 1.5, 0.2, 0.0, 0.0, 1.0;
-  GnssPositionFactor f(Eigen::Vector3d(9.0, -19.0, 0.0), S, Eigen::Vector3d(0.3, -0.2, -1.2), 0.004);
+  GnssPositionFactor f(Eigen::Vector3d(9.0, -19.0, 0.0), S, Eigen::Vector3d(0.3, -0.2, -1.2),
+                       0.004);
   expectJacobiansMatch(f, {p.data(), q.coeffs().data(), v.data()}, {nullptr, &manifold_, nullptr},
                        1e-6);
 }

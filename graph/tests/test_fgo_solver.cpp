@@ -23,10 +23,10 @@ struct Case {
 Case makeCase(double duration_s, double outage_start_s, double outage_len_s) {
   Case c;
   c.sc = test::makeScenario(duration_s, 200.0, 12.0);
-  c.err.bg_rad_s << 4e-5, -3e-5, 5e-5;    // ~10 deg/h, MEMS
-  c.err.ba_m_s2 << 8e-3, -6e-3, 5e-3;     // ~0.8 mg
-  c.err.arw_rad_sqrt_s = 4.4e-5;          // 0.15 deg/sqrt(h)
-  c.err.vrw_m_s_sqrt_s = 1e-3;            // 0.06 m/s/sqrt(h)
+  c.err.bg_rad_s << 4e-5, -3e-5, 5e-5;  // ~10 deg/h, MEMS
+  c.err.ba_m_s2 << 8e-3, -6e-3, 5e-3;   // ~0.8 mg
+  c.err.arw_rad_sqrt_s = 4.4e-5;        // 0.15 deg/sqrt(h)
+  c.err.vrw_m_s_sqrt_s = 1e-3;          // 0.06 m/s/sqrt(h)
   EstimationProblem& p = c.problem;
   p.imu = test::addImuErrors(c.sc.ideal, c.err, 42);
   p.lever_arm_b_m << 0.3, -0.2, -1.1;
@@ -156,13 +156,15 @@ TEST(FgoSolver, MarginalizationPreservesOptimumAndCovariance) {
   po.enable_fast_removal = true;
   ceres::Problem full(po);
   graph.addNodeBlocks(&full, 0);
-  ceres::ResidualBlockId prior = full.AddResidualBlock(graph.makeInitialPrior(), nullptr, graph.nodeBlocks(0));
+  ceres::ResidualBlockId prior =
+      full.AddResidualBlock(graph.makeInitialPrior(), nullptr, graph.nodeBlocks(0));
   std::vector<ceres::ResidualBlockId> touching0 = {prior};
   for (size_t k = 1; k < 3; ++k) {
     graph.preintegrate(k - 1);
     graph.predictNode(k);
     graph.addNodeBlocks(&full, k);
-    auto id1 = full.AddResidualBlock(graph.makePreintegrationFactor(k - 1), nullptr, graph.preintegrationBlocks(k - 1));
+    auto id1 = full.AddResidualBlock(graph.makePreintegrationFactor(k - 1), nullptr,
+                                     graph.preintegrationBlocks(k - 1));
     auto id2 = full.AddResidualBlock(graph.makeBiasFactor(k - 1), nullptr, graph.biasBlocks(k - 1));
     if (k == 1) touching0.insert(touching0.end(), {id1, id2});
     for (size_t fix : graph.nodes()[k].gnss)

@@ -23,10 +23,10 @@ namespace {
 // 10 Hz GNSS with 2 m noise, a profile with large initial bias sigmas.
 EstimationProblem makeMemsProblem(const test::Scenario& sc) {
   test::ImuErrors err;
-  err.bg_rad_s << 1.4e-3, -2e-4, 1.4e-3;   // ~0.08 deg/s
-  err.ba_m_s2 << 0.02, -0.03, -0.5;        // z: 5 % of gravity
-  err.arw_rad_sqrt_s = 1.75e-4;            // 0.6 deg/sqrt(h)
-  err.vrw_m_s_sqrt_s = 5e-3;               // 0.3 m/s/sqrt(h)
+  err.bg_rad_s << 1.4e-3, -2e-4, 1.4e-3;  // ~0.08 deg/s
+  err.ba_m_s2 << 0.02, -0.03, -0.5;       // z: 5 % of gravity
+  err.arw_rad_sqrt_s = 1.75e-4;           // 0.6 deg/sqrt(h)
+  err.vrw_m_s_sqrt_s = 5e-3;              // 0.3 m/s/sqrt(h)
   EstimationProblem p;
   p.imu = test::addImuErrors(sc.ideal, err, 7);
   p.lever_arm_b_m.setZero();
@@ -34,10 +34,10 @@ EstimationProblem makeMemsProblem(const test::Scenario& sc) {
   p.initial = sc.truth.front();
   p.imu_profile.arw_rad_sqrt_s = err.arw_rad_sqrt_s;
   p.imu_profile.vrw_m_s_sqrt_s = err.vrw_m_s_sqrt_s;
-  p.imu_profile.gyro_bias_instability_rad_s = 1.5e-4;  // 30 deg/h
-  p.imu_profile.accel_bias_instability_m_s2 = 0.03;    // 3 mg
-  p.imu_profile.gyro_bias_initial_std_rad_s = 1.94e-3; // 400 deg/h
-  p.imu_profile.accel_bias_initial_std_m_s2 = 0.59;    // 60 mg
+  p.imu_profile.gyro_bias_instability_rad_s = 1.5e-4;   // 30 deg/h
+  p.imu_profile.accel_bias_instability_m_s2 = 0.03;     // 3 mg
+  p.imu_profile.gyro_bias_initial_std_rad_s = 1.94e-3;  // 400 deg/h
+  p.imu_profile.accel_bias_initial_std_m_s2 = 0.59;     // 60 mg
   p.initial_sigma << 0.5, 0.5, 0.5, 0.3, 0.3, 0.3, 1.0 * kDegToRad, 1.0 * kDegToRad,
       3.0 * kDegToRad;
   return p;

@@ -24,9 +24,10 @@ NodeLayout directLayout(const EstimationProblem& p, const FgoOptions& o) {
   const double t0 = p.initial.t_s;
   NodeLayout L;
   L.sample_count = imu.size();
-  L.first_sample = static_cast<size_t>(
-      std::upper_bound(imu.begin(), imu.end(), t0 + 1e-6, [](double t, const ImuSample& s) { return t < s.t_s; }) -
-      imu.begin());
+  L.first_sample =
+      static_cast<size_t>(std::upper_bound(imu.begin(), imu.end(), t0 + 1e-6,
+                                           [](double t, const ImuSample& s) { return t < s.t_s; }) -
+                          imu.begin());
   auto nearest = [&](double t) {
     auto it = std::lower_bound(imu.begin() + static_cast<long>(L.first_sample), imu.end(), t,
                                [](const ImuSample& s, double tt) { return s.t_s < tt; });
@@ -65,7 +66,8 @@ NodeLayout directLayout(const EstimationProblem& p, const FgoOptions& o) {
     const int n_sub = static_cast<int>(std::ceil((t_a - t_prev) / o.max_node_spacing_s - 0.25));
     for (int m = 1; m < n_sub; ++m) {
       const size_t i = nearest(t_prev + (t_a - t_prev) * m / n_sub);
-      if (i + 1 > L.nodes.back().sample_end && i < a) L.nodes.push_back(GraphNode{imu[i].t_s, i + 1, {}});
+      if (i + 1 > L.nodes.back().sample_end && i < a)
+        L.nodes.push_back(GraphNode{imu[i].t_s, i + 1, {}});
     }
     GraphNode n{t_a, a + 1, {}};
     for (; g < at.size() && at[g].first <= a; ++g) n.gnss.push_back(at[g].second);

@@ -30,7 +30,8 @@ PredictionError predictFromTruth(const test::Scenario& sc, size_t i, size_t j, b
   Eigen::Vector3d pp, vp;
   Eigen::Quaterniond qp;
   f.predict(p_i, q_i, v_i, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), &pp, &qp, &vp);
-  return {(pp - p_j).norm(), (vp - v_j).norm(), rotationVectorFromQuat(qp.conjugate() * q_j).norm()};
+  return {(pp - p_j).norm(), (vp - v_j).norm(),
+          rotationVectorFromQuat(qp.conjugate() * q_j).norm()};
 }
 
 TEST(Preintegration, MatchesMechanizationOfAnalyticTrajectory) {
@@ -69,7 +70,8 @@ TEST(Preintegration, BiasJacobiansMatchReintegration) {
     Eigen::VectorXd out(9);
     out.segment<3>(0) = p.deltaP();
     out.segment<3>(3) = p.deltaV();
-    out.segment<3>(6) = rotationVectorFromQuat(Eigen::Quaterniond(ref.deltaR().transpose() * p.deltaR()));
+    out.segment<3>(6) =
+        rotationVectorFromQuat(Eigen::Quaterniond(ref.deltaR().transpose() * p.deltaR()));
     return out;
   };
   Eigen::VectorXd b0(6);
@@ -90,8 +92,10 @@ TEST(Preintegration, BiasJacobiansMatchReintegration) {
   moved.reintegrate(sc.ideal, 1, 400, bg0 + dbg, ba0 + dba);
   EXPECT_LT((ref.correctedDeltaP(bg0 + dbg, ba0 + dba) - moved.deltaP()).norm(), 1e-5);
   EXPECT_LT((ref.correctedDeltaV(bg0 + dbg, ba0 + dba) - moved.deltaV()).norm(), 1e-5);
-  EXPECT_LT(rotationVectorFromQuat(Eigen::Quaterniond(
-                ref.correctedDeltaR(bg0 + dbg).transpose() * moved.deltaR())).norm(), 1e-8);
+  EXPECT_LT(rotationVectorFromQuat(
+                Eigen::Quaterniond(ref.correctedDeltaR(bg0 + dbg).transpose() * moved.deltaR()))
+                .norm(),
+            1e-8);
 }
 
 TEST(Preintegration, CovarianceMatchesMonteCarlo) {
@@ -99,7 +103,8 @@ TEST(Preintegration, CovarianceMatchesMonteCarlo) {
   const PreintegrationNoise noise{2e-3, 2e-2};  // large, MEMS-like x10, so errors dominate
   const size_t kRuns = 600;
   ImuPreintegration nominal(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), noise);
-  nominal.reintegrate(sc.ideal, 0, sc.ideal.size(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+  nominal.reintegrate(sc.ideal, 0, sc.ideal.size(), Eigen::Vector3d::Zero(),
+                      Eigen::Vector3d::Zero());
   test::ImuErrors err;
   err.arw_rad_sqrt_s = noise.arw_rad_sqrt_s;
   err.vrw_m_s_sqrt_s = noise.vrw_m_s_sqrt_s;

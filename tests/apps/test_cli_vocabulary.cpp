@@ -38,12 +38,14 @@ Output runCapture(const std::string& args) {
 const std::map<std::string, std::vector<std::string>>& expectedFlags() {
   static const std::map<std::string, std::vector<std::string>> m = {
       {"simulate", {"--sim-config", "--out"}},
-      {"navigate", {"--out", "--run-config", "--estimator", "--imu", "--profile", "--lenient", "--no-plots",
-                    "--start", "--end"}},
+      {"navigate",
+       {"--out", "--run-config", "--estimator", "--imu", "--profile", "--lenient", "--no-plots",
+        "--start", "--end"}},
       {"calibrate", {"--out", "--no-plots"}},
       {"graft", {"--out"}},
       {"evaluate", {"--out", "--run-config", "--estimator", "--no-plots"}},
-      {"compare", {"--out", "--run-config", "--estimator", "--imu", "--profile", "--lenient", "--no-plots"}},
+      {"compare",
+       {"--out", "--run-config", "--estimator", "--imu", "--profile", "--lenient", "--no-plots"}},
       {"batch", {}},
       {"diagnose", {"--out", "--run-config", "--estimator", "--no-plots", "--options"}},
       {"real", {"--out", "--run-config", "--estimator", "--imu", "--profile", "--no-plots"}},
@@ -58,7 +60,8 @@ TEST(CliVocabulary, EveryHelpListsTheCommonFlagsAndNoOldSpelling) {
   for (const auto& [cmd, flags] : expectedFlags()) {
     const Output o = runCapture(cmd + " --help");
     ASSERT_EQ(o.status, 0) << cmd << ":\n" << o.text;
-    for (const auto& f : flags) EXPECT_THAT(o.text, HasSubstr(f + " ")) << cmd << " --help lacks " << f;
+    for (const auto& f : flags)
+      EXPECT_THAT(o.text, HasSubstr(f + " ")) << cmd << " --help lacks " << f;
     EXPECT_THAT(o.text, Not(HasSubstr("--estimators"))) << cmd;
     EXPECT_THAT(o.text, Not(HasSubstr("--config "))) << cmd;
     EXPECT_THAT(o.text, Not(HasSubstr("--free-inertial"))) << cmd;
@@ -80,8 +83,8 @@ TEST(CliVocabulary, ImuDefaultsToRefEverywhere) {
     const size_t at = o.text.find("--imu");
     ASSERT_NE(at, std::string::npos) << cmd;
     const std::string line = o.text.substr(at, o.text.find('\n', at) - at);
-    EXPECT_TRUE(line.find("default ref") != std::string::npos || line.find("[ref]") != std::string::npos ||
-                line.find("=ref ") != std::string::npos)
+    EXPECT_TRUE(line.find("default ref") != std::string::npos ||
+                line.find("[ref]") != std::string::npos || line.find("=ref ") != std::string::npos)
         << cmd << ": " << line;
   }
 }
@@ -89,8 +92,8 @@ TEST(CliVocabulary, ImuDefaultsToRefEverywhere) {
 TEST(CliVocabulary, OldSpellingsWarnAndStillWork) {
   const std::string sample = test::sourceDir() + "/data/sample_mems";
   const std::string out = test::makeTempDir("cli_deprecated");
-  const Output o = runCapture("navigate " + sample + " --out " + out + " --no-plots --config " + test::sourceDir() +
-                              "/configs/navigate.yaml --estimator ekf");
+  const Output o = runCapture("navigate " + sample + " --out " + out + " --no-plots --config " +
+                              test::sourceDir() + "/configs/navigate.yaml --estimator ekf");
   ASSERT_EQ(o.status, 0) << o.text;
   EXPECT_THAT(o.text, HasSubstr("warning: --config is deprecated, use --run-config"));
   // The config was applied: its 60 s outages every 180 s from 300 s give 3 in the 870 s sample.
@@ -107,8 +110,8 @@ TEST(CliVocabulary, PeerSetupGivenAsRunConfigIsRefusedWithTheImportHint) {
   ASSERT_NE(f, nullptr);
   std::fputs("imupath: imu.txt\ngnsspath: gnss.txt\nimudatarate: 200\n", f);
   std::fclose(f);
-  const Output o = runCapture("navigate " + sample + " --out " + out + "/o --no-plots --run-config " + out +
-                              "/kf-gins.yaml");
+  const Output o = runCapture("navigate " + sample + " --out " + out +
+                              "/o --no-plots --run-config " + out + "/kf-gins.yaml");
   EXPECT_NE(o.status, 0);
   EXPECT_THAT(o.text, HasSubstr("graftnav import kf-gins|ob-gins"));
   EXPECT_THAT(o.text, HasSubstr("kf-gins.yaml:1"));
@@ -117,7 +120,8 @@ TEST(CliVocabulary, PeerSetupGivenAsRunConfigIsRefusedWithTheImportHint) {
 TEST(CliVocabulary, RelativePathErrorNamesEveryPathTried) {
   const std::string sample = test::sourceDir() + "/data/sample_mems";
   const std::string out = test::makeTempDir("cli_paths");
-  const Output o = runCapture("navigate " + sample + " --out " + out + " --no-plots --imu no_such_imu.txt");
+  const Output o =
+      runCapture("navigate " + sample + " --out " + out + " --no-plots --imu no_such_imu.txt");
   EXPECT_NE(o.status, 0);
   EXPECT_THAT(o.text, HasSubstr("IMU file 'no_such_imu.txt' not found; tried"));
   EXPECT_THAT(o.text, HasSubstr("sample_mems/no_such_imu.txt"));
@@ -126,7 +130,9 @@ TEST(CliVocabulary, RelativePathErrorNamesEveryPathTried) {
 TEST(CliVocabulary, VersionCarriesTheGitCommit) {
   const Output o = runCapture("--version");
   ASSERT_EQ(o.status, 0) << o.text;
-  EXPECT_THAT(o.text, ::testing::MatchesRegex("graftnav [0-9]+\\.[0-9]+\\.[0-9]+ \\(commit [0-9a-f]{12}(-dirty)?\\)\n"));
+  EXPECT_THAT(o.text,
+              ::testing::MatchesRegex(
+                  "graftnav [0-9]+\\.[0-9]+\\.[0-9]+ \\(commit [0-9a-f]{12}(-dirty)?\\)\n"));
 }
 
 }  // namespace

@@ -21,7 +21,8 @@ TEST(CompareApp, WritesTableAndSmoothersAgree) {
   const std::string cmd = bin + " compare " + test::sourceDir() +
                           "/data/sample_mems --imu tested --out " + out +
                           " --estimators rts,fgo,fgo-window --outage-start 120 --outage-period 150"
-                          " > " + out + "/stdout.txt 2>&1";
+                          " > " +
+                          out + "/stdout.txt 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   ASSERT_TRUE(std::filesystem::exists(out + "/compare.md"));
   std::ifstream csv(out + "/compare.csv");

@@ -17,8 +17,9 @@ TEST(RunConfigErrors, BadValueNamesFileLineAndKey) {
   const std::string dir = test::makeTempDir("run_config_bad_value");
   std::ofstream(dir + "/run.yaml") << "outages:\n  length_s: 60\ngrafting:\n  realizations: many\n";
   const std::string log = dir + "/log.txt";
-  const std::string cmd = test::graftnavBinary() + " evaluate " + test::sourceDir() + "/data/sample_mems --out " +
-                          dir + "/out --no-plots --run-config " + dir + "/run.yaml > " + log + " 2>&1";
+  const std::string cmd = test::graftnavBinary() + " evaluate " + test::sourceDir() +
+                          "/data/sample_mems --out " + dir + "/out --no-plots --run-config " + dir +
+                          "/run.yaml > " + log + " 2>&1";
   EXPECT_NE(std::system(cmd.c_str()), 0);
   std::stringstream out;
   out << std::ifstream(log).rdbuf();

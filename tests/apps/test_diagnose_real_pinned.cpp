@@ -31,7 +31,8 @@ json diagnoseTrial07() {
 
 std::set<std::string> keysOf(const json& list) {
   std::set<std::string> s;
-  for (const json& e : list) s.insert(e["name"].get<std::string>() + ":" + e["sensor"].get<std::string>());
+  for (const json& e : list)
+    s.insert(e["name"].get<std::string>() + ":" + e["sensor"].get<std::string>());
   return s;
 }
 
@@ -48,7 +49,8 @@ TEST(RealDiagnosePinned, Trial07ClaimsOnlyTheTimeOffsetAndNamesWhatIsImplausible
 
   // Claimed: the time offset alone, about -25 ms (the README's cross-correlation: the MRU-P stamps
   // 24-28 ms later).
-  EXPECT_EQ(keysOf(j["effects"]), (std::set<std::string>{"time_offset:both"})) << j["effects"].dump(1);
+  EXPECT_EQ(keysOf(j["effects"]), (std::set<std::string>{"time_offset:both"}))
+      << j["effects"].dump(1);
   const json* to = findByName(j["effects"], "time_offset");
   ASSERT_NE(to, nullptr);
   EXPECT_NEAR((*to)["parameters"]["tau_s"].get<double>(), -0.0253, 0.0015);

@@ -47,15 +47,16 @@ std::string copyCase(const std::string& src, const std::string& tag) {
 
 TEST(Evaluate, WritesTheContractShapeAndConsistentDiff) {
   const std::string out = test::makeTempDir("eval") + "/out";
-  const RunResult r = run("evaluate " + sample("tactical") + " --out " + out + " --run-config " + sampleConfig() +
-                          " --no-plots");
+  const RunResult r = run("evaluate " + sample("tactical") + " --out " + out + " --run-config " +
+                          sampleConfig() + " --no-plots");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto j = readJson(out + "/evaluation.json");
   EXPECT_EQ(j["case"], "sample_tactical");
   EXPECT_EQ(j["estimator"], "ekf");
   EXPECT_EQ(j["outages"]["count"], 8);  // configs/evaluate_sample.yaml in the 14.5-min sample
   EXPECT_DOUBLE_EQ(j["outages"]["length_s"].get<double>(), 60.0);
-  const std::vector<std::string> keys{"horizontal_m", "vertical_m", "roll_deg", "pitch_deg", "heading_deg"};
+  const std::vector<std::string> keys{"horizontal_m", "vertical_m", "roll_deg", "pitch_deg",
+                                      "heading_deg"};
   for (const std::string sol : {"SG1", "SG2", "REAL"}) {
     for (const auto& k : keys) {
       ASSERT_TRUE(j["err"][sol][k].is_number()) << sol << " " << k;
@@ -80,7 +81,8 @@ TEST(Evaluate, MakesBothPlotsWhenMatplotlibIsThere) {
     GTEST_SKIP() << "Debian's python3-matplotlib is not installed: the plots are skipped by design";
   }
   const std::string out = test::makeTempDir("eval_plots") + "/out";
-  const RunResult r = run("evaluate " + sample("mems") + " --out " + out + " --run-config " + sampleConfig());
+  const RunResult r =
+      run("evaluate " + sample("mems") + " --out " + out + " --run-config " + sampleConfig());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output.find("warning"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(out + "/outage_errors.png"));
@@ -91,7 +93,8 @@ TEST(Evaluate, WithoutARealRecordingStillGivesSgErrors) {
   const std::string c = copyCase(sample("tactical"), "noreal");
   fs::remove(c + "/field/tested_imu.txt");
   const std::string out = c + "/../out";
-  const RunResult r = run("evaluate " + c + " --out " + out + " --run-config " + sampleConfig() + " --no-plots");
+  const RunResult r =
+      run("evaluate " + c + " --out " + out + " --run-config " + sampleConfig() + " --no-plots");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto j = readJson(out + "/evaluation.json");
   EXPECT_TRUE(j["err"].contains("SG1"));
@@ -138,7 +141,9 @@ TEST(Batch, AFailedCaseIsReportedAndDoesNotStopTheOthers) {
   int ok = 0, failed = 0;
   while (std::getline(f, line)) {
     if (line.find(",ok,") != std::string::npos) ++ok;
-    if (line.find(",failed,") != std::string::npos && line.find("no_such_case") != std::string::npos) ++failed;
+    if (line.find(",failed,") != std::string::npos &&
+        line.find("no_such_case") != std::string::npos)
+      ++failed;
   }
   EXPECT_EQ(ok, 1);
   EXPECT_EQ(failed, 1);

@@ -23,7 +23,8 @@ struct CliRun {
 
 CliRun graftnav(const std::string& args) {
   const std::string log = test::makeTempDir("pred_log") + "/out.txt";
-  const int rc = std::system((test::graftnavBinary() + " " + args + " > '" + log + "' 2>&1").c_str());
+  const int rc =
+      std::system((test::graftnavBinary() + " " + args + " > '" + log + "' 2>&1").c_str());
   std::ifstream f(log);
   std::stringstream ss;
   ss << f.rdbuf();
@@ -38,11 +39,12 @@ std::string slurp(const std::string& path) {
 }
 
 std::string evaluateArgs(const std::string& out, const std::string& extra) {
-  return "evaluate " + test::sourceDir() + "/data/sample_tactical --out " + out + " --config " + test::sourceDir() +
-         "/configs/evaluate_sample.yaml --no-plots " + extra;
+  return "evaluate " + test::sourceDir() + "/data/sample_tactical --out " + out + " --config " +
+         test::sourceDir() + "/configs/evaluate_sample.yaml --no-plots " + extra;
 }
 
-const std::vector<std::string> kStats{"horizontal_m", "vertical_m", "roll_deg", "pitch_deg", "heading_deg"};
+const std::vector<std::string> kStats{"horizontal_m", "vertical_m", "roll_deg", "pitch_deg",
+                                      "heading_deg"};
 
 TEST(EvaluatePredictive, KeysAndTheirRelations) {
   const std::string out = test::makeTempDir("pred_keys") + "/out";
@@ -55,7 +57,8 @@ TEST(EvaluatePredictive, KeysAndTheirRelations) {
     for (const auto& s : kStats) {
       const auto& p = j["predictive"][sg][s];
       // err.SGx is the mean over realizations, and DIFF is computed from it.
-      EXPECT_NEAR(p["mean"].get<double>(), j["err"][sg][s].get<double>(), 1e-12 * p["mean"].get<double>());
+      EXPECT_NEAR(p["mean"].get<double>(), j["err"][sg][s].get<double>(),
+                  1e-12 * p["mean"].get<double>());
       const double real = j["err"]["REAL"][s], mean = p["mean"];
       EXPECT_NEAR(j["diff"][sg][s].get<double>(), std::abs(mean - real) / real, 1e-12);
       EXPECT_LE(p["p05"].get<double>(), p["p50"].get<double>());
@@ -66,8 +69,11 @@ TEST(EvaluatePredictive, KeysAndTheirRelations) {
       EXPECT_LE(pct, 1.0);
       const std::string v = j["verdict"][sg][s];
       const bool inside = real >= p["p05"].get<double>() && real <= p["p95"].get<double>();
-      EXPECT_EQ(v, inside ? "consistent" : real > p["p95"].get<double>() ? "optimistic" : "pessimistic");
-      EXPECT_LE(j["diff_interval"][sg][s][0].get<double>(), j["diff_interval"][sg][s][1].get<double>());
+      EXPECT_EQ(v, inside                          ? "consistent"
+                   : real > p["p95"].get<double>() ? "optimistic"
+                                                   : "pessimistic");
+      EXPECT_LE(j["diff_interval"][sg][s][0].get<double>(),
+                j["diff_interval"][sg][s][1].get<double>());
     }
   }
   const std::string tables = slurp(out + "/tables.md");
@@ -79,9 +85,12 @@ TEST(EvaluatePredictive, KeysAndTheirRelations) {
 
 TEST(EvaluatePredictive, ASeededRunReproducesItselfWhateverTheThreads) {
   const std::string base = test::makeTempDir("pred_repro");
-  ASSERT_EQ(graftnav(evaluateArgs(base + "/a", "--realizations 4 --seed 11 --jobs 1")).exit_code, 0);
-  ASSERT_EQ(graftnav(evaluateArgs(base + "/b", "--realizations 4 --seed 11 --jobs 2")).exit_code, 0);
-  ASSERT_EQ(graftnav(evaluateArgs(base + "/c", "--realizations 4 --seed 12 --jobs 2")).exit_code, 0);
+  ASSERT_EQ(graftnav(evaluateArgs(base + "/a", "--realizations 4 --seed 11 --jobs 1")).exit_code,
+            0);
+  ASSERT_EQ(graftnav(evaluateArgs(base + "/b", "--realizations 4 --seed 11 --jobs 2")).exit_code,
+            0);
+  ASSERT_EQ(graftnav(evaluateArgs(base + "/c", "--realizations 4 --seed 12 --jobs 2")).exit_code,
+            0);
   const std::string a = slurp(base + "/a/evaluation.json"), b = slurp(base + "/b/evaluation.json"),
                     c = slurp(base + "/c/evaluation.json");
   EXPECT_EQ(a, b);
@@ -99,8 +108,9 @@ TEST(EvaluatePredictive, OutageShiftsRepeatTheScheduleForSgAndRealAlike) {
   EXPECT_EQ(two["outage_shifts"], 2);
   ASSERT_EQ(two["outage_shift_starts_s"].size(), 2u);
   // The sample's schedule starts at 60 s with a 100 s period: the second start is 50 s later.
-  EXPECT_NEAR(two["outage_shift_starts_s"][1].get<double>() - two["outage_shift_starts_s"][0].get<double>(), 50.0,
-              1e-9);
+  EXPECT_NEAR(
+      two["outage_shift_starts_s"][1].get<double>() - two["outage_shift_starts_s"][0].get<double>(),
+      50.0, 1e-9);
   EXPECT_NE(one["err"]["REAL"]["horizontal_m"], two["err"]["REAL"]["horizontal_m"]);
 }
 

@@ -49,7 +49,8 @@ struct RunResult {
 // Runs `graftnav ARGS` through sh, `shell_prefix` first (e.g. a ulimit). The output comes through a
 // pipe, so a file-size limit on the command does not hit its own log.
 RunResult run(const std::string& args, const std::string& shell_prefix = "") {
-  const std::string cmd = "sh -c \"" + shell_prefix + " exec " + test::graftnavBinary() + " " + args + "\" 2>&1";
+  const std::string cmd =
+      "sh -c \"" + shell_prefix + " exec " + test::graftnavBinary() + " " + args + "\" 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return {};
   RunResult r;
@@ -65,7 +66,8 @@ std::string sample(const std::string& grade) { return test::sourceDir() + "/data
 std::string sampleConfig() { return test::sourceDir() + "/configs/evaluate_sample.yaml"; }
 
 std::string copyCase(const std::string& grade, const std::string& tag) {
-  const std::string dst = test::makeTempDir(tag + "_case") + "/case";  // makeTempDir(tag) wipes its folder
+  const std::string dst =
+      test::makeTempDir(tag + "_case") + "/case";  // makeTempDir(tag) wipes its folder
   fs::copy(sample(grade), dst, fs::copy_options::recursive);
   return dst;
 }
@@ -111,9 +113,11 @@ std::string join(const std::vector<std::string>& v) {
 }
 
 // Outcome (a): failed, said why (every token appears in the output), left no file in `out`.
-void expectFailedCleanly(const RunResult& r, const std::string& out, const std::vector<std::string>& tokens) {
+void expectFailedCleanly(const RunResult& r, const std::string& out,
+                         const std::vector<std::string>& tokens) {
   EXPECT_NE(r.exit_code, 0) << r.output;
-  for (const auto& t : tokens) EXPECT_NE(r.output.find(t), std::string::npos) << "missing '" << t << "' in:\n" << r.output;
+  for (const auto& t : tokens)
+    EXPECT_NE(r.output.find(t), std::string::npos) << "missing '" << t << "' in:\n" << r.output;
   EXPECT_TRUE(filesIn(out).empty()) << "left in " << out << ": " << join(filesIn(out));
 }
 
@@ -158,25 +162,27 @@ TEST(Faults, NegativeOrZeroOutageOptionsAreErrorsNamingTheFlag) {
   for (const auto& [flag, value] : std::vector<std::pair<std::string, std::string>>{
            {"--outage-length", "-5"}, {"--outage-period", "0"}, {"--outage-start", "-1"}}) {
     const std::string out = test::makeTempDir("opt") + "/out";
-    const RunResult r = run("navigate " + sample("tactical") + " --out " + out + " --no-plots " + flag + " " + value);
+    const RunResult r = run("navigate " + sample("tactical") + " --out " + out + " --no-plots " +
+                            flag + " " + value);
     expectFailedCleanly(r, out, {flag, value});
   }
   const std::string out = test::makeTempDir("opt_compare") + "/out";
-  const RunResult r = run("compare " + sample("tactical") + " --estimators ekf --out " + out + " --outage-length -5");
+  const RunResult r = run("compare " + sample("tactical") + " --estimators ekf --out " + out +
+                          " --outage-length -5");
   expectFailedCleanly(r, out, {"--outage-length", "-5"});
 }
 
 TEST(Faults, UnknownEstimatorFailsBeforeEvaluateWritesAnything) {
   const std::string out = test::makeTempDir("est") + "/out";
-  const RunResult r = run("evaluate " + sample("tactical") + " --out " + out + " --config " + sampleConfig() +
-                          " --estimator kalmanish --no-plots");
+  const RunResult r = run("evaluate " + sample("tactical") + " --out " + out + " --config " +
+                          sampleConfig() + " --estimator kalmanish --no-plots");
   expectFailedCleanly(r, out, {"--estimator", "kalmanish"});
 }
 
 TEST(Faults, OutageStartBeyondTheDataIsAnError) {
   const std::string out = test::makeTempDir("beyond") + "/out";
-  RunResult r = run("evaluate " + sample("tactical") + " --out " + out + " --config " + sampleConfig() +
-                    " --outage-start 1000 --no-plots");
+  RunResult r = run("evaluate " + sample("tactical") + " --out " + out + " --config " +
+                    sampleConfig() + " --outage-start 1000 --no-plots");
   expectFailedCleanly(r, out, {"outage start 1000", "--outage-start"});
   r = run("navigate " + sample("tactical") + " --out " + out + " --outage-start 1000 --no-plots");
   expectFailedCleanly(r, out, {"outage start 1000", "--outage-start"});
@@ -191,7 +197,8 @@ TEST(Faults, TruthMissingInsideAnOutageIsAnError) {
   lines.resize(lines.size() / 3);  // 290 s of 870: the outages from 360 s on have no truth
   writeLines(truth, lines);
   const std::string out = test::makeTempDir("truth_part") + "/out";
-  const RunResult r = run("evaluate " + c + " --out " + out + " --config " + sampleConfig() + " --no-plots");
+  const RunResult r =
+      run("evaluate " + c + " --out " + out + " --config " + sampleConfig() + " --no-plots");
   expectFailedCleanly(r, out, {"truth.nav", "no reference epoch inside the outage"});
 }
 
@@ -199,7 +206,8 @@ TEST(Faults, TruthCoveringPartOfTheSpanWarnsAndStaysFinite) {
   const std::string c = copyCase("tactical", "truth_part2");
   const std::string truth = c + "/field/truth.nav";
   std::vector<std::string> lines = readLines(truth);
-  lines.resize(lines.size() * 7 / 8);  // 761 s of 870 s; the outages (100, 300, 500, 700 s + 30 s) keep their truth
+  lines.resize(lines.size() * 7 /
+               8);  // 761 s of 870 s; the outages (100, 300, 500, 700 s + 30 s) keep their truth
   writeLines(truth, lines);
   const std::string out = test::makeTempDir("truth_part2") + "/out";
   const RunResult r = run("navigate " + c + " --out " + out +
@@ -218,8 +226,8 @@ TEST(Faults, NoGnssEpochInsideTheImuSpanIsAnErrorUnlessFreeInertial) {
   const std::string c = copyCase("tactical", "gnss_out");
   const std::string pos = c + "/field/gnss.pos";
   std::vector<std::string> lines = readLines(pos);
-  for (std::size_t i = 0; i < lines.size(); ++i) setColumn(pos, static_cast<int>(i + 1), 0,
-                                                           std::to_string(460000.0 + static_cast<double>(i)));
+  for (std::size_t i = 0; i < lines.size(); ++i)
+    setColumn(pos, static_cast<int>(i + 1), 0, std::to_string(460000.0 + static_cast<double>(i)));
   const std::string out = test::makeTempDir("gnss_out") + "/out";
   RunResult r = run("navigate " + c + " --out " + out + " --no-plots");
   expectFailedCleanly(r, out, {pos, "0 of 871 GNSS epochs", "--free-inertial"});
@@ -269,8 +277,8 @@ TEST(Faults, ImuRangeLimitsAreTheStatedOnes) {
   auto file = [&](double dtheta, double dvel) {
     std::vector<std::string> lines;
     for (int k = 1; k <= 10; ++k)
-      lines.push_back(std::to_string(1000.0 + 0.005 * k) + " " + std::to_string(dtheta) + " 0 0 0 0 " +
-                      std::to_string(dvel));
+      lines.push_back(std::to_string(1000.0 + 0.005 * k) + " " + std::to_string(dtheta) +
+                      " 0 0 0 0 " + std::to_string(dvel));
     writeLines(dir + "/imu.txt", lines);
     return dir + "/imu.txt";
   };
@@ -308,19 +316,22 @@ TEST(Faults, ShortLabStaticRecordIsAnErrorBelowTheFloor) {
   lines.resize(20);  // 0.4 s at 50 Hz
   writeLines(st, lines);
   const std::string out = test::makeTempDir("static_short") + "/out";
-  const RunResult r = run("evaluate " + c + " --out " + out + " --config " + sampleConfig() + " --no-plots");
+  const RunResult r =
+      run("evaluate " + c + " --out " + out + " --config " + sampleConfig() + " --no-plots");
   expectFailedCleanly(r, out, {st, "0.40 s", "60 s floor"});
 }
 
 TEST(Faults, LabStaticRecordShorterThanTheOutageSpacingWarnsAndStaysFinite) {
   // The sample's 120 s record against outages every 150 s: a warning, finite results.
   const std::string out = test::makeTempDir("static_warn") + "/out";
-  const RunResult r = run("evaluate " + sample("tactical") + " --out " + out + " --config " + sampleConfig() +
-                          " --outage-start 30 --outage-period 150 --no-plots");
+  const RunResult r = run("evaluate " + sample("tactical") + " --out " + out + " --config " +
+                          sampleConfig() + " --outage-start 30 --outage-period 150 --no-plots");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("static.txt: the lab static record lasts 120.0 s, shorter than the outage spacing of "
-                          "150.0 s"),
-            std::string::npos)
+  EXPECT_NE(
+      r.output.find(
+          "static.txt: the lab static record lasts 120.0 s, shorter than the outage spacing of "
+          "150.0 s"),
+      std::string::npos)
       << r.output;
   std::ifstream f(out + "/evaluation.json");
   EXPECT_EQ(countNonFinite(nlohmann::json::parse(f)), 0);
@@ -334,8 +345,9 @@ TEST(Faults, AbsentOutageStatisticsAreNullWithAWarning) {
   const std::string out = test::makeTempDir("absent") + "/out";
   const RunResult r = run("navigate " + sample("tactical") + " --out " + out + " --no-plots");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("errors.json: absent (null): /outage/*, /outage_max/* (no outage statistics"),
-            std::string::npos)
+  EXPECT_NE(
+      r.output.find("errors.json: absent (null): /outage/*, /outage_max/* (no outage statistics"),
+      std::string::npos)
       << r.output;
   std::ifstream f(out + "/errors.json");
   const auto j = nlohmann::json::parse(f);
@@ -376,10 +388,12 @@ TEST(Faults, EveryCommandsWritersFailCleanlyWhenAWriteFails) {
       {"navigate " + sample("tactical") + " --no-plots --out ", tmp + "/navigate"},
       {"calibrate " + sample("tactical") + " --no-plots --out ", tmp + "/calibrate"},
       {"compare " + sample("tactical") + " --imu tested --estimators ekf --out ", tmp + "/compare"},
-      {"evaluate " + sample("tactical") + " --config " + sampleConfig() + " --no-plots --out ", tmp + "/evaluate"},
+      {"evaluate " + sample("tactical") + " --config " + sampleConfig() + " --no-plots --out ",
+       tmp + "/evaluate"},
       {"diagnose " + sample("mems") + " --no-plots --out ", tmp + "/diagnose"},
       {"graft " + sample("tactical") + " --out ", tmp + "/graft"},
-      {"simulate --config " + test::sourceDir() + "/configs/sim/sample_tactical.yaml --out ", tmp + "/simulate"},
+      {"simulate --config " + test::sourceDir() + "/configs/sim/sample_tactical.yaml --out ",
+       tmp + "/simulate"},
   };
   for (const Cmd& c : cmds) {
     const RunResult r = run(c.args + c.out, limit);
@@ -405,7 +419,8 @@ TEST(Faults, FullDiskFailsWithErrnoTextAndLeavesNoFile) {
     prefix = "trap '' XFSZ; ulimit -f 0;";
     expected = "File too large";
   }
-  const RunResult r = run("calibrate " + sample("tactical") + " --no-plots --out " + dir + "/out", prefix);
+  const RunResult r =
+      run("calibrate " + sample("tactical") + " --no-plots --out " + dir + "/out", prefix);
   expectFailedCleanly(r, dir + "/out", {expected, dir + "/out/calibration.yaml"});
 }
 
@@ -439,7 +454,8 @@ TEST(Faults, DiskFillingDuringTheRunLeavesOnlyCompleteFiles) {
 TEST(Faults, AtomicFileKeepsThePreviousFileWhenAWriteFails) {
   const std::string dir = test::makeTempDir("atomic");
   const TmpfsMount disk(dir, "size=64k");
-  if (!disk.mounted()) GTEST_SKIP() << "needs root to mount a small tmpfs; the file-size-limit tests cover the rest";
+  if (!disk.mounted())
+    GTEST_SKIP() << "needs root to mount a small tmpfs; the file-size-limit tests cover the rest";
   const std::string small = dir + "/result.txt";
   writeFileAtomically(small, "old\n");
   try {
@@ -493,12 +509,14 @@ TEST(Faults, SigkillHalfwayThroughAWriteLeavesNoPartialResult) {
   waitpid(pid, &status, 0);
   close(ino);
   ASSERT_TRUE(killed) << "the writer never wrote into its temporary file";
-  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) << "the run ended before the kill";
+  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL)
+      << "the run ended before the kill";
   EXPECT_FALSE(fs::exists(out + "/solution.nav"));
   // A streamed run writes solution.nav, imu_errors.txt and state_std.txt side by side: only their
   // temporary files may be left, never a final name.
   for (const auto& f : filesIn(out)) {
-    const bool tmp = f.rfind(".solution.nav.tmp.", 0) == 0 || f.rfind(".imu_errors.txt.tmp.", 0) == 0 ||
+    const bool tmp = f.rfind(".solution.nav.tmp.", 0) == 0 ||
+                     f.rfind(".imu_errors.txt.tmp.", 0) == 0 ||
                      f.rfind(".state_std.txt.tmp.", 0) == 0;
     EXPECT_TRUE(tmp) << f;
   }
@@ -520,7 +538,8 @@ TEST(Faults, NoWriterBypassesAtomicFile) {
       if (std::find(allowed.begin(), allowed.end(), rel) != allowed.end()) continue;
       const auto lines = readLines(p);
       for (std::size_t i = 0; i < lines.size(); ++i)
-        if (std::regex_search(lines[i], opens_for_writing)) offenders.push_back(rel + ":" + std::to_string(i + 1));
+        if (std::regex_search(lines[i], opens_for_writing))
+          offenders.push_back(rel + ":" + std::to_string(i + 1));
     }
   }
   EXPECT_TRUE(offenders.empty()) << join(offenders);

@@ -64,22 +64,26 @@ std::string kfGinsYaml(const CaseConfig& c) {
   const Eigen::Vector3d e = eulerFromQuat(x.q_nb) * kRadToDeg;
   const ImuProfile& p = *c.tested_imu;
   const double arw = p.arw_rad_sqrt_s * kRadToDeg * 60.0, vrw = p.vrw_m_s_sqrt_s * 60.0;
-  const double gb = p.gyro_bias_instability_rad_s * kRadToDeg * 3600.0, ab = p.accel_bias_instability_m_s2 * 1e5;
+  const double gb = p.gyro_bias_instability_rad_s * kRadToDeg * 3600.0,
+               ab = p.accel_bias_instability_m_s2 * 1e5;
   std::ostringstream y;
   y.precision(15);
   y << "imupath: \"imu.txt\"\ngnsspath: \"gnss.txt\"\noutputpath: \"./out\"\nimudatalen: 7\n"
     << "imudatarate: " << c.testedImuRateHz() << "\nstarttime: " << x.t_s << "\nendtime: -1\n"
-    << "initpos: [" << x.pos.lat_rad * kRadToDeg << ", " << x.pos.lon_rad * kRadToDeg << ", " << x.pos.h_m << "]\n"
+    << "initpos: [" << x.pos.lat_rad * kRadToDeg << ", " << x.pos.lon_rad * kRadToDeg << ", "
+    << x.pos.h_m << "]\n"
     << "initvel: [" << x.v_n.x() << ", " << x.v_n.y() << ", " << x.v_n.z() << "]\n"
     << "initatt: [" << e.x() << ", " << e.y() << ", " << e.z() << "]\n"
     << "initgyrbias: [0, 0, 0]\ninitaccbias: [0, 0, 0]\ninitgyrscale: [0, 0, 0]\ninitaccscale: [0, 0, 0]\n"
     << "initposstd: [0.5, 0.5, 0.5]\ninitvelstd: [0.1, 0.1, 0.1]\ninitattstd: [0.1, 0.1, 0.5]\n"
-    << "imunoise:\n  arw: [" << arw << ", " << arw << ", " << arw << "]\n  vrw: [" << vrw << ", " << vrw << ", " << vrw
-    << "]\n  gbstd: [" << gb << ", " << gb << ", " << gb << "]\n  abstd: [" << ab << ", " << ab << ", " << ab
-    << "]\n  gsstd: [" << p.gyro_scale_std * 1e6 << ", " << p.gyro_scale_std * 1e6 << ", " << p.gyro_scale_std * 1e6
-    << "]\n  asstd: [" << p.accel_scale_std * 1e6 << ", " << p.accel_scale_std * 1e6 << ", " << p.accel_scale_std * 1e6
+    << "imunoise:\n  arw: [" << arw << ", " << arw << ", " << arw << "]\n  vrw: [" << vrw << ", "
+    << vrw << ", " << vrw << "]\n  gbstd: [" << gb << ", " << gb << ", " << gb << "]\n  abstd: ["
+    << ab << ", " << ab << ", " << ab << "]\n  gsstd: [" << p.gyro_scale_std * 1e6 << ", "
+    << p.gyro_scale_std * 1e6 << ", " << p.gyro_scale_std * 1e6 << "]\n  asstd: ["
+    << p.accel_scale_std * 1e6 << ", " << p.accel_scale_std * 1e6 << ", " << p.accel_scale_std * 1e6
     << "]\n  corrtime: " << p.gyro_bias_corr_time_s / 3600.0 << "\n"
-    << "antlever: [" << c.lever_arm_m->x() << ", " << c.lever_arm_m->y() << ", " << c.lever_arm_m->z() << "]\n";
+    << "antlever: [" << c.lever_arm_m->x() << ", " << c.lever_arm_m->y() << ", "
+    << c.lever_arm_m->z() << "]\n";
   return y.str();
 }
 
@@ -97,15 +101,24 @@ TEST(ImportApp, KfGinsSetupNavigatesWithinTwoPercentOfTheHandSetup) {
             "ekf:\n  gate_probability: 0\n  init_pos_std_m: 0.5\n  init_vel_std_m_s: 0.1\n"
             "  init_roll_pitch_std_deg: 0.1\n  init_heading_std_deg: 0.5\n");
 
-  ASSERT_EQ(run("import kf-gins " + dir + "/kf-gins.yaml --out " + dir + "/case --reference " + dir + "/truth.nav",
-                dir + "/import.log"), 0) << readAll(dir + "/import.log");
+  ASSERT_EQ(run("import kf-gins " + dir + "/kf-gins.yaml --out " + dir + "/case --reference " +
+                    dir + "/truth.nav",
+                dir + "/import.log"),
+            0)
+      << readAll(dir + "/import.log");
   const std::string import_log = readAll(dir + "/import.log");
   EXPECT_THAT(import_log, ::testing::HasSubstr("2 outage windows"));
-  EXPECT_THAT(readAll(dir + "/case/notes.md"), ::testing::HasSubstr("outage windows from GNSS gaps"));
-  ASSERT_EQ(run("navigate " + dir + "/case --out " + dir + "/imported --no-plots", dir + "/nav_imported.log"), 0)
+  EXPECT_THAT(readAll(dir + "/case/notes.md"),
+              ::testing::HasSubstr("outage windows from GNSS gaps"));
+  ASSERT_EQ(run("navigate " + dir + "/case --out " + dir + "/imported --no-plots",
+                dir + "/nav_imported.log"),
+            0)
       << readAll(dir + "/nav_imported.log");
-  ASSERT_EQ(run("navigate " + sample + " --imu tested --run-config " + dir + "/hand.yaml --out " + dir +
-                    "/hand --no-plots", dir + "/nav_hand.log"), 0) << readAll(dir + "/nav_hand.log");
+  ASSERT_EQ(run("navigate " + sample + " --imu tested --run-config " + dir + "/hand.yaml --out " +
+                    dir + "/hand --no-plots",
+                dir + "/nav_hand.log"),
+            0)
+      << readAll(dir + "/nav_hand.log");
 
   const double imported = outageHorizontalRms(dir + "/imported/errors.json");
   const double hand = outageHorizontalRms(dir + "/hand/errors.json");
@@ -116,9 +129,11 @@ TEST(ImportApp, KfGinsSetupNavigatesWithinTwoPercentOfTheHandSetup) {
   // Provenance: the command line and a hash of each config the run read (case.yaml, run.yaml).
   const auto& prov = info.at("provenance");
   EXPECT_EQ(prov.at("command_line").at(1), "navigate");
-  EXPECT_THAT(prov.at("git_commit").get<std::string>(), ::testing::MatchesRegex("([0-9a-f]{12}(-dirty)?|unknown)"));
+  EXPECT_THAT(prov.at("git_commit").get<std::string>(),
+              ::testing::MatchesRegex("([0-9a-f]{12}(-dirty)?|unknown)"));
   ASSERT_EQ(prov.at("configs").size(), 2u);
-  EXPECT_THAT(prov.at("configs")[1].at("path").get<std::string>(), ::testing::EndsWith("case/run.yaml"));
+  EXPECT_THAT(prov.at("configs")[1].at("path").get<std::string>(),
+              ::testing::EndsWith("case/run.yaml"));
   EXPECT_EQ(prov.at("configs")[1].at("fnv1a64").get<std::string>().size(), 16u);
   // Per-epoch outputs in the i2Nav layouts, one row per solution epoch after the header.
   std::ifstream std_file(dir + "/imported/state_std.txt");
@@ -129,8 +144,9 @@ TEST(ImportApp, KfGinsSetupNavigatesWithinTwoPercentOfTheHandSetup) {
 
 TEST(ImportApp, MissingDataFileNamesEveryPathTried) {
   const std::string dir = test::makeTempDir("import_missing");
-  writeText(dir + "/kf.yaml", "imupath: nowhere.txt\ngnsspath: gnss.txt\nimudatarate: 200\nstarttime: 0\n"
-                              "initpos: [30, 114, 20]\ninitatt: [0, 0, 0]\n");
+  writeText(dir + "/kf.yaml",
+            "imupath: nowhere.txt\ngnsspath: gnss.txt\nimudatarate: 200\nstarttime: 0\n"
+            "initpos: [30, 114, 20]\ninitatt: [0, 0, 0]\n");
   EXPECT_NE(run("import kf-gins " + dir + "/kf.yaml --out " + dir + "/case", dir + "/log"), 0);
   const std::string log = readAll(dir + "/log");
   EXPECT_THAT(log, ::testing::HasSubstr("imupath"));

@@ -96,13 +96,15 @@ class OutputsDoc : public ::testing::Test {
   void runAndCheck(const std::string& command, const std::string& args) {
     const std::string word = command.substr(0, command.find(' '));
     const std::string out = dir_ + "/" + word;
-    ASSERT_EQ(run(command + " " + args + " --out " + out, out + ".log"), 0) << readAll(out + ".log");
+    ASSERT_EQ(run(command + " " + args + " --out " + out, out + ".log"), 0)
+        << readAll(out + ".log");
     expectDocumented(word, out);
   }
 };
 
 TEST_F(OutputsDoc, Navigate) {
-  runAndCheck("navigate", sample_ + " --imu tested --no-plots --run-config " + test::sourceDir() + "/configs/navigate.yaml");
+  runAndCheck("navigate", sample_ + " --imu tested --no-plots --run-config " + test::sourceDir() +
+                              "/configs/navigate.yaml");
 }
 
 TEST_F(OutputsDoc, Compare) { runAndCheck("compare", sample_ + " --estimator ekf,rts --no-plots"); }
@@ -110,14 +112,16 @@ TEST_F(OutputsDoc, Compare) { runAndCheck("compare", sample_ + " --estimator ekf
 TEST_F(OutputsDoc, CalibrateGraftEvaluate) {
   runAndCheck("calibrate", sample_ + " --no-plots");
   runAndCheck("graft", sample_);
-  runAndCheck("evaluate", sample_ + " --no-plots --run-config " + test::sourceDir() + "/configs/evaluate_sample.yaml");
+  runAndCheck("evaluate", sample_ + " --no-plots --run-config " + test::sourceDir() +
+                              "/configs/evaluate_sample.yaml");
 }
 
 TEST_F(OutputsDoc, Import) {
-  std::ofstream(dir_ + "/kf.yaml") << "imupath: " << sample_ << "/field/tested_imu.txt\ngnsspath: " << sample_
-                                   << "/field/gnss.pos\nimudatarate: 50\nstarttime: 456340\ninitpos: [30.44, 114.47, 21]\n"
-                                      "initatt: [0, 0, 180]\nimunoise: {arw: 0.15, vrw: 0.06, gbstd: 10, abstd: 1000, "
-                                      "corrtime: 1}\n";
+  std::ofstream(dir_ + "/kf.yaml")
+      << "imupath: " << sample_ << "/field/tested_imu.txt\ngnsspath: " << sample_
+      << "/field/gnss.pos\nimudatarate: 50\nstarttime: 456340\ninitpos: [30.44, 114.47, 21]\n"
+         "initatt: [0, 0, 180]\nimunoise: {arw: 0.15, vrw: 0.06, gbstd: 10, abstd: 1000, "
+         "corrtime: 1}\n";
   runAndCheck("import kf-gins", dir_ + "/kf.yaml --reference " + sample_ + "/field/truth.nav");
 }
 
@@ -125,8 +129,9 @@ TEST_F(OutputsDoc, Real) {
   const std::string real_case = test::sharedDir() + "/data/real/yandld_20220405_rtk";
   GRAFTNAV_REQUIRE_SHARED_PATH(real_case);
   const std::string cfg = test::sourceDir() + "/configs/real";
-  runAndCheck("real", real_case + " --imu tested --estimator ekf --no-plots --latency-scan --run-config " + cfg +
-                          "/yandld.yaml --profile " + cfg + "/yandld_mems.yaml");
+  runAndCheck("real", real_case +
+                          " --imu tested --estimator ekf --no-plots --latency-scan --run-config " +
+                          cfg + "/yandld.yaml --profile " + cfg + "/yandld_mems.yaml");
 }
 
 }  // namespace

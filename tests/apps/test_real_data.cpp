@@ -77,8 +77,8 @@ TEST(RealData, YandldRtkLatencyAgainstTheReferenceSlice) {
   EXPECT_GT(e1.grid_s, -0.8);
   EXPECT_LT(e4.grid_rms_h_m, 0.5 * e4.rms_h_at_zero_m);  // the shift explains most of the residual
   EXPECT_GE(e4.fixes_used, 15) << "tau4 " << e4.grid_s << " tau1 " << e1.grid_s;
-  std::printf("slice: RTK-fixed tau %.3f s (%d fixes), single-point tau %.3f s (%d fixes)\n", e4.grid_s,
-              e4.fixes_used, e1.grid_s, e1.fixes_used);
+  std::printf("slice: RTK-fixed tau %.3f s (%d fixes), single-point tau %.3f s (%d fixes)\n",
+              e4.grid_s, e4.fixes_used, e1.grid_s, e1.fixes_used);
 }
 
 TEST(RealData, WidCarGraftedDotFromItsOwnStandstill) {
@@ -87,11 +87,12 @@ TEST(RealData, WidCarGraftedDotFromItsOwnStandstill) {
   const std::string src = test::sourceDir();
   const std::string out = test::makeTempDir("real_sg");
   const std::string log = out + "/log.txt";
-  const std::string cmd = test::graftnavBinary() + " real-sg '" + dir + "' --out '" + out +
-                          "' --estimator ekf --run-config '" + src + "/configs/real/wid_car.yaml' --ref-profile '" +
-                          src + "/configs/real/wid_mrup.yaml' --tested-profile '" + src +
-                          "/configs/real/wid_dot.yaml' --static-gyro-threshold 0.02 --static-accel-threshold 0.65 > '" +
-                          log + "' 2>&1";
+  const std::string cmd =
+      test::graftnavBinary() + " real-sg '" + dir + "' --out '" + out +
+      "' --estimator ekf --run-config '" + src + "/configs/real/wid_car.yaml' --ref-profile '" +
+      src + "/configs/real/wid_mrup.yaml' --tested-profile '" + src +
+      "/configs/real/wid_dot.yaml' --static-gyro-threshold 0.02 --static-accel-threshold 0.65 > '" +
+      log + "' 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   std::ifstream f(out + "/standstills.md");
   ASSERT_TRUE(f.good());
@@ -110,7 +111,8 @@ TEST(RealData, WidCarGraftedDotFromItsOwnStandstill) {
   const auto j = nlohmann::json::parse(jf);
   EXPECT_EQ(j["realizations"], 20);
   EXPECT_FALSE(j["predictive"].contains("SG2"));
-  for (const std::string s : {"horizontal_m", "vertical_m", "roll_deg", "pitch_deg", "heading_deg"}) {
+  for (const std::string s :
+       {"horizontal_m", "vertical_m", "roll_deg", "pitch_deg", "heading_deg"}) {
     const auto& p = j["predictive"]["SG1"][s];
     EXPECT_LE(p["p05"].get<double>(), p["p95"].get<double>()) << s;
     const double real = j["err"]["REAL"][s];
@@ -120,7 +122,8 @@ TEST(RealData, WidCarGraftedDotFromItsOwnStandstill) {
                                                  : "consistent")
         << s;
     EXPECT_GE(j["real_percentile"]["SG1"][s].get<double>(), 0.0);
-    EXPECT_LE(j["diff_interval"]["SG1"][s][0].get<double>(), j["diff_interval"]["SG1"][s][1].get<double>());
+    EXPECT_LE(j["diff_interval"]["SG1"][s][0].get<double>(),
+              j["diff_interval"]["SG1"][s][1].get<double>());
   }
   std::ifstream tf(out + "/tables.md");
   std::stringstream ts;
@@ -226,8 +229,9 @@ TEST(RealData, RunConfigGnssSectionIsValidatedWithFileAndKey) {
     c << "outages: {length_s: 20, period_s: 35, start_s: 55}\ngnss:\n  max_horizontal_std_m: 0\n";
   }
   const std::string log = out + "/log.txt";
-  const std::string cmd = test::graftnavBinary() + " real '" + dir + "' --out '" + out + "/o' --imu ref --profile '" +
-                          test::sourceDir() + "/configs/real/wid_mrup.yaml' --estimator ekf --run-config '" + out +
+  const std::string cmd = test::graftnavBinary() + " real '" + dir + "' --out '" + out +
+                          "/o' --imu ref --profile '" + test::sourceDir() +
+                          "/configs/real/wid_mrup.yaml' --estimator ekf --run-config '" + out +
                           "/bad.yaml' > '" + log + "' 2>&1";
   EXPECT_NE(std::system(cmd.c_str()), 0);
   std::ifstream lf(log);

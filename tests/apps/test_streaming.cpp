@@ -130,12 +130,14 @@ TEST_P(StreamedEstimator, SolutionFileByteIdenticalToInMemory) {
   expectSameSolution(memory, streamed);
   const std::string a = slurp(dir + "/memory.nav"), b = slurp(dir + "/streamed.nav");
   ASSERT_FALSE(a.empty());
-  EXPECT_TRUE(a == b) << "solution.nav differs between the in-memory and the streamed " << c.estimator;
+  EXPECT_TRUE(a == b) << "solution.nav differs between the in-memory and the streamed "
+                      << c.estimator;
 }
 
 INSTANTIATE_TEST_SUITE_P(EkfAndRts, StreamedEstimator,
-                         ::testing::Values(Case{"ekf", 1, 4096}, Case{"ekf", 3, 37}, Case{"rts", 1, 4096},
-                                           Case{"rts", 3, 37}, Case{"rts", 1, 1}));
+                         ::testing::Values(Case{"ekf", 1, 4096}, Case{"ekf", 3, 37},
+                                           Case{"rts", 1, 4096}, Case{"rts", 3, 37},
+                                           Case{"rts", 1, 1}));
 
 // The factor graphs with the samples read from the file in blocks (the window holding only its
 // intervals' samples, the batch re-reading the file for re-preintegration and output) against
@@ -215,11 +217,13 @@ TEST(StreamedNavigate, CommandWritesTheInMemorySolution) {
   const EstimationProblem problem = sampleProblem();
   for (const char* est : {"ekf", "rts", "fgo-window", "fgo"}) {
     const std::string dir = test::makeTempDir(std::string("streamed_navigate_") + est);
-    const std::string cmd = test::graftnavBinary() + " navigate " + sampleDir() + " --imu tested --estimator " +
-                            est + " --outage-length 60 --outage-period 180 --no-plots --out " + dir + " > " + dir +
-                            "/log.txt 2>&1";
+    const std::string cmd = test::graftnavBinary() + " navigate " + sampleDir() +
+                            " --imu tested --estimator " + est +
+                            " --outage-length 60 --outage-period 180 --no-plots --out " + dir +
+                            " > " + dir + "/log.txt 2>&1";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(dir + "/log.txt");
-    EXPECT_NE(slurp(dir + "/log.txt").find("streaming the tested IMU"), std::string::npos) << slurp(dir + "/log.txt");
+    EXPECT_NE(slurp(dir + "/log.txt").find("streaming the tested IMU"), std::string::npos)
+        << slurp(dir + "/log.txt");
     const NavSolution memory = inMemorySolution(est, problem);
     writeNav(dir + "/memory.nav", memory.states);
     EXPECT_TRUE(slurp(dir + "/memory.nav") == slurp(dir + "/solution.nav")) << est;

@@ -105,8 +105,8 @@ inline ImuSeries corrupt(const ImuSeries& ideal, const InjectedErrors& e0, const
     const Eigen::Vector3d ng(nd(rng), nd(rng), nd(rng)), na(nd(rng), nd(rng), nd(rng));
     s.dtheta_rad = s.dtheta_rad + e.gyro_scale.cwiseProduct(s.dtheta_rad) +
                    e.gyro_bias_rad_s * s.dt_s + p.arw_rad_sqrt_s * sq * ng;
-    s.dvel_m_s = s.dvel_m_s + e.accel_scale.cwiseProduct(s.dvel_m_s) +
-                 e.accel_bias_m_s2 * s.dt_s + p.vrw_m_s_sqrt_s * sq * na;
+    s.dvel_m_s = s.dvel_m_s + e.accel_scale.cwiseProduct(s.dvel_m_s) + e.accel_bias_m_s2 * s.dt_s +
+                 p.vrw_m_s_sqrt_s * sq * na;
   }
   return out;
 }

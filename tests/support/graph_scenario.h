@@ -12,8 +12,8 @@
 namespace graftnav::test {
 
 struct Scenario {
-  ImuSeries ideal;     // error-free increments
-  NavSeries truth;     // truth[0] is the initial state, truth[k+1] after ideal[k]
+  ImuSeries ideal;  // error-free increments
+  NavSeries truth;  // truth[0] is the initial state, truth[k+1] after ideal[k]
 };
 
 // Vehicle that accelerates, weaves and turns at 200 Hz for `duration_s`. Body rates follow a
@@ -39,8 +39,8 @@ inline Scenario makeScenario(double duration_s, double rate_hz = 200.0, double s
     const double t = (k + 0.5) * dt;  // mid-interval, relative
     const Eigen::Matrix3d C_bn = cur.q_nb.toRotationMatrix().transpose();
     const Eigen::Vector3d fwd = cur.q_nb * Eigen::Vector3d::UnitX();
-    const Eigen::Vector3d a_n = fwd * (0.6 * std::sin(0.15 * t)) +
-                                Eigen::Vector3d(0, 0, 0.05 * std::sin(0.4 * t));
+    const Eigen::Vector3d a_n =
+        fwd * (0.6 * std::sin(0.15 * t)) + Eigen::Vector3d(0, 0, 0.05 * std::sin(0.4 * t));
     const Eigen::Vector3d w_nb_b(0.03 * std::sin(0.7 * t), 0.02 * std::cos(0.5 * t),
                                  0.12 * std::sin(0.08 * t));
     const Eigen::Vector3d w_in_n =
@@ -49,9 +49,11 @@ inline Scenario makeScenario(double duration_s, double rate_hz = 200.0, double s
     imu.t_s = s.t_s + (k + 1) * dt;
     imu.dt_s = dt;
     imu.dtheta_rad = (w_nb_b + C_bn * w_in_n) * dt;
-    imu.dvel_m_s = C_bn * (a_n - earth::gravity_n(cur.pos) +
-                           (2.0 * earth::omega_ie_n(cur.pos.lat_rad) +
-                            earth::omega_en_n(cur.pos, cur.v_n)).cross(cur.v_n)) * dt;
+    imu.dvel_m_s = C_bn *
+                   (a_n - earth::gravity_n(cur.pos) +
+                    (2.0 * earth::omega_ie_n(cur.pos.lat_rad) + earth::omega_en_n(cur.pos, cur.v_n))
+                        .cross(cur.v_n)) *
+                   dt;
     sd.step(imu);
     sc.ideal.push_back(imu);
     sc.truth.push_back(sd.state());

@@ -9,7 +9,8 @@ namespace graftnav::test {
 // integral(t) returns the integral over (0, t] of [omega_b (3); f_b (3)]; the samples are its
 // differences over (t_{k-1}, t_k], tagged t0_s + t_k, at rate_hz for duration_s.
 template <typename IntegralFn>
-ImuSeries sampleIntegral(const IntegralFn& integral, double rate_hz, double duration_s, double t0_s) {
+ImuSeries sampleIntegral(const IntegralFn& integral, double rate_hz, double duration_s,
+                         double t0_s) {
   ImuSeries out;
   const int n = static_cast<int>(duration_s * rate_hz);
   out.reserve(n);

@@ -39,14 +39,14 @@ int expectDerivativesMatchCentralDifferences(const Trajectory& trj, double h, do
 
 // Skips the calling test when `path` (under ../shared) does not exist, or fails it when
 // sharedDataRequired(): CI must not pass by skipping what it was meant to check.
-#define GRAFTNAV_REQUIRE_SHARED_PATH(path)                                                      \
-  do {                                                                                         \
-    const std::string graftnav_path_ = (path);                                                 \
-    if (!std::filesystem::exists(graftnav_path_)) {                                            \
-      if (::graftnav::test::sharedDataRequired()) {                                            \
-        FAIL() << "shared data missing: " << graftnav_path_                                    \
-               << " (GRAFTNAV_REQUIRE_SHARED_DATA=1)";                                         \
-      }                                                                                        \
-      GTEST_SKIP() << "shared data not found: " << graftnav_path_;                             \
-    }                                                                                          \
+#define GRAFTNAV_REQUIRE_SHARED_PATH(path)                         \
+  do {                                                             \
+    const std::string graftnav_path_ = (path);                     \
+    if (!std::filesystem::exists(graftnav_path_)) {                \
+      if (::graftnav::test::sharedDataRequired()) {                \
+        FAIL() << "shared data missing: " << graftnav_path_        \
+               << " (GRAFTNAV_REQUIRE_SHARED_DATA=1)";             \
+      }                                                            \
+      GTEST_SKIP() << "shared data not found: " << graftnav_path_; \
+    }                                                              \
   } while (0)

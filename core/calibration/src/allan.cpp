@@ -10,8 +10,8 @@
 namespace graftnav {
 namespace {
 
-constexpr double kFlickerFactor = 0.66432;          // sqrt(2 ln2 / pi)
-constexpr double kFlickerVar = 0.44130;             // 2 ln2 / pi
+constexpr double kFlickerFactor = 0.66432;  // sqrt(2 ln2 / pi)
+constexpr double kFlickerVar = 0.44130;     // 2 ln2 / pi
 
 // Whitened ADEV residual for one tau. Parameters c = [N^2, B^2, K^2, Q^2].
 struct AdevResidual {
@@ -40,13 +40,15 @@ void AllanOptions::validate() const {
 
 void AllanFitOptions::validate() const {
   if (min_cluster_samples < 1 || !(relative_error_floor >= 0.0))
-    throw std::invalid_argument("AllanFitOptions: min_cluster_samples must be >= 1 and relative_error_floor >= 0");
+    throw std::invalid_argument(
+        "AllanFitOptions: min_cluster_samples must be >= 1 and relative_error_floor >= 0");
   if (min_tau_s < 0.0 || max_tau_s < 0.0 || (max_tau_s > 0.0 && max_tau_s <= min_tau_s))
     throw std::invalid_argument("AllanFitOptions: bad tau range [" + std::to_string(min_tau_s) +
                                 ", " + std::to_string(max_tau_s) + "]");
 }
 
-AllanCurve allanDeviation(const std::vector<Eigen::Vector3d>& rate, double dt, const AllanOptions& opt) {
+AllanCurve allanDeviation(const std::vector<Eigen::Vector3d>& rate, double dt,
+                          const AllanOptions& opt) {
   opt.validate();
   if (rate.size() < 16 || !(dt > 0.0))
     throw std::invalid_argument("allanDeviation: need >= 16 samples and dt > 0 (got " +
@@ -107,9 +109,10 @@ AllanCurve allanDeviation(const ImuSeries& imu, bool gyro, const AllanOptions& o
 }
 
 double AllanFit::modelAdev(int a, double tau) const {
-  const double N = terms.white_noise[a], B = terms.bias_instability[a], K = terms.rate_random_walk[a],
-               Q = quantization[a];
-  return std::sqrt(3.0 * Q * Q / (tau * tau) + N * N / tau + kFlickerVar * B * B + K * K * tau / 3.0);
+  const double N = terms.white_noise[a], B = terms.bias_instability[a],
+               K = terms.rate_random_walk[a], Q = quantization[a];
+  return std::sqrt(3.0 * Q * Q / (tau * tau) + N * N / tau + kFlickerVar * B * B +
+                   K * K * tau / 3.0);
 }
 
 AllanFit fitAllanNoiseTerms(const AllanCurve& curve, const AllanFitOptions& opt) {
@@ -127,7 +130,8 @@ AllanFit fitAllanNoiseTerms(const AllanCurve& curve, const AllanFitOptions& opt)
     const int np = opt.fit_quantization ? 4 : 3;
     if (static_cast<int>(idx.size()) < np + 1)
       throw std::invalid_argument("fitAllanNoiseTerms: only " + std::to_string(idx.size()) +
-                                  " cluster times in the fit range (need " + std::to_string(np + 1) + ")");
+                                  " cluster times in the fit range (need " +
+                                  std::to_string(np + 1) + ")");
     // Initial values: N from the first point, B from the minimum, K from the last point.
     double amin = INFINITY;
     std::size_t imin = idx[0];
@@ -142,10 +146,11 @@ AllanFit fitAllanNoiseTerms(const AllanCurve& curve, const AllanFitOptions& opt)
                    std::pow(curve.adev[i1][a], 2) * 3.0 / curve.tau_s[i1] * 0.1, 0.0};
     ceres::Problem problem;
     for (auto i : idx)
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<AdevResidual, 1, 4>(new AdevResidual(
-                                   curve.tau_s[i], curve.adev[i][a], std::hypot(curve.rel_error[i], opt.relative_error_floor),
-                                   opt.fit_quantization)),
-                               nullptr, c);
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<AdevResidual, 1, 4>(new AdevResidual(
+              curve.tau_s[i], curve.adev[i][a],
+              std::hypot(curve.rel_error[i], opt.relative_error_floor), opt.fit_quantization)),
+          nullptr, c);
     if (!opt.fit_quantization) problem.SetManifold(c, new ceres::SubsetManifold(4, {3}));
     for (int k = 0; k < np; ++k) problem.SetParameterLowerBound(c, k, 0.0);
     ceres::Solver::Options so;
@@ -156,8 +161,8 @@ AllanFit fitAllanNoiseTerms(const AllanCurve& curve, const AllanFitOptions& opt)
     ceres::Solver::Summary sum;
     ceres::Solve(so, &problem, &sum);
     if (!sum.IsSolutionUsable())
-      throw std::runtime_error("fitAllanNoiseTerms: Ceres failed on axis " + std::to_string(a) + ": " +
-                               sum.message);
+      throw std::runtime_error("fitAllanNoiseTerms: Ceres failed on axis " + std::to_string(a) +
+                               ": " + sum.message);
     const int dof = static_cast<int>(idx.size()) - np;
     const double chi2r = dof > 0 ? 2.0 * sum.final_cost / dof : 1.0;
     out.reduced_chi2[a] = chi2r;
@@ -173,7 +178,8 @@ AllanFit fitAllanNoiseTerms(const AllanCurve& curve, const AllanFitOptions& opt)
     auto sd = [&](int k, double coeff) {
       const double var_c = std::max(0.0, C[5 * k] * scale);
       // sigma of sqrt(c): delta method, or sqrt(sigma_c) when c is at the bound 0.
-      return coeff > 0.0 ? std::sqrt(var_c) / (2.0 * std::sqrt(coeff)) : std::sqrt(std::sqrt(var_c));
+      return coeff > 0.0 ? std::sqrt(var_c) / (2.0 * std::sqrt(coeff))
+                         : std::sqrt(std::sqrt(var_c));
     };
     out.terms.white_noise[a] = std::sqrt(c[0]);
     out.terms.white_noise_sigma[a] = sd(0, c[0]);

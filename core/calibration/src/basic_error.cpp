@@ -19,8 +19,8 @@ BasicErrorExtraction extractBasicErrors(const ImuSeries& imu, const Eigen::Matri
   for (std::size_t k = 0; k < imu.size(); ++k) {
     const ImuSample& s = imu[k];
     if (!(s.dt_s > 0.0))
-      throw std::invalid_argument("extractBasicErrors: sample " + std::to_string(k) + " (t = " +
-                                  std::to_string(s.t_s) + ") has dt_s <= 0");
+      throw std::invalid_argument("extractBasicErrors: sample " + std::to_string(k) +
+                                  " (t = " + std::to_string(s.t_s) + ") has dt_s <= 0");
     ImuSample e = s;
     e.dtheta_rad = s.dtheta_rad - r.omega_ie_b * s.dt_s;
     e.dvel_m_s = s.dvel_m_s - r.f_b * s.dt_s;

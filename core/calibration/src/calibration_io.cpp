@@ -84,10 +84,11 @@ void requireFiniteScalars(const YAML::Node& n, const std::string& key, const std
     for (char& ch : v) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
     if (!v.empty() && (v[0] == '+' || v[0] == '-')) v.erase(0, 1);
     if (v == ".nan" || v == "nan" || v == ".inf" || v == "inf")
-      throw std::runtime_error("writeCalibrationYaml: " + path + ": key '" + key + "' is not finite (" + n.Scalar() +
-                               "); refusing to write it");
+      throw std::runtime_error("writeCalibrationYaml: " + path + ": key '" + key +
+                               "' is not finite (" + n.Scalar() + "); refusing to write it");
   } else if (n.IsSequence()) {
-    for (std::size_t i = 0; i < n.size(); ++i) requireFiniteScalars(n[i], key + "[" + std::to_string(i) + "]", path);
+    for (std::size_t i = 0; i < n.size(); ++i)
+      requireFiniteScalars(n[i], key + "[" + std::to_string(i) + "]", path);
   } else if (n.IsMap()) {
     for (const auto& kv : n) {
       const std::string k = kv.first.as<std::string>();
@@ -98,20 +99,24 @@ void requireFiniteScalars(const YAML::Node& n, const std::string& key, const std
 }
 
 Eigen::Matrix3d asMat3(const yf::Context& ctx, const YAML::Node& n, const std::string& key) {
-  if (!n.IsSequence() || n.size() != 3) yf::fail(ctx, n, key, "expected 3 rows of 3 numbers, got " + yf::describe(n));
+  if (!n.IsSequence() || n.size() != 3)
+    yf::fail(ctx, n, key, "expected 3 rows of 3 numbers, got " + yf::describe(n));
   Eigen::Matrix3d m;
-  for (int r = 0; r < 3; ++r) m.row(r) = yf::asVector3(ctx, n[r], key + "[" + std::to_string(r) + "]").transpose();
+  for (int r = 0; r < 3; ++r)
+    m.row(r) = yf::asVector3(ctx, n[r], key + "[" + std::to_string(r) + "]").transpose();
   return m;
 }
 
 // Keys the Allan section may carry beside white_noise.
-void readAllan(const yf::Context& ctx, const YAML::Node& n, const std::string& name, AllanTerms* allan) {
+void readAllan(const yf::Context& ctx, const YAML::Node& n, const std::string& name,
+               AllanTerms* allan) {
   allan->white_noise = yf::asVector3(ctx, n["white_noise"], name + ".white_noise");
-  for (const auto& [key, dst] : {std::make_pair("white_noise_sigma", &allan->white_noise_sigma),
-                                 std::make_pair("bias_instability", &allan->bias_instability),
-                                 std::make_pair("bias_instability_sigma", &allan->bias_instability_sigma),
-                                 std::make_pair("rate_random_walk", &allan->rate_random_walk),
-                                 std::make_pair("rate_random_walk_sigma", &allan->rate_random_walk_sigma)}) {
+  for (const auto& [key, dst] :
+       {std::make_pair("white_noise_sigma", &allan->white_noise_sigma),
+        std::make_pair("bias_instability", &allan->bias_instability),
+        std::make_pair("bias_instability_sigma", &allan->bias_instability_sigma),
+        std::make_pair("rate_random_walk", &allan->rate_random_walk),
+        std::make_pair("rate_random_walk_sigma", &allan->rate_random_walk_sigma)}) {
     if (n[key]) *dst = yf::asVector3(ctx, n[key], name + "." + key);
   }
 }
@@ -130,7 +135,8 @@ PolynomialFit readFitAxis(const yf::Context& ctx, const YAML::Node& f, const std
   yf::readOptional(ctx, f, key, "residual_rms", &p.residual_rms);
   yf::readOptional(ctx, f, key, "n_points", &p.n_points);
   if (yf::readOptional(ctx, f, key, "c2_tested", &p.c2_tested)) {
-    if (!f["c2_tested_sigma"]) yf::fail(ctx, f, key + ".c2_tested_sigma", "missing (c2_tested is given)");
+    if (!f["c2_tested_sigma"])
+      yf::fail(ctx, f, key + ".c2_tested_sigma", "missing (c2_tested is given)");
     yf::readOptional(ctx, f, key, "c2_tested_sigma", &p.c2_tested_sigma);
   }
   yf::readOptional(ctx, f, key, "slope_per_abs", &p.slope_per_abs);
@@ -147,7 +153,8 @@ SensorCalibration readSensor(const yf::Context& ctx, const YAML::Node& root, con
   s.M = asMat3(ctx, yf::child(ctx, n, name, "M", true), std::string(name) + ".M");
   s.bias = yf::asVector3(ctx, yf::child(ctx, n, name, "bias", true), std::string(name) + ".bias");
   if (n["M_sigma"]) s.M_sigma = asMat3(ctx, n["M_sigma"], std::string(name) + ".M_sigma");
-  if (n["bias_sigma"]) s.bias_sigma = yf::asVector3(ctx, n["bias_sigma"], std::string(name) + ".bias_sigma");
+  if (n["bias_sigma"])
+    s.bias_sigma = yf::asVector3(ctx, n["bias_sigma"], std::string(name) + ".bias_sigma");
   if (n["white_noise"]) {
     s.has_allan = true;
     readAllan(ctx, n, name, &s.allan);
@@ -157,7 +164,8 @@ SensorCalibration readSensor(const yf::Context& ctx, const YAML::Node& root, con
     const std::string fit_key = std::string(name) + ".fit";
     static const char* kAxes[3] = {"x", "y", "z"};
     for (int a = 0; a < 3; ++a) {
-      s.fit[a] = readFitAxis(ctx, yf::child(ctx, fit, fit_key, kAxes[a], true), fit_key + "." + kAxes[a]);
+      s.fit[a] =
+          readFitAxis(ctx, yf::child(ctx, fit, fit_key, kAxes[a], true), fit_key + "." + kAxes[a]);
     }
   }
   return s;
@@ -177,8 +185,10 @@ void writeCalibrationYaml(const std::string& path, const CalibrationResult& resu
   out.SetDoublePrecision(12);
   out << root;
   requireFiniteScalars(root, "", path);
-  writeFileAtomically(path, std::string("# graftnav lab calibration (graftnav calibrate); see docs/calibration.md\n") +
-                                out.c_str() + "\n");
+  writeFileAtomically(
+      path,
+      std::string("# graftnav lab calibration (graftnav calibrate); see docs/calibration.md\n") +
+          out.c_str() + "\n");
 }
 
 CalibrationResult readCalibrationYaml(const std::string& path) {

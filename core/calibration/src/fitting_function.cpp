@@ -95,10 +95,11 @@ void PolynomialFitOptions::validate() const {
     throw std::invalid_argument("PolynomialFitOptions: max_degree = " + std::to_string(max_degree) +
                                 " must be in [1, 4]");
   if (folds < 2)
-    throw std::invalid_argument("PolynomialFitOptions: folds = " + std::to_string(folds) + " must be >= 2");
+    throw std::invalid_argument("PolynomialFitOptions: folds = " + std::to_string(folds) +
+                                " must be >= 2");
   if (!(degree_alpha > 0.0 && degree_alpha < 1.0))
-    throw std::invalid_argument("PolynomialFitOptions: degree_alpha = " + std::to_string(degree_alpha) +
-                                " must be in (0, 1)");
+    throw std::invalid_argument("PolynomialFitOptions: degree_alpha = " +
+                                std::to_string(degree_alpha) + " must be in (0, 1)");
 }
 
 PolynomialFit fitPolynomial(const std::vector<FitPoint>& pts, int degree) {
@@ -131,7 +132,8 @@ PolynomialFit fitPolynomialSelectDegree(const std::vector<FitPoint>& pts_in,
                                 ": need >= 3 points with >= 2 distinct x, got " +
                                 std::to_string(pts_in.size()) + " points");
   std::vector<FitPoint> pts = pts_in;
-  std::stable_sort(pts.begin(), pts.end(), [](const FitPoint& a, const FitPoint& b) { return a.x < b.x; });
+  std::stable_sort(pts.begin(), pts.end(),
+                   [](const FitPoint& a, const FitPoint& b) { return a.x < b.x; });
   const int n = static_cast<int>(pts.size());
   // Candidate degrees: at most min(max_degree, points - 2, distinct x - 2), i.e. at least one
   // spare support value, so the polynomial never just interpolates the cluster means.
@@ -174,7 +176,8 @@ PolynomialFit fitPolynomialSelectDegree(const std::vector<FitPoint>& pts_in,
   for (int f = 0; f < folds; ++f) {
     std::vector<FitPoint> train, test;
     for (int i = 0; i < n; ++i) (i % folds == f ? test : train).push_back(pts[i]);
-    if (distinctX(train, range) < chosen + 1 || static_cast<int>(train.size()) < chosen + 2) continue;
+    if (distinctX(train, range) < chosen + 1 || static_cast<int>(train.size()) < chosen + 2)
+      continue;
     const WeightedLsq w = solve(train, chosen);
     for (const auto& q : test) {
       double y = 0.0, v = 1.0;

@@ -43,10 +43,12 @@ void assignWholeTurns(RateRun& run, const RateRunOptions& opt) {
   const double measured = std::abs(run.stats.dtheta_sum_rad[run.axis]) / (kTwoPi * n);
   if (std::abs(measured - 1.0) > opt.max_angle_mismatch)
     throw std::runtime_error("rate run " + run.file + ": integrated angle about the axis is " +
-                             std::to_string(measured * n) + " turns, expected " + std::to_string(n));
+                             std::to_string(measured * n) + " turns, expected " +
+                             std::to_string(n));
   const double s = run.stats.dtheta_sum_rad[run.axis];
   if ((s > 0) != (run.sign > 0))
-    throw std::runtime_error("rate run " + run.file + ": integrated angle has the wrong sign for '" +
+    throw std::runtime_error("rate run " + run.file +
+                             ": integrated angle has the wrong sign for '" +
                              (run.sign > 0 ? "pos" : "neg") + "'");
   run.turns = static_cast<int>(n);
 }
@@ -65,7 +67,8 @@ GyroBiasEstimate gyroBiasFromUpDown(const std::vector<StaticPose>& poses, double
     const Eigen::Vector3d lu = up.stats.omega_mean_rad_s - staticEarthRate_b(up.C_nb, lat_rad);
     const Eigen::Vector3d ld = dn.stats.omega_mean_rad_s - staticEarthRate_b(dn.C_nb, lat_rad);
     e.bias[i] = 0.5 * (lu[i] + ld[i]);
-    e.bias_sigma[i] = 0.5 * std::hypot(up.stats.omegaSigmaOfMean()[i], dn.stats.omegaSigmaOfMean()[i]);
+    e.bias_sigma[i] =
+        0.5 * std::hypot(up.stats.omegaSigmaOfMean()[i], dn.stats.omegaSigmaOfMean()[i]);
   }
   return e;
 }

@@ -30,7 +30,8 @@ void estimatePoseDrift(const LabData& s, LabCalibrationReport& rep) {
   rep.pose_drift_window_s = durations[durations.size() / 2];
   rep.pose_drift_separation_s = std::max(rep.pose_drift_window_s, span_s);
   if (!rep.has_basic) {
-    rep.notes.push_back("no static record: fitting-function points carry white noise only (no pose drift)");
+    rep.notes.push_back(
+        "no static record: fitting-function points carry white noise only (no pose drift)");
     return;
   }
   try {
@@ -84,15 +85,16 @@ void fitFunctionsAndM(const std::vector<LinearObservation>& obs, const LabCalibr
 namespace {
 
 // Accelerometer: six-position poses and tilts (Ceres fit, fitting functions, |f| check).
-void calibrateAccelerometer(const LabData& s, const LabCalibrationOptions& opt, LabCalibrationReport& rep) {
+void calibrateAccelerometer(const LabData& s, const LabCalibrationOptions& opt,
+                            LabCalibrationReport& rep) {
   CalibrationResult& res = rep.result;
   std::vector<StaticPose> accel_poses = s.six_position;
   accel_poses.insert(accel_poses.end(), s.tilts.begin(), s.tilts.end());
   if (!s.six_position.empty()) {
     rep.accel_fit = calibrateAccelStaticPoses(accel_poses, s.gravity_m_s2, opt.lsq);
     for (const auto& p : accel_poses)
-      rep.accel_obs.push_back({p.file, staticSpecificForce_b(p.C_nb, s.gravity_m_s2), p.stats.f_mean_m_s2,
-                               p.stats.fSigmaOfMean()});
+      rep.accel_obs.push_back({p.file, staticSpecificForce_b(p.C_nb, s.gravity_m_s2),
+                               p.stats.f_mean_m_s2, p.stats.fSigmaOfMean()});
     Eigen::Matrix<double, 3, Eigen::Dynamic> U(3, rep.accel_obs.size());
     Eigen::Matrix<double, 4, Eigen::Dynamic> A(4, rep.accel_obs.size());
     for (std::size_t k = 0; k < rep.accel_obs.size(); ++k) {
@@ -117,7 +119,8 @@ void calibrateAccelerometer(const LabData& s, const LabCalibrationOptions& opt, 
     rep.norm_rms_after = std::sqrt(s1 / accel_poses.size());
   } else {
     res.accel.method = "none (no six-position data: M identity, bias 0, sigma 0)";
-    rep.notes.push_back("no six-position data: accelerometer M not calibrated (identity written, sigma 0)");
+    rep.notes.push_back(
+        "no six-position data: accelerometer M not calibrated (identity written, sigma 0)");
   }
 }
 
@@ -142,8 +145,9 @@ void calibrateGyro(const LabData& s, const LabCalibrationOptions& opt, LabCalibr
   const Eigen::Vector3d noise = staticGyroNoiseStd(gyro_poses);
   if (!s.rate_runs.empty()) {
     try {
-      rep.eq10 = gyroScaleFromTurns(s.rate_runs, rep.has_eq9 ? rep.eq9.bias : gyro_poses[0].stats.omega_mean_rad_s,
-                                    lat, noise);
+      rep.eq10 = gyroScaleFromTurns(
+          s.rate_runs, rep.has_eq9 ? rep.eq9.bias : gyro_poses[0].stats.omega_mean_rad_s, lat,
+          noise);
       rep.has_eq10 = true;
     } catch (const std::invalid_argument& e) {
       rep.notes.push_back(std::string("Eq. 10-11 not applicable: ") + e.what());
@@ -190,7 +194,8 @@ void allanOfBasicErrors(const LabCalibrationOptions& opt, LabCalibrationReport& 
 
 LabCalibrationReport calibrateLab(const LabData& s, const LabCalibrationOptions& opt) {
   if (s.six_position.empty() && !s.has_static)
-    throw std::runtime_error(s.case_dir + ": insufficient lab data: no six-position poses and no static record");
+    throw std::runtime_error(s.case_dir +
+                             ": insufficient lab data: no six-position poses and no static record");
   LabCalibrationReport rep;
   rep.notes = s.notes;
   CalibrationResult& res = rep.result;

@@ -32,7 +32,8 @@ void checkStaticPose(const StaticPose& pose, const ImuSeries& imu, double g,
   const double frac = staticFraction(imu, opt.pose_check);
   if (frac < opt.min_static_fraction)
     throw std::runtime_error(pose.file + ": pose '" + pose.name + "' is not static: only " +
-                             fmtNum(100.0 * frac, 1) + " % of the samples pass the static detector (need " +
+                             fmtNum(100.0 * frac, 1) +
+                             " % of the samples pass the static detector (need " +
                              fmtNum(100.0 * opt.min_static_fraction, 0) + " %)");
   const double w = pose.stats.omega_mean_rad_s.norm();
   if (w > opt.max_pose_rate_rad_s)
@@ -44,8 +45,9 @@ void checkStaticPose(const StaticPose& pose, const ImuSeries& imu, double g,
   const double ang = std::atan2(f.cross(f_th).norm(), f.dot(f_th)) * kRadToDeg;
   if (!(ang <= opt.max_pose_angle_deg))
     throw std::runtime_error(pose.file + ": pose '" + pose.name + "': mean specific force [" +
-                             fmtNum(f.x()) + ", " + fmtNum(f.y()) + ", " + fmtNum(f.z()) + "] m/s^2 is " +
-                             fmtNum(ang, 1) + " deg away from the attitude given for the pose (limit " +
+                             fmtNum(f.x()) + ", " + fmtNum(f.y()) + ", " + fmtNum(f.z()) +
+                             "] m/s^2 is " + fmtNum(ang, 1) +
+                             " deg away from the attitude given for the pose (limit " +
                              fmtNum(opt.max_pose_angle_deg, 1) + " deg)");
 }
 
@@ -53,7 +55,8 @@ namespace {
 
 // The six-position poses: all six or none, each at the attitude case.yaml gives (or the default
 // for its name), checked to be static and to point its axis up or down.
-void loadSixPosition(const CasePaths& paths, const LabConfig& lab, const LabDataOptions& opt, LabData& s) {
+void loadSixPosition(const CasePaths& paths, const LabConfig& lab, const LabDataOptions& opt,
+                     LabData& s) {
   namespace fs = std::filesystem;
   const std::string& case_dir = s.case_dir;
   int present = 0;
@@ -64,20 +67,21 @@ void loadSixPosition(const CasePaths& paths, const LabConfig& lab, const LabData
       for (bool up : {true, false}) {
         const std::string file = paths.sixPosition(a, up);
         if (!fs::exists(file))
-          throw std::runtime_error(file + ": missing six-position pose (found " + std::to_string(present) +
-                                   " of 6 in " + case_dir + "/lab/six_position)");
+          throw std::runtime_error(file + ": missing six-position pose (found " +
+                                   std::to_string(present) + " of 6 in " + case_dir +
+                                   "/lab/six_position)");
         StaticPose p;
         p.name = std::string(1, char('x' + a)) + (up ? "_up" : "_down");
         p.file = file;
         const auto it = lab.six_position_euler_rad.find(p.name);
-        const Eigen::Vector3d eul = it != lab.six_position_euler_rad.end() ? it->second
-                                                                            : sixPositionDefaultEuler(p.name);
+        const Eigen::Vector3d eul =
+            it != lab.six_position_euler_rad.end() ? it->second : sixPositionDefaultEuler(p.name);
         p.C_nb = dcmFromEuler(eul);
         const Eigen::Vector3d up_b = p.C_nb.transpose() * Eigen::Vector3d(0, 0, -1);
         if (up_b[a] * (up ? 1.0 : -1.0) < std::cos(45.0 * kDegToRad))
           throw std::runtime_error(paths.caseYaml() + ": lab.six_position." + p.name +
-                                   ": the attitude does not put the " + std::string(1, char('x' + a)) +
-                                   " axis " + (up ? "up" : "down") +
+                                   ": the attitude does not put the " +
+                                   std::string(1, char('x' + a)) + " axis " + (up ? "up" : "down") +
                                    " (remember: x_up is pitch +90 deg in FRD/NED)");
         const ImuSeries imu = readLabImu(file, s.imu_rate_hz);
         p.stats = segmentStats(imu, file);
@@ -94,7 +98,8 @@ LabData loadLabData(const std::string& case_dir, const LabDataOptions& opt) {
   const CasePaths paths(case_dir);
   const CaseConfig cfg = loadCaseConfig(paths.caseYaml());
   if (!cfg.lab)
-    throw std::runtime_error(paths.caseYaml() + ": no lab: section (needed by the lab calibration)");
+    throw std::runtime_error(paths.caseYaml() +
+                             ": no lab: section (needed by the lab calibration)");
   const LabConfig& lab = *cfg.lab;
   LabData s;
   s.case_dir = case_dir;
@@ -102,7 +107,8 @@ LabData loadLabData(const std::string& case_dir, const LabDataOptions& opt) {
   s.imu_rate_hz = cfg.testedImuRateHz();
   s.lab.lat_rad = lab.latitude_rad;
   s.lab.h_m = lab.height_m;
-  s.latitude_known = !(opt.treat_zero_latitude_as_unknown && lab.latitude_rad == 0.0 && lab.height_m == 0.0);
+  s.latitude_known =
+      !(opt.treat_zero_latitude_as_unknown && lab.latitude_rad == 0.0 && lab.height_m == 0.0);
   if (opt.gravity_override_m_s2 > 0.0) {
     s.gravity_m_s2 = opt.gravity_override_m_s2;
     s.notes.push_back("gravity set by the user: " + fmtNum(s.gravity_m_s2, 5) + " m/s^2");
@@ -110,11 +116,13 @@ LabData loadLabData(const std::string& case_dir, const LabDataOptions& opt) {
     s.gravity_m_s2 = earth::gravityMagnitude(s.lab);
   } else {
     s.gravity_m_s2 = 9.80665;
-    s.notes.push_back("lab latitude/height unknown (0/0 placeholders in case.yaml): gravity 9.80665 m/s^2 "
-                      "(standard) and the Earth rate at latitude 0 are used");
+    s.notes.push_back(
+        "lab latitude/height unknown (0/0 placeholders in case.yaml): gravity 9.80665 m/s^2 "
+        "(standard) and the Earth rate at latitude 0 are used");
   }
   if (lab.rate_table_axis_up && !*lab.rate_table_axis_up)
-    throw std::runtime_error(paths.caseYaml() + ": lab.rate_table.axis_up = false is not supported "
+    throw std::runtime_error(paths.caseYaml() +
+                             ": lab.rate_table.axis_up = false is not supported "
                              "(the turning axis must point up)");
 
   loadSixPosition(paths, lab, opt, s);
@@ -122,7 +130,8 @@ LabData loadLabData(const std::string& case_dir, const LabDataOptions& opt) {
     StaticPose p;
     p.name = name;
     p.file = paths.tilt(name);
-    if (!fs::exists(p.file)) throw std::runtime_error(p.file + ": missing tilt file named in case.yaml lab.tilt");
+    if (!fs::exists(p.file))
+      throw std::runtime_error(p.file + ": missing tilt file named in case.yaml lab.tilt");
     p.C_nb = dcmFromEuler(eul);
     const ImuSeries imu = readLabImu(p.file, s.imu_rate_hz);
     p.stats = segmentStats(imu, p.file);
@@ -139,7 +148,8 @@ LabData loadLabData(const std::string& case_dir, const LabDataOptions& opt) {
     s.static_file = paths.labStatic();
     s.static_imu = readLabImu(s.static_file, s.imu_rate_hz);
     s.static_C_nb = dcmFromEuler(lab.static_euler_rad.value_or(Eigen::Vector3d::Zero()));
-    if (!lab.static_euler_rad) s.notes.push_back("lab.static.attitude_deg absent: level, yaw 0 assumed");
+    if (!lab.static_euler_rad)
+      s.notes.push_back("lab.static.attitude_deg absent: level, yaw 0 assumed");
     StaticPose p;
     p.name = "static";
     p.file = s.static_file;
@@ -149,7 +159,8 @@ LabData loadLabData(const std::string& case_dir, const LabDataOptions& opt) {
     s.has_static = true;
   }
   if (s.six_position.empty() && !s.has_static)
-    throw std::runtime_error(case_dir + ": insufficient lab data: neither lab/six_position/*.txt nor "
+    throw std::runtime_error(case_dir +
+                             ": insufficient lab data: neither lab/six_position/*.txt nor "
                              "lab/static.txt exists");
   if (!s.rate_runs.empty() && s.six_position.empty() && !s.has_static)
     throw std::runtime_error(case_dir + ": rate runs need static data for the gyro bias");

@@ -20,9 +20,15 @@ namespace {
 // K lower triangular from p = [k11, k21, k22, k31, k32, k33].
 template <typename T>
 void lowerK(const T* p, T K[3][3]) {
-  K[0][0] = p[0]; K[0][1] = T(0); K[0][2] = T(0);
-  K[1][0] = p[1]; K[1][1] = p[2]; K[1][2] = T(0);
-  K[2][0] = p[3]; K[2][1] = p[4]; K[2][2] = p[5];
+  K[0][0] = p[0];
+  K[0][1] = T(0);
+  K[0][2] = T(0);
+  K[1][0] = p[1];
+  K[1][1] = p[2];
+  K[1][2] = T(0);
+  K[2][0] = p[3];
+  K[2][1] = p[4];
+  K[2][2] = p[5];
 }
 
 // (|K (u - b)| - g) / sigma for one static interval.
@@ -56,7 +62,8 @@ struct GyroMotionResidual {
     T q[4] = {T(1), T(0), T(0), T(0)};  // q_{b_k b}: body now -> body at interval k
     for (const auto& d : dtheta) {
       T phi[3];
-      for (int i = 0; i < 3; ++i) phi[i] = k[3 * i] * d[0] + k[3 * i + 1] * d[1] + k[3 * i + 2] * d[2];
+      for (int i = 0; i < 3; ++i)
+        phi[i] = k[3 * i] * d[0] + k[3 * i + 1] * d[1] + k[3 * i + 2] * d[2];
       T dq[4], qn[4];
       ceres::AngleAxisToQuaternion(phi, dq);
       ceres::QuaternionProduct(q, dq, qn);
@@ -85,7 +92,8 @@ double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
-Eigen::Matrix3d integrateRotation(const std::vector<Eigen::Vector3d>& dtheta, const Eigen::Matrix3d& K) {
+Eigen::Matrix3d integrateRotation(const std::vector<Eigen::Vector3d>& dtheta,
+                                  const Eigen::Matrix3d& K) {
   double k[9];
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) k[3 * i + j] = K(i, j);
@@ -108,8 +116,8 @@ void MultiPositionOptions::validate() const {
   if (!(gravity_m_s2 > 0.0))
     throw std::invalid_argument("MultiPositionOptions: gravity_m_s2 must be > 0");
   if (min_intervals < 9)
-    throw std::invalid_argument("MultiPositionOptions: min_intervals = " + std::to_string(min_intervals) +
-                                " must be >= 9");
+    throw std::invalid_argument(
+        "MultiPositionOptions: min_intervals = " + std::to_string(min_intervals) + " must be >= 9");
 }
 
 namespace {
@@ -163,14 +171,16 @@ void accelCovariance(ceres::Problem& pa, double* kp, double* bp, double final_co
   const Eigen::Matrix<double, 9, 6> J = -kronRowMajor(Ma, Ma.transpose()) * S;
   const Eigen::Matrix<double, 9, 9> CM = J * C.topLeftCorner<6, 6>() * J.transpose();
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) res.accel.M_sigma(i, j) = std::sqrt(std::max(0.0, CM(3 * i + j, 3 * i + j)));
+    for (int j = 0; j < 3; ++j)
+      res.accel.M_sigma(i, j) = std::sqrt(std::max(0.0, CM(3 * i + j, 3 * i + j)));
     res.accel.bias_sigma[i] = std::sqrt(C(6 + i, 6 + i));
   }
 }
 
 // Accelerometer K, b from |K (f - b)| = g over the static means (res.accel and its fields);
 // returns the corrected specific-force direction (up in the body) of every interval.
-std::vector<Eigen::Vector3d> fitAccelerometer(const std::vector<SegmentStats>& st, const MultiPositionOptions& opt,
+std::vector<Eigen::Vector3d> fitAccelerometer(const std::vector<SegmentStats>& st,
+                                              const MultiPositionOptions& opt,
                                               const std::string& source, MultiPositionResult& res) {
   const int n = static_cast<int>(st.size());
   double kp[6] = {1, 0, 1, 0, 0, 1}, bp[3] = {0, 0, 0};
@@ -194,8 +204,9 @@ std::vector<Eigen::Vector3d> fitAccelerometer(const std::vector<SegmentStats>& s
   res.accel_converged = sa.termination_type == ceres::CONVERGENCE;
   res.accel_iterations = static_cast<int>(sa.iterations.size());
   if (!sa.IsSolutionUsable() || !res.accel_converged)
-    throw std::runtime_error("calibrateMultiPosition: " + source + ": accelerometer fit did not converge on " +
-                             std::to_string(n) + " static intervals: " + sa.message);
+    throw std::runtime_error("calibrateMultiPosition: " + source +
+                             ": accelerometer fit did not converge on " + std::to_string(n) +
+                             " static intervals: " + sa.message);
   Eigen::Matrix3d Ka = Eigen::Matrix3d::Zero();
   Ka << kp[0], 0, 0, kp[1], kp[2], 0, kp[3], kp[4], kp[5];
   const Eigen::Vector3d ba(bp[0], bp[1], bp[2]);
@@ -216,12 +227,14 @@ std::vector<Eigen::Vector3d> fitAccelerometer(const std::vector<SegmentStats>& s
 }
 
 // Gyro bias: the duration-weighted mean of the static means less the Earth rate's vertical part.
-void gyroBiasFromStatics(const std::vector<SegmentStats>& st, const std::vector<Eigen::Vector3d>& dir,
-                         const MultiPositionOptions& opt, MultiPositionResult& res) {
+void gyroBiasFromStatics(const std::vector<SegmentStats>& st,
+                         const std::vector<Eigen::Vector3d>& dir, const MultiPositionOptions& opt,
+                         MultiPositionResult& res) {
   const int n = static_cast<int>(st.size());
   Eigen::Vector3d bg = Eigen::Vector3d::Zero(), bsum2 = Eigen::Vector3d::Zero();
   double T = 0.0;
-  const double we_v = opt.latitude_known ? earth::rotationRate_rad_s() * std::sin(opt.latitude_rad) : 0.0;
+  const double we_v =
+      opt.latitude_known ? earth::rotationRate_rad_s() * std::sin(opt.latitude_rad) : 0.0;
   std::vector<Eigen::Vector3d> means(n);
   for (int k = 0; k < n; ++k) {
     means[k] = st[k].omega_mean_rad_s - we_v * dir[k];  // dir = up in the body
@@ -235,15 +248,16 @@ void gyroBiasFromStatics(const std::vector<SegmentStats>& st, const std::vector<
 }
 
 // M = K^-1 of the gyro and its sigmas from the fitted K (9 numbers kg).
-void gyroCovariance(ceres::Problem& pg, double* kg, double final_cost, int n, const std::string& source,
-                    MultiPositionResult& res) {
+void gyroCovariance(ceres::Problem& pg, double* kg, double final_cost, int n,
+                    const std::string& source, MultiPositionResult& res) {
   ceres::Covariance::Options co;
   co.algorithm_type = ceres::DENSE_SVD;
   ceres::Covariance cov(co);
   std::vector<std::pair<const double*, const double*>> blocks{{kg, kg}};
   if (!cov.Compute(blocks, &pg))
-    throw std::runtime_error("calibrateMultiPosition: " + source +
-                             ": gyro covariance rank deficient (motions too few or about one axis)");
+    throw std::runtime_error(
+        "calibrateMultiPosition: " + source +
+        ": gyro covariance rank deficient (motions too few or about one axis)");
   double ck[81];
   cov.GetCovarianceBlock(kg, kg, ck);
   Eigen::Matrix<double, 9, 9> C = Eigen::Map<Eigen::Matrix<double, 9, 9, Eigen::RowMajor>>(ck);
@@ -253,7 +267,8 @@ void gyroCovariance(ceres::Problem& pg, double* kg, double final_cost, int n, co
   const Eigen::Matrix<double, 9, 9> J = -kronRowMajor(Mg, Mg.transpose());
   const Eigen::Matrix<double, 9, 9> CM = J * C * J.transpose();
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) res.gyro.M_sigma(i, j) = std::sqrt(std::max(0.0, CM(3 * i + j, 3 * i + j)));
+    for (int j = 0; j < 3; ++j)
+      res.gyro.M_sigma(i, j) = std::sqrt(std::max(0.0, CM(3 * i + j, 3 * i + j)));
 }
 
 // Gyro scale and misalignment: each motion between two static intervals must rotate the first
@@ -284,8 +299,8 @@ void fitGyroMotions(const ImuSeries& imu, const std::vector<StaticInterval>& int
   res.gyro_converged = sg.termination_type == ceres::CONVERGENCE;
   res.gyro_iterations = static_cast<int>(sg.iterations.size());
   if (!sg.IsSolutionUsable() || !res.gyro_converged)
-    throw std::runtime_error("calibrateMultiPosition: " + source + ": gyro fit did not converge: " +
-                             sg.message);
+    throw std::runtime_error("calibrateMultiPosition: " + source +
+                             ": gyro fit did not converge: " + sg.message);
   Eigen::Matrix3d Kg;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) Kg(i, j) = kg[3 * i + j];
@@ -312,10 +327,11 @@ MultiPositionResult calibrateMultiPosition(const ImuSeries& imu, const MultiPosi
   res.accel_threshold_m_s2 = det.accel_threshold_m_s2;
   const int n = static_cast<int>(det.intervals.size());
   if (n < opt.min_intervals)
-    throw std::runtime_error("calibrateMultiPosition: " + source + ": only " + std::to_string(n) +
-                             " static intervals found (need >= " + std::to_string(opt.min_intervals) +
-                             "); thresholds gyro " + std::to_string(det.gyro_threshold_rad_s) +
-                             " rad/s, accel " + std::to_string(det.accel_threshold_m_s2) + " m/s^2");
+    throw std::runtime_error(
+        "calibrateMultiPosition: " + source + ": only " + std::to_string(n) +
+        " static intervals found (need >= " + std::to_string(opt.min_intervals) +
+        "); thresholds gyro " + std::to_string(det.gyro_threshold_rad_s) + " rad/s, accel " +
+        std::to_string(det.accel_threshold_m_s2) + " m/s^2");
   std::vector<SegmentStats> st;
   for (int k = 0; k < n; ++k)
     st.push_back(segmentStats(imu, det.intervals[k].begin, det.intervals[k].end,
@@ -324,13 +340,15 @@ MultiPositionResult calibrateMultiPosition(const ImuSeries& imu, const MultiPosi
   res.distinct_attitudes = countDistinctAttitudes(st, opt.distinct_attitude_deg);
   if (res.distinct_attitudes < 6)
     throw std::runtime_error("calibrateMultiPosition: " + source + ": the " + std::to_string(n) +
-                             " static intervals hold only " + std::to_string(res.distinct_attitudes) +
+                             " static intervals hold only " +
+                             std::to_string(res.distinct_attitudes) +
                              " distinct attitudes (need >= 6, better >= 9)");
   res.accel_diagonal_only = res.distinct_attitudes < opt.min_distinct_for_full_accel;
   if (res.accel_diagonal_only)
-    res.notes.push_back("only " + std::to_string(res.distinct_attitudes) +
-                        " distinct attitudes: accelerometer non-orthogonality not observable from |f| = g, "
-                        "M fitted diagonal (scale + bias)");
+    res.notes.push_back(
+        "only " + std::to_string(res.distinct_attitudes) +
+        " distinct attitudes: accelerometer non-orthogonality not observable from |f| = g, "
+        "M fitted diagonal (scale + bias)");
   const std::vector<Eigen::Vector3d> dir = fitAccelerometer(st, opt, source, res);
   if (!opt.calibrate_gyro) return res;
   gyroBiasFromStatics(st, dir, opt, res);
@@ -356,7 +374,8 @@ ImuSeries readRawCountPair(const std::string& accel_path, const std::string& gyr
                                  ": expected 4 numbers `t x y z`");
       for (double v : r)
         if (!std::isfinite(v))
-          throw std::runtime_error("readRawCountPair: " + path + ":" + std::to_string(ln) + ": not finite");
+          throw std::runtime_error("readRawCountPair: " + path + ":" + std::to_string(ln) +
+                                   ": not finite");
       if (!rows.empty() && !(r[0] > rows.back()[0]))
         throw std::runtime_error("readRawCountPair: " + path + ":" + std::to_string(ln) +
                                  ": time not increasing");

@@ -8,22 +8,24 @@
 
 namespace graftnav {
 
-PoseDriftEstimate measurePoseDrift(const ImuSeries& e, bool gyro, double window_s, double separation_s) {
+PoseDriftEstimate measurePoseDrift(const ImuSeries& e, bool gyro, double window_s,
+                                   double separation_s) {
   if (!(window_s > 0.0) || !(separation_s > 0.0))
     throw std::invalid_argument("measurePoseDrift: window_s and separation_s must be > 0, got " +
                                 std::to_string(window_s) + ", " + std::to_string(separation_s));
   double duration_s = 0.0;
   for (std::size_t k = 0; k < e.size(); ++k) {
     if (!(e[k].dt_s > 0.0))
-      throw std::invalid_argument("measurePoseDrift: sample " + std::to_string(k) + " has dt_s <= 0");
+      throw std::invalid_argument("measurePoseDrift: sample " + std::to_string(k) +
+                                  " has dt_s <= 0");
     duration_s += e[k].dt_s;
   }
   if (duration_s < window_s + separation_s)
     throw std::invalid_argument("measurePoseDrift: static record of " + std::to_string(duration_s) +
                                 " s is shorter than window + separation = " +
                                 std::to_string(window_s + separation_s) + " s");
-  const std::size_t per_window =
-      std::max<std::size_t>(2, static_cast<std::size_t>(std::lround(window_s * e.size() / duration_s)));
+  const std::size_t per_window = std::max<std::size_t>(
+      2, static_cast<std::size_t>(std::lround(window_s * e.size() / duration_s)));
   const std::size_t windows = e.size() / per_window;
   const std::size_t m = std::max<long>(1, std::lround(separation_s / window_s));
   std::vector<Eigen::Vector3d> mean(windows);

@@ -45,7 +45,8 @@ struct SensorModelResidual {
 namespace {
 
 // Checks the observations and the per-axis degrees; returns the number of curvature terms.
-int checkLinearModelInputs(const std::vector<LinearObservation>& obs, const std::array<int, 3>& axis_degree) {
+int checkLinearModelInputs(const std::vector<LinearObservation>& obs,
+                           const std::array<int, 3>& axis_degree) {
   if (obs.size() < 4)
     throw std::invalid_argument("fitLinearSensorModel: need at least 4 observations, got " +
                                 std::to_string(obs.size()));
@@ -58,9 +59,11 @@ int checkLinearModelInputs(const std::vector<LinearObservation>& obs, const std:
   }
   for (const auto& o : obs) {
     if (!o.true_value.allFinite() || !o.measured.allFinite() || !o.sigma.allFinite())
-      throw std::invalid_argument("fitLinearSensorModel: observation '" + o.name + "' is not finite");
+      throw std::invalid_argument("fitLinearSensorModel: observation '" + o.name +
+                                  "' is not finite");
     if ((o.sigma.array() < 0.0).any())
-      throw std::invalid_argument("fitLinearSensorModel: observation '" + o.name + "' has sigma < 0");
+      throw std::invalid_argument("fitLinearSensorModel: observation '" + o.name +
+                                  "' has sigma < 0");
   }
   return extra;
 }
@@ -111,9 +114,15 @@ void linearModelCovariance(ceres::Problem& problem, double* p, int extra, Covari
   }
   double s2 = fit.dof > 0 ? fit.chi2 / fit.dof : 1.0;
   switch (scaling) {
-    case CovarianceScaling::kNone: fit.covariance_scale = 1.0; break;
-    case CovarianceScaling::kReducedChiSquare: fit.covariance_scale = fit.dof > 0 ? s2 : 1.0; break;
-    case CovarianceScaling::kReducedChiSquareAtLeastOne: fit.covariance_scale = std::max(1.0, s2); break;
+    case CovarianceScaling::kNone:
+      fit.covariance_scale = 1.0;
+      break;
+    case CovarianceScaling::kReducedChiSquare:
+      fit.covariance_scale = fit.dof > 0 ? s2 : 1.0;
+      break;
+    case CovarianceScaling::kReducedChiSquareAtLeastOne:
+      fit.covariance_scale = std::max(1.0, s2);
+      break;
   }
   fit.covariance *= fit.covariance_scale;
   for (int i = 0; i < 3; ++i) {
@@ -151,9 +160,9 @@ LinearModelFit fitLinearSensorModel(const std::vector<LinearObservation>& obs,
   ceres::Problem problem;
   for (const auto& o : obs) {
     const Eigen::Vector3d s = o.sigma.cwiseMax(floor);
-    problem.AddResidualBlock(extra == 0 ? SensorModelResidual<0>::Create(o, s)
-                                        : SensorModelResidual<9>::Create(o, s),
-                             nullptr, p);
+    problem.AddResidualBlock(
+        extra == 0 ? SensorModelResidual<0>::Create(o, s) : SensorModelResidual<9>::Create(o, s),
+        nullptr, p);
   }
   if (extra > 0) {
     std::vector<int> fixed;
@@ -186,10 +195,12 @@ LinearModelFit fitLinearSensorModel(const std::vector<LinearObservation>& obs,
   return fit;
 }
 
-Eigen::Matrix<double, 3, 4> closedFormLinearModel(const Eigen::Matrix<double, 3, Eigen::Dynamic>& U,
-                                                  const Eigen::Matrix<double, 4, Eigen::Dynamic>& A) {
+Eigen::Matrix<double, 3, 4> closedFormLinearModel(
+    const Eigen::Matrix<double, 3, Eigen::Dynamic>& U,
+    const Eigen::Matrix<double, 4, Eigen::Dynamic>& A) {
   if (U.cols() != A.cols() || U.cols() < 4)
-    throw std::invalid_argument("closedFormLinearModel: U and A need the same number (>= 4) of columns");
+    throw std::invalid_argument(
+        "closedFormLinearModel: U and A need the same number (>= 4) of columns");
   const Eigen::Matrix4d AAt = A * A.transpose();
   return U * A.transpose() * AAt.inverse();
 }

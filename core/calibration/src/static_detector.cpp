@@ -17,7 +17,8 @@ void require(bool ok, const std::string& field, double value, const char* why) {
 // Centred moving sqrt(sum of per-axis variances) of the rate signals, via prefix sums.
 std::vector<double> movingStd(const ImuSeries& imu, bool gyro, std::size_t half) {
   const std::size_t n = imu.size();
-  std::vector<Eigen::Vector3d> c1(n + 1, Eigen::Vector3d::Zero()), c2(n + 1, Eigen::Vector3d::Zero());
+  std::vector<Eigen::Vector3d> c1(n + 1, Eigen::Vector3d::Zero()),
+      c2(n + 1, Eigen::Vector3d::Zero());
   for (std::size_t k = 0; k < n; ++k) {
     const Eigen::Vector3d x = (gyro ? imu[k].dtheta_rad : imu[k].dvel_m_s) / imu[k].dt_s;
     c1[k + 1] = c1[k] + x;
@@ -54,7 +55,8 @@ StaticDetection detectStaticIntervals(const ImuSeries& imu, const StaticDetector
       throw std::invalid_argument("detectStaticIntervals: sample " + std::to_string(k) +
                                   " has dt_s <= 0");
   const double dt = (imu.back().t_s - imu.front().t_s) / static_cast<double>(imu.size() - 1);
-  const std::size_t half = std::max<std::size_t>(1, static_cast<std::size_t>(0.5 * opt.window_s / dt));
+  const std::size_t half =
+      std::max<std::size_t>(1, static_cast<std::size_t>(0.5 * opt.window_s / dt));
   StaticDetection det;
   det.gyro_stat = movingStd(imu, true, half);
   det.accel_stat = movingStd(imu, false, half);
@@ -64,7 +66,8 @@ StaticDetection detectStaticIntervals(const ImuSeries& imu, const StaticDetector
     const double t_end = imu.front().t_s + opt.init_static_s;
     double sg = 0.0, sa = 0.0;
     std::size_t m = 0;
-    for (std::size_t k = half; k < imu.size() && imu[k].t_s <= t_end - 0.5 * opt.window_s; ++k, ++m) {
+    for (std::size_t k = half; k < imu.size() && imu[k].t_s <= t_end - 0.5 * opt.window_s;
+         ++k, ++m) {
       sg += det.gyro_stat[k];
       sa += det.accel_stat[k];
     }

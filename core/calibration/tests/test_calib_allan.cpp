@@ -41,13 +41,15 @@ struct Signal {
 };
 
 // White (density N) + rate random walk (K) + flicker source per axis.
-Signal makeSignal(double N, double K, FlickerSource* flick, double dt, std::size_t n, unsigned seed) {
+Signal makeSignal(double N, double K, FlickerSource* flick, double dt, std::size_t n,
+                  unsigned seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> g(0.0, 1.0);
   Signal s{std::vector<Eigen::Vector3d>(n), dt};
   for (int a = 0; a < 3; ++a) {
     double rw = 0.0;
-    std::vector<double> x = flick ? std::vector<double>(flick->T.size(), 0.0) : std::vector<double>();
+    std::vector<double> x =
+        flick ? std::vector<double>(flick->T.size(), 0.0) : std::vector<double>();
     if (flick)
       for (auto& v : x) v = std::sqrt(flick->s2) * g(rng);
     for (std::size_t k = 0; k < n; ++k) {
@@ -110,7 +112,8 @@ TEST(CalibAllan, RecoversFlickerBiasInstabilityWithinThreeSigma) {
     const Signal s = makeSignal(N, 0.0, &fl, 0.1, 100000, seed);
     const AllanFit f = fitAllanNoiseTerms(allanDeviation(s.rate, s.dt));
     for (int a = 0; a < 3; ++a) {
-      EXPECT_LT(std::abs(f.terms.bias_instability[a] - B_true), 3.0 * f.terms.bias_instability_sigma[a])
+      EXPECT_LT(std::abs(f.terms.bias_instability[a] - B_true),
+                3.0 * f.terms.bias_instability_sigma[a])
           << seed << " B " << f.terms.bias_instability[a] << " vs " << B_true;
       EXPECT_LT(f.terms.bias_instability_sigma[a], 0.3 * B_true);
       // Read-off (min ADEV / 0.664) is in the same range.
@@ -186,7 +189,8 @@ TEST(CalibAllan, RealAdis16405GyroNoiseInDatasheetClass) {
   ro.nominal_rate_hz = 100.0;
   ro.policy = ImuReadPolicy::real();
   ImuSeries imu = readImu(path, ro);
-  const BasicErrorExtraction b = extractBasicErrors(imu, Eigen::Matrix3d::Identity(), Geodetic{}, 9.80665);
+  const BasicErrorExtraction b =
+      extractBasicErrors(imu, Eigen::Matrix3d::Identity(), Geodetic{}, 9.80665);
   const AllanFit g = fitAllanNoiseTerms(allanDeviation(b.error, true));
   for (int a = 0; a < 3; ++a) {
     const double arw_deg_rt_h = g.terms.white_noise[a] * kRadToDeg * 60.0;
@@ -197,8 +201,8 @@ TEST(CalibAllan, RealAdis16405GyroNoiseInDatasheetClass) {
     EXPECT_LT(arw_deg_rt_h, 6.0) << a;
     EXPECT_GT(bi_deg_h, 2.0) << a;
     EXPECT_LT(bi_deg_h, 150.0) << a;
-    std::printf("ADIS16405 gyro %c: ARW %.2f deg/sqrt(h) (+- %.2f), BI %.1f deg/h (+- %.1f)\n", 'x' + a,
-                arw_deg_rt_h, g.terms.white_noise_sigma[a] * kRadToDeg * 60.0, bi_deg_h,
+    std::printf("ADIS16405 gyro %c: ARW %.2f deg/sqrt(h) (+- %.2f), BI %.1f deg/h (+- %.1f)\n",
+                'x' + a, arw_deg_rt_h, g.terms.white_noise_sigma[a] * kRadToDeg * 60.0, bi_deg_h,
                 g.terms.bias_instability_sigma[a] * kRadToDeg * 3600.0);
   }
 }

@@ -13,8 +13,8 @@
 namespace graftnav {
 namespace {
 
-std::vector<FitPoint> samplePoly(const std::vector<double>& c, const std::vector<double>& xs, double sigma,
-                                 unsigned seed) {
+std::vector<FitPoint> samplePoly(const std::vector<double>& c, const std::vector<double>& xs,
+                                 double sigma, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> g(0.0, sigma);
   std::vector<FitPoint> pts;
@@ -31,13 +31,15 @@ std::vector<FitPoint> samplePoly(const std::vector<double>& c, const std::vector
 
 std::vector<double> rateGrid() {  // rad/s, like a rate table +-10..+-200 deg/s plus static points
   std::vector<double> xs;
-  for (double d : {-200.0, -150.0, -100.0, -60.0, -30.0, -10.0, 0.0, 0.0, 10.0, 30.0, 60.0, 100.0, 150.0, 200.0})
+  for (double d : {-200.0, -150.0, -100.0, -60.0, -30.0, -10.0, 0.0, 0.0, 10.0, 30.0, 60.0, 100.0,
+                   150.0, 200.0})
     xs.push_back(d * 0.017453292519943295);
   return xs;
 }
 
 TEST(CalibFittingFunction, QuadraticChosenAndCoefficientsWithinThreeSigma) {
-  const std::vector<double> c = {2e-4, 1.0 + 3e-3, 4e-3};  // bias, 1 + scale, nonlinearity (1/(rad/s))
+  const std::vector<double> c = {2e-4, 1.0 + 3e-3,
+                                 4e-3};  // bias, 1 + scale, nonlinearity (1/(rad/s))
   int deg2 = 0;
   for (unsigned seed : {1u, 2u, 3u, 4u}) {
     const auto pts = samplePoly(c, rateGrid(), 1e-4, seed);
@@ -46,7 +48,8 @@ TEST(CalibFittingFunction, QuadraticChosenAndCoefficientsWithinThreeSigma) {
     ASSERT_GE(f.degree, 2);
     ASSERT_EQ(f.coeffs.size(), static_cast<std::size_t>(f.degree + 1));
     for (int k = 0; k <= 2; ++k)
-      EXPECT_LT(std::abs(f.coeffs[k] - c[k]), 3.0 * f.coeffs_sigma[k]) << "seed " << seed << " c" << k;
+      EXPECT_LT(std::abs(f.coeffs[k] - c[k]), 3.0 * f.coeffs_sigma[k])
+          << "seed " << seed << " c" << k;
     EXPECT_LT(f.residual_rms, 2e-4);
   }
   EXPECT_GE(deg2, 3);  // the degree test does not over-fit
@@ -118,15 +121,18 @@ TEST(CalibFittingFunction, LabQuadraticUnderPoseDriftFoundAndDriftNotTakenForCur
   int null_white = 0, null_drift = 0, found = 0, within = 0, null_c2_within = 0, c2_within = 0;
   for (int k = 0; k < trials; ++k) {
     DriftingSession s = driftingSession(0.0, K, sigma, rng);
-    const PolynomialFit null_fit = fitPolynomialSelectDegree(s.points, PolynomialFitOptions{}, "null");
+    const PolynomialFit null_fit =
+        fitPolynomialSelectDegree(s.points, PolynomialFitOptions{}, "null");
     null_drift += null_fit.degree > 1;
     // The degree-2 estimate the test weighed is reported with a line too, with a sigma that
     // holds: the mismatch finder uses it as evidence (mismatch/gain_or_curvature.h).
     null_c2_within += std::abs(null_fit.c2_tested) < 3.0 * null_fit.c2_tested_sigma;
     for (auto& p : s.points) p.sigma = 1.8e-4;  // white sigma-of-mean only
-    null_white += fitPolynomialSelectDegree(s.points, PolynomialFitOptions{}, "null white").degree > 1;
+    null_white +=
+        fitPolynomialSelectDegree(s.points, PolynomialFitOptions{}, "null white").degree > 1;
     const DriftingSession q = driftingSession(2.5e-4, K, sigma, rng);
-    const PolynomialFit f = fitPolynomialSelectDegree(q.points, PolynomialFitOptions{}, "quadratic");
+    const PolynomialFit f =
+        fitPolynomialSelectDegree(q.points, PolynomialFitOptions{}, "quadratic");
     c2_within += std::abs(f.c2_tested - 2.5e-4) < 3.0 * f.c2_tested_sigma;
     if (f.degree == 2) {
       EXPECT_EQ(f.c2_tested, f.coeffs[2]);
@@ -175,10 +181,12 @@ TEST(PoseDrift, RecoversRandomWalkBetweenWindowsAndIgnoresWhiteNoise) {
   const ImuSeries e = staticRecord(3600.0, 100.0, 0.02, K, rng);
   const PoseDriftEstimate d = measurePoseDrift(e, false, 30.0, 90.0);
   for (int a = 0; a < 2; ++a)
-    EXPECT_NEAR(d.sigma[a], K[a] * std::sqrt(0.5 * (90.0 - 10.0)), 0.2 * K[a] * std::sqrt(40.0)) << "axis " << a;
+    EXPECT_NEAR(d.sigma[a], K[a] * std::sqrt(0.5 * (90.0 - 10.0)), 0.2 * K[a] * std::sqrt(40.0))
+        << "axis " << a;
   EXPECT_LT(d.sigma[2], 0.3 * 1e-4 * std::sqrt(40.0));  // white noise alone: (nearly) no drift
   EXPECT_NEAR(measurePoseDrift(e, true, 30.0, 90.0).sigma[1], 1e-3 * d.sigma[1], 1e-12);
-  EXPECT_THROW(measurePoseDrift(ImuSeries(e.begin(), e.begin() + 10000), false, 30.0, 90.0), std::invalid_argument);
+  EXPECT_THROW(measurePoseDrift(ImuSeries(e.begin(), e.begin() + 10000), false, 30.0, 90.0),
+               std::invalid_argument);
   EXPECT_THROW(measurePoseDrift(e, false, 0.0, 90.0), std::invalid_argument);
 }
 
@@ -191,7 +199,8 @@ TEST(PoseDrift, DegreesOfFreedomMatchTheSpreadOfTheEstimate) {
   const int trials = 300;
   double s1 = 0.0, s2 = 0.0, dof_sum = 0.0, pooled_dof_sum = 0.0;
   for (int k = 0; k < trials; ++k) {
-    const PoseDriftEstimate d = measurePoseDrift(staticRecord(600.0, 50.0, 1e-2, K, rng), false, 30.0, 190.0);
+    const PoseDriftEstimate d =
+        measurePoseDrift(staticRecord(600.0, 50.0, 1e-2, K, rng), false, 30.0, 190.0);
     for (int a = 0; a < 3; ++a) {
       const double v = d.sigma[a] * d.sigma[a];
       s1 += v;
@@ -206,8 +215,8 @@ TEST(PoseDrift, DegreesOfFreedomMatchTheSpreadOfTheEstimate) {
   EXPECT_GT(stated_dof, 2.5);
   EXPECT_LT(stated_dof, 6.0);
   // Pooled: three times an axis's for equal axes; less when the axes' estimates differ.
-  std::printf("sigma^2 dof: stated %.2f, empirical %.2f; pooled over 3 axes %.2f\n", stated_dof, empirical_dof,
-              pooled_dof_sum / trials);
+  std::printf("sigma^2 dof: stated %.2f, empirical %.2f; pooled over 3 axes %.2f\n", stated_dof,
+              empirical_dof, pooled_dof_sum / trials);
   EXPECT_GT(pooled_dof_sum / trials, 2.0 * stated_dof);
   EXPECT_LE(pooled_dof_sum / trials, 3.0 * stated_dof);
 
@@ -231,33 +240,39 @@ TEST(CalibFittingFunction, DriftEstimatedFromAShortStaticRecordCarriesItsDofInto
   const int trials = 400;
   int null_dof = 0, null_known = 0, found = 0;
   const auto sessions = [&](double k2) {
-    std::array<DriftingSession, 3> s = {driftingSession(k2, K, 1.0, rng), driftingSession(k2, K, 1.0, rng),
+    std::array<DriftingSession, 3> s = {driftingSession(k2, K, 1.0, rng),
+                                        driftingSession(k2, K, 1.0, rng),
                                         driftingSession(k2, K, 1.0, rng)};
     std::vector<LinearObservation> obs;
     for (std::size_t i = 0; i < s[0].points.size(); ++i) {
       const Eigen::Vector3d x = Eigen::Vector3d::Constant(s[0].points[i].x);
       const Eigen::Vector3d y(s[0].points[i].y, s[1].points[i].y, s[2].points[i].y);
-      obs.push_back({"pose", x, y, Eigen::Vector3d::Constant(i == 6 ? white * std::sqrt(3.0) : white)});
+      obs.push_back(
+          {"pose", x, y, Eigen::Vector3d::Constant(i == 6 ? white * std::sqrt(3.0) : white)});
     }
     return obs;
   };
   PolynomialFitOptions per_axis_1pct;  // the sensor's alpha that gives 1 % per axis (Sidak)
   per_axis_1pct.degree_alpha = 1.0 - std::pow(0.99, 3.0);
   for (int k = 0; k < trials; ++k) {
-    const PoseDriftEstimate est = pooledOverAxes(
-        measurePoseDrift(staticRecord(600.0, 50.0, 1e-2, Eigen::Vector3d::Constant(K), rng), false, 30.0, 190.0));
+    const PoseDriftEstimate est = pooledOverAxes(measurePoseDrift(
+        staticRecord(600.0, 50.0, 1e-2, Eigen::Vector3d::Constant(K), rng), false, 30.0, 190.0));
     PoseDriftEstimate as_known = est;
     as_known.dof.setConstant(INFINITY);
     const auto null_obs = sessions(0.0);
-    for (const auto& f : fitAxisPolynomials(null_obs, Eigen::Matrix3d::Identity(), per_axis_1pct, "accel", est))
+    for (const auto& f :
+         fitAxisPolynomials(null_obs, Eigen::Matrix3d::Identity(), per_axis_1pct, "accel", est))
       null_dof += f.degree > 1;
-    for (const auto& f : fitAxisPolynomials(null_obs, Eigen::Matrix3d::Identity(), per_axis_1pct, "accel", as_known))
+    for (const auto& f : fitAxisPolynomials(null_obs, Eigen::Matrix3d::Identity(), per_axis_1pct,
+                                            "accel", as_known))
       null_known += f.degree > 1;
-    for (const auto& f : fitAxisPolynomials(sessions(2.5e-4), Eigen::Matrix3d::Identity(), per_axis_1pct, "accel", est))
+    for (const auto& f : fitAxisPolynomials(sessions(2.5e-4), Eigen::Matrix3d::Identity(),
+                                            per_axis_1pct, "accel", est))
       found += f.degree == 2;
   }
-  std::printf("null axes with degree > 1: %d/%d with the dof, %d/%d as if known; k2 2.5e-4 found %d/%d\n",
-              null_dof, 3 * trials, null_known, 3 * trials, found, 3 * trials);
+  std::printf(
+      "null axes with degree > 1: %d/%d with the dof, %d/%d as if known; k2 2.5e-4 found %d/%d\n",
+      null_dof, 3 * trials, null_known, 3 * trials, found, 3 * trials);
   EXPECT_LE(null_dof, 3 * trials * 2 / 100);
   EXPECT_GT(null_known, null_dof);  // as if known: 2.5 %, the CRN failure
   EXPECT_GE(found, 3 * trials * 97 / 100);
@@ -281,28 +296,34 @@ TEST(CalibFittingFunction, DegreeAlphaHoldsForTheSensorNotEachAxis) {
     std::vector<LinearObservation> obs;
     for (double x : xs)
       obs.push_back({"pose", Eigen::Vector3d::Constant(x),
-                     Eigen::Vector3d::Constant(0.01 + x) + sigma * Eigen::Vector3d(n01(rng), n01(rng), n01(rng)),
+                     Eigen::Vector3d::Constant(0.01 + x) +
+                         sigma * Eigen::Vector3d(n01(rng), n01(rng), n01(rng)),
                      Eigen::Vector3d::Constant(sigma)});
     bool a = false, b = false;
-    for (const auto& f : fitAxisPolynomials(obs, Eigen::Matrix3d::Identity(), {}, "accel")) a |= f.degree > 1;
-    for (const auto& f : fitAxisPolynomials(obs, Eigen::Matrix3d::Identity(), per_axis_1pct, "accel"))
+    for (const auto& f : fitAxisPolynomials(obs, Eigen::Matrix3d::Identity(), {}, "accel"))
+      a |= f.degree > 1;
+    for (const auto& f :
+         fitAxisPolynomials(obs, Eigen::Matrix3d::Identity(), per_axis_1pct, "accel"))
       b |= f.degree > 1;
     any_sensor += a;
     any_per_axis += b;
   }
-  std::printf("labs with a false curvature: %d/%d at 1 %% per sensor, %d/%d at 1 %% per axis\n", any_sensor, labs,
-              any_per_axis, labs);
+  std::printf("labs with a false curvature: %d/%d at 1 %% per sensor, %d/%d at 1 %% per axis\n",
+              any_sensor, labs, any_per_axis, labs);
   EXPECT_LE(any_sensor, labs * 16 / 1000);
   EXPECT_GE(any_sensor, labs * 3 / 1000);
   EXPECT_GE(any_per_axis, 2 * any_sensor);
 }
 
 TEST(CalibFittingFunction, BadInputs) {
-  EXPECT_THROW(fitPolynomialSelectDegree({{0, 0, 1}, {1, 1, 1}}, PolynomialFitOptions{}, "two"), std::invalid_argument);
-  EXPECT_THROW(fitPolynomialSelectDegree({{1, 0, 1}, {1, 1, 1}, {1, 2, 1}}, PolynomialFitOptions{}, "same x"),
+  EXPECT_THROW(fitPolynomialSelectDegree({{0, 0, 1}, {1, 1, 1}}, PolynomialFitOptions{}, "two"),
                std::invalid_argument);
-  EXPECT_THROW(fitPolynomialSelectDegree({{0, 0, 0}, {1, 1, 1}, {2, 2, 1}}, PolynomialFitOptions{}, "sigma"),
+  EXPECT_THROW(fitPolynomialSelectDegree({{1, 0, 1}, {1, 1, 1}, {1, 2, 1}}, PolynomialFitOptions{},
+                                         "same x"),
                std::invalid_argument);
+  EXPECT_THROW(
+      fitPolynomialSelectDegree({{0, 0, 0}, {1, 1, 1}, {2, 2, 1}}, PolynomialFitOptions{}, "sigma"),
+      std::invalid_argument);
   PolynomialFitOptions o;
   o.max_degree = 5;
   EXPECT_THROW(o.validate(), std::invalid_argument);
@@ -427,9 +448,10 @@ TEST(CalibIo, MissingOrMalformedKeysNameTheKey) {
   expectError(gyro, "accel");
   expectError("accel: {M: [[1,0,0],[0,1,0]], bias: [0,0,0]}\n" + gyro, "accel.M");
   expectError("accel: {M: [[1,0,0],[0,1,0],[0,0,1]], bias: [0,.nan,0]}\n" + gyro, "accel.bias");
-  expectError("accel: {M: [[1,0,0],[0,1,0],[0,0,1]], bias: [0,0,0], fit: {x: {degree: 2, coeffs: [0,1]}}}\n" +
-                  gyro,
-              "accel.fit");
+  expectError(
+      "accel: {M: [[1,0,0],[0,1,0],[0,0,1]], bias: [0,0,0], fit: {x: {degree: 2, coeffs: [0,1]}}}\n" +
+          gyro,
+      "accel.fit");
   EXPECT_THROW(readCalibrationYaml(dir + "/does_not_exist.yaml"), std::runtime_error);
 }
 

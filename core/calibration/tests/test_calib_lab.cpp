@@ -39,7 +39,9 @@ ImuErrorModel drawModel(unsigned seed, bool nonlinear) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> g(0.0, 1.0);
   ImuErrorModel m;
-  auto vec = [&](double s) -> Eigen::Vector3d { return Eigen::Vector3d(g(rng), g(rng), g(rng)) * s; };
+  auto vec = [&](double s) -> Eigen::Vector3d {
+    return Eigen::Vector3d(g(rng), g(rng), g(rng)) * s;
+  };
   m.gyro.constant_bias.b = vec(50.0 * kDegToRad / 3600.0);
   m.gyro.scale_factor.k = vec(1e-3);
   m.accel.constant_bias.b = vec(0.02);
@@ -51,7 +53,7 @@ ImuErrorModel drawModel(unsigned seed, bool nonlinear) {
         m.accel.non_orthogonality.N(i, j) = 1e-3 * g(rng);
       }
   m.gyro.white_noise.density.setConstant(0.3 * kDegToRad / 60.0);  // 0.3 deg/sqrt(h)
-  m.accel.white_noise.density.setConstant(0.05 / 60.0);             // 0.05 m/s/sqrt(h)
+  m.accel.white_noise.density.setConstant(0.05 / 60.0);            // 0.05 m/s/sqrt(h)
   if (nonlinear) {
     m.gyro.scale_nonlinearity.k2 = vec(2e-3);   // 1/(rad/s)
     m.accel.scale_nonlinearity.k2 = vec(1e-4);  // 1/(m/s^2)
@@ -68,7 +70,8 @@ void writeSimCase(const std::string& dir, const LabSimOptions& o, const ImuError
     const std::string path = dir + "/" + s.relative_path;
     fs::create_directories(fs::path(path).parent_path());
     const bool is_static = s.relative_path == "lab/static.txt";
-    writeImu(path, applyErrors(s.ideal, is_static ? static_model : model, seed * 1000 + (++stream)));
+    writeImu(path,
+             applyErrors(s.ideal, is_static ? static_model : model, seed * 1000 + (++stream)));
   }
   CaseConfig cfg;
   cfg.name = "sim_lab_" + std::to_string(seed);
@@ -91,7 +94,8 @@ double gmAvar(double s2, double T, double tau) {
 
 // "Injected" Allan terms of white noise + Gauss-Markov: the noise-term model fitted to the EXACT
 // Allan deviation of the injected process on the same cluster times and weights.
-AllanFit injectedAllan(const AllanCurve& like, const Eigen::Vector3d& white, const GaussMarkovParams& gm) {
+AllanFit injectedAllan(const AllanCurve& like, const Eigen::Vector3d& white,
+                       const GaussMarkovParams& gm) {
   AllanCurve c = like;
   for (std::size_t i = 0; i < c.tau_s.size(); ++i)
     for (int a = 0; a < 3; ++a)
@@ -159,8 +163,10 @@ TEST(CalibLab, SimulatedSessionRecoversInjectedParametersWithinThreeSigma) {
     for (int a = 0; a < 3; ++a) {
       EXPECT_LT(std::abs(G.white_noise[a] - ig.terms.white_noise[a]), 3.0 * G.white_noise_sigma[a]);
       EXPECT_LT(std::abs(A.white_noise[a] - ia.terms.white_noise[a]), 3.0 * A.white_noise_sigma[a]);
-      EXPECT_LT(std::abs(G.bias_instability[a] - ig.terms.bias_instability[a]), 3.0 * G.bias_instability_sigma[a]);
-      EXPECT_LT(std::abs(A.bias_instability[a] - ia.terms.bias_instability[a]), 3.0 * A.bias_instability_sigma[a]);
+      EXPECT_LT(std::abs(G.bias_instability[a] - ig.terms.bias_instability[a]),
+                3.0 * G.bias_instability_sigma[a]);
+      EXPECT_LT(std::abs(A.bias_instability[a] - ia.terms.bias_instability[a]),
+                3.0 * A.bias_instability_sigma[a]);
       // The injected white density itself is within 2 % of the model-fitted one.
       EXPECT_NEAR(ig.terms.white_noise[a], static_model.gyro.white_noise.density[a],
                   0.02 * static_model.gyro.white_noise.density[a]);
@@ -187,10 +193,12 @@ TEST(CalibLab, SimulatedNonlinearityRecoveredByTheFittingFunctions) {
       for (int a = 0; a < 3; ++a) {
         const PolynomialFit& f = sensor->fit[a];
         ASSERT_GE(f.degree, 2) << sensor->method << " axis " << a << " seed " << seed;
-        const double truth[3] = {t.constant_bias.b[a], 1.0 + t.scale_factor.k[a], t.scale_nonlinearity.k2[a]};
+        const double truth[3] = {t.constant_bias.b[a], 1.0 + t.scale_factor.k[a],
+                                 t.scale_nonlinearity.k2[a]};
         for (int k = 0; k < 3; ++k)
           EXPECT_LT(std::abs(f.coeffs[k] - truth[k]), 3.0 * f.coeffs_sigma[k])
-              << sensor->method << " axis " << a << " c" << k << " = " << f.coeffs[k] << " vs " << truth[k];
+              << sensor->method << " axis " << a << " c" << k << " = " << f.coeffs[k] << " vs "
+              << truth[k];
       }
     }
     fs::remove_all(dir);
@@ -209,8 +217,8 @@ struct SweepStats {
       ss += v * v;
     }
     char buf[256];
-    std::snprintf(buf, sizeof buf, "| %-34s | %5zu | %6.2f %% | %5.2f | %5.2f |", name.c_str(), z.size(),
-                  100.0 * in3 / z.size(), mx, std::sqrt(ss / z.size()));
+    std::snprintf(buf, sizeof buf, "| %-34s | %5zu | %6.2f %% | %5.2f | %5.2f |", name.c_str(),
+                  z.size(), 100.0 * in3 / z.size(), mx, std::sqrt(ss / z.size()));
     return buf;
   }
 };
@@ -231,7 +239,8 @@ TEST(CalibLab, DISABLED_Sweep20Seeds) {
     const LabCalibrationReport rep = calibrateLab(loadLabData(dir));
     const auto& A = rep.result.accel;
     const auto& G = rep.result.gyro;
-    const Eigen::Matrix3d Ma = model.accel.scaleMisalignmentMatrix(), Mg = model.gyro.scaleMisalignmentMatrix();
+    const Eigen::Matrix3d Ma = model.accel.scaleMisalignmentMatrix(),
+                          Mg = model.gyro.scaleMisalignmentMatrix();
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) {
         aM.add(A.M(i, j), Ma(i, j), A.M_sigma(i, j));
@@ -247,8 +256,10 @@ TEST(CalibLab, DISABLED_Sweep20Seeds) {
     for (int a = 0; a < 3; ++a) {
       arw.add(G.allan.white_noise[a], ig.terms.white_noise[a], G.allan.white_noise_sigma[a]);
       vrw.add(A.allan.white_noise[a], ia.terms.white_noise[a], A.allan.white_noise_sigma[a]);
-      gbi.add(G.allan.bias_instability[a], ig.terms.bias_instability[a], G.allan.bias_instability_sigma[a]);
-      abi.add(A.allan.bias_instability[a], ia.terms.bias_instability[a], A.allan.bias_instability_sigma[a]);
+      gbi.add(G.allan.bias_instability[a], ig.terms.bias_instability[a],
+              G.allan.bias_instability_sigma[a]);
+      abi.add(A.allan.bias_instability[a], ia.terms.bias_instability[a],
+              A.allan.bias_instability_sigma[a]);
     }
     fs::remove_all(dir);
     // Fitting functions: a second lab session with scale nonlinearity.
@@ -259,7 +270,8 @@ TEST(CalibLab, DISABLED_Sweep20Seeds) {
     for (const auto* sensor : {&r2.result.gyro, &r2.result.accel}) {
       const SensorErrorTerms& t = sensor == &r2.result.gyro ? nl.gyro : nl.accel;
       for (int a = 0; a < 3; ++a) {
-        const double truth[3] = {t.constant_bias.b[a], 1.0 + t.scale_factor.k[a], t.scale_nonlinearity.k2[a]};
+        const double truth[3] = {t.constant_bias.b[a], 1.0 + t.scale_factor.k[a],
+                                 t.scale_nonlinearity.k2[a]};
         for (int k = 0; k < 3 && k <= sensor->fit[a].degree; ++k)
           fit.add(sensor->fit[a].coeffs[k], truth[k], sensor->fit[a].coeffs_sigma[k]);
       }
@@ -268,9 +280,14 @@ TEST(CalibLab, DISABLED_Sweep20Seeds) {
   }
   std::printf("| parameter | n | within 3 sigma | max abs(z) | rms z |\n|---|---|---|---|---|\n");
   for (const auto& [s, name] : std::vector<std::pair<SweepStats*, std::string>>{
-           {&aM, "accel M (9/seed)"}, {&ab, "accel bias"}, {&gM, "gyro M (9/seed)"}, {&gb, "gyro bias"},
-           {&fit, "fit coefficients c0..c2 (gyro+accel)"}, {&arw, "gyro ARW (Allan)"},
-           {&vrw, "accel VRW (Allan)"}, {&gbi, "gyro bias instability (Allan)"},
+           {&aM, "accel M (9/seed)"},
+           {&ab, "accel bias"},
+           {&gM, "gyro M (9/seed)"},
+           {&gb, "gyro bias"},
+           {&fit, "fit coefficients c0..c2 (gyro+accel)"},
+           {&arw, "gyro ARW (Allan)"},
+           {&vrw, "accel VRW (Allan)"},
+           {&gbi, "gyro bias instability (Allan)"},
            {&abi, "accel bias instability (Allan)"}})
     std::printf("%s\n", s->line(name).c_str());
   // The sweep asserts the requirement: every parameter within 3 sigma.
@@ -344,13 +361,19 @@ TEST_F(CalibLabBad, CommandWritesCalibrationYamlAndReportsBadData) {
   if (!fs::exists(bin)) GTEST_SKIP() << "graftnav binary not built: " << bin;
   const std::string out = dir + "/out";
   const std::string log = dir + "/log.txt";
-  ASSERT_EQ(std::system((bin + " calibrate " + dir + " --out " + out + " --no-plots > " + log + " 2>&1").c_str()), 0);
+  ASSERT_EQ(
+      std::system(
+          (bin + " calibrate " + dir + " --out " + out + " --no-plots > " + log + " 2>&1").c_str()),
+      0);
   const CalibrationResult r = readCalibrationYaml(out + "/calibration.yaml");
   EXPECT_EQ(r.gyro.method, "rate_table_ceres");
   EXPECT_GT(r.accel.M_sigma(0, 0), 0.0);
   EXPECT_TRUE(fs::exists(out + "/report.md"));
   fs::remove(dir + "/lab/six_position/z_down.txt");
-  EXPECT_NE(std::system((bin + " calibrate " + dir + " --out " + out + " --no-plots > " + log + " 2>&1").c_str()), 0);
+  EXPECT_NE(
+      std::system(
+          (bin + " calibrate " + dir + " --out " + out + " --no-plots > " + log + " 2>&1").c_str()),
+      0);
   std::ifstream f(log);
   const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("z_down.txt"), std::string::npos) << text;

@@ -23,7 +23,8 @@ ImuSeries synthMultiPosition(test::SynthSensor& sensor, int n_poses, double stat
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-M_PI, M_PI);
   std::vector<Eigen::Matrix3d> fixed;
-  for (int k = 0; k < cycle; ++k) fixed.push_back(dcmFromEuler(Eigen::Vector3d(u(rng), 0.5 * u(rng), u(rng))));
+  for (int k = 0; k < cycle; ++k)
+    fixed.push_back(dcmFromEuler(Eigen::Vector3d(u(rng), 0.5 * u(rng), u(rng))));
   const Geodetic lab = test::labSite();
   const Eigen::Vector3d g_n = earth::gravity_n(lab);
   ImuSeries out;
@@ -35,13 +36,16 @@ ImuSeries synthMultiPosition(test::SynthSensor& sensor, int n_poses, double stat
     out.insert(out.end(), s.begin(), s.end());
     t = out.back().t_s;
     if (p + 1 == n_poses) break;
-    const Eigen::Matrix3d Cn =
-        cycle > 0 ? fixed[(p + 1) % cycle] : dcmFromEuler(Eigen::Vector3d(u(rng), 0.5 * u(rng), u(rng)));
-    const Eigen::Vector3d w = rotationVectorFromQuat(Eigen::Quaterniond(C.transpose() * Cn)) / move_s;
+    const Eigen::Matrix3d Cn = cycle > 0
+                                   ? fixed[(p + 1) % cycle]
+                                   : dcmFromEuler(Eigen::Vector3d(u(rng), 0.5 * u(rng), u(rng)));
+    const Eigen::Vector3d w =
+        rotationVectorFromQuat(Eigen::Quaterniond(C.transpose() * Cn)) / move_s;
     const int n = static_cast<int>(std::lround(move_s * hz));
     for (int k = 1; k <= n; ++k) {
       const Eigen::Matrix3d Cm = C * dcmFromRotationVector(w * (k - 0.5) * dt);
-      out.push_back(sensor.measure(t + k * dt, dt, w + Cm.transpose() * earth::omega_ie_n(lab.lat_rad),
+      out.push_back(sensor.measure(t + k * dt, dt,
+                                   w + Cm.transpose() * earth::omega_ie_n(lab.lat_rad),
                                    -Cm.transpose() * g_n));
     }
     t += n * dt;
@@ -145,14 +149,16 @@ TEST(CalibMultiPosition, TooFewIntervalsIsAnError) {
     calibrateMultiPosition(rep, MultiPositionOptions{}, "three_attitudes.txt");
     FAIL();
   } catch (const std::runtime_error& ex) {
-    EXPECT_NE(std::string(ex.what()).find("only 4 distinct attitudes"), std::string::npos) << ex.what();
+    EXPECT_NE(std::string(ex.what()).find("only 4 distinct attitudes"), std::string::npos)
+        << ex.what();
   }
 }
 
 // Real Ferraris session (imucal raw CSV) through the multi-position method: only six distinct
 // attitudes, so the accelerometer M is diagonal; it must agree with the six-position result.
 TEST(CalibMultiPosition, RealFerrarisSessionAgreesWithSixPosition) {
-  const std::string csv = test::sharedDir() + "/data/real/imucal_ferraris/raw/example_ferraris_session.csv";
+  const std::string csv =
+      test::sharedDir() + "/data/real/imucal_ferraris/raw/example_ferraris_session.csv";
   const std::string case_dir = test::sharedDir() + "/data/real/imucal_ferraris";
   GRAFTNAV_REQUIRE_SHARED_PATH(csv);
   std::ifstream f(csv);
@@ -186,8 +192,9 @@ TEST(CalibMultiPosition, RealFerrarisSessionAgreesWithSixPosition) {
     const double s = std::hypot(r.accel.M_sigma(i, i), six.result.accel.M_sigma(i, i));
     EXPECT_LT(std::abs(r.accel.M(i, i) - six.result.accel.M(i, i)), 3.0 * s) << "axis " << i;
   }
-  std::printf("Ferraris multi-position: %zu intervals, %d attitudes; |f|-g RMS %.4f -> %.4f m/s^2\n",
-              r.intervals.size(), r.distinct_attitudes, r.accel_norm_rms_before, r.accel_norm_rms_after);
+  std::printf(
+      "Ferraris multi-position: %zu intervals, %d attitudes; |f|-g RMS %.4f -> %.4f m/s^2\n",
+      r.intervals.size(), r.distinct_attitudes, r.accel_norm_rms_before, r.accel_norm_rms_after);
 }
 
 // Real recording: Xsens raw counts of imu_tk (shared/data/real/imu_tk_xsens_calib).
@@ -207,13 +214,14 @@ TEST(CalibMultiPosition, RealImuTkXsensConverges) {
   EXPECT_LE(r.intervals.size(), 45u);
   EXPECT_TRUE(r.accel_converged);
   EXPECT_TRUE(r.gyro_converged);
-  EXPECT_LT(r.accel_norm_rms_after, 0.05);   // m/s^2, from ~0.5 with the nominal scale
+  EXPECT_LT(r.accel_norm_rms_after, 0.05);  // m/s^2, from ~0.5 with the nominal scale
   EXPECT_LT(r.accel_norm_rms_after, 0.2 * r.accel_norm_rms_before);
   EXPECT_LT(r.gyro_angle_rms_after, 0.5 * r.gyro_angle_rms_before);
-  std::printf("imu_tk: %zu static intervals; |f|-g RMS %.4f -> %.4f m/s^2; gravity-direction RMS "
-              "%.3f -> %.3f deg\n",
-              r.intervals.size(), r.accel_norm_rms_before, r.accel_norm_rms_after,
-              r.gyro_angle_rms_before * kRadToDeg, r.gyro_angle_rms_after * kRadToDeg);
+  std::printf(
+      "imu_tk: %zu static intervals; |f|-g RMS %.4f -> %.4f m/s^2; gravity-direction RMS "
+      "%.3f -> %.3f deg\n",
+      r.intervals.size(), r.accel_norm_rms_before, r.accel_norm_rms_after,
+      r.gyro_angle_rms_before * kRadToDeg, r.gyro_angle_rms_after * kRadToDeg);
 }
 
 }  // namespace

@@ -12,7 +12,8 @@ namespace {
 
 const char* kPoses[6] = {"x_up", "x_down", "y_up", "y_down", "z_up", "z_down"};
 
-std::vector<StaticPose> makePoses(test::SynthSensor& sensor, const Geodetic& lab, double dur, double hz) {
+std::vector<StaticPose> makePoses(test::SynthSensor& sensor, const Geodetic& lab, double dur,
+                                  double hz) {
   std::vector<StaticPose> poses;
   for (const char* n : kPoses) {
     StaticPose p;
@@ -109,11 +110,15 @@ TEST(CalibSixPosition, NoisyRecoveryWithinThreeSigma) {
 // the x axis's square, M is recovered within 3 sigma and M_sigma is the noise's.
 TEST(CalibSixPosition, AxisPowerFittedWithMKeepsMSigmaTheNoises) {
   const double g = 9.79, a_x2 = 1.4e-3, noise = 1e-4;
-  const std::vector<Eigen::Vector3d> dirs = {
-      Eigen::Vector3d::UnitX(),  -Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
-      -Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ(),  -Eigen::Vector3d::UnitZ(),
-      Eigen::Vector3d(1, 1, 1).normalized(), Eigen::Vector3d(-1, 2, -1).normalized(),
-      Eigen::Vector3d(2, -1, 1).normalized()};
+  const std::vector<Eigen::Vector3d> dirs = {Eigen::Vector3d::UnitX(),
+                                             -Eigen::Vector3d::UnitX(),
+                                             Eigen::Vector3d::UnitY(),
+                                             -Eigen::Vector3d::UnitY(),
+                                             Eigen::Vector3d::UnitZ(),
+                                             -Eigen::Vector3d::UnitZ(),
+                                             Eigen::Vector3d(1, 1, 1).normalized(),
+                                             Eigen::Vector3d(-1, 2, -1).normalized(),
+                                             Eigen::Vector3d(2, -1, 1).normalized()};
   int outside = 0, checked = 0;
   double lin_sigma = 0.0, pow_sigma = 0.0;
   for (unsigned seed = 1; seed <= 20; ++seed) {
@@ -155,8 +160,8 @@ TEST(CalibSixPosition, BadInputs) {
   // Four observations in a plane: M not observable.
   std::vector<LinearObservation> planar;
   for (int k = 0; k < 5; ++k)
-    planar.push_back({"p" + std::to_string(k), Eigen::Vector3d(k, k * k, 0.0), Eigen::Vector3d(k, k * k, 0.1),
-                      Eigen::Vector3d::Constant(0.01)});
+    planar.push_back({"p" + std::to_string(k), Eigen::Vector3d(k, k * k, 0.0),
+                      Eigen::Vector3d(k, k * k, 0.1), Eigen::Vector3d::Constant(0.01)});
   try {
     fitLinearSensorModel(planar);
     FAIL() << "expected an error";
@@ -198,7 +203,8 @@ struct GyroLab {
   std::vector<RateRun> runs;
 };
 
-GyroLab makeGyroLab(const test::SynthErrors& e, unsigned seed, const std::vector<double>& rates_deg) {
+GyroLab makeGyroLab(const test::SynthErrors& e, unsigned seed,
+                    const std::vector<double>& rates_deg) {
   test::SynthSensor sensor(e, seed);
   const Geodetic lab = test::labSite();
   GyroLab L;
@@ -269,8 +275,9 @@ TEST(CalibGyro, RateRunChecks) {
   RateRun ok = makeRateRun("z_pos_30.txt", 2, 1, 30.0, segmentStats(s, "z_pos_30.txt"));
   assignWholeTurns(ok);
   EXPECT_EQ(ok.turns, 1);
-  EXPECT_THROW(gyroScaleFromTurns({ok}, Eigen::Vector3d::Zero(), lab.lat_rad, Eigen::Vector3d::Ones()),
-               std::invalid_argument);
+  EXPECT_THROW(
+      gyroScaleFromTurns({ok}, Eigen::Vector3d::Zero(), lab.lat_rad, Eigen::Vector3d::Ones()),
+      std::invalid_argument);
 }
 
 }  // namespace

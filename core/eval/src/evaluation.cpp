@@ -67,7 +67,8 @@ EpochError epochError(const NavState& s, const NavState& ref) {
 // RMS, per-outage maxima, NEES at most every nees_interval_s.
 class EvaluationAccumulator {
  public:
-  EvaluationAccumulator(const std::vector<TimeWindow>& windows, const EvaluationOptions& options, Evaluation* ev)
+  EvaluationAccumulator(const std::vector<TimeWindow>& windows, const EvaluationOptions& options,
+                        Evaluation* ev)
       : windows_(windows), options_(options), ev_(ev), drift_(windows.size()) {
     for (size_t k = 0; k < windows_.size(); ++k) {
       drift_[k].window = windows_[k];
@@ -81,7 +82,8 @@ class EvaluationAccumulator {
     if (w_ < windows_.size() && windows_[w_].contains(s.t_s)) e.outage = static_cast<int>(w_);
 
     const double hz = e.pos_ned_m.head<2>().norm(), vt = std::abs(e.pos_ned_m.z());
-    const double r = std::abs(e.euler_rad.x()), p = std::abs(e.euler_rad.y()), y = std::abs(e.euler_rad.z());
+    const double r = std::abs(e.euler_rad.x()), p = std::abs(e.euler_rad.y()),
+                 y = std::abs(e.euler_rad.z());
     all_.add(hz, vt, r, p, y);
     if (e.outage >= 0) {
       in_outage_.add(hz, vt, r, p, y);
@@ -106,7 +108,8 @@ class EvaluationAccumulator {
     for (const OutageDrift& d : drift_) {
       if (d.epochs == 0) continue;
       ev.outages.push_back(d);
-      maxima.add(d.max.horizontal_m, d.max.vertical_m, d.max.roll_rad, d.max.pitch_rad, d.max.heading_rad);
+      maxima.add(d.max.horizontal_m, d.max.vertical_m, d.max.roll_rad, d.max.pitch_rad,
+                 d.max.heading_rad);
     }
     ev.outage_max_rms = maxima.rms();
     if (ev.nees_samples > 0) {
@@ -149,8 +152,8 @@ Evaluation evaluateSolution(const NavSolution& solution, const NavSeries& refere
   if (solution.states.empty() || reference.empty() ||
       solution.states.back().t_s < reference.front().t_s ||
       solution.states.front().t_s > reference.back().t_s) {
-    throw std::invalid_argument(
-        "evaluateSolution: solution '" + solution.estimator + "' and the reference do not overlap in time");
+    throw std::invalid_argument("evaluateSolution: solution '" + solution.estimator +
+                                "' and the reference do not overlap in time");
   }
   std::vector<TimeWindow> windows = outages;
   std::sort(windows.begin(), windows.end(),
@@ -161,10 +164,12 @@ Evaluation evaluateSolution(const NavSolution& solution, const NavSeries& refere
   const bool has_sigma = solution.sigma.size() == solution.states.size();
   EvaluationAccumulator acc(windows, options, &ev);
   const NavSeries& sol = solution.states;
-  const double sol_rate = sol.size() > 1 ? (sol.size() - 1) / std::max(1e-9, sol.back().t_s - sol.front().t_s) : 0.0;
-  const double ref_rate = reference.size() > 1
-                              ? (reference.size() - 1) / std::max(1e-9, reference.back().t_s - reference.front().t_s)
-                              : 0.0;
+  const double sol_rate =
+      sol.size() > 1 ? (sol.size() - 1) / std::max(1e-9, sol.back().t_s - sol.front().t_s) : 0.0;
+  const double ref_rate =
+      reference.size() > 1
+          ? (reference.size() - 1) / std::max(1e-9, reference.back().t_s - reference.front().t_s)
+          : 0.0;
   const bool at_reference = options.epochs == EvaluationEpochs::kReference ||
                             (options.epochs == EvaluationEpochs::kAuto && ref_rate < sol_rate);
   if (!at_reference) {

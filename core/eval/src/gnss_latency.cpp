@@ -9,8 +9,8 @@
 
 namespace graftnav {
 
-std::vector<FixResidual> fixResiduals(const NavSeries& track, const GnssSeries& fixes, double shift_s,
-                                      const Eigen::Vector3d& lever_arm_b_m) {
+std::vector<FixResidual> fixResiduals(const NavSeries& track, const GnssSeries& fixes,
+                                      double shift_s, const Eigen::Vector3d& lever_arm_b_m) {
   std::vector<FixResidual> out;
   if (track.size() < 2) return out;
   out.reserve(fixes.size());
@@ -30,16 +30,19 @@ std::vector<FixResidual> fixResiduals(const NavSeries& track, const GnssSeries& 
 }
 
 void LatencyScanOptions::validate() const {
-  if (!(max_shift_s > min_shift_s)) throw std::invalid_argument("LatencyScanOptions: max_shift_s must be > min_shift_s");
+  if (!(max_shift_s > min_shift_s))
+    throw std::invalid_argument("LatencyScanOptions: max_shift_s must be > min_shift_s");
   if (!(step_s > 0.0)) throw std::invalid_argument("LatencyScanOptions.step_s must be > 0");
-  if (!(min_speed_m_s >= 0.0)) throw std::invalid_argument("LatencyScanOptions.min_speed_m_s must be >= 0");
+  if (!(min_speed_m_s >= 0.0))
+    throw std::invalid_argument("LatencyScanOptions.min_speed_m_s must be >= 0");
   if (!(outlier_m > 0.0)) throw std::invalid_argument("LatencyScanOptions.outlier_m must be > 0");
 }
 
 namespace {
 
 // Horizontal RMS of the residuals of `fixes` at `shift`; fixes lacking a track state are skipped.
-double rmsH(const NavSeries& track, const GnssSeries& fixes, double shift, const Eigen::Vector3d& lever) {
+double rmsH(const NavSeries& track, const GnssSeries& fixes, double shift,
+            const Eigen::Vector3d& lever) {
   const auto res = fixResiduals(track, fixes, shift, lever);
   if (res.empty()) return std::nan("");
   double s = 0.0;
@@ -72,7 +75,8 @@ LatencyEstimate estimateGnssLatency(const NavSeries& track, const GnssSeries& fi
   auto scan = [&](const GnssSeries& set) {
     e.shift_s.clear();
     e.rms_h_m.clear();
-    const int n = static_cast<int>(std::floor((o.max_shift_s - o.min_shift_s) / o.step_s + 1e-9)) + 1;
+    const int n =
+        static_cast<int>(std::floor((o.max_shift_s - o.min_shift_s) / o.step_s + 1e-9)) + 1;
     for (int i = 0; i < n; ++i) {
       const double s = o.min_shift_s + i * o.step_s;
       e.shift_s.push_back(s);

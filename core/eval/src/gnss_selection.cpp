@@ -51,7 +51,8 @@ void GnssSelectionOptions::validate() const {
 }
 
 bool GnssSelectionOptions::isIdentity() const {
-  if (!accepted_fix_types.empty() || max_horizontal_std_m < 1e9 || max_vertical_std_m < 1e9) return false;
+  if (!accepted_fix_types.empty() || max_horizontal_std_m < 1e9 || max_vertical_std_m < 1e9)
+    return false;
   if (latency_s != 0.0 || min_spacing_s > 0.0) return false;
   for (const auto& kv : latency_s_by_fix_type)
     if (kv.second != 0.0) return false;
@@ -63,8 +64,8 @@ std::string GnssSelectionCounts::summary() const {
       "GNSS selection: {} epochs in ({}), used {} ({}), rejected {} (fix type {}, std {}, "
       "non-finite {}, duplicate time {}, spacing {}), reordered by the time-tag correction {}",
       input, countsByType(input_by_fix_type), used, countsByType(used_by_fix_type), rejected(),
-      rejected_fix_type, rejected_std, rejected_non_finite, rejected_duplicate_time, rejected_spacing,
-      reordered);
+      rejected_fix_type, rejected_std, rejected_non_finite, rejected_duplicate_time,
+      rejected_spacing, reordered);
 }
 
 GnssSelection selectGnss(const GnssSeries& gnss, const GnssSelectionOptions& o) {

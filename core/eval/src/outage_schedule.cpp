@@ -29,7 +29,8 @@ std::vector<TimeWindow> buildOutageWindows(const OutageScheduleConfig& cfg, doub
   if (!cfg.explicit_windows.empty()) {
     std::vector<TimeWindow> w = cfg.explicit_windows;
     for (size_t i = 0; i < w.size(); ++i) {
-      if (!std::isfinite(w[i].start_s) || !std::isfinite(w[i].end_s) || !(w[i].end_s > w[i].start_s)) {
+      if (!std::isfinite(w[i].start_s) || !std::isfinite(w[i].end_s) ||
+          !(w[i].end_s > w[i].start_s)) {
         throw std::invalid_argument("buildOutageWindows: explicit window " + std::to_string(i) +
                                     " [" + std::to_string(w[i].start_s) + ", " +
                                     std::to_string(w[i].end_s) + "] must have start < end");

@@ -46,7 +46,8 @@ GnssSeries fixesWithLatency(const CircleTrack& c, double latency, double noise_m
   for (double t = 2.0; t < 58.0; t += 1.0) {
     const double tm = t - latency;  // measured earlier than stamped
     const double yaw = std::atan2(c.vel(tm).y(), c.vel(tm).x());
-    const Eigen::Vector3d ant = c.ned(tm) + quatFromEuler(Eigen::Vector3d(0, 0, yaw)).toRotationMatrix() * lever_b;
+    const Eigen::Vector3d ant =
+        c.ned(tm) + quatFromEuler(Eigen::Vector3d(0, 0, yaw)).toRotationMatrix() * lever_b;
     GnssFix f;
     f.t_s = t;
     f.pos = c.at(ant + Eigen::Vector3d(n(rng), n(rng), n(rng)));

@@ -19,10 +19,10 @@ GnssFix fix(double t, int type, double std_h, double std_v) {
 TEST(GnssSelection, CountsEveryEpochUnderOneReason) {
   GnssSeries g;
   for (int i = 0; i < 10; ++i) g.push_back(fix(100.0 + 0.1 * i, 1, 2.0, 9.0));  // single point
-  for (int i = 0; i < 3; ++i) g.push_back(fix(101.05 + i, 4, 0.01, 0.02));     // RTK fixed
-  g.push_back(fix(104.5, 5, 0.2, 0.3));                                        // RTK float
-  g.push_back(fix(104.6, 4, 0.5, 0.3));                                        // fixed, bad std
-  g.push_back(fix(104.7, 4, std::nan(""), 0.1));                               // non-finite
+  for (int i = 0; i < 3; ++i) g.push_back(fix(101.05 + i, 4, 0.01, 0.02));      // RTK fixed
+  g.push_back(fix(104.5, 5, 0.2, 0.3));                                         // RTK float
+  g.push_back(fix(104.6, 4, 0.5, 0.3));                                         // fixed, bad std
+  g.push_back(fix(104.7, 4, std::nan(""), 0.1));                                // non-finite
   GnssSelectionOptions o;
   o.accepted_fix_types = {4, 5};
   o.max_horizontal_std_m = 0.3;
@@ -70,8 +70,8 @@ TEST(GnssSelection, MinSpacingKeepsTheMorePreciseEpoch) {
   const GnssSelection s = selectGnss(g, o);
   ASSERT_EQ(s.counts.used, 3);
   EXPECT_EQ(s.counts.rejected_spacing, 2);
-  EXPECT_EQ(s.kept[0].fix_type, 4);             // the RTK epoch replaced the single-point one
-  EXPECT_NEAR(s.kept[2].t_s, 10.2, 1e-12);      // the noisier 10.22 epoch was dropped
+  EXPECT_EQ(s.kept[0].fix_type, 4);         // the RTK epoch replaced the single-point one
+  EXPECT_NEAR(s.kept[2].t_s, 10.2, 1e-12);  // the noisier 10.22 epoch was dropped
   EXPECT_EQ(s.counts.used + s.counts.rejected(), s.counts.input);
 }
 

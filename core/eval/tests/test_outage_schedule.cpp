@@ -39,8 +39,8 @@ TEST(OutageSchedule, ScheduleLongerThanDataGivesNoWindow) {
 
 TEST(OutageSchedule, ExplicitWindowsMergedClippedAndDropped) {
   OutageScheduleConfig cfg;
-  cfg.explicit_windows = {{150, 170}, {90, 120}, {110, 130}, {130, 140}, {-50, 10},
-                          {290, 400}, {500, 600}};
+  cfg.explicit_windows = {{150, 170}, {90, 120},  {110, 130}, {130, 140},
+                          {-50, 10},  {290, 400}, {500, 600}};
   const auto w = buildOutageWindows(cfg, 0.0, 300.0);
   ASSERT_EQ(w.size(), 4u);
   EXPECT_DOUBLE_EQ(w[0].start_s, 0.0);  // clipped at the data start

@@ -322,7 +322,6 @@ ImuErrorModel sampleErrorModel(const ImuProfile& p, uint64_t seed) {
   return m;
 }
 
-
 // ---- sensor generator --------------------------------------------------------------------
 
 namespace {

@@ -44,9 +44,10 @@ PlausibleRanges plausibleRangesForClass(const std::string& c) {
   r.sensor_class = c;
   const double gyro_fs_2000 = 2000.0 * kDeg, gyro_fs_500 = 500.0 * kDeg, gyro_fs_400 = 400.0 * kDeg;
   if (c == "consumer_mems") {
-    r.source = "consumer MEMS datasheet class (BMI160/BMI270-, ICM-20xxx-class, Xsens DOT): "
-               "sensitivity +-1..3 %, cross-axis +-1..2 %, non-linearity 0.1..0.5 % FS, "
-               "g-sensitivity ~0.1 deg/s/g; bounds about twice the worst";
+    r.source =
+        "consumer MEMS datasheet class (BMI160/BMI270-, ICM-20xxx-class, Xsens DOT): "
+        "sensitivity +-1..3 %, cross-axis +-1..2 %, non-linearity 0.1..0.5 % FS, "
+        "g-sensitivity ~0.1 deg/s/g; bounds about twice the worst";
     r.gyro_scale_max = r.accel_scale_max = 0.03;
     r.gyro_nonorthogonality_max_rad = r.accel_nonorthogonality_max_rad = 0.02;  // 2 % cross-axis
     r.gyro_scale_asymmetry_max = r.accel_scale_asymmetry_max = 0.03;
@@ -54,9 +55,10 @@ PlausibleRanges plausibleRangesForClass(const std::string& c) {
     r.accel_scale_nonlinearity_max_per_m_s2 = curvatureBound(0.01, 16.0 * kStandardGravity);
     r.g_sensitivity_max_rad_s_per_m_s2 = 0.2 * kDegPerSecPerG;
   } else if (c == "industrial_mems") {
-    r.source = "calibrated industrial MEMS datasheet class (ADIS1646x-class): scale 0.1..0.3 %, "
-               "misalignment 0.05..0.25 deg, non-linearity 0.1..0.2 % FS, g-sensitivity "
-               "~0.01 deg/s/g; bounds about twice the worst";
+    r.source =
+        "calibrated industrial MEMS datasheet class (ADIS1646x-class): scale 0.1..0.3 %, "
+        "misalignment 0.05..0.25 deg, non-linearity 0.1..0.2 % FS, g-sensitivity "
+        "~0.01 deg/s/g; bounds about twice the worst";
     r.gyro_scale_max = r.accel_scale_max = 0.006;
     r.gyro_nonorthogonality_max_rad = r.accel_nonorthogonality_max_rad = 0.5 * kDeg;
     r.gyro_scale_asymmetry_max = r.accel_scale_asymmetry_max = 0.006;
@@ -64,9 +66,10 @@ PlausibleRanges plausibleRangesForClass(const std::string& c) {
     r.accel_scale_nonlinearity_max_per_m_s2 = curvatureBound(0.004, 10.0 * kStandardGravity);
     r.g_sensitivity_max_rad_s_per_m_s2 = 0.02 * kDegPerSecPerG;
   } else if (c == "tactical") {
-    r.source = "tactical FOG/RLG datasheet class (HG1700-, POS310-class): scale 100..500 ppm, "
-               "misalignment 0.1..0.5 mrad, g-sensitivity 1..5 deg/h/g; bounds about twice the "
-               "worst";
+    r.source =
+        "tactical FOG/RLG datasheet class (HG1700-, POS310-class): scale 100..500 ppm, "
+        "misalignment 0.1..0.5 mrad, g-sensitivity 1..5 deg/h/g; bounds about twice the "
+        "worst";
     r.gyro_scale_max = r.accel_scale_max = 1000e-6;
     r.gyro_nonorthogonality_max_rad = r.accel_nonorthogonality_max_rad = 1e-3;
     r.gyro_scale_asymmetry_max = r.accel_scale_asymmetry_max = 1000e-6;
@@ -74,9 +77,10 @@ PlausibleRanges plausibleRangesForClass(const std::string& c) {
     r.accel_scale_nonlinearity_max_per_m_s2 = curvatureBound(1000e-6, 10.0 * kStandardGravity);
     r.g_sensitivity_max_rad_s_per_m_s2 = 10.0 * kDegPerHourPerG;
   } else if (c == "navigation") {
-    r.source = "navigation-grade RLG/FOG datasheet class (POS830-class): scale 5..50 ppm, "
-               "misalignment < 0.1 mrad, g-sensitivity < 0.5 deg/h/g; bounds about twice the "
-               "worst";
+    r.source =
+        "navigation-grade RLG/FOG datasheet class (POS830-class): scale 5..50 ppm, "
+        "misalignment < 0.1 mrad, g-sensitivity < 0.5 deg/h/g; bounds about twice the "
+        "worst";
     r.gyro_scale_max = r.accel_scale_max = 100e-6;
     r.gyro_nonorthogonality_max_rad = r.accel_nonorthogonality_max_rad = 0.2e-3;
     r.gyro_scale_asymmetry_max = r.accel_scale_asymmetry_max = 100e-6;

@@ -26,12 +26,15 @@ std::filesystem::path parentDir(const std::string& path) {
 void syncDirectory(const std::string& path) {
   const std::string dir = parentDir(path).string();
   const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) throw std::runtime_error(path + ": cannot open folder '" + dir + "' to sync it: " + errnoText(errno));
+  if (fd < 0)
+    throw std::runtime_error(path + ": cannot open folder '" + dir +
+                             "' to sync it: " + errnoText(errno));
   const int rc = ::fsync(fd);
   const int err = errno;
   ::close(fd);
   // EINVAL: the file system does not support syncing a folder (nothing more can be done).
-  if (rc != 0 && err != EINVAL) throw std::runtime_error(path + ": cannot sync folder '" + dir + "': " + errnoText(err));
+  if (rc != 0 && err != EINVAL)
+    throw std::runtime_error(path + ": cannot sync folder '" + dir + "': " + errnoText(err));
 }
 
 }  // namespace
@@ -45,7 +48,8 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   buf.push_back('\0');
   const int fd = ::mkstemp(buf.data());
   if (fd < 0)
-    throw std::runtime_error(path_ + ": cannot create a temporary file in '" + dir.string() + "': " + errnoText(errno));
+    throw std::runtime_error(path_ + ": cannot create a temporary file in '" + dir.string() +
+                             "': " + errnoText(errno));
   tmp_path_ = buf.data();
   // mkstemp creates mode 0600; give the usual permissions (subject to umask).
   const mode_t mask = ::umask(0);
@@ -85,7 +89,8 @@ void AtomicFile::commit() {
   file_ = nullptr;
   if (err != 0) throw std::runtime_error(path_ + ": write failed: " + errnoText(err));
   if (std::rename(tmp_path_.c_str(), path_.c_str()) != 0)
-    throw std::runtime_error(path_ + ": cannot rename temporary file into place: " + errnoText(errno));
+    throw std::runtime_error(path_ +
+                             ": cannot rename temporary file into place: " + errnoText(errno));
   committed_ = true;
   syncDirectory(path_);
 }

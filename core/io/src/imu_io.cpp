@@ -26,24 +26,30 @@ ImuReadPolicy ImuReadPolicy::real() {
 }
 
 void ImuReadPolicy::validate() const {
-  requireRule(uneven_interval, {ReadRule::kError, ReadRule::kWarn}, "ImuReadPolicy.uneven_interval");
+  requireRule(uneven_interval, {ReadRule::kError, ReadRule::kWarn},
+              "ImuReadPolicy.uneven_interval");
   requireRule(gap, {ReadRule::kError, ReadRule::kWarn}, "ImuReadPolicy.gap");
-  requireRule(duplicate_stamp, {ReadRule::kError, ReadRule::kRepair}, "ImuReadPolicy.duplicate_stamp");
-  requireRule(backwards_stamp, {ReadRule::kError, ReadRule::kRepair}, "ImuReadPolicy.backwards_stamp");
+  requireRule(duplicate_stamp, {ReadRule::kError, ReadRule::kRepair},
+              "ImuReadPolicy.duplicate_stamp");
+  requireRule(backwards_stamp, {ReadRule::kError, ReadRule::kRepair},
+              "ImuReadPolicy.backwards_stamp");
   if (!(uneven_tolerance > 0.0) || !std::isfinite(uneven_tolerance))
-    throw std::invalid_argument("ImuReadPolicy.uneven_tolerance must be > 0, got " + std::to_string(uneven_tolerance));
+    throw std::invalid_argument("ImuReadPolicy.uneven_tolerance must be > 0, got " +
+                                std::to_string(uneven_tolerance));
   if (!(gap_factor > 1.0) || !std::isfinite(gap_factor))
-    throw std::invalid_argument("ImuReadPolicy.gap_factor must be > 1, got " + std::to_string(gap_factor));
+    throw std::invalid_argument("ImuReadPolicy.gap_factor must be > 1, got " +
+                                std::to_string(gap_factor));
   if (!(max_gyro_rate_deg_s > 0.0) || !std::isfinite(max_gyro_rate_deg_s))
     throw std::invalid_argument("ImuReadPolicy.max_gyro_rate_deg_s must be > 0, got " +
                                 std::to_string(max_gyro_rate_deg_s));
   if (!(max_accel_g > 0.0) || !std::isfinite(max_accel_g))
-    throw std::invalid_argument("ImuReadPolicy.max_accel_g must be > 0, got " + std::to_string(max_accel_g));
+    throw std::invalid_argument("ImuReadPolicy.max_accel_g must be > 0, got " +
+                                std::to_string(max_accel_g));
 }
 
 namespace {
-const char* const kImuColumns[] = {"time", "dtheta_x", "dtheta_y", "dtheta_z",
-                                   "dvel_x", "dvel_y", "dvel_z", "temperature"};
+const char* const kImuColumns[] = {"time",   "dtheta_x", "dtheta_y", "dtheta_z",
+                                   "dvel_x", "dvel_y",   "dvel_z",   "temperature"};
 
 std::string fmtDt(double dt_s, double nominal_s) {
   return fmt::format("dt {:.6f} s = {:.3f} x nominal {:.6f} s", dt_s, dt_s / nominal_s, nominal_s);
@@ -56,8 +62,9 @@ bool parseImuLine(TextTableReader& reader, int& first_column_count, TimeOrderGua
   reader.requireColumns(7, 8, "IMU");
   if (first_column_count == 0) first_column_count = reader.columnCount();
   if (reader.columnCount() != first_column_count)
-    reader.fail("IMU line has " + std::to_string(reader.columnCount()) + " columns but line 1 of the data has " +
-                std::to_string(first_column_count) + " (temperature column must be all or none)");
+    reader.fail("IMU line has " + std::to_string(reader.columnCount()) +
+                " columns but line 1 of the data has " + std::to_string(first_column_count) +
+                " (temperature column must be all or none)");
   reader.requireFinite(kImuColumns);
   const double* v = reader.values();
   if (!order.accept(reader, v[0], 0, report)) return false;
@@ -73,8 +80,10 @@ bool parseImuLine(TextTableReader& reader, int& first_column_count, TimeOrderGua
 void checkInterval(const std::string& path, int line, double dt, double t_prev_s, double nominal_s,
                    const ImuReadPolicy& policy, ReadReport& report) {
   if (dt > policy.gap_factor * nominal_s) {
-    const std::string what = "gap: " + fmtDt(dt, nominal_s) + " after time " + fmt::format("{:.6f}", t_prev_s);
-    if (policy.gap == ReadRule::kError) throw std::runtime_error(path + ":" + std::to_string(line) + ": " + what);
+    const std::string what =
+        "gap: " + fmtDt(dt, nominal_s) + " after time " + fmt::format("{:.6f}", t_prev_s);
+    if (policy.gap == ReadRule::kError)
+      throw std::runtime_error(path + ":" + std::to_string(line) + ": " + what);
     report.note(ReadCondition::kGap, line, what);
   } else if (std::fabs(dt - nominal_s) > policy.uneven_tolerance * nominal_s) {
     const std::string what = "uneven interval: " + fmtDt(dt, nominal_s) + " (tolerance " +
@@ -105,12 +114,14 @@ void checkImuRange(const std::string& path, int line, const ImuSample& s, double
       throw std::runtime_error(fmt::format(
           "{}:{}: {} {:g} rad over {:g} s is {:.4g} deg/s, beyond the physical limit {:g} deg/s "
           "(corrupted or mis-scaled value)",
-          path, line, kImuColumns[1 + a], w, dt, std::fabs(w) / dt / units::kDegToRad, policy.max_gyro_rate_deg_s));
+          path, line, kImuColumns[1 + a], w, dt, std::fabs(w) / dt / units::kDegToRad,
+          policy.max_gyro_rate_deg_s));
     if (std::fabs(v) > max_accel_m_s2 * dt)
       throw std::runtime_error(fmt::format(
           "{}:{}: {} {:g} m/s over {:g} s is {:.4g} g, beyond the physical limit {:g} g "
           "(corrupted or mis-scaled value)",
-          path, line, kImuColumns[4 + a], v, dt, std::fabs(v) / dt / units::kStandardGravity_m_s2, policy.max_accel_g));
+          path, line, kImuColumns[4 + a], v, dt, std::fabs(v) / dt / units::kStandardGravity_m_s2,
+          policy.max_accel_g));
   }
 }
 }  // namespace
@@ -139,7 +150,8 @@ ImuSeries readImu(const std::string& path, const ImuReadOptions& options, ReadRe
   }
   if (imu.empty()) throw std::runtime_error(path + ": no IMU samples in the file");
   if (imu.size() < 2 && options.nominal_rate_hz <= 0.0)
-    throw std::runtime_error(path + ": a single IMU sample and no nominal rate: its interval is unknown");
+    throw std::runtime_error(path +
+                             ": a single IMU sample and no nominal rate: its interval is unknown");
 
   for (std::size_t k = 1; k < imu.size(); ++k) imu[k].dt_s = imu[k].t_s - imu[k - 1].t_s;
   double nominal_s;
@@ -154,7 +166,8 @@ ImuSeries readImu(const std::string& path, const ImuReadOptions& options, ReadRe
   }
   imu[0].dt_s = options.nominal_rate_hz > 0.0 ? nominal_s : imu[1].dt_s;
 
-  for (std::size_t k = 0; k < imu.size(); ++k) checkImuRange(path, lines[k], imu[k], nominal_s, policy);
+  for (std::size_t k = 0; k < imu.size(); ++k)
+    checkImuRange(path, lines[k], imu[k], nominal_s, policy);
   // Interval checks (times already strictly increase).
   for (std::size_t k = 1; k < imu.size(); ++k)
     checkInterval(path, lines[k], imu[k].dt_s, imu[k - 1].t_s, nominal_s, policy, report);
@@ -162,15 +175,18 @@ ImuSeries readImu(const std::string& path, const ImuReadOptions& options, ReadRe
   return imu;
 }
 
-ImuBlockReader::ImuBlockReader(const std::string& path, const ImuReadOptions& options, std::size_t block_samples)
+ImuBlockReader::ImuBlockReader(const std::string& path, const ImuReadOptions& options,
+                               std::size_t block_samples)
     : options_(options),
       block_samples_(std::max<std::size_t>(block_samples, 1)),
       reader_(TextTableReader::streaming(path)),
       order_(options.policy.duplicate_stamp, options.policy.backwards_stamp) {
   validateReadOptions(path, options);
   if (!(options.nominal_rate_hz > 0.0))
-    throw std::invalid_argument(path + ": ImuBlockReader needs ImuReadOptions.nominal_rate_hz > 0 (the first "
-                                "interval and the interval checks cannot wait for the whole file)");
+    throw std::invalid_argument(
+        path +
+        ": ImuBlockReader needs ImuReadOptions.nominal_rate_hz > 0 (the first "
+        "interval and the interval checks cannot wait for the whole file)");
   nominal_s_ = 1.0 / options.nominal_rate_hz;
   report_.path = path;
 }
@@ -184,7 +200,8 @@ bool ImuBlockReader::next(ImuSeries* block) {
     s.dt_s = first ? nominal_s_ : s.t_s - t_prev_s_;
     checkImuRange(reader_.path(), reader_.lineNumber(), s, nominal_s_, options_.policy);
     if (!first)
-      checkInterval(reader_.path(), reader_.lineNumber(), s.dt_s, t_prev_s_, nominal_s_, options_.policy, report_);
+      checkInterval(reader_.path(), reader_.lineNumber(), s.dt_s, t_prev_s_, nominal_s_,
+                    options_.policy, report_);
     t_prev_s_ = s.t_s;
     ++report_.records_kept;
     block->push_back(s);
@@ -202,10 +219,13 @@ double readLastImuTime(const std::string& path) {
   const long size = std::ftell(f.get());
   const long start = std::max(0L, size - kTailBytes);
   std::string tail(static_cast<std::size_t>(size - start), '\0');
-  if (std::fseek(f.get(), start, SEEK_SET) != 0 || std::fread(tail.data(), 1, tail.size(), f.get()) != tail.size())
-    throw std::runtime_error(path + ": read error in the last " + std::to_string(kTailBytes) + " bytes");
+  if (std::fseek(f.get(), start, SEEK_SET) != 0 ||
+      std::fread(tail.data(), 1, tail.size(), f.get()) != tail.size())
+    throw std::runtime_error(path + ": read error in the last " + std::to_string(kTailBytes) +
+                             " bytes");
   std::size_t pos = 0;
-  if (start > 0) pos = tail.find('\n') == std::string::npos ? tail.size() : tail.find('\n') + 1;  // partial line
+  if (start > 0)
+    pos = tail.find('\n') == std::string::npos ? tail.size() : tail.find('\n') + 1;  // partial line
   bool found = false;
   double t_max = 0.0;
   while (pos < tail.size()) {
@@ -221,7 +241,9 @@ double readLastImuTime(const std::string& path) {
     }
     pos = end + 1;
   }
-  if (!found) throw std::runtime_error(path + ": no IMU data line in the last " + std::to_string(kTailBytes) + " bytes");
+  if (!found)
+    throw std::runtime_error(path + ": no IMU data line in the last " + std::to_string(kTailBytes) +
+                             " bytes");
   return t_max;
 }
 
@@ -247,15 +269,17 @@ void ImuWriter::add(const ImuSample& s) {
                                 " differs from sample 0 in having a temperature (all or none)");
   if (!std::isfinite(s.t_s) || !s.dtheta_rad.allFinite() || !s.dvel_m_s.allFinite() ||
       (with_temperature_ && !std::isfinite(s.temperature_degC)))
-    throw std::invalid_argument(path + ": writeImu: sample " + std::to_string(k) + " has a non-finite value");
+    throw std::invalid_argument(path + ": writeImu: sample " + std::to_string(k) +
+                                " has a non-finite value");
   if (k > 0 && !(s.t_s > prev_.t_s))
     throw std::invalid_argument(path + ": writeImu: sample " + std::to_string(k) + " time " +
                                 fmt::format("{:.9f}", s.t_s) + " is not after previous " +
                                 fmt::format("{:.9f}", prev_.t_s));
   const auto& a = s.dtheta_rad;
   const auto& v = s.dvel_m_s;
-  fmt::format_to(std::back_inserter(buffer_), "{:.9f} {:.16e} {:.16e} {:.16e} {:.16e} {:.16e} {:.16e}", s.t_s,
-                 a.x(), a.y(), a.z(), v.x(), v.y(), v.z());
+  fmt::format_to(std::back_inserter(buffer_),
+                 "{:.9f} {:.16e} {:.16e} {:.16e} {:.16e} {:.16e} {:.16e}", s.t_s, a.x(), a.y(),
+                 a.z(), v.x(), v.y(), v.z());
   if (with_temperature_) fmt::format_to(std::back_inserter(buffer_), " {:.4f}", s.temperature_degC);
   buffer_.push_back('\n');
   prev_ = s;

@@ -14,8 +14,8 @@ namespace graftnav {
 
 namespace {
 constexpr double kSecondsPerWeek = 604800.0;
-const char* const kNavColumns[] = {"week", "time", "latitude", "longitude", "height", "v_north",
-                                   "v_east", "v_down", "roll", "pitch", "yaw"};
+const char* const kNavColumns[] = {"week",   "time",   "latitude", "longitude", "height", "v_north",
+                                   "v_east", "v_down", "roll",     "pitch",     "yaw"};
 }  // namespace
 
 NavReadPolicy NavReadPolicy::real() {
@@ -26,8 +26,10 @@ NavReadPolicy NavReadPolicy::real() {
 }
 
 void NavReadPolicy::validate() const {
-  requireRule(duplicate_stamp, {ReadRule::kError, ReadRule::kRepair}, "NavReadPolicy.duplicate_stamp");
-  requireRule(backwards_stamp, {ReadRule::kError, ReadRule::kRepair}, "NavReadPolicy.backwards_stamp");
+  requireRule(duplicate_stamp, {ReadRule::kError, ReadRule::kRepair},
+              "NavReadPolicy.duplicate_stamp");
+  requireRule(backwards_stamp, {ReadRule::kError, ReadRule::kRepair},
+              "NavReadPolicy.backwards_stamp");
 }
 
 NavSeries readNav(const std::string& path, const NavReadPolicy& policy, ReadReport* report_out) {
@@ -47,7 +49,8 @@ NavSeries readNav(const std::string& path, const NavReadPolicy& policy, ReadRepo
     const double* v = reader.values();
     const int week = reader.integerValue(0, "week");
     if (week < 0) reader.fail("week " + std::string(reader.token(0)) + " is negative");
-    if (std::fabs(v[2]) > 90.0) reader.fail("latitude " + std::string(reader.token(2)) + " deg is outside [-90, 90]");
+    if (std::fabs(v[2]) > 90.0)
+      reader.fail("latitude " + std::string(reader.token(2)) + " deg is outside [-90, 90]");
     if (!order.accept(reader, week * kSecondsPerWeek + v[1], 1, report)) continue;
     NavState s;
     s.gnss_week = week;
@@ -64,13 +67,17 @@ NavSeries readNav(const std::string& path, const NavReadPolicy& policy, ReadRepo
 
 namespace {
 // Throws std::invalid_argument when epoch k is not finite or not after the previous epoch.
-void checkNavEpoch(const std::string& path, std::size_t k, const NavState& s, const NavState* prev) {
+void checkNavEpoch(const std::string& path, std::size_t k, const NavState& s,
+                   const NavState* prev) {
   if (!std::isfinite(s.t_s) || !std::isfinite(s.pos.lat_rad) || !std::isfinite(s.pos.lon_rad) ||
       !std::isfinite(s.pos.h_m) || !s.v_n.allFinite() || !s.q_nb.coeffs().allFinite())
-    throw std::invalid_argument(path + ": writeNav: epoch " + std::to_string(k) + " has a non-finite value");
-  if (prev && !(s.gnss_week * kSecondsPerWeek + s.t_s > prev->gnss_week * kSecondsPerWeek + prev->t_s))
-    throw std::invalid_argument(path + ": writeNav: epoch " + std::to_string(k) + " time " + std::to_string(s.gnss_week) +
-                                " " + fmt::format("{:.9f}", s.t_s) + " is not after the previous epoch");
+    throw std::invalid_argument(path + ": writeNav: epoch " + std::to_string(k) +
+                                " has a non-finite value");
+  if (prev &&
+      !(s.gnss_week * kSecondsPerWeek + s.t_s > prev->gnss_week * kSecondsPerWeek + prev->t_s))
+    throw std::invalid_argument(path + ": writeNav: epoch " + std::to_string(k) + " time " +
+                                std::to_string(s.gnss_week) + " " + fmt::format("{:.9f}", s.t_s) +
+                                " is not after the previous epoch");
 }
 
 template <typename Buffer>
@@ -78,9 +85,11 @@ void appendNavLine(Buffer& buf, const NavState& s) {
   const Eigen::Vector3d e_deg = eulerFromQuat(s.q_nb.normalized()) * units::kRadToDeg;
   double yaw_deg = e_deg.z() < 0.0 ? e_deg.z() + 360.0 : e_deg.z();
   if (yaw_deg >= 360.0) yaw_deg -= 360.0;
-  fmt::format_to(std::back_inserter(buf), "{} {:.9f} {:.11f} {:.11f} {:.6f} {:.6f} {:.6f} {:.6f} {:.9f} {:.9f} {:.9f}\n",
-                 s.gnss_week, s.t_s, s.pos.lat_rad * units::kRadToDeg, s.pos.lon_rad * units::kRadToDeg, s.pos.h_m,
-                 s.v_n.x(), s.v_n.y(), s.v_n.z(), e_deg.x(), e_deg.y(), yaw_deg);
+  fmt::format_to(std::back_inserter(buf),
+                 "{} {:.9f} {:.11f} {:.11f} {:.6f} {:.6f} {:.6f} {:.6f} {:.9f} {:.9f} {:.9f}\n",
+                 s.gnss_week, s.t_s, s.pos.lat_rad * units::kRadToDeg,
+                 s.pos.lon_rad * units::kRadToDeg, s.pos.h_m, s.v_n.x(), s.v_n.y(), s.v_n.z(),
+                 e_deg.x(), e_deg.y(), yaw_deg);
 }
 
 constexpr std::size_t kFlushBytes = 1u << 20;
@@ -88,7 +97,8 @@ constexpr std::size_t kFlushBytes = 1u << 20;
 
 void writeNav(const std::string& path, const NavSeries& nav) {
   if (nav.empty()) throw std::invalid_argument(path + ": writeNav: no epochs");
-  for (std::size_t k = 0; k < nav.size(); ++k) checkNavEpoch(path, k, nav[k], k > 0 ? &nav[k - 1] : nullptr);
+  for (std::size_t k = 0; k < nav.size(); ++k)
+    checkNavEpoch(path, k, nav[k], k > 0 ? &nav[k - 1] : nullptr);
   AtomicFile file(path);
   fmt::memory_buffer buf;
   for (const NavState& s : nav) {

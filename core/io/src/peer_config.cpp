@@ -26,9 +26,10 @@ double perAxis(const yf::Context& ctx, const YAML::Node& n, const std::string& k
   const Eigen::Vector3d v = yf::asVector3(ctx, n, key);
   const double rms = std::sqrt(v.squaredNorm() / 3.0);
   if (v.maxCoeff() - v.minCoeff() > 1e-12 * std::max(1.0, v.cwiseAbs().maxCoeff())) {
-    s->notes.push_back(fmt::format("{}: per-axis values [{}, {}, {}] replaced by their RMS {:.6g} "
-                                   "(graftnav models one value per triad)",
-                                   key, v.x(), v.y(), v.z(), rms));
+    s->notes.push_back(
+        fmt::format("{}: per-axis values [{}, {}, {}] replaced by their RMS {:.6g} "
+                    "(graftnav models one value per triad)",
+                    key, v.x(), v.y(), v.z(), rms));
   }
   return rms;
 }
@@ -52,11 +53,13 @@ std::string resolveDataPath(const yf::Context& ctx, const YAML::Node& n, const s
   for (const auto& p : tried)
     if (fs::is_regular_file(p)) return p.lexically_normal().string();
   std::string list;
-  for (const auto& p : tried) list += (list.empty() ? "'" : ", '") + p.lexically_normal().string() + "'";
+  for (const auto& p : tried)
+    list += (list.empty() ? "'" : ", '") + p.lexically_normal().string() + "'";
   yf::fail(ctx, n, key, "file '" + given + "' not found; tried " + list);
 }
 
-void readNoise(const yf::Context& ctx, const YAML::Node& sec, const std::string& prefix, PeerSetup* s) {
+void readNoise(const yf::Context& ctx, const YAML::Node& sec, const std::string& prefix,
+               PeerSetup* s) {
   ImuProfile& p = s->profile;
   auto need = [&](const char* key) { return yf::child(ctx, sec, prefix, key, true); };
   auto val = [&](const char* key) {
@@ -67,7 +70,8 @@ void readNoise(const yf::Context& ctx, const YAML::Node& sec, const std::string&
   p.vrw_m_s_sqrt_s = val("vrw") * kMPerSecPerSqrtHourToMPerSecPerSqrtSec;
   p.gyro_bias_instability_rad_s = val("gbstd") * kDegPerHourToRadPerSec;
   p.accel_bias_instability_m_s2 = val("abstd") * kMilliGalToMPerSec2;
-  const double corr_s = yf::asDouble(ctx, need("corrtime"), yf::join(prefix, "corrtime")) * kHourToSec;
+  const double corr_s =
+      yf::asDouble(ctx, need("corrtime"), yf::join(prefix, "corrtime")) * kHourToSec;
   if (!(corr_s > 0.0)) yf::fail(ctx, need("corrtime"), yf::join(prefix, "corrtime"), "must be > 0");
   p.gyro_bias_corr_time_s = p.accel_bias_corr_time_s = p.scale_corr_time_s = corr_s;
   if (yf::present(sec["gsstd"])) p.gyro_scale_std = val("gsstd") * kPpmToFraction;
@@ -77,8 +81,10 @@ void readNoise(const yf::Context& ctx, const YAML::Node& sec, const std::string&
   // The grade only labels reports; chosen from the gyro bias instability.
   const double gb_deg_h = p.gyro_bias_instability_rad_s / kDegPerHourToRadPerSec;
   p.grade = gb_deg_h < 0.1 ? "navigation" : gb_deg_h < 5.0 ? "tactical" : "mems";
-  s->notes.push_back(fmt::format("grade '{}' assumed from the gyro bias instability {:.4g} deg/h "
-                                 "(labels only)", p.grade, gb_deg_h));
+  s->notes.push_back(
+      fmt::format("grade '{}' assumed from the gyro bias instability {:.4g} deg/h "
+                  "(labels only)",
+                  p.grade, gb_deg_h));
 }
 
 // A constant initial bias or scale estimate has no counterpart (graftnav starts them at zero).
@@ -89,15 +95,16 @@ void noteInitialErrors(const yf::Context& ctx, const YAML::Node& root, PeerSetup
     if (!yf::present(n)) continue;
     const Eigen::Vector3d v = yf::asVector3(ctx, n, key);
     if (v.cwiseAbs().maxCoeff() > 0.0) {
-      s->notes.push_back(fmt::format("NOT CONVERTED: {} [{}, {}, {}]: graftnav starts the IMU errors "
-                                     "at zero; correct the IMU file or expect a different start",
-                                     key, v.x(), v.y(), v.z()));
+      s->notes.push_back(
+          fmt::format("NOT CONVERTED: {} [{}, {}, {}]: graftnav starts the IMU errors "
+                      "at zero; correct the IMU file or expect a different start",
+                      key, v.x(), v.y(), v.z()));
     }
   }
 }
 
-void readCommon(const yf::Context& ctx, const YAML::Node& root, const char* imu_key, const char* gnss_key,
-                PeerSetup* s) {
+void readCommon(const yf::Context& ctx, const YAML::Node& root, const char* imu_key,
+                const char* gnss_key, PeerSetup* s) {
   s->imu_path = resolveDataPath(ctx, yf::child(ctx, root, "", imu_key, true), imu_key);
   s->gnss_path = resolveDataPath(ctx, yf::child(ctx, root, "", gnss_key, true), gnss_key);
   if (yf::present(root["imudatalen"])) {
@@ -107,9 +114,12 @@ void readCommon(const yf::Context& ctx, const YAML::Node& root, const char* imu_
   s->imu_rate_hz = yf::requireDouble(ctx, root, "", "imudatarate");
   if (!(s->imu_rate_hz > 0.0)) yf::fail(ctx, root["imudatarate"], "imudatarate", "must be > 0");
   s->start_s = yf::requireDouble(ctx, root, "", "starttime");
-  if (const auto end = yf::optionalDouble(ctx, root, "", "endtime"); end && *end > s->start_s) s->end_s = *end;
-  if (yf::present(root["initvel"])) s->initial_velocity_ned_m_s = yf::asVector3(ctx, root["initvel"], "initvel");
-  s->initial_euler_rad = yf::asVector3(ctx, yf::child(ctx, root, "", "initatt", true), "initatt") * kDegToRad;
+  if (const auto end = yf::optionalDouble(ctx, root, "", "endtime"); end && *end > s->start_s)
+    s->end_s = *end;
+  if (yf::present(root["initvel"]))
+    s->initial_velocity_ned_m_s = yf::asVector3(ctx, root["initvel"], "initvel");
+  s->initial_euler_rad =
+      yf::asVector3(ctx, yf::child(ctx, root, "", "initatt", true), "initatt") * kDegToRad;
   if (yf::present(root["antlever"])) {
     s->lever_arm_m = yf::asVector3(ctx, root["antlever"], "antlever");
   } else {
@@ -122,27 +132,35 @@ void readCommon(const yf::Context& ctx, const YAML::Node& root, const char* imu_
 
 void readKfGins(const yf::Context& ctx, const YAML::Node& root, PeerSetup* s) {
   readCommon(ctx, root, "imupath", "gnsspath", s);
-  const Eigen::Vector3d llh = yf::asVector3(ctx, yf::child(ctx, root, "", "initpos", true), "initpos");
+  const Eigen::Vector3d llh =
+      yf::asVector3(ctx, yf::child(ctx, root, "", "initpos", true), "initpos");
   s->initial_position = Geodetic{llh.x() * kDegToRad, llh.y() * kDegToRad, llh.z()};
-  if (yf::present(root["initposstd"])) s->initial_pos_std_m = yf::asVector3(ctx, root["initposstd"], "initposstd");
-  if (yf::present(root["initvelstd"])) s->initial_vel_std_m_s = yf::asVector3(ctx, root["initvelstd"], "initvelstd");
+  if (yf::present(root["initposstd"]))
+    s->initial_pos_std_m = yf::asVector3(ctx, root["initposstd"], "initposstd");
+  if (yf::present(root["initvelstd"]))
+    s->initial_vel_std_m_s = yf::asVector3(ctx, root["initvelstd"], "initvelstd");
   if (yf::present(root["initattstd"]))
     s->initial_att_std_rad = yf::asVector3(ctx, root["initattstd"], "initattstd") * kDegToRad;
-  readNoise(ctx, yf::requireMap(ctx, root, "imunoise", yf::child(ctx, root, "", "imunoise", true)), "imunoise", s);
+  readNoise(ctx, yf::requireMap(ctx, root, "imunoise", yf::child(ctx, root, "", "imunoise", true)),
+            "imunoise", s);
   if (yf::present(root["initbgstd"]))
-    s->profile.gyro_bias_initial_std_rad_s = perAxis(ctx, root["initbgstd"], "initbgstd", s) * kDegPerHourToRadPerSec;
+    s->profile.gyro_bias_initial_std_rad_s =
+        perAxis(ctx, root["initbgstd"], "initbgstd", s) * kDegPerHourToRadPerSec;
   if (yf::present(root["initbastd"]))
-    s->profile.accel_bias_initial_std_m_s2 = perAxis(ctx, root["initbastd"], "initbastd", s) * kMilliGalToMPerSec2;
+    s->profile.accel_bias_initial_std_m_s2 =
+        perAxis(ctx, root["initbastd"], "initbastd", s) * kMilliGalToMPerSec2;
   for (const char* key : {"initsgstd", "initsastd"})
     if (yf::present(root[key]))
-      s->notes.push_back(std::string("NOT CONVERTED: ") + key +
-                         ": graftnav's initial scale-factor sigma is the scale-factor std (gsstd/asstd)");
+      s->notes.push_back(
+          std::string("NOT CONVERTED: ") + key +
+          ": graftnav's initial scale-factor sigma is the scale-factor std (gsstd/asstd)");
   noteInitialErrors(ctx, root, s, {"initgyrbias", "initaccbias", "initgyrscale", "initaccscale"});
-  yf::warnUnknownKeys(ctx, root, "",
-                      {"imupath", "gnsspath", "outputpath", "imudatalen", "imudatarate", "starttime",
-                       "endtime", "initpos", "initvel", "initatt", "initgyrbias", "initaccbias",
-                       "initgyrscale", "initaccscale", "initposstd", "initvelstd", "initattstd",
-                       "initbgstd", "initbastd", "initsgstd", "initsastd", "imunoise", "antlever"});
+  yf::warnUnknownKeys(
+      ctx, root, "",
+      {"imupath",      "gnsspath",     "outputpath", "imudatalen", "imudatarate", "starttime",
+       "endtime",      "initpos",      "initvel",    "initatt",    "initgyrbias", "initaccbias",
+       "initgyrscale", "initaccscale", "initposstd", "initvelstd", "initattstd",  "initbgstd",
+       "initbastd",    "initsgstd",    "initsastd",  "imunoise",   "antlever"});
   yf::warnUnknownKeys(ctx, root["imunoise"], "imunoise",
                       {"arw", "vrw", "gbstd", "abstd", "gsstd", "asstd", "corrtime"});
 }
@@ -150,22 +168,25 @@ void readKfGins(const yf::Context& ctx, const YAML::Node& root, PeerSetup* s) {
 void readObGinsOptions(const yf::Context& ctx, const YAML::Node& root, PeerSetup* s) {
   if (yf::present(root["windows"])) {
     s->window_nodes = yf::asInt(ctx, root["windows"], "windows");
-    s->notes.push_back(fmt::format("windows {} taken as fgo.window_nodes (nodes about 1 s apart); "
-                                   "run navigate --estimator fgo-window for OB_GINS's optimizer",
-                                   *s->window_nodes));
+    s->notes.push_back(
+        fmt::format("windows {} taken as fgo.window_nodes (nodes about 1 s apart); "
+                    "run navigate --estimator fgo-window for OB_GINS's optimizer",
+                    *s->window_nodes));
   }
   if (yf::present(root["isearth"])) s->earth_rotation = yf::asBool(ctx, root["isearth"], "isearth");
   if (yf::present(root["gnssthreshold"])) {
     s->gnss_max_std_m = yf::asDouble(ctx, root["gnssthreshold"], "gnssthreshold");
     s->notes.push_back("gnssthreshold taken as gnss.max_horizontal_std_m and max_vertical_std_m");
   }
-  if (const YAML::Node odo = root["odometer"]; yf::present(odo) && yf::present(odo["isuseodo"]) &&
-                                               yf::asBool(ctx, odo["isuseodo"], "odometer.isuseodo")) {
+  if (const YAML::Node odo = root["odometer"];
+      yf::present(odo) && yf::present(odo["isuseodo"]) &&
+      yf::asBool(ctx, odo["isuseodo"], "odometer.isuseodo")) {
     s->notes.push_back("NOT CONVERTED: odometer.isuseodo true: graftnav has no odometer aiding");
   }
   if (yf::present(root["bodyangle"]) &&
       yf::asVector3(ctx, root["bodyangle"], "bodyangle").cwiseAbs().maxCoeff() > 0.0) {
-    s->notes.push_back("NOT CONVERTED: bodyangle (IMU-to-vehicle mounting, used only with the odometer)");
+    s->notes.push_back(
+        "NOT CONVERTED: bodyangle (IMU-to-vehicle mounting, used only with the odometer)");
   }
   if (yf::present(root["isuseoutage"]) && yf::asBool(ctx, root["isuseoutage"], "isuseoutage")) {
     PeerOutageSchedule o;
@@ -186,18 +207,22 @@ void readObGinsOptions(const yf::Context& ctx, const YAML::Node& root, PeerSetup
 
 void readObGins(const yf::Context& ctx, const YAML::Node& root, PeerSetup* s) {
   readCommon(ctx, root, "imufile", "gnssfile", s);
-  s->notes.push_back("OB_GINS gives no initial position: taken from the first GNSS fix at or after "
-                     "starttime, moved from the antenna to the IMU with antlever and initatt");
-  readNoise(ctx, yf::requireMap(ctx, root, "imumodel", yf::child(ctx, root, "", "imumodel", true)), "imumodel", s);
+  s->notes.push_back(
+      "OB_GINS gives no initial position: taken from the first GNSS fix at or after "
+      "starttime, moved from the antenna to the IMU with antlever and initatt");
+  readNoise(ctx, yf::requireMap(ctx, root, "imumodel", yf::child(ctx, root, "", "imumodel", true)),
+            "imumodel", s);
   s->notes.push_back("OB_GINS models no scale factors: scale-factor std 0");
   readObGinsOptions(ctx, root, s);
   noteInitialErrors(ctx, root, s, {"initgb", "initab"});
-  yf::warnUnknownKeys(ctx, root, "",
-                      {"imufile", "gnssfile", "outputpath", "windows", "starttime", "endtime", "initvel",
-                       "initatt", "initgb", "initab", "imudatalen", "imudatarate", "isearth", "antlever",
-                       "odolever", "bodyangle", "odometer", "imumodel", "isuseoutage", "outagetime",
-                       "outagelen", "outageperiod", "gnssthreshold"});
-  yf::warnUnknownKeys(ctx, root["imumodel"], "imumodel", {"arw", "vrw", "gbstd", "abstd", "corrtime"});
+  yf::warnUnknownKeys(
+      ctx, root, "",
+      {"imufile",     "gnssfile",   "outputpath", "windows",      "starttime",    "endtime",
+       "initvel",     "initatt",    "initgb",     "initab",       "imudatalen",   "imudatarate",
+       "isearth",     "antlever",   "odolever",   "bodyangle",    "odometer",     "imumodel",
+       "isuseoutage", "outagetime", "outagelen",  "outageperiod", "gnssthreshold"});
+  yf::warnUnknownKeys(ctx, root["imumodel"], "imumodel",
+                      {"arw", "vrw", "gbstd", "abstd", "corrtime"});
 }
 
 }  // namespace
@@ -212,10 +237,12 @@ std::string peerFormatName(PeerFormat format) {
   return format == PeerFormat::kKfGins ? "kf-gins" : "ob-gins";
 }
 
-PeerSetup loadPeerConfig(PeerFormat format, const std::string& path, std::vector<std::string>* warnings) {
+PeerSetup loadPeerConfig(PeerFormat format, const std::string& path,
+                         std::vector<std::string>* warnings) {
   const yf::Context ctx{path, warnings};
   const YAML::Node root = yf::loadFile(path);
-  if (!root.IsMap()) throw std::runtime_error(path + ": expected a YAML map of " + peerFormatName(format) + " keys");
+  if (!root.IsMap())
+    throw std::runtime_error(path + ": expected a YAML map of " + peerFormatName(format) + " keys");
   PeerSetup s;
   s.format = format;
   s.config_path = path;
@@ -227,8 +254,8 @@ PeerSetup loadPeerConfig(PeerFormat format, const std::string& path, std::vector
   s.profile.name = peerFormatName(format) + " imunoise";
   if (!s.end_s) s.notes.push_back("endtime absent or -1: to the end of the IMU file");
   if (s.imu_columns > 7) {
-    s.notes.push_back(fmt::format("imudatalen {}: only the first 7 columns (time, increments) are used",
-                                  s.imu_columns));
+    s.notes.push_back(fmt::format(
+        "imudatalen {}: only the first 7 columns (time, increments) are used", s.imu_columns));
   }
   return s;
 }

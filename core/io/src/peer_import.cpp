@@ -53,12 +53,14 @@ void copyColumns(const std::string& from, const std::string& to, int columns) {
 
 // Places `source` at `dest`: a symbolic link (absolute target), a copy, or a copy of the first
 // `columns` columns when the file has more. Returns a note when the file was changed.
-std::string placeDataFile(const std::string& source, const std::string& dest, int columns, bool copy) {
+std::string placeDataFile(const std::string& source, const std::string& dest, int columns,
+                          bool copy) {
   fs::remove(dest);
   const int have = firstLineColumns(source);
   if (have > columns) {
     copyColumns(source, dest, columns);
-    return fmt::format("{}: {} columns; copied with the first {} into {}", source, have, columns, dest);
+    return fmt::format("{}: {} columns; copied with the first {} into {}", source, have, columns,
+                       dest);
   }
   if (copy) {
     fs::copy_file(source, dest, fs::copy_options::overwrite_existing);
@@ -78,7 +80,8 @@ double medianInterval(const GnssSeries& gnss) {
 
 std::vector<TimeWindow> scheduleWindows(const PeerOutageSchedule& o, double t_end_s) {
   std::vector<TimeWindow> w;
-  for (double t = o.first_start_s; t + o.length_s <= t_end_s; t += o.period_s) w.push_back({t, t + o.length_s});
+  for (double t = o.first_start_s; t + o.length_s <= t_end_s; t += o.period_s)
+    w.push_back({t, t + o.length_s});
   return w;
 }
 
@@ -91,13 +94,17 @@ NavState initialState(const PeerSetup& s, const GnssSeries& gnss, std::vector<st
     x.pos = *s.initial_position;
     return x;
   }
-  const auto it = std::find_if(gnss.begin(), gnss.end(), [&](const GnssFix& f) { return f.t_s >= s.start_s - 1e-6; });
-  if (it == gnss.end()) throw std::runtime_error(s.gnss_path + ": no GNSS fix at or after starttime " + fmt::format("{}", s.start_s));
+  const auto it = std::find_if(gnss.begin(), gnss.end(),
+                               [&](const GnssFix& f) { return f.t_s >= s.start_s - 1e-6; });
+  if (it == gnss.end())
+    throw std::runtime_error(s.gnss_path + ": no GNSS fix at or after starttime " +
+                             fmt::format("{}", s.start_s));
   const Eigen::Vector3d lever_n = x.q_nb * s.lever_arm_m.value_or(Eigen::Vector3d::Zero());
   x.pos = earth::offsetByNed(it->pos, -lever_n);
-  notes->push_back(fmt::format("initial position: GNSS fix at t={:.3f} ({:.3f} s after starttime), std N/E/U "
-                               "{:.3f}/{:.3f}/{:.3f} m", it->t_s, it->t_s - s.start_s, it->std_ned_m.x(),
-                               it->std_ned_m.y(), it->std_ned_m.z()));
+  notes->push_back(fmt::format(
+      "initial position: GNSS fix at t={:.3f} ({:.3f} s after starttime), std N/E/U "
+      "{:.3f}/{:.3f}/{:.3f} m",
+      it->t_s, it->t_s - s.start_s, it->std_ned_m.x(), it->std_ned_m.y(), it->std_ned_m.z()));
   return x;
 }
 
@@ -126,16 +133,18 @@ std::string runConfigYaml(const PeerSetup& s, const std::vector<TimeWindow>& out
   if (s.end_s) emitScalar(out, "end_s", *s.end_s);
   out << YAML::EndMap;
   if (!outages.empty()) {
-    out << YAML::Key << "outages" << YAML::Value << YAML::BeginMap << YAML::Key << "windows" << YAML::Value
-        << YAML::BeginSeq;
-    for (const auto& w : outages) out << YAML::Flow << YAML::BeginSeq << w.start_s << w.end_s << YAML::EndSeq;
+    out << YAML::Key << "outages" << YAML::Value << YAML::BeginMap << YAML::Key << "windows"
+        << YAML::Value << YAML::BeginSeq;
+    for (const auto& w : outages)
+      out << YAML::Flow << YAML::BeginSeq << w.start_s << w.end_s << YAML::EndSeq;
     out << YAML::EndSeq << YAML::EndMap;
   }
   out << YAML::Key << "ekf" << YAML::Value << YAML::BeginMap;
   if (s.initial_pos_std_m) emitScalar(out, "init_pos_std_m", s.initial_pos_std_m->maxCoeff());
   if (s.initial_vel_std_m_s) emitScalar(out, "init_vel_std_m_s", s.initial_vel_std_m_s->maxCoeff());
   if (s.initial_att_std_rad) {
-    emitScalar(out, "init_roll_pitch_std_deg", s.initial_att_std_rad->head<2>().maxCoeff() * units::kRadToDeg);
+    emitScalar(out, "init_roll_pitch_std_deg",
+               s.initial_att_std_rad->head<2>().maxCoeff() * units::kRadToDeg);
     emitScalar(out, "init_heading_std_deg", s.initial_att_std_rad->z() * units::kRadToDeg);
   }
   emitScalar(out, "gate_probability", 0.0);
@@ -153,15 +162,17 @@ std::string runConfigYaml(const PeerSetup& s, const std::vector<TimeWindow>& out
     out << YAML::EndMap;
   }
   out << YAML::EndMap;
-  return "# Run config written by `graftnav import " + peerFormatName(s.format) + "` from " + s.config_path +
-         "\n# (apps/run_config.h; see notes.md for what was converted)\n" + out.c_str() + "\n";
+  return "# Run config written by `graftnav import " + peerFormatName(s.format) + "` from " +
+         s.config_path + "\n# (apps/run_config.h; see notes.md for what was converted)\n" +
+         out.c_str() + "\n";
 }
 
 std::string notesMarkdown(const PeerSetup& s, const ImportResult& r) {
   std::string md = "# Imported from " + peerFormatName(s.format) + "\n\nSource: `" + s.config_path +
                    "`\n\nIMU file: `" + s.imu_path + "`\n\nGNSS file: `" + s.gnss_path + "`\n\n";
   md += fmt::format("Outage windows ({}):\n\n", r.outages.size());
-  for (const auto& w : r.outages) md += fmt::format("- {:.3f} .. {:.3f} ({:.1f} s)\n", w.start_s, w.end_s, w.length_s());
+  for (const auto& w : r.outages)
+    md += fmt::format("- {:.3f} .. {:.3f} ({:.1f} s)\n", w.start_s, w.end_s, w.length_s());
   md += "\nWhat the import assumed or could not convert:\n\n";
   for (const auto& n : r.notes) md += "- " + n + "\n";
   return md;
@@ -170,15 +181,19 @@ std::string notesMarkdown(const PeerSetup& s, const ImportResult& r) {
 }  // namespace
 
 void ImportOptions::validate() const {
-  if (!(min_gap_s > 0.0)) throw std::invalid_argument(fmt::format("ImportOptions.min_gap_s {} must be > 0", min_gap_s));
-  if (!(gap_factor >= 1.0)) throw std::invalid_argument(fmt::format("ImportOptions.gap_factor {} must be >= 1", gap_factor));
+  if (!(min_gap_s > 0.0))
+    throw std::invalid_argument(fmt::format("ImportOptions.min_gap_s {} must be > 0", min_gap_s));
+  if (!(gap_factor >= 1.0))
+    throw std::invalid_argument(
+        fmt::format("ImportOptions.gap_factor {} must be >= 1", gap_factor));
 }
 
 std::vector<TimeWindow> gnssGapWindows(const GnssSeries& gnss, double t_begin_s, double t_end_s,
                                        const ImportOptions& options) {
   options.validate();
   const double threshold = std::max(options.min_gap_s, options.gap_factor * medianInterval(gnss));
-  constexpr double kEdge = 1e-3;  // keeps both bounding fixes outside the window (TimeWindow is closed)
+  constexpr double kEdge =
+      1e-3;  // keeps both bounding fixes outside the window (TimeWindow is closed)
   std::vector<TimeWindow> w;
   for (size_t i = 1; i < gnss.size(); ++i) {
     const double a = gnss[i - 1].t_s, b = gnss[i].t_s;
@@ -187,7 +202,8 @@ std::vector<TimeWindow> gnssGapWindows(const GnssSeries& gnss, double t_begin_s,
   return w;
 }
 
-ImportResult importPeerSetup(const PeerSetup& s, const std::string& case_dir, const ImportOptions& o) {
+ImportResult importPeerSetup(const PeerSetup& s, const std::string& case_dir,
+                             const ImportOptions& o) {
   o.validate();
   ImportResult r;
   r.case_dir = case_dir;
@@ -197,15 +213,20 @@ ImportResult importPeerSetup(const PeerSetup& s, const std::string& case_dir, co
   fs::create_directories(dir / "source");
   GnssReadPolicy policy = GnssReadPolicy::real();
   const std::string gnss_dest = (dir / "field" / "gnss.pos").string();
-  if (const auto n = placeDataFile(s.gnss_path, gnss_dest, 7, o.copy_files); !n.empty()) r.notes.push_back(n);
+  if (const auto n = placeDataFile(s.gnss_path, gnss_dest, 7, o.copy_files); !n.empty())
+    r.notes.push_back(n);
   const GnssSeries gnss = readGnssPos(gnss_dest, policy);
-  if (const auto n = placeDataFile(s.imu_path, (dir / "field" / "ref_imu.txt").string(), 7, o.copy_files); !n.empty())
+  if (const auto n =
+          placeDataFile(s.imu_path, (dir / "field" / "ref_imu.txt").string(), 7, o.copy_files);
+      !n.empty())
     r.notes.push_back(n);
   if (!o.reference_path.empty()) {
-    if (!fs::is_regular_file(o.reference_path)) throw std::runtime_error("reference solution '" + o.reference_path + "' not found");
+    if (!fs::is_regular_file(o.reference_path))
+      throw std::runtime_error("reference solution '" + o.reference_path + "' not found");
     placeDataFile(o.reference_path, (dir / "field" / "reference.nav").string(), 11, o.copy_files);
   } else {
-    r.notes.push_back("no reference solution given (--reference FILE.nav): navigate writes no errors");
+    r.notes.push_back(
+        "no reference solution given (--reference FILE.nav): navigate writes no errors");
   }
   const NavState initial = initialState(s, gnss, &r.notes);
   const double t_end = s.end_s.value_or(gnss.back().t_s);
@@ -213,9 +234,10 @@ ImportResult importPeerSetup(const PeerSetup& s, const std::string& case_dir, co
     r.outages = scheduleWindows(*s.outage_schedule, t_end);
   } else {
     r.outages = gnssGapWindows(gnss, s.start_s, t_end, o);
-    r.notes.push_back(fmt::format("{} outage windows from GNSS gaps longer than max({} s, {} x the median "
-                                  "interval {:.3f} s)", r.outages.size(), o.min_gap_s, o.gap_factor,
-                                  medianInterval(gnss)));
+    r.notes.push_back(
+        fmt::format("{} outage windows from GNSS gaps longer than max({} s, {} x the median "
+                    "interval {:.3f} s)",
+                    r.outages.size(), o.min_gap_s, o.gap_factor, medianInterval(gnss)));
   }
   r.notes.push_back("the peer's EKF has no innovation gate: ekf.gate_probability 0 (off)");
   saveCaseConfig((dir / "case.yaml").string(), caseConfig(s, initial, o));

@@ -77,7 +77,8 @@ inline bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 bool TextTableReader::next() {
   for (;;) {
     // Streaming: make sure a whole line (or the rest of the file) is in the buffer.
-    while (file_ && std::memchr(buffer_.data() + pos_, '\n', buffer_.size() - pos_) == nullptr) readMore();
+    while (file_ && std::memchr(buffer_.data() + pos_, '\n', buffer_.size() - pos_) == nullptr)
+      readMore();
     const std::size_t size = buffer_.size();
     if (pos_ >= size) break;
     const char* const data = buffer_.data();
@@ -96,7 +97,8 @@ bool TextTableReader::next() {
     column_count_ = 0;
     while (p < end) {
       if (column_count_ >= kMaxColumns)
-        fail("too many columns (more than " + std::to_string(kMaxColumns) + ") in line " + quoteForMessage(line_));
+        fail("too many columns (more than " + std::to_string(kMaxColumns) + ") in line " +
+             quoteForMessage(line_));
       const char* tok = p;
       const char* num = (*p == '+') ? p + 1 : p;
       double v = 0.0;
@@ -104,12 +106,14 @@ bool TextTableReader::next() {
       const char* stop = res.ptr;
       if (res.ec == std::errc::result_out_of_range) {
         while (stop < end && !isBlank(*stop)) ++stop;
-        v = std::strtod(std::string(tok, stop).c_str(), nullptr);  // overflow/underflow: inf or denormal
+        v = std::strtod(std::string(tok, stop).c_str(),
+                        nullptr);  // overflow/underflow: inf or denormal
       } else if (res.ec != std::errc() || (stop < end && !isBlank(*stop))) {
         stop = tok;
         while (stop < end && !isBlank(*stop)) ++stop;
         fail("column " + std::to_string(column_count_ + 1) + ": " +
-             quoteForMessage(std::string_view(tok, static_cast<std::size_t>(stop - tok))) + " is not a number");
+             quoteForMessage(std::string_view(tok, static_cast<std::size_t>(stop - tok))) +
+             " is not a number");
       }
       tokens_[column_count_] = std::string_view(tok, static_cast<std::size_t>(stop - tok));
       values_[column_count_++] = v;
@@ -131,8 +135,8 @@ void TextTableReader::requireColumns(int count_a, int count_b, const char* forma
   if (column_count_ == count_a || column_count_ == count_b) return;
   std::string expected = std::to_string(count_a);
   if (count_b != count_a) expected += " or " + std::to_string(count_b);
-  fail(std::string(format_name) + " line has " + std::to_string(column_count_) + " columns, expected " +
-       expected + ": " + quoteForMessage(line_));
+  fail(std::string(format_name) + " line has " + std::to_string(column_count_) +
+       " columns, expected " + expected + ": " + quoteForMessage(line_));
 }
 
 void TextTableReader::requireFinite(const char* const* column_names) const {
@@ -153,24 +157,30 @@ int TextTableReader::integerValue(int column, const char* column_name) const {
 }
 
 std::size_t TextTableReader::physicalLineCount() const {
-  if (chunk_bytes_ > 0) throw std::logic_error(path_ + ": physicalLineCount() of a streaming reader");
+  if (chunk_bytes_ > 0)
+    throw std::logic_error(path_ + ": physicalLineCount() of a streaming reader");
   std::size_t n = 1;
   const char* p = buffer_.data();
   const char* const e = p + buffer_.size();
-  while ((p = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(e - p)))) != nullptr) {
+  while ((p = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(e - p)))) !=
+         nullptr) {
     ++n;
     ++p;
   }
   return n;
 }
 
-TimeOrderGuard::TimeOrderGuard(ReadRule duplicate_rule, ReadRule backwards_rule, int max_consecutive_drops)
-    : duplicate_rule_(duplicate_rule), backwards_rule_(backwards_rule), max_consecutive_drops_(max_consecutive_drops) {
+TimeOrderGuard::TimeOrderGuard(ReadRule duplicate_rule, ReadRule backwards_rule,
+                               int max_consecutive_drops)
+    : duplicate_rule_(duplicate_rule),
+      backwards_rule_(backwards_rule),
+      max_consecutive_drops_(max_consecutive_drops) {
   requireRule(duplicate_rule, {ReadRule::kError, ReadRule::kRepair}, "duplicate_stamp");
   requireRule(backwards_rule, {ReadRule::kError, ReadRule::kRepair}, "backwards_stamp");
 }
 
-bool TimeOrderGuard::accept(const TextTableReader& r, double t_s, int time_column, ReadReport& report) {
+bool TimeOrderGuard::accept(const TextTableReader& r, double t_s, int time_column,
+                            ReadReport& report) {
   const int n = r.columnCount();
   if (has_prev_ && !(t_s > t_prev_)) {
     const std::string t_text(r.token(time_column));
@@ -184,13 +194,15 @@ bool TimeOrderGuard::accept(const TextTableReader& r, double t_s, int time_colum
                (identical ? ": duplicated line" : ": duplicated time stamp with different values"));
       }
       report.note(ReadCondition::kDuplicateStamp, r.lineNumber(),
-                  "time " + t_text + " repeats line " + std::to_string(prev_line_) + " identically: dropped");
+                  "time " + t_text + " repeats line " + std::to_string(prev_line_) +
+                      " identically: dropped");
     } else {
       if (backwards_rule_ == ReadRule::kError)
         r.fail("time " + t_text + " is not after previous " + prev_text + where);
       if (++consecutive_drops_ > max_consecutive_drops_)
         r.fail("time " + t_text + " is not after previous " + prev_text + where + ": more than " +
-               std::to_string(max_consecutive_drops_) + " lines in a row go backwards; not repairable");
+               std::to_string(max_consecutive_drops_) +
+               " lines in a row go backwards; not repairable");
       report.note(ReadCondition::kBackwardsStamp, r.lineNumber(),
                   "time " + t_text + " is before previous " + prev_text + where + ": dropped");
     }
@@ -220,23 +232,34 @@ void requireRule(ReadRule rule, std::initializer_list<ReadRule> allowed, const c
 
 const char* toString(ReadRule rule) {
   switch (rule) {
-    case ReadRule::kError: return "error";
-    case ReadRule::kWarn: return "warn";
-    case ReadRule::kRepair: return "repair";
+    case ReadRule::kError:
+      return "error";
+    case ReadRule::kWarn:
+      return "warn";
+    case ReadRule::kRepair:
+      return "repair";
   }
   return "?";
 }
 
 const char* toString(ReadCondition condition) {
   switch (condition) {
-    case ReadCondition::kUnevenInterval: return "uneven sample interval";
-    case ReadCondition::kGap: return "gap";
-    case ReadCondition::kDuplicateStamp: return "duplicated time stamp";
-    case ReadCondition::kBackwardsStamp: return "backwards time stamp";
-    case ReadCondition::kOffWholeSecond: return "epoch off whole seconds";
-    case ReadCondition::kZeroStd: return "zero standard deviation";
-    case ReadCondition::kUnmatchedEpoch: return "unmatched fix-type epoch";
-    case ReadCondition::kCount: break;
+    case ReadCondition::kUnevenInterval:
+      return "uneven sample interval";
+    case ReadCondition::kGap:
+      return "gap";
+    case ReadCondition::kDuplicateStamp:
+      return "duplicated time stamp";
+    case ReadCondition::kBackwardsStamp:
+      return "backwards time stamp";
+    case ReadCondition::kOffWholeSecond:
+      return "epoch off whole seconds";
+    case ReadCondition::kZeroStd:
+      return "zero standard deviation";
+    case ReadCondition::kUnmatchedEpoch:
+      return "unmatched fix-type epoch";
+    case ReadCondition::kCount:
+      break;
   }
   return "?";
 }
@@ -254,8 +277,9 @@ void ReadReport::note(ReadCondition c, int line, std::string text) {
 
 std::string ReadReport::summary() const {
   if (clean()) return {};
-  std::string s = path + ": " + std::to_string(data_lines) + " lines, " + std::to_string(records_kept) +
-                  " records kept, " + std::to_string(records_dropped) + " dropped\n";
+  std::string s = path + ": " + std::to_string(data_lines) + " lines, " +
+                  std::to_string(records_kept) + " records kept, " +
+                  std::to_string(records_dropped) + " dropped\n";
   for (int i = 0; i < kReadConditionCount; ++i) {
     if (counts[i] == 0) continue;
     const auto c = static_cast<ReadCondition>(i);

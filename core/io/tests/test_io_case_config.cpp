@@ -99,9 +99,11 @@ TEST(IoCaseConfig, WriterRoundTrip) {
   EXPECT_EQ(b.imu_rate_hz, c.imu_rate_hz);
   EXPECT_EQ(b.tested_imu_rate_hz, c.tested_imu_rate_hz);
   EXPECT_EQ(b.reference_solution, c.reference_solution);
-  EXPECT_NEAR(b.tested_imu->arw_rad_sqrt_s, c.tested_imu->arw_rad_sqrt_s, 1e-14 * c.tested_imu->arw_rad_sqrt_s);
+  EXPECT_NEAR(b.tested_imu->arw_rad_sqrt_s, c.tested_imu->arw_rad_sqrt_s,
+              1e-14 * c.tested_imu->arw_rad_sqrt_s);
   EXPECT_NEAR(b.tested_imu->gyro_scale_std, c.tested_imu->gyro_scale_std, 1e-18);
-  EXPECT_NEAR(b.reference_imu->accel_bias_instability_m_s2, c.reference_imu->accel_bias_instability_m_s2, 1e-18);
+  EXPECT_NEAR(b.reference_imu->accel_bias_instability_m_s2,
+              c.reference_imu->accel_bias_instability_m_s2, 1e-18);
   EXPECT_EQ(b.gnss_week, c.gnss_week);
   EXPECT_TRUE(b.lever_arm_m->isApprox(*c.lever_arm_m));
   EXPECT_NEAR(b.initial_state->pos.lat_rad, c.initial_state->pos.lat_rad, 1e-14);
@@ -114,7 +116,9 @@ TEST(IoCaseConfig, WriterRoundTrip) {
 
 TEST(IoCaseConfig, UnknownKeysAreWarningsErrorsNameKey) {
   const std::string dir = test::makeTempDir("io");
-  writeText(dir + "/extra.yaml", "name: a\nimu_rate_hz: 100\ncolour: red\nlab: {latitude_deg: 1, height_m: 2, foo: 3}\n");
+  writeText(
+      dir + "/extra.yaml",
+      "name: a\nimu_rate_hz: 100\ncolour: red\nlab: {latitude_deg: 1, height_m: 2, foo: 3}\n");
   std::vector<std::string> warnings;
   loadCaseConfig(dir + "/extra.yaml", &warnings);
   ASSERT_EQ(warnings.size(), 2u);
@@ -127,16 +131,23 @@ TEST(IoCaseConfig, UnknownKeysAreWarningsErrorsNameKey) {
   const std::vector<Case> cases = {
       {"missing_rate", "name: a\n", "missing required key 'imu_rate_hz'"},
       {"missing_name", "imu_rate_hz: 100\n", "missing required key 'name'"},
-      {"bad_rate", "name: a\nimu_rate_hz: fast\n", ":2: key 'imu_rate_hz': expected a number, got 'fast'"},
-      {"bad_lever", "name: a\nimu_rate_hz: 100\nlever_arm_m: [1, 2]\n", ":3: key 'lever_arm_m': expected a list of 3"},
-      {"bad_week", "name: a\nimu_rate_hz: 100\ngnss: {week: 21.5}\n", "key 'gnss.week': expected an integer"},
-      {"lab_missing", "name: a\nimu_rate_hz: 100\nlab: {height_m: 2}\n", "missing required key 'lab.latitude_deg'"},
+      {"bad_rate", "name: a\nimu_rate_hz: fast\n",
+       ":2: key 'imu_rate_hz': expected a number, got 'fast'"},
+      {"bad_lever", "name: a\nimu_rate_hz: 100\nlever_arm_m: [1, 2]\n",
+       ":3: key 'lever_arm_m': expected a list of 3"},
+      {"bad_week", "name: a\nimu_rate_hz: 100\ngnss: {week: 21.5}\n",
+       "key 'gnss.week': expected an integer"},
+      {"lab_missing", "name: a\nimu_rate_hz: 100\nlab: {height_m: 2}\n",
+       "missing required key 'lab.latitude_deg'"},
       {"partial_noise", "name: a\nimu_rate_hz: 100\ntested_imu: {grade: mems, arw_deg_rt_h: 0.1}\n",
        "missing required key 'tested_imu.vrw_m_s_rt_h'"},
-      {"bad_grade", "name: a\nimu_rate_hz: 100\ntested_imu: {grade: good}\n", "key 'tested_imu.grade'"},
-      {"bad_pose", "name: a\nimu_rate_hz: 100\nlab: {latitude_deg: 1, height_m: 2, six_position: {x_side: [0,0,0]}}\n",
+      {"bad_grade", "name: a\nimu_rate_hz: 100\ntested_imu: {grade: good}\n",
+       "key 'tested_imu.grade'"},
+      {"bad_pose",
+       "name: a\nimu_rate_hz: 100\nlab: {latitude_deg: 1, height_m: 2, six_position: {x_side: [0,0,0]}}\n",
        "lab.six_position.x_side"},
-      {"init_missing", "name: a\nimu_rate_hz: 100\ninitial_state: {time: 1, position: [1,2,3], velocity_ned: [0,0,0]}\n",
+      {"init_missing",
+       "name: a\nimu_rate_hz: 100\ninitial_state: {time: 1, position: [1,2,3], velocity_ned: [0,0,0]}\n",
        "missing required key 'initial_state.attitude_deg'"},
       {"syntax", "name: a\nimu_rate_hz: [100\n", "YAML syntax error"},
   };
@@ -216,7 +227,8 @@ TEST(IoCasePaths, StandardPathsAndRateNames) {
   EXPECT_FALSE(parseRateFileName("x_pos_30.csv"));
 
   const std::string dir = test::makeTempDir("io");
-  for (const char* n : {"z_pos_10.txt", "x_neg_100.txt", "x_neg_20.txt", "x_pos_5.txt"}) writeText(dir + "/lab/rate/" + n, "");
+  for (const char* n : {"z_pos_10.txt", "x_neg_100.txt", "x_neg_20.txt", "x_pos_5.txt"})
+    writeText(dir + "/lab/rate/" + n, "");
   const auto files = CasePaths(dir).rateFiles();
   ASSERT_EQ(files.size(), 4u);
   EXPECT_DOUBLE_EQ(files[0].rate_deg_s, 20.0);  // x neg 20, x neg 100, x pos 5, z pos 10
@@ -268,12 +280,15 @@ TEST(IoImuProfile, RoundTripAndErrors) {
   const ImuProfile b = loadImuProfile(dir + "/p.yaml");
   EXPECT_EQ(b.name, p.name);
   EXPECT_NEAR(b.arw_rad_sqrt_s, p.arw_rad_sqrt_s, 1e-14 * p.arw_rad_sqrt_s);
-  EXPECT_NEAR(b.accel_bias_instability_m_s2, p.accel_bias_instability_m_s2, 1e-14 * p.accel_bias_instability_m_s2);
-  EXPECT_NEAR(b.gyro_bias_initial_std_rad_s, p.gyro_bias_initial_std_rad_s, 1e-14 * p.gyro_bias_initial_std_rad_s);
+  EXPECT_NEAR(b.accel_bias_instability_m_s2, p.accel_bias_instability_m_s2,
+              1e-14 * p.accel_bias_instability_m_s2);
+  EXPECT_NEAR(b.gyro_bias_initial_std_rad_s, p.gyro_bias_initial_std_rad_s,
+              1e-14 * p.gyro_bias_initial_std_rad_s);
   EXPECT_DOUBLE_EQ(b.accel_bias_corr_time_s, 600.0);
   EXPECT_DOUBLE_EQ(b.gyro_bias_corr_time_s, 3600.0);
 
-  writeText(dir + "/missing_key.yaml", "grade: mems\narw_deg_rt_h: 0.1\nvrw_m_s_rt_h: 0.1\naccel_bias_instability_mg: 1\n");
+  writeText(dir + "/missing_key.yaml",
+            "grade: mems\narw_deg_rt_h: 0.1\nvrw_m_s_rt_h: 0.1\naccel_bias_instability_mg: 1\n");
   try {
     loadImuProfile(dir + "/missing_key.yaml");
     ADD_FAILURE() << "no error";
@@ -285,7 +300,8 @@ TEST(IoImuProfile, RoundTripAndErrors) {
             "grade: mems\narw_deg_rt_h: -0.1\nvrw_m_s_rt_h: 0.1\ngyro_bias_instability_deg_h: 1\n"
             "accel_bias_instability_mg: 1\nunits_note: x\n");
   EXPECT_THAT([&] { loadImuProfile(dir + "/negative.yaml"); },
-              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("negative.yaml:2: key 'arw_deg_rt_h': must be >= 0")));
+              ::testing::ThrowsMessage<std::runtime_error>(
+                  HasSubstr("negative.yaml:2: key 'arw_deg_rt_h': must be >= 0")));
   writeText(dir + "/unknown.yaml",
             "grade: mems\narw_deg_rt_h: 0.1\nvrw_m_s_rt_h: 0.1\ngyro_bias_instability_deg_h: 1\n"
             "accel_bias_instability_mg: 1\nunits_note: x\n");

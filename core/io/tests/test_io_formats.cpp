@@ -72,8 +72,10 @@ TEST(IoImu, RoundTripIsExact) {
       EXPECT_NEAR(back[k].t_s, imu[k].t_s, 1e-9);
       EXPECT_NEAR(back[k].dt_s, 1.0 / 200.0, 2e-9);
       for (int i = 0; i < 3; ++i) {
-        EXPECT_LE(std::fabs(back[k].dtheta_rad[i] - imu[k].dtheta_rad[i]), 1e-15 * std::fabs(imu[k].dtheta_rad[i]));
-        EXPECT_LE(std::fabs(back[k].dvel_m_s[i] - imu[k].dvel_m_s[i]), 1e-15 * std::fabs(imu[k].dvel_m_s[i]));
+        EXPECT_LE(std::fabs(back[k].dtheta_rad[i] - imu[k].dtheta_rad[i]),
+                  1e-15 * std::fabs(imu[k].dtheta_rad[i]));
+        EXPECT_LE(std::fabs(back[k].dvel_m_s[i] - imu[k].dvel_m_s[i]),
+                  1e-15 * std::fabs(imu[k].dvel_m_s[i]));
       }
       EXPECT_EQ(back[k].hasTemperature(), temp);
       if (temp) {
@@ -110,12 +112,15 @@ TEST(IoImu, BadInputNamesFileLineAndValue) {
   };
   const std::vector<Case> cases = {
       {"malformed", good1 + "456300.005 0 0 abc 0 0 0\n", {":2:", "'abc'", "column 4"}},
-      {"few_columns", good1 + good2 + "456300.010 0 0 0 0 0\n", {":3:", "6 columns", "expected 7 or 8"}},
+      {"few_columns",
+       good1 + good2 + "456300.010 0 0 0 0 0\n",
+       {":3:", "6 columns", "expected 7 or 8"}},
       {"many_columns", good1 + "456300.005 0 0 0 0 0 0 25 1\n", {":2:", "9 columns"}},
       {"mixed_temp", good1 + "456300.005 0 0 0 0 0 0 25\n", {":2:", "8 columns", "temperature"}},
       {"nan", good1 + good2 + "456300.010 0 nan 0 0 0 0\n", {":3:", "'nan'", "dtheta_y"}},
       {"inf", good1 + "456300.005 0 0 0 0 -inf 0\n", {":2:", "'-inf'"}},
-      {"backwards", good1 + "456300.010 0 0 0 0 0 0\n456300.005 0 0 0 0 0 0\n",
+      {"backwards",
+       good1 + "456300.010 0 0 0 0 0 0\n456300.005 0 0 0 0 0 0\n",
        {":3:", "time 456300.005 is not after previous 456300.010"}},
       {"duplicate", good1 + good2 + good2, {":3:", "456300.005 is not after previous 456300.005"}},
       {"gap", good1 + good2 + "456300.020 0 0 0 0 0 0\n", {":3:", "gap", "3.000 x nominal"}},
@@ -132,7 +137,8 @@ TEST(IoImu, BadInputNamesFileLineAndValue) {
     frags.push_back(path);
     expectError([&] { readImu(path, opt); }, frags);
   }
-  expectError([&] { readImu(dir + "/does_not_exist.txt"); }, {dir + "/does_not_exist.txt", "cannot open"});
+  expectError([&] { readImu(dir + "/does_not_exist.txt"); },
+              {dir + "/does_not_exist.txt", "cannot open"});
 }
 
 TEST(IoImu, WriterRejectsBadSeriesAndLeavesNoFile) {
@@ -146,7 +152,8 @@ TEST(IoImu, WriterRejectsBadSeriesAndLeavesNoFile) {
   EXPECT_FALSE(std::filesystem::exists(dir + "/bad.txt"));
   // No temporary files left behind either.
   EXPECT_TRUE(std::filesystem::is_empty(dir));
-  EXPECT_THROW(writeImu(dir + "/no_such_dir/x.txt", randomImu(3, 100.0, false, 1)), std::runtime_error);
+  EXPECT_THROW(writeImu(dir + "/no_such_dir/x.txt", randomImu(3, 100.0, false, 1)),
+               std::runtime_error);
 }
 
 GnssSeries randomGnss(int n, unsigned seed) {
@@ -156,8 +163,8 @@ GnssSeries randomGnss(int n, unsigned seed) {
   for (int k = 0; k < n; ++k) {
     GnssFix& f = fixes[k];
     f.t_s = 456300.0 + k;
-    f.pos = Geodetic{(30.0 + 0.01 * u(rng)) * units::kDegToRad, (114.0 + 0.01 * u(rng)) * units::kDegToRad,
-                     20.0 + u(rng)};
+    f.pos = Geodetic{(30.0 + 0.01 * u(rng)) * units::kDegToRad,
+                     (114.0 + 0.01 * u(rng)) * units::kDegToRad, 20.0 + u(rng)};
     f.std_ned_m = Eigen::Vector3d(0.02 + 0.01 * std::fabs(u(rng)), 0.021, 0.05);
     f.fix_type = (k % 3 == 0) ? 4 : 1;
     f.num_sv = 10 + k % 20;
@@ -201,7 +208,8 @@ TEST(IoGnss, BadInputNamesFileLineAndValue) {
       {"malformed", l1 + "456301.0 30.1 114.2x 20.0 0.02 0.02 0.05\n", {":2:", "'114.2x'"}},
       {"columns", l1 + "456301.0 30.1 114.2 20.0 0.02 0.02\n", {":2:", "6 columns", "expected 7"}},
       {"nan", l1 + "456301.0 30.1 114.2 NaN 0.02 0.02 0.05\n", {":2:", "height", "'NaN'"}},
-      {"backwards", l1 + l2 + "456300.5 30.1 114.2 20.0 0.02 0.02 0.05\n",
+      {"backwards",
+       l1 + l2 + "456300.5 30.1 114.2 20.0 0.02 0.02 0.05\n",
        {":3:", "time 456300.5 is not after previous 456301.0"}},
       {"zero_std", l1 + "456301.0 30.1 114.2 20.0 0.02 0.00 0.05\n", {":2:", "std_east", "'0.00'"}},
       {"negative_std", l1 + "456301.0 30.1 114.2 20.0 -0.02 0.01 0.05\n", {":2:", "negative"}},
@@ -220,7 +228,8 @@ TEST(IoGnss, BadInputNamesFileLineAndValue) {
   // Fix type file: a non-integer type, and an epoch with no .pos epoch.
   writeText(dir + "/gnss.pos", l1 + l2);
   writeText(dir + "/ft_bad.txt", "456300.0 4.5 12\n");
-  expectError([&] { readGnssFixTypes(dir + "/ft_bad.txt"); }, {dir + "/ft_bad.txt:1:", "fix_type", "'4.5'"});
+  expectError([&] { readGnssFixTypes(dir + "/ft_bad.txt"); },
+              {dir + "/ft_bad.txt:1:", "fix_type", "'4.5'"});
   writeText(dir + "/ft_extra.txt", "456300.0 4 12\n456300.5 4 12\n456301.0 1 9\n");
   expectError([&] { readGnss(dir + "/gnss.pos", dir + "/ft_extra.txt"); },
               {dir + "/ft_extra.txt:2:", "456300.500000 has no .pos epoch"});
@@ -238,7 +247,8 @@ NavSeries randomNav(int n, unsigned seed) {
       s.t_s -= 604800.0;
       s.gnss_week = 2101;
     }
-    s.pos = Geodetic{(30.0 + u(rng)) * units::kDegToRad, (114.0 + u(rng)) * units::kDegToRad, 20.0 + 10.0 * u(rng)};
+    s.pos = Geodetic{(30.0 + u(rng)) * units::kDegToRad, (114.0 + u(rng)) * units::kDegToRad,
+                     20.0 + 10.0 * u(rng)};
     s.v_n = Eigen::Vector3d(u(rng), u(rng), u(rng)) * 20.0;
     s.q_nb = quatFromEuler(Eigen::Vector3d(M_PI * u(rng), 0.49 * M_PI * u(rng), M_PI * u(rng)));
   }
@@ -261,7 +271,9 @@ TEST(IoNav, RoundTripAndEulerConversion) {
     EXPECT_LT(back[k].q_nb.angularDistance(nav[k].q_nb), 1e-10);
   }
   // Known answer: a line in degrees gives the rotation.h quaternion and the NED velocity.
-  writeText(dir + "/one.nav", "2204 203294.532 40.2024085 116.2256281 50.0026 -0.088 -0.1 0.093 -5.545 -3.366 348.342\n");
+  writeText(
+      dir + "/one.nav",
+      "2204 203294.532 40.2024085 116.2256281 50.0026 -0.088 -0.1 0.093 -5.545 -3.366 348.342\n");
   const NavState s = readNav(dir + "/one.nav").front();
   EXPECT_EQ(s.gnss_week, 2204);
   EXPECT_DOUBLE_EQ(s.t_s, 203294.532);
@@ -289,7 +301,9 @@ TEST(IoNav, BadInputNamesFileLineAndValue) {
   };
   const std::vector<Case> cases = {
       {"malformed", l1 + "2100 456300.1 30.1 114.2 20.0 0 0 0 0 - 90\n", {":2:", "'-'"}},
-      {"columns", l1 + "456300.1 30.1 114.2 20.0 0 0 0 0 0 90\n", {":2:", "10 columns", "expected 11"}},
+      {"columns",
+       l1 + "456300.1 30.1 114.2 20.0 0 0 0 0 0 90\n",
+       {":2:", "10 columns", "expected 11"}},
       {"week", l1 + "2100.5 456300.1 30.1 114.2 20.0 0 0 0 0 0 90\n", {":2:", "week", "'2100.5'"}},
       {"inf", l1 + "2100 456300.1 30.1 114.2 20.0 0 inf 0 0 0 90\n", {":2:", "v_east", "'inf'"}},
       {"backwards", l1 + l2 + l1, {":3:", "time 456300.0 is not after previous 456300.1"}},

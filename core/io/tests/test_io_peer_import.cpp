@@ -66,7 +66,8 @@ TEST(PeerConfig, KfGinsUnitsConvertedToSi) {
   EXPECT_TRUE(warnings.empty());
   EXPECT_NEAR(s.profile.arw_rad_sqrt_s, 0.2 * kDeg / 60.0, 1e-15);
   EXPECT_NEAR(s.profile.vrw_m_s_sqrt_s, 0.06 / 60.0, 1e-15);
-  EXPECT_NEAR(s.profile.gyro_bias_instability_rad_s, std::sqrt((100.0 + 100.0 + 400.0) / 3.0) * kDeg / 3600.0, 1e-15);
+  EXPECT_NEAR(s.profile.gyro_bias_instability_rad_s,
+              std::sqrt((100.0 + 100.0 + 400.0) / 3.0) * kDeg / 3600.0, 1e-15);
   EXPECT_NEAR(s.profile.accel_bias_instability_m_s2, 500e-5, 1e-15);  // mGal
   EXPECT_NEAR(s.profile.gyro_scale_std, 300e-6, 1e-15);
   EXPECT_NEAR(s.profile.accel_scale_std, 100e-6, 1e-15);
@@ -100,11 +101,12 @@ TEST(PeerConfig, ErrorsNameKeyAndLine) {
 TEST(PeerConfig, ObGinsScheduleAndInitialPositionFromGnss) {
   const std::string dir = test::makeTempDir("peer_ob");
   writeData(dir);
-  writeText(dir + "/ob.yaml",
-            "imufile: imu.txt\ngnssfile: gnss.pos\nwindows: 20\nstarttime: 100\nendtime: 0\n"
-            "initvel: [0, 0, 0]\ninitatt: [0, 0, 0]\nimudatalen: 7\nimudatarate: 100\nisearth: true\n"
-            "antlever: [0, 0, -1.0]\nimumodel: {arw: 0.24, vrw: 0.24, gbstd: 50.0, abstd: 250.0, corrtime: 1.0}\n"
-            "isuseoutage: true\noutagetime: 10\noutagelen: 5\noutageperiod: 8\ngnssthreshold: 20.0\n");
+  writeText(
+      dir + "/ob.yaml",
+      "imufile: imu.txt\ngnssfile: gnss.pos\nwindows: 20\nstarttime: 100\nendtime: 0\n"
+      "initvel: [0, 0, 0]\ninitatt: [0, 0, 0]\nimudatalen: 7\nimudatarate: 100\nisearth: true\n"
+      "antlever: [0, 0, -1.0]\nimumodel: {arw: 0.24, vrw: 0.24, gbstd: 50.0, abstd: 250.0, corrtime: 1.0}\n"
+      "isuseoutage: true\noutagetime: 10\noutagelen: 5\noutageperiod: 8\ngnssthreshold: 20.0\n");
   const PeerSetup s = loadPeerConfig(PeerFormat::kObGins, dir + "/ob.yaml");
   ASSERT_TRUE(s.outage_schedule);
   EXPECT_DOUBLE_EQ(s.outage_schedule->first_start_s, 110.0);  // below starttime: counted from it
@@ -130,7 +132,8 @@ TEST(PeerImport, GnssGapsBecomeWindowsThatKeepTheBoundingFixes) {
   EXPECT_GT(w[0].start_s, 6.0);
   EXPECT_LT(w[0].end_s, 30.0);
   EXPECT_NEAR(w[0].length_s(), 24.0, 0.01);
-  EXPECT_TRUE(gnssGapWindows(g, 7.0, 100.0, ImportOptions{}).empty());  // gap starts before the range
+  EXPECT_TRUE(
+      gnssGapWindows(g, 7.0, 100.0, ImportOptions{}).empty());  // gap starts before the range
   ImportOptions bad;
   bad.min_gap_s = 0.0;
   EXPECT_THROW(bad.validate(), std::invalid_argument);

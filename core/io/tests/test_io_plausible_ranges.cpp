@@ -15,7 +15,8 @@ namespace {
 std::string writeProfile(const std::string& body) {
   const std::string path = test::makeTempDir("plausible") + "/p.yaml";
   std::ofstream(path) << "grade: mems\narw_deg_rt_h: 0.5\nvrw_m_s_rt_h: 0.1\n"
-                         "gyro_bias_instability_deg_h: 50\naccel_bias_instability_mg: 2\n" << body;
+                         "gyro_bias_instability_deg_h: 50\naccel_bias_instability_mg: 2\n"
+                      << body;
   return path;
 }
 
@@ -41,7 +42,8 @@ TEST(IoPlausibleRanges, AnUnknownClassOrANonPositiveBoundNamesFileAndKey) {
     FAIL() << "unknown class accepted";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(bad_class), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("plausible_ranges.sensor_class"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("plausible_ranges.sensor_class"), std::string::npos)
+        << e.what();
   }
   const std::string zero = writeProfile("plausible_ranges: {gyro_scale_max_ppm: 0}\n");
   try {

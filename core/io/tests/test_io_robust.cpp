@@ -47,8 +47,7 @@ std::string setColumn(const std::string& line, int col, const std::string& value
   return out;
 }
 
-#define REQUIRE_REAL_FILE(path)                                                                  \
-  GRAFTNAV_REQUIRE_SHARED_PATH(path)
+#define REQUIRE_REAL_FILE(path) GRAFTNAV_REQUIRE_SHARED_PATH(path)
 
 int exampleLine(const ReadReport& r, ReadCondition c, int index = 0) {
   int seen = 0;
@@ -75,7 +74,8 @@ TEST(IoRobust, RealSlicesReadStrictly) {
   EXPECT_DOUBLE_EQ(imu.front().dvel_m_s.z(), -0.09122);
 
   std::vector<ReadReport> reports;
-  const GnssSeries gnss = readGnss(dir + "/gnss.pos", dir + "/gnss_fixtype.txt", GnssReadPolicy::strict(), &reports);
+  const GnssSeries gnss =
+      readGnss(dir + "/gnss.pos", dir + "/gnss_fixtype.txt", GnssReadPolicy::strict(), &reports);
   ASSERT_EQ(gnss.size(), 400u);
   int single = 0;
   for (const auto& f : gnss) {
@@ -168,9 +168,9 @@ TEST(IoRobust, ImuBlockReaderEqualsReadImu) {
   const std::string dir = test::makeTempDir("io_block");
   REQUIRE_REAL_FILE(realDir() + "tested_imu.txt");
   std::vector<std::string> l = headLines(realDir() + "tested_imu.txt", 3000);
-  l.erase(l.begin() + 2500, l.begin() + 2503);    // a gap
-  l.insert(l.begin() + 1200, l[1196]);            // a backwards stamp
-  l.insert(l.begin() + 400, l[399]);              // a duplicate
+  l.erase(l.begin() + 2500, l.begin() + 2503);   // a gap
+  l.insert(l.begin() + 1200, l[1196]);           // a backwards stamp
+  l.insert(l.begin() + 400, l[399]);             // a duplicate
   l.insert(l.begin() + 10, "# a comment line");  // skipped by both
   writeLines(dir + "/imu.txt", l);
   ImuReadOptions real;
@@ -206,8 +206,12 @@ TEST(IoRobust, ImuBlockReaderEqualsReadImu) {
   strict.nominal_rate_hz = 100.0;
   ImuBlockReader reader(dir + "/imu.txt", strict, 64);
   ImuSeries samples;
-  EXPECT_THAT([&] { while (reader.next(&samples)) {} },
-              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("imu.txt:402: time")));
+  EXPECT_THAT(
+      [&] {
+        while (reader.next(&samples)) {
+        }
+      },
+      ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("imu.txt:402: time")));
   EXPECT_THAT([&] { readImu(dir + "/imu.txt", strict); },
               ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("imu.txt:402: time")));
   // Without a nominal rate the block reader cannot check the first intervals: refused.
@@ -224,19 +228,27 @@ TEST(IoRobust, ImuBlockReaderEqualsReadImu) {
 TEST(IoRobust, ImuBlockReaderAppliesThePhysicalRange) {
   const std::string dir = test::makeTempDir("io_block_range");
   std::vector<std::string> l;
-  for (int k = 1; k <= 300; ++k) l.push_back(std::to_string(100.0 + 0.01 * k) + " 0.001 0 0 0 0 0.098");
+  for (int k = 1; k <= 300; ++k)
+    l.push_back(std::to_string(100.0 + 0.01 * k) + " 0.001 0 0 0 0 0.098");
   l[200] = std::to_string(100.0 + 0.01 * 201) + " 0.001 0 0 0 0 1e300";
   writeLines(dir + "/imu.txt", l);
   for (const bool lenient : {false, true}) {
     ImuReadOptions o;
     o.nominal_rate_hz = 100.0;
     if (lenient) o.policy = ImuReadPolicy::real();
-    const auto error = ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("imu.txt:201: dvel_z"));
+    const auto error =
+        ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("imu.txt:201: dvel_z"));
     EXPECT_THAT([&] { readImu(dir + "/imu.txt", o); }, error);
     for (std::size_t block : {std::size_t{1}, std::size_t{64}, std::size_t{4096}}) {
       ImuBlockReader reader(dir + "/imu.txt", o, block);
       ImuSeries samples;
-      EXPECT_THAT([&] { while (reader.next(&samples)) {} }, error) << block;
+      EXPECT_THAT(
+          [&] {
+            while (reader.next(&samples)) {
+            }
+          },
+          error)
+          << block;
     }
   }
 }
@@ -244,7 +256,8 @@ TEST(IoRobust, ImuBlockReaderAppliesThePhysicalRange) {
 // Chunks shorter than a line: every line still comes whole, with its number.
 TEST(IoRobust, StreamingTextReaderEqualsWholeFileReader) {
   const std::string dir = test::makeTempDir("io_chunks");
-  writeLines(dir + "/t.txt", {"1 2 3", "", "# comment", "4 5.5 -6e-3 7 8 9 10 11 12 13 14 15", "  \t", "16"});
+  writeLines(dir + "/t.txt",
+             {"1 2 3", "", "# comment", "4 5.5 -6e-3 7 8 9 10 11 12 13 14 15", "  \t", "16"});
   {
     std::ofstream f(dir + "/t.txt", std::ios::app | std::ios::binary);
     f << "17 18";  // no newline at the end
@@ -270,14 +283,15 @@ TEST(IoRobust, GnssFaultsAreCountedUnderRealPolicy) {
   REQUIRE_REAL_FILE(realDir() + "gnss.pos");
   std::vector<std::string> pos = headLines(realDir() + "gnss.pos", 200);
   std::vector<std::string> ft = headLines(realDir() + "gnss_fixtype.txt", 200);
-  pos[9] = setColumn(pos[9], 5, "0.0000");    // zero std east at line 10
-  pos.insert(pos.begin() + 20, pos[19]);       // identical duplicate at line 21
-  ft.resize(190);                              // the last 10 .pos epochs have no fix type
+  pos[9] = setColumn(pos[9], 5, "0.0000");  // zero std east at line 10
+  pos.insert(pos.begin() + 20, pos[19]);    // identical duplicate at line 21
+  ft.resize(190);                           // the last 10 .pos epochs have no fix type
   writeLines(dir + "/gnss.pos", pos);
   writeLines(dir + "/gnss_fixtype.txt", ft);
 
-  EXPECT_THAT([&] { readGnssPos(dir + "/gnss.pos"); },
-              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("gnss.pos:10: std_east is '0.0000'")));
+  EXPECT_THAT(
+      [&] { readGnssPos(dir + "/gnss.pos"); },
+      ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("gnss.pos:10: std_east is '0.0000'")));
   std::vector<ReadReport> reports;
   const GnssReadPolicy real = GnssReadPolicy::real();
   const GnssSeries g = readGnss(dir + "/gnss.pos", dir + "/gnss_fixtype.txt", real, &reports);
@@ -296,13 +310,16 @@ TEST(IoRobust, GnssFaultsAreCountedUnderRealPolicy) {
   EXPECT_EQ(g[189].fix_type, type189);
   EXPECT_EQ(g[190].fix_type, 0);  // unknown
   // Strict: the unmatched epochs are an error naming the fix-type file.
-  EXPECT_THAT([&] { readGnss(dir + "/gnss.pos", dir + "/gnss_fixtype.txt", [] {
-                      GnssReadPolicy p;
-                      p.zero_std = ReadRule::kRepair;
-                      p.duplicate_stamp = ReadRule::kRepair;
-                      return p;
-                    }()); },
-              ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("gnss_fixtype.txt: GNSS epoch")));
+  EXPECT_THAT(
+      [&] {
+        readGnss(dir + "/gnss.pos", dir + "/gnss_fixtype.txt", [] {
+          GnssReadPolicy p;
+          p.zero_std = ReadRule::kRepair;
+          p.duplicate_stamp = ReadRule::kRepair;
+          return p;
+        }());
+      },
+      ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("gnss_fixtype.txt: GNSS epoch")));
 }
 
 TEST(IoRobust, NavDuplicateRepairedUnderRealPolicy) {

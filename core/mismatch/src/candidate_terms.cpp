@@ -17,8 +17,8 @@ void CandidateLibraryOptions::validate() const {
     throw std::invalid_argument("CandidateLibraryOptions: knot_spacing_s = " +
                                 std::to_string(knot_spacing_s) + " must be > 0");
   if (max_knots < 2)
-    throw std::invalid_argument("CandidateLibraryOptions: max_knots = " +
-                                std::to_string(max_knots) + " must be >= 2");
+    throw std::invalid_argument(
+        "CandidateLibraryOptions: max_knots = " + std::to_string(max_knots) + " must be >= 2");
 }
 
 Eigen::VectorXd vibrationLevelPerBin(const ImuSeries& imu, const GridSpec& grid,
@@ -47,10 +47,10 @@ Eigen::VectorXd vibrationLevelPerBin(const ImuSeries& imu, const GridSpec& grid,
   return sum;
 }
 
-
 AngularAccelerationBins angularAccelerationPerBin(const ImuSeries& imu, const GridSpec& grid,
                                                   double max_noise_fraction) {
-  if (imu.size() < 2) throw std::invalid_argument("angularAccelerationPerBin: fewer than 2 samples");
+  if (imu.size() < 2)
+    throw std::invalid_argument("angularAccelerationPerBin: fewer than 2 samples");
   // The bin mean of omega_dot over (a, b] is exactly (omega(b) - omega(a)) / (b - a), omega the
   // instantaneous rate: the tested IMU's velocity increments carry omega(t_k) x r at its sample
   // boundaries, so its bin means hold this exact mean. The rate at an edge t is estimated from

@@ -21,14 +21,17 @@ std::vector<Bound> boundsOf(const Effect& e, const PlausibleRanges& r) {
   const bool gyro = e.sensor == "gyro";
   if (e.name == "scale_factor") return {{"k", gyro ? r.gyro_scale_max : r.accel_scale_max, false}};
   if (e.name == "non_orthogonality")
-    return {{"N", gyro ? r.gyro_nonorthogonality_max_rad : r.accel_nonorthogonality_max_rad, false}};
+    return {
+        {"N", gyro ? r.gyro_nonorthogonality_max_rad : r.accel_nonorthogonality_max_rad, false}};
   if (e.name == "scale_asymmetry") {
     const double b = gyro ? r.gyro_scale_asymmetry_max : r.accel_scale_asymmetry_max;
     return {{"k_pos", b, false}, {"k_neg", b, false}};
   }
   if (e.name == "scale_nonlinearity")
-    return {{"k2", gyro ? r.gyro_scale_nonlinearity_max_per_rad_s
-                        : r.accel_scale_nonlinearity_max_per_m_s2, false}};
+    return {
+        {"k2",
+         gyro ? r.gyro_scale_nonlinearity_max_per_rad_s : r.accel_scale_nonlinearity_max_per_m_s2,
+         false}};
   if (e.name == "g_sensitivity") return {{"G", r.g_sensitivity_max_rad_s_per_m_s2, false}};
   if (e.name == "mounting_scale_nonorthogonality")
     return {{"E_gyro", r.gyro_scale_max, true}, {"E_accel", r.accel_scale_max, true}};
@@ -62,8 +65,10 @@ ImplausibleEffect implausibleOf(const Effect& e, const RangeExcess& x, const Pla
       "probably absorbing {}",
       r.sensor_class, x.parameter, x.value, x.bound, r.source,
       im.absorbing.empty()
-          ? fmt::format("a signal outside the candidate terms (its columns correlate at most {:.2f} "
-                        "with another fitted term)", most.canonical)
+          ? fmt::format(
+                "a signal outside the candidate terms (its columns correlate at most {:.2f} "
+                "with another fitted term)",
+                most.canonical)
           : fmt::format("{} (canonical correlation {:.3f})", im.absorbing, im.correlation));
   return im;
 }
@@ -140,16 +145,17 @@ void checkClaims(const ClaimCheckInputs& in, const DiagnoseOptions& opt, Diagnos
     if (c.canonical > opt.max_claim_correlation)
       out->notes.push_back(fmt::format(
           "{} and {} are fitted from columns with a canonical correlation of {:.3f}: their split "
-          "rests on {:.1f} % of their signal", c.term_a, c.term_b, c.canonical,
-          100.0 * (1.0 - c.canonical * c.canonical)));
+          "rests on {:.1f} % of their signal",
+          c.term_a, c.term_b, c.canonical, 100.0 * (1.0 - c.canonical * c.canonical)));
   // Step 3 first: the members are replaced before the range check sees them.
   std::vector<std::string> members;
   for (const Effect& e : out->effects)
     if (isLinearResponseTerm(e.name)) members.push_back(termKeyOf(e, *in.terms, *in.selection));
   if (!members.empty() && !in.lab_calibrated) {
-    const double bound = in.ranges ? std::min(in.ranges->gyro_nonorthogonality_max_rad,
-                                              in.ranges->accel_nonorthogonality_max_rad)
-                                   : plausibleRangesForClass("consumer_mems").gyro_nonorthogonality_max_rad;
+    const double bound =
+        in.ranges ? std::min(in.ranges->gyro_nonorthogonality_max_rad,
+                             in.ranges->accel_nonorthogonality_max_rad)
+                  : plausibleRangesForClass("consumer_mems").gyro_nonorthogonality_max_rad;
     SeparationNeed need =
         separationNeed(*in.reference, *in.selection, in.bin_s, bound, opt.linear_response);
     // The excitation may suffice on average and still leave two members one signal: a column
@@ -162,9 +168,10 @@ void checkClaims(const ClaimCheckInputs& in, const DiagnoseOptions& opt, Diagnos
     need.shrinkPresent(1.0 - rho_max * rho_max);
     if (!need.separable) {
       out->separation = need;
-      out->effects.erase(std::remove_if(out->effects.begin(), out->effects.end(),
-                                        [](const Effect& e) { return isLinearResponseTerm(e.name); }),
-                         out->effects.end());
+      out->effects.erase(
+          std::remove_if(out->effects.begin(), out->effects.end(),
+                         [](const Effect& e) { return isLinearResponseTerm(e.name); }),
+          out->effects.end());
       out->effects.push_back(combinedEffect(in, opt, members, need));
     }
   }

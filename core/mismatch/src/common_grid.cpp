@@ -10,8 +10,8 @@ namespace graftnav {
 
 CumulativeImu::CumulativeImu(const ImuSeries& imu) {
   if (imu.empty()) throw std::invalid_argument("CumulativeImu: empty IMU series");
-  has_temperature_ = std::all_of(imu.begin(), imu.end(),
-                                 [](const ImuSample& s) { return s.hasTemperature(); });
+  has_temperature_ =
+      std::all_of(imu.begin(), imu.end(), [](const ImuSample& s) { return s.hasTemperature(); });
   t_.reserve(imu.size() + 1);
   cum_.reserve(imu.size() + 1);
   t_.push_back(imu.front().t_s - imu.front().dt_s);
@@ -32,8 +32,9 @@ CumulativeImu::CumulativeImu(const ImuSeries& imu) {
     inc << s.dtheta_rad, s.dvel_m_s;
     t_.push_back(t_end);
     cum_.push_back(cum_.back() + inc);
-    cum_temp_.push_back(cum_temp_.back() +
-                        (has_temperature_ ? s.temperature_degC * (t_end - t_[t_.size() - 2]) : 0.0));
+    cum_temp_.push_back(cum_temp_.back() + (has_temperature_
+                                                ? s.temperature_degC * (t_end - t_[t_.size() - 2])
+                                                : 0.0));
   }
   computeSlopes();
 }
@@ -66,9 +67,10 @@ void CumulativeImu::computeSlopes() {
       bool uniform = true;
       for (std::size_t j = k - 2; j < k + 2; ++j)
         uniform &= std::abs((t_[j + 1] - t_[j]) - d) <= 1e-6 * d;
-      slope_[k] = uniform ? Vector6d((cum_[k - 2] - 8.0 * cum_[k - 1] + 8.0 * cum_[k + 1] -
-                                      cum_[k + 2]) / (12.0 * d))
-                          : Vector6d((cum_[k + 1] - cum_[k - 1]) / (t_[k + 1] - t_[k - 1]));
+      slope_[k] =
+          uniform ? Vector6d((cum_[k - 2] - 8.0 * cum_[k - 1] + 8.0 * cum_[k + 1] - cum_[k + 2]) /
+                             (12.0 * d))
+                  : Vector6d((cum_[k + 1] - cum_[k - 1]) / (t_[k + 1] - t_[k - 1]));
     } else {
       slope_[k] = (cum_[k + 1] - cum_[k - 1]) / (t_[k + 1] - t_[k - 1]);
     }
@@ -98,7 +100,8 @@ const std::vector<double>& sincTable() {
         const double x = M_PI * z;
         const double sinc = std::abs(z) < 1e-12 ? 1.0 : std::sin(x) / x;
         const double r = z / kSincHalfWidth;
-        const double win = std::cyl_bessel_i(0.0, beta * std::sqrt(std::max(0.0, 1.0 - r * r))) / i0;
+        const double win =
+            std::cyl_bessel_i(0.0, beta * std::sqrt(std::max(0.0, 1.0 - r * r))) / i0;
         t[i * 2 * kSincHalfWidth + j] = sinc * win;
       }
     }
@@ -207,7 +210,8 @@ BinnedImu binImu(const ImuSeries& imu, const GridSpec& grid, double time_shift_s
   Eigen::VectorXd sum_sq = Eigen::VectorXd::Zero(n);
   Eigen::VectorXi count = Eigen::VectorXi::Zero(n);
   for (const ImuSample& s : imu) {
-    const int i = static_cast<int>(std::floor((s.t_s - time_shift_s - grid.t_begin_s) / grid.bin_s));
+    const int i =
+        static_cast<int>(std::floor((s.t_s - time_shift_s - grid.t_begin_s) / grid.bin_s));
     if (i < 0 || i >= n || !(s.dt_s > 0.0)) continue;
     const Eigen::Vector3d f = s.dvel_m_s / s.dt_s;
     sum_sq(i) += (f - out.f_m_s2.row(i).transpose()).squaredNorm();

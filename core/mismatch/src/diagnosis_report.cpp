@@ -28,14 +28,19 @@ json vec3(const Eigen::Vector3d& v) { return json::array({num(v(0)), num(v(1)), 
 json rmsJson(const ChannelRms& r) { return json{{"gyro", vec3(r.gyro)}, {"accel", vec3(r.accel)}}; }
 
 json spanJson(const LocatedSpan& s) {
-  return json{{"channel", s.channel}, {"t_start", s.t_start}, {"t_end", s.t_end},
-              {"regime", s.regime}, {"excess_rms", num(s.excess_rms)}};
+  return json{{"channel", s.channel},
+              {"t_start", s.t_start},
+              {"t_end", s.t_end},
+              {"regime", s.regime},
+              {"excess_rms", num(s.excess_rms)}};
 }
 
 json statsJson(const DriftStats& s, bool fraction) {
   const double k = fraction ? 1.0 : units::kRadToDeg;
-  return json{{"horizontal_m", num(s.horizontal_m)}, {"vertical_m", num(s.vertical_m)},
-              {"roll_deg", num(s.roll_rad * k)}, {"pitch_deg", num(s.pitch_rad * k)},
+  return json{{"horizontal_m", num(s.horizontal_m)},
+              {"vertical_m", num(s.vertical_m)},
+              {"roll_deg", num(s.roll_rad * k)},
+              {"pitch_deg", num(s.pitch_rad * k)},
               {"heading_deg", num(s.heading_rad * k)}};
 }
 
@@ -78,8 +83,8 @@ void addClaimsJson(const DiagnosisResult& r, json* j) {
   (*j)["effects"] = json::array();
   for (const Effect& e : r.effects)
     (*j)["effects"].push_back(effectJson(e, {{"delta_bic", num(e.delta_bic)},
-                                          {"cv_gain", num(e.cv_gain)},
-                                          {"method", e.evidence_method}}));
+                                             {"cv_gain", num(e.cv_gain)},
+                                             {"method", e.evidence_method}}));
   // Found and modelled in SG#3 under the shape the selection chose, not claimed (diagnosis.h).
   (*j)["ambiguous"] = json::array();
   for (const AmbiguousEffect& a : r.ambiguous) {
@@ -96,8 +101,10 @@ void addClaimsJson(const DiagnosisResult& r, json* j) {
     json ji = effectJson(im.effect, {{"delta_bic", num(im.effect.delta_bic)},
                                      {"cv_gain", num(im.effect.cv_gain)},
                                      {"method", im.effect.evidence_method}});
-    ji["range"] = {{"parameter", im.parameter}, {"max_abs_value", num(im.value)},
-                   {"bound", num(im.bound)}, {"sensor_class", im.sensor_class}};
+    ji["range"] = {{"parameter", im.parameter},
+                   {"max_abs_value", num(im.value)},
+                   {"bound", num(im.bound)},
+                   {"sensor_class", im.sensor_class}};
     ji["probably_absorbing"] = im.absorbing.empty() ? json(nullptr) : json(im.absorbing);
     ji["correlation"] = num(im.correlation);
     ji["reason"] = im.reason;
@@ -124,14 +131,16 @@ void addChecksJson(const DiagnosisResult& r, json* j) {
         {"nonorthogonality_bound_deg", num(r.separation->bound_rad * units::kRadToDeg)}};
   if (r.plausible_ranges)
     (*j)["plausible_ranges"] = {{"sensor_class", r.plausible_ranges->sensor_class},
-                             {"source", r.plausible_ranges->source}};
+                                {"source", r.plausible_ranges->source}};
   (*j)["quantization_checks"] = json::array();
   for (const QuantizationCheck& q : r.quantization_checks)
     (*j)["quantization_checks"].push_back(
-        json{{"sensor", q.sensor}, {"step", vec3(q.step)},
+        json{{"sensor", q.sensor},
+             {"step", vec3(q.step)},
              {"printed_resolution", vec3(q.printed_resolution)},
              {"white_noise_sd_per_sample", vec3(q.white_noise_sd)},
-             {"noise_share", vec3(q.noise_share)}, {"resolvable_share", num(q.resolvable_share)},
+             {"noise_share", vec3(q.noise_share)},
+             {"resolvable_share", num(q.resolvable_share)},
              {"detectable_step", vec3(q.detectable_step)},
              {"claimed", json::array({q.claimed[0], q.claimed[1], q.claimed[2]})}});
 }
@@ -168,10 +177,12 @@ json fitJson(const DiagnosisResult& r, const NavigationComparison* nav) {
                   {"REAL", statsJson(nav->err_real, false)}};
     json outs = json::array();
     for (const auto& o : nav->outages)
-      outs.push_back(json{{"t_start", o.window.start_s}, {"t_end", o.window.end_s},
-                      {"sg2_horizontal_m", num(o.sg2_horizontal_m)},
-                      {"sg3_horizontal_m", num(o.sg3_horizontal_m)},
-                      {"real_horizontal_m", num(o.real_horizontal_m)}, {"share", num(o.share)}});
+      outs.push_back(json{{"t_start", o.window.start_s},
+                          {"t_end", o.window.end_s},
+                          {"sg2_horizontal_m", num(o.sg2_horizontal_m)},
+                          {"sg3_horizontal_m", num(o.sg3_horizontal_m)},
+                          {"real_horizontal_m", num(o.real_horizontal_m)},
+                          {"share", num(o.share)}});
     fit["outages"] = outs;
   }
   if (r.has_holdout)
@@ -206,7 +217,8 @@ std::string effectsMarkdown(const DiagnosisResult& r) {
   }
   if (r.effects.empty()) m += "| (none) | | | | | |\n";
   m += "\n";
-  for (const Effect& e : r.effects) m += "- **" + e.name + "** (" + e.sensor + "): " + e.explanation + "\n";
+  for (const Effect& e : r.effects)
+    m += "- **" + e.name + "** (" + e.sensor + "): " + e.explanation + "\n";
   if (!r.ambiguous.empty()) {
     m += "\n## Found, shape not settled (modelled in SG#3, not claimed)\n\n"
          "| fitted as | or | sensor | parameters (SI) | 1-sigma | delta_bic | name margin |\n"
@@ -233,8 +245,9 @@ std::string effectsMarkdown(const DiagnosisResult& r) {
 std::string checksMarkdown(const DiagnosisResult& r) {
   std::string m;
   if (!r.term_correlations.empty()) {
-    m += "\n## Correlation between fitted terms (largest canonical correlation of their columns)\n\n"
-         "| term | term | correlation |\n|---|---|---|\n";
+    m +=
+        "\n## Correlation between fitted terms (largest canonical correlation of their columns)\n\n"
+        "| term | term | correlation |\n|---|---|---|\n";
     for (const TermCorrelation& c : r.term_correlations)
       m += fmt::format("| {} | {} | {:.3f} |\n", c.term_a, c.term_b, c.canonical);
   }
@@ -256,12 +269,16 @@ std::string fitMarkdown(const DiagnosisResult& r, const NavigationComparison* na
   std::string m;
   m += "\n## Signal residual RMS per channel (gyro deg/s x/y/z; accel m/s^2 x/y/z)\n\n"
        "| | gyro | accel |\n|---|---|---|\n";
-  m += fmt::format("| raw (real - simulated) | {} | {} |\n", fmt3(r.rms_raw.gyro, d), fmt3(r.rms_raw.accel, 1));
-  m += fmt::format("| before (constant removed) | {} | {} |\n", fmt3(r.rms_before.gyro, d), fmt3(r.rms_before.accel, 1));
-  m += fmt::format("| after (model) | {} | {} |\n", fmt3(r.rms_after.gyro, d), fmt3(r.rms_after.accel, 1));
+  m += fmt::format("| raw (real - simulated) | {} | {} |\n", fmt3(r.rms_raw.gyro, d),
+                   fmt3(r.rms_raw.accel, 1));
+  m += fmt::format("| before (constant removed) | {} | {} |\n", fmt3(r.rms_before.gyro, d),
+                   fmt3(r.rms_before.accel, 1));
+  m += fmt::format("| after (model) | {} | {} |\n", fmt3(r.rms_after.gyro, d),
+                   fmt3(r.rms_after.accel, 1));
   if (r.has_holdout) {
     m += fmt::format("| second half, before (fit on first half, split t = {:.2f}) | {} | {} |\n",
-                     r.holdout_split_s, fmt3(r.holdout_before.gyro, d), fmt3(r.holdout_before.accel, 1));
+                     r.holdout_split_s, fmt3(r.holdout_before.gyro, d),
+                     fmt3(r.holdout_before.accel, 1));
     m += fmt::format("| second half, after | {} | {} |\n", fmt3(r.holdout_after.gyro, d),
                      fmt3(r.holdout_after.accel, 1));
     m += "\nTerms selected on the first half: ";
@@ -269,8 +286,9 @@ std::string fitMarkdown(const DiagnosisResult& r, const NavigationComparison* na
     m += "\n";
   }
   if (nav) {
-    m += fmt::format("\n## Navigation ({}; {} outages of {} s)\n\n| | horiz. m | vert. m | roll deg | pitch deg | heading deg |\n|---|---|---|---|---|---|\n",
-                     nav->estimator, nav->outage_count, nav->outage_length_s);
+    m += fmt::format(
+        "\n## Navigation ({}; {} outages of {} s)\n\n| | horiz. m | vert. m | roll deg | pitch deg | heading deg |\n|---|---|---|---|---|---|\n",
+        nav->estimator, nav->outage_count, nav->outage_length_s);
     auto row = [&](const std::string& name, const DriftStats& s, bool frac) {
       const double k = frac ? 100.0 : 1.0, ka = frac ? 100.0 : d;
       m += fmt::format("| {} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} |\n", name,
@@ -330,20 +348,27 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
   for (const auto& [a, b] : r.masked_spans) j["masked_spans"].push_back(json::array({a, b}));
   j["wander"] = json::array();
   for (const WanderCheck& k : r.wander)
-    j["wander"].push_back(json{{"channel", k.channel}, {"fitted_sd", num(k.fitted_sd)},
-                               {"expected_sd", num(k.expected_sd)}, {"limit", num(k.limit)},
+    j["wander"].push_back(json{{"channel", k.channel},
+                               {"fitted_sd", num(k.fitted_sd)},
+                               {"expected_sd", num(k.expected_sd)},
+                               {"limit", num(k.limit)},
                                {"within_lab_noise", k.within}});
   j["fit"] = fitJson(r, nav);
   j["time_offset_xcorr"] = {{"tau_s", r.time_offset_xcorr.tau_s},
                             {"peak_correlation", r.time_offset_xcorr.peak_correlation},
                             {"reliable", r.time_offset_xcorr.reliable}};
-  j["noise_model"] = {{"ar1_rho", numList(std::vector<double>(r.selection.rho.data(), r.selection.rho.data() + 6))},
-                      {"innovation_sigma", numList(std::vector<double>(r.selection.sigma.data(), r.selection.sigma.data() + 6))},
-                      {"variance_inflation", num(r.selection.inflation)},
-                      {"slow_noise_inflation", numList(std::vector<double>(r.selection.slow_inflation.data(), r.selection.slow_inflation.data() + 6))},
-                      {"rows", r.selection.rows}};
-  j["constant_bias"] = numList(std::vector<double>(r.nuisance_bias.data(), r.nuisance_bias.data() + 6));
-  j["linear_drift"] = numList(std::vector<double>(r.nuisance_drift.data(), r.nuisance_drift.data() + 6));
+  j["noise_model"] = {
+      {"ar1_rho", numList(std::vector<double>(r.selection.rho.data(), r.selection.rho.data() + 6))},
+      {"innovation_sigma",
+       numList(std::vector<double>(r.selection.sigma.data(), r.selection.sigma.data() + 6))},
+      {"variance_inflation", num(r.selection.inflation)},
+      {"slow_noise_inflation", numList(std::vector<double>(r.selection.slow_inflation.data(),
+                                                           r.selection.slow_inflation.data() + 6))},
+      {"rows", r.selection.rows}};
+  j["constant_bias"] =
+      numList(std::vector<double>(r.nuisance_bias.data(), r.nuisance_bias.data() + 6));
+  j["linear_drift"] =
+      numList(std::vector<double>(r.nuisance_drift.data(), r.nuisance_drift.data() + 6));
   j["selection_log"] = r.selection.log;
   j["notes"] = r.notes;
   j["grid"] = {{"t_begin", r.grid.t_begin_s}, {"bin_s", r.grid.bin_s}, {"bins", r.grid.count}};
@@ -351,9 +376,10 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
 }
 
 std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparison* nav) {
-  std::string m = fmt::format("# Mismatch diagnosis: {}\n\nSimulation: {}. Grid: {} bins of {} s "
-                              "from t = {:.3f} s.\n\n", r.case_name, r.simulation_kind,
-                              r.grid.count, r.grid.bin_s, r.grid.t_begin_s);
+  std::string m = fmt::format(
+      "# Mismatch diagnosis: {}\n\nSimulation: {}. Grid: {} bins of {} s "
+      "from t = {:.3f} s.\n\n",
+      r.case_name, r.simulation_kind, r.grid.count, r.grid.bin_s, r.grid.t_begin_s);
   m += fmt::format("Cross-correlation time offset: {:.4f} s (peak correlation {:.4f}, {}).\n\n",
                    r.time_offset_xcorr.tau_s, r.time_offset_xcorr.peak_correlation,
                    r.time_offset_xcorr.reliable ? "reliable" : "not reliable");
@@ -362,33 +388,38 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparis
   m += effectsMarkdown(r);
   m += checksMarkdown(r);
   m += fitMarkdown(r, nav);
-  m += "\n## Located (residual before modelling)\n\n| channel | t_start | t_end | regime | excess_rms |\n|---|---|---|---|---|\n";
+  m +=
+      "\n## Located (residual before modelling)\n\n| channel | t_start | t_end | regime | excess_rms |\n|---|---|---|---|---|\n";
   for (const LocatedSpan& s : r.located)
-    m += fmt::format("| {} | {:.2f} | {:.2f} | {} | {:.4g} |\n", s.channel, s.t_start, s.t_end, s.regime, s.excess_rms);
-  m += "\n## Unexplained (still above noise after modelling)\n\n| channel | t_start | t_end | regime | excess_rms |\n|---|---|---|---|---|\n";
+    m += fmt::format("| {} | {:.2f} | {:.2f} | {} | {:.4g} |\n", s.channel, s.t_start, s.t_end,
+                     s.regime, s.excess_rms);
+  m +=
+      "\n## Unexplained (still above noise after modelling)\n\n| channel | t_start | t_end | regime | excess_rms |\n|---|---|---|---|---|\n";
   for (const LocatedSpan& s : r.unexplained)
-    m += fmt::format("| {} | {:.2f} | {:.2f} | {} | {:.4g} |\n", s.channel, s.t_start, s.t_end, s.regime, s.excess_rms);
+    m += fmt::format("| {} | {:.2f} | {:.2f} | {} | {:.4g} |\n", s.channel, s.t_start, s.t_end,
+                     s.regime, s.excess_rms);
   if (r.unexplained.empty()) m += "| (none) | | | | |\n";
   m += detectionLimitsMarkdown(r.detection_limits);
   if (!r.wander.empty()) {
-    m += "\n## Slow bias wander against the lab's noise figures (SI)\n\n"
-         "Fitted: piecewise-linear bias of the modelled residual (sd about the mean). Expected: two "
-         "independent realizations of the lab's bias instability and rate random walk, plus the "
-         "white noise the knots pass. Within the limit it is treated as noise.\n\n"
-         "| channel | fitted sd | expected sd | limit | verdict |\n|---|---|---|---|---|\n";
+    m +=
+        "\n## Slow bias wander against the lab's noise figures (SI)\n\n"
+        "Fitted: piecewise-linear bias of the modelled residual (sd about the mean). Expected: two "
+        "independent realizations of the lab's bias instability and rate random walk, plus the "
+        "white noise the knots pass. Within the limit it is treated as noise.\n\n"
+        "| channel | fitted sd | expected sd | limit | verdict |\n|---|---|---|---|---|\n";
     for (const WanderCheck& k : r.wander)
       m += fmt::format("| {} | {:.4g} | {:.4g} | {:.4g} | {} |\n", k.channel, k.fitted_sd,
                        k.expected_sd, k.limit, k.within ? "noise" : "beyond the lab figures");
   }
   m += "\n## Selection log\n\n";
   for (const std::string& l : r.selection.log) m += "- " + l + "\n";
-  m += fmt::format("\nNoise model: AR(1) rho per channel [{:.3f}, {:.3f}, {:.3f}, {:.3f}, {:.3f}, {:.3f}], "
-                   "variance inflation {:.2f}, slow-noise inflation {:.3g} {:.3g} {:.3g} {:.3g} {:.3g} {:.3g}.\n",
-                   r.selection.rho(0), r.selection.rho(1), r.selection.rho(2), r.selection.rho(3),
-                   r.selection.rho(4), r.selection.rho(5), r.selection.inflation,
-                   r.selection.slow_inflation(0), r.selection.slow_inflation(1),
-                   r.selection.slow_inflation(2), r.selection.slow_inflation(3),
-                   r.selection.slow_inflation(4), r.selection.slow_inflation(5));
+  m += fmt::format(
+      "\nNoise model: AR(1) rho per channel [{:.3f}, {:.3f}, {:.3f}, {:.3f}, {:.3f}, {:.3f}], "
+      "variance inflation {:.2f}, slow-noise inflation {:.3g} {:.3g} {:.3g} {:.3g} {:.3g} {:.3g}.\n",
+      r.selection.rho(0), r.selection.rho(1), r.selection.rho(2), r.selection.rho(3),
+      r.selection.rho(4), r.selection.rho(5), r.selection.inflation, r.selection.slow_inflation(0),
+      r.selection.slow_inflation(1), r.selection.slow_inflation(2), r.selection.slow_inflation(3),
+      r.selection.slow_inflation(4), r.selection.slow_inflation(5));
   if (!r.notes.empty()) {
     m += "\n## Notes\n\n";
     for (const std::string& n : r.notes) m += "- " + n + "\n";
@@ -400,7 +431,8 @@ void writeDiagnosisFiles(const std::string& out_dir, const DiagnosisResult& r,
                          const NavigationComparison* nav) {
   writeFileAtomically(out_dir + "/diagnosis.json", diagnosisJson(r, nav) + "\n");
   writeFileAtomically(out_dir + "/diagnosis.md", diagnosisMarkdown(r, nav));
-  std::string csv = "t_s,r_gx,r_gy,r_gz,r_ax,r_ay,r_az,m_gx,m_gy,m_gz,m_ax,m_ay,m_az,c_gx,c_gy,c_gz,c_ax,c_ay,c_az,regime\n";
+  std::string csv =
+      "t_s,r_gx,r_gy,r_gz,r_ax,r_ay,r_az,m_gx,m_gy,m_gz,m_ax,m_ay,m_az,c_gx,c_gy,c_gz,c_ax,c_ay,c_az,regime\n";
   csv.reserve(static_cast<std::size_t>(r.grid.count) * 260);
   for (int i = 0; i < r.grid.count; ++i) {
     csv += fmt::format("{:.4f}", r.grid.binMid(i));

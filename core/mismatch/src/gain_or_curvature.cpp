@@ -28,8 +28,8 @@ constexpr double kFitsChi2 = 9.0;  // a one-parameter hypothesis fits both obser
 }  // namespace
 
 OneSignedSlope weighOneSignedSlope(const OneSignedSlopeInputs& in) {
-  for (double v : {in.k, in.k_sigma, in.x_mean, in.c2_lab, in.c2_lab_sigma, in.c2_simulated,
-                   in.slope_per_sq})
+  for (double v :
+       {in.k, in.k_sigma, in.x_mean, in.c2_lab, in.c2_lab_sigma, in.c2_simulated, in.slope_per_sq})
     if (!std::isfinite(v)) throw std::invalid_argument("weighOneSignedSlope: non-finite input");
   if (!(in.k_sigma > 0.0) || !(in.c2_lab_sigma > 0.0))
     throw std::invalid_argument("weighOneSignedSlope: sigmas must be > 0");
@@ -51,8 +51,8 @@ OneSignedSlope weighOneSignedSlope(const OneSignedSlopeInputs& in) {
   if (std::isfinite(in.slope_per_abs) && std::isfinite(in.c2_per_abs) && in.c2_per_abs != 0.0) {
     const double Ad = (in.x_mean > 0.0 ? 1.0 : -1.0) - in.slope_per_abs;  // slope per unit d
     if (Ad != 0.0) {
-      const Combined asym = combine(z1 / Ad, s1 / std::abs(Ad), z2 / in.c2_per_abs,
-                                    s2 / std::abs(in.c2_per_abs));
+      const Combined asym =
+          combine(z1 / Ad, s1 / std::abs(Ad), z2 / in.c2_per_abs, s2 / std::abs(in.c2_per_abs));
       w.chi2_asymmetry = asym.chi2;
       ranked.push_back({w.chi2_asymmetry, SlopeCause::kAsymmetry});
       w.d = asym.value;  // with no curvature beside it, unless the two-parameter fit exists
@@ -84,10 +84,14 @@ OneSignedSlope weighOneSignedSlope(const OneSignedSlopeInputs& in) {
 
 std::string slopeCauseName(SlopeCause c) {
   switch (c) {
-    case SlopeCause::kGain: return "scale_factor";
-    case SlopeCause::kCurvature: return "scale_nonlinearity";
-    case SlopeCause::kAsymmetry: return "scale_asymmetry";
-    case SlopeCause::kUnsettled: break;
+    case SlopeCause::kGain:
+      return "scale_factor";
+    case SlopeCause::kCurvature:
+      return "scale_nonlinearity";
+    case SlopeCause::kAsymmetry:
+      return "scale_asymmetry";
+    case SlopeCause::kUnsettled:
+      break;
   }
   return "unsettled";
 }
@@ -169,7 +173,8 @@ Effect asymmetryEffect(const Effect& e, int a, const OneSignedSlope& w,
       e.sensor == "gyro" ? "gyro" : "accelerometer", weighed, w.d, w.d_sigma,
       w.d_with_curvature
           ? fmt::format("estimated with the sensor's own curvature on {} left free: k2 = {:.3g} "
-                        "+- {:.2g}", "xyz"[a], w.k2_beside_d, w.k2_beside_d_sigma)
+                        "+- {:.2g}",
+                        "xyz"[a], w.k2_beside_d, w.k2_beside_d_sigma)
           : std::string("its column and the curvature's are one here: estimated without one"),
       "xyz"[a]);
   return c;
@@ -178,7 +183,7 @@ Effect asymmetryEffect(const Effect& e, int a, const OneSignedSlope& w,
 // How the field's slope on `axis` was weighed against the lab's degree-2 coefficient, for the
 // effect's explanation.
 std::string describeWeighing(int a, double x_mean, double x_sd, const OneSignedSlopeInputs& wi,
-                           bool kept_quadratic, double lab_c2, const OneSignedSlope& w) {
+                             bool kept_quadratic, double lab_c2, const OneSignedSlope& w) {
   const char axis = "xyz"[a];
   std::string weighed = fmt::format(
       "on {} the input keeps one sign (mean {:.3g}, sd {:.2g}), where a gain, a curvature and "
@@ -196,9 +201,10 @@ std::string describeWeighing(int a, double x_mean, double x_sd, const OneSignedS
                      : "not significant at its degree test",
       w.chi2_gain, w.chi2_curvature, w.k2, w.k2_sigma);
   if (std::isfinite(w.chi2_asymmetry))
-    weighed += fmt::format(", an asymmetry the lab folded into its quadratic {:.1f} (d = {:.3g} "
-                           "+- {:.2g} with a curvature {:.3g} +- {:.2g} beside it)",
-                           w.chi2_asymmetry, w.d, w.d_sigma, w.k2_beside_d, w.k2_beside_d_sigma);
+    weighed += fmt::format(
+        ", an asymmetry the lab folded into its quadratic {:.1f} (d = {:.3g} "
+        "+- {:.2g} with a curvature {:.3g} +- {:.2g} beside it)",
+        w.chi2_asymmetry, w.d, w.d_sigma, w.k2_beside_d, w.k2_beside_d_sigma);
   return weighed;
 }
 
@@ -290,8 +296,9 @@ void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vecto
     // its test dropped.
     const bool kept_quadratic = a >= 0 && lab->c2(a) != 0.0;
     const double c2_lab = a < 0 ? NAN : kept_quadratic ? lab->c2(a) : lab->c2_tested(a);
-    const double c2_lab_sigma =
-        a < 0 ? NAN : kept_quadratic ? lab->c2_sigma(a) : lab->c2_tested_sigma(a);
+    const double c2_lab_sigma = a < 0            ? NAN
+                                : kept_quadratic ? lab->c2_sigma(a)
+                                                 : lab->c2_tested_sigma(a);
     if (a < 0 || !std::isfinite(c2_lab) || !(c2_lab_sigma > 0.0) ||
         (kept_quadratic &&
          !(std::isfinite(lab->slope_per_abs(a)) && std::isfinite(lab->c2_tested_per_abs(a)))) ||
@@ -307,9 +314,9 @@ void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vecto
         in.priors[s == 0 ? Sensor::gyro : Sensor::accel].reference_scale_sigma;
     OneSignedSlopeInputs wi;
     wi.k = k.values[a];
-    wi.k_sigma = std::sqrt(k.sigma[a] * k.sigma[a] +
-                           std::pow(lab_M_sigma ? (*lab_M_sigma)(a, a) : 0.0, 2) +
-                           std::pow(ref_scale_sigma.value_or(0.0), 2));
+    wi.k_sigma =
+        std::sqrt(k.sigma[a] * k.sigma[a] + std::pow(lab_M_sigma ? (*lab_M_sigma)(a, a) : 0.0, 2) +
+                  std::pow(ref_scale_sigma.value_or(0.0), 2));
     wi.x_mean = input_mean[s](a);
     wi.c2_lab = c2_lab;
     wi.c2_lab_sigma = c2_lab_sigma;

@@ -15,8 +15,8 @@ namespace graftnav {
 
 void JointFitOptions::validate() const {
   if (max_iterations < 1)
-    throw std::invalid_argument("JointFitOptions: max_iterations = " +
-                                std::to_string(max_iterations) + " must be >= 1");
+    throw std::invalid_argument(
+        "JointFitOptions: max_iterations = " + std::to_string(max_iterations) + " must be >= 1");
   if (chunk_bins < 2)
     throw std::invalid_argument("JointFitOptions: chunk_bins = " + std::to_string(chunk_bins) +
                                 " must be >= 2");
@@ -45,9 +45,9 @@ void checkJointInputs(const Eigen::MatrixXd& residual, const GridSpec& grid,
                       int time_offset_term) {
   const int n = grid.count;
   if (residual.rows() != n || residual.cols() != kMismatchChannels)
-    throw std::invalid_argument(fmt::format(
-        "jointFitWithTimeOffset: residual is {} x {}, expected {} x 6 (grid bins)",
-        residual.rows(), residual.cols(), n));
+    throw std::invalid_argument(
+        fmt::format("jointFitWithTimeOffset: residual is {} x {}, expected {} x 6 (grid bins)",
+                    residual.rows(), residual.cols(), n));
   if (time_offset_term < 0 || time_offset_term >= static_cast<int>(terms.size()))
     throw std::invalid_argument("jointFitWithTimeOffset: time_offset_term out of range");
   if (linear.nuisance.term < 0 && linear.nuisance.theta.size() == 0)
@@ -66,8 +66,8 @@ void initJointData(const Eigen::MatrixXd& residual, const CumulativeImu& cum, co
   for (int c = 0; c < kMismatchChannels; ++c) d->w(c) = 1.0 / linear.sigma(c);
   d->X.resize(n, kMismatchChannels);
   for (int i = 0; i < n; ++i)
-    d->X.row(i) = ((cum.at(grid.binStart(i + 1)) - cum.at(grid.binStart(i))) / grid.bin_s)
-                      .transpose();
+    d->X.row(i) =
+        ((cum.at(grid.binStart(i + 1)) - cum.at(grid.binStart(i))) / grid.bin_s).transpose();
   d->K = Eigen::MatrixXd::Zero(n, kMismatchChannels);
 }
 
@@ -79,8 +79,8 @@ struct JointLayout {
   std::vector<double> theta;
 };
 
-JointLayout layoutParameters(const std::vector<CandidateTerm>& terms,
-                             const SelectionResult& linear, int time_offset_term, JointData* d) {
+JointLayout layoutParameters(const std::vector<CandidateTerm>& terms, const SelectionResult& linear,
+                             int time_offset_term, JointData* d) {
   const int n = d->grid.count;
   const double bin_s = d->grid.bin_s;
   JointLayout L;
@@ -101,8 +101,8 @@ JointLayout layoutParameters(const std::vector<CandidateTerm>& terms,
       L.theta.push_back(L.fits[f]->theta(static_cast<Eigen::Index>(j)));
       for (int c = 0; c < kMismatchChannels; ++c)
         if (term.columns[j].actsOn(c))
-          d->cols[c].push_back({k, &term.columns[j].channel[c],
-                                binDerivative(term.columns[j].channel[c], bin_s)});
+          d->cols[c].push_back(
+              {k, &term.columns[j].channel[c], binDerivative(term.columns[j].channel[c], bin_s)});
     }
   }
   d->P = static_cast<int>(L.theta.size());
@@ -158,7 +158,8 @@ void inflateAsLinear(const JointLayout& L, const SelectionResult& linear, int to
         factor[L.start[f] + j] = L.fits[f]->inflation_factor;
   factor[P] = linear.selected[to_pos].inflation_factor;
   for (int a = 0; a <= P; ++a)
-    for (int b = 0; b <= P; ++b) (*cov)(a, b) *= linear.inflation * std::sqrt(factor[a] * factor[b]);
+    for (int b = 0; b <= P; ++b)
+      (*cov)(a, b) *= linear.inflation * std::sqrt(factor[a] * factor[b]);
 }
 
 // A term's fit at the joint solution (its block of theta and of the covariance).

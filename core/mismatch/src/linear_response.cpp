@@ -26,18 +26,18 @@ double noiseDensity(const SelectionResult& sel, int channel, double bin_s) {
 void LinearResponseOptions::validate() const {
   if (!(excitation_rate_rad_s > 0.0) || !(excitation_tilt_rad > 0.0) ||
       !(excitation_tilt_rad < 1.5707963267948966) || !(resolve_fraction > 0.0))
-    throw std::invalid_argument(fmt::format(
-        "LinearResponseOptions: excitation_rate_rad_s = {}, excitation_tilt_rad = {}, "
-        "resolve_fraction = {}: rate and fraction must be > 0, tilt in (0, pi/2)",
-        excitation_rate_rad_s, excitation_tilt_rad, resolve_fraction));
+    throw std::invalid_argument(
+        fmt::format("LinearResponseOptions: excitation_rate_rad_s = {}, excitation_tilt_rad = {}, "
+                    "resolve_fraction = {}: rate and fraction must be > 0, tilt in (0, pi/2)",
+                    excitation_rate_rad_s, excitation_tilt_rad, resolve_fraction));
 }
 
 SeparationNeed separationNeed(const BinnedImu& x, const SelectionResult& sel, double bin_s,
                               double bound_rad, const LinearResponseOptions& options) {
   options.validate();
   if (!(bound_rad > 0.0) || !(bin_s > 0.0))
-    throw std::invalid_argument(fmt::format("separationNeed: bound_rad = {}, bin_s = {} must be > 0",
-                                            bound_rad, bin_s));
+    throw std::invalid_argument(
+        fmt::format("separationNeed: bound_rad = {}, bin_s = {} must be > 0", bound_rad, bin_s));
   SeparationNeed need;
   need.bound_rad = bound_rad;
   need.rate_rad_s = options.excitation_rate_rad_s;
@@ -76,8 +76,8 @@ std::string SeparationNeed::text() const {
       "roll and pitch excitation being left by the correlation of the terms), and for the "
       "accelerometers {:.3g} s and {:.3g} s held at {:.3g} deg of roll and of pitch",
       bound_rad * kRadToDeg, gyro_needed_s(0), gyro_needed_s(1), rate_rad_s * kRadToDeg,
-      gyro_present_s(0), gyro_present_s(1), 100.0 * information_share, accel_needed_s(0), accel_needed_s(1),
-      tilt_rad * kRadToDeg);
+      gyro_present_s(0), gyro_present_s(1), 100.0 * information_share, accel_needed_s(0),
+      accel_needed_s(1), tilt_rad * kRadToDeg);
 }
 
 CandidateTerm linearResponseTerm(const BinnedImu& x) {

@@ -79,8 +79,7 @@ std::vector<std::string> labelRegimes(const BinnedImu& x, const Eigen::VectorXd&
   wn = movingAverage(wn, half);
   // Forward acceleration: forward specific force minus its slow trend (the gravity component of a
   // slowly changing pitch), trend = moving average over trend_s.
-  const int trend_half =
-      std::max(1, static_cast<int>(std::round(0.5 * o.trend_s / x.grid.bin_s)));
+  const int trend_half = std::max(1, static_cast<int>(std::round(0.5 * o.trend_s / x.grid.bin_s)));
   const Eigen::VectorXd fx = x.f_m_s2.col(0);
   const Eigen::VectorXd ax = movingAverage(fx - movingAverage(fx, trend_half), half);
   const Eigen::VectorXd vib = movingAverage(x.f_within_rms_m_s2, half);
@@ -146,11 +145,13 @@ std::vector<LocatedSpan> locateResidual(const Eigen::MatrixXd& residual, const G
     const double limit = noise(c) * chiSquareQuantile(1.0 - options.false_alarm, w.n_eff) / w.n_eff;
     // A non-finite residual (an input value out of range upstream) makes every comparison false: the
     // span search below would never advance. Refuse it, naming the channel.
-    const bool finite_ms = std::all_of(w.ms.begin(), w.ms.end(), [](double v) { return std::isfinite(v); });
+    const bool finite_ms =
+        std::all_of(w.ms.begin(), w.ms.end(), [](double v) { return std::isfinite(v); });
     if (!std::isfinite(limit) || !finite_ms)
-      throw std::invalid_argument(std::string("locateResidual: channel ") + mismatchChannelNames()[c] +
-                                  ": the residual's window mean squares or their noise limit are not finite (limit " +
-                                  std::to_string(limit) + "); check the IMU inputs for out-of-range values");
+      throw std::invalid_argument(
+          std::string("locateResidual: channel ") + mismatchChannelNames()[c] +
+          ": the residual's window mean squares or their noise limit are not finite (limit " +
+          std::to_string(limit) + "); check the IMU inputs for out-of-range values");
     int k = 0;
     while (k < w.windows) {
       if (!(w.ms[k] > limit)) {
@@ -177,9 +178,8 @@ std::vector<LocatedSpan> locateResidual(const Eigen::MatrixXd& residual, const G
     }
   }
   // Keep the largest excesses relative to each channel's noise.
-  std::sort(spans.begin(), spans.end(), [&](const LocatedSpan& a, const LocatedSpan& b) {
-    return a.t_start < b.t_start;
-  });
+  std::sort(spans.begin(), spans.end(),
+            [&](const LocatedSpan& a, const LocatedSpan& b) { return a.t_start < b.t_start; });
   if (static_cast<int>(spans.size()) > options.max_entries) {
     std::vector<std::pair<double, std::size_t>> score;
     for (std::size_t i = 0; i < spans.size(); ++i) {

@@ -15,7 +15,9 @@ namespace {
 
 constexpr int kMaxPrintedDecimals = 12;
 
-Eigen::Vector3d increment(const ImuSample& s, bool gyro) { return gyro ? s.dtheta_rad : s.dvel_m_s; }
+Eigen::Vector3d increment(const ImuSample& s, bool gyro) {
+  return gyro ? s.dtheta_rad : s.dvel_m_s;
+}
 
 bool allOnLattice(const ImuSeries& imu, bool gyro, int axis, double unit) {
   for (const ImuSample& s : imu) {
@@ -87,14 +89,16 @@ std::string QuantizationCheck::summary() const {
     std::string v;
     if (!(step(a) > 0.0))
       v = "no lattice";
-    else if (printed_resolution(a) > 0.0 && !(step(a) > min_step_over_resolution * printed_resolution(a)))
+    else if (printed_resolution(a) > 0.0 &&
+             !(step(a) > min_step_over_resolution * printed_resolution(a)))
       v = fmt::format("step {:.3g} = the printed resolution {:.3g} (text format, not the sensor)",
                       step(a), printed_resolution(a));
     else
-      v = fmt::format("step {:.3g} (printed resolution {:.3g}), noise q^2/12 = {:.3g} of the white "
-                      "noise variance (resolvable from {:.3g}; step needed {:.3g}){}",
-                      step(a), printed_resolution(a), noise_share(a), resolvable_share,
-                      detectable_step(a), claimed[a] ? ": claimed" : ": not resolvable");
+      v = fmt::format(
+          "step {:.3g} (printed resolution {:.3g}), noise q^2/12 = {:.3g} of the white "
+          "noise variance (resolvable from {:.3g}; step needed {:.3g}){}",
+          step(a), printed_resolution(a), noise_share(a), resolvable_share, detectable_step(a),
+          claimed[a] ? ": claimed" : ": not resolvable");
     s += fmt::format("{}{} {}: {}", s.empty() ? "" : "; ", sensor, axes[a], v);
   }
   return s;

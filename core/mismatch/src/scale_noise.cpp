@@ -52,7 +52,8 @@ std::vector<Eigen::MatrixXd> haarCoefficients(const Eigen::MatrixXd& X) {
   }
   Eigen::MatrixXd& last = out.back();
   Eigen::Index m = last.rows();
-  last.conservativeResize(m + a.rows() + static_cast<Eigen::Index>(leftover.size()), Eigen::NoChange);
+  last.conservativeResize(m + a.rows() + static_cast<Eigen::Index>(leftover.size()),
+                          Eigen::NoChange);
   last.middleRows(m, a.rows()) = a;
   m += a.rows();
   for (const Eigen::RowVectorXd& row : leftover) last.row(m++) = row;
@@ -83,8 +84,8 @@ Eigen::MatrixXd haarSynthesis(const std::vector<Eigen::MatrixXd>& levels, Eigen:
   Eigen::MatrixXd a = last.middleRows(m_last, n_approx);
   for (std::size_t k = sizes.size(); k-- > 0;) {
     const Eigen::Index n_k = sizes[k], m = n_k / 2;
-    const Eigen::MatrixXd d = k + 1 == sizes.size() ? Eigen::MatrixXd(last.topRows(m_last))
-                                                     : levels[k];
+    const Eigen::MatrixXd d =
+        k + 1 == sizes.size() ? Eigen::MatrixXd(last.topRows(m_last)) : levels[k];
     Eigen::MatrixXd x(n_k, cols);
     for (Eigen::Index i = 0; i < m; ++i) {
       x.row(2 * i) = (a.row(i) + d.row(i)) * inv_sqrt2;
@@ -112,7 +113,7 @@ ScaleNoiseModel fitScaleNoise(const HaarEnergies& r, double unit_variance, int m
   std::vector<double> v(n), x(n), y(n), c(n);
   for (int j = 1; j <= n; ++j) {
     v[j - 1] = r.count[j - 1] > 0 ? r.energy[j - 1] / r.count[j - 1] / unit_variance : 1.0;
-    x[j - 1] = std::ldexp(1.0, j) / std::ldexp(1.0, n);      // columns scaled to <= 1
+    x[j - 1] = std::ldexp(1.0, j) / std::ldexp(1.0, n);  // columns scaled to <= 1
     y[j - 1] = std::ldexp(1.0, 2 * j) / std::ldexp(1.0, 2 * n);
     c[j - 1] = std::max(1.0, v[j - 1]);
   }

@@ -12,11 +12,11 @@ void TimeOffsetOptions::validate() const {
     throw std::invalid_argument("TimeOffsetOptions: bin_s = " + std::to_string(bin_s) +
                                 " must be > 0");
   if (!(max_offset_s >= bin_s))
-    throw std::invalid_argument("TimeOffsetOptions: max_offset_s = " +
-                                std::to_string(max_offset_s) + " must be >= bin_s");
+    throw std::invalid_argument(
+        "TimeOffsetOptions: max_offset_s = " + std::to_string(max_offset_s) + " must be >= bin_s");
   if (!(coarse_bin_s > 0.0))
-    throw std::invalid_argument("TimeOffsetOptions: coarse_bin_s = " + std::to_string(coarse_bin_s) +
-                                " must be > 0");
+    throw std::invalid_argument(
+        "TimeOffsetOptions: coarse_bin_s = " + std::to_string(coarse_bin_s) + " must be > 0");
 }
 
 namespace {
@@ -49,10 +49,9 @@ CorrelationPeak correlationPeak(const CenteredRates& rates, int center, int half
   const int n = static_cast<int>(xc.rows());
   const int extent = std::abs(center) + half;
   if (n < 4 * extent + 10)
-    throw std::invalid_argument("estimateTimeOffset: overlap of " +
-                                std::to_string(n * rates.bin_s) +
-                                " s is too short for a search out to " +
-                                std::to_string(extent * rates.bin_s) + " s");
+    throw std::invalid_argument(
+        "estimateTimeOffset: overlap of " + std::to_string(n * rates.bin_s) +
+        " s is too short for a search out to " + std::to_string(extent * rates.bin_s) + " s");
   // c(L) = sum_t x(t) y(t + L) over the rows where both exist, normalized.
   const int lags = 2 * half + 1;
   Eigen::VectorXd corr(lags);
@@ -86,9 +85,9 @@ CorrelationPeak correlationPeak(const CenteredRates& rates, int center, int half
 TimeOffsetEstimate estimateTimeOffset(const ImuSeries& reference, const ImuSeries& tested,
                                       const TimeOffsetOptions& options) {
   options.validate();
-  const double overlap_s =
-      std::min(reference.back().t_s, tested.back().t_s) -
-      std::max(reference.front().t_s - reference.front().dt_s, tested.front().t_s - tested.front().dt_s);
+  const double overlap_s = std::min(reference.back().t_s, tested.back().t_s) -
+                           std::max(reference.front().t_s - reference.front().dt_s,
+                                    tested.front().t_s - tested.front().dt_s);
   // Coarse stage: a wide search on coarse bins, capped at a quarter of the overlap.
   double center_s = 0.0;
   const double coarse_range_s = std::min(options.coarse_max_offset_s, 0.25 * overlap_s - 1.0);

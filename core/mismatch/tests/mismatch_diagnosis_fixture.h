@@ -19,7 +19,6 @@
 
 namespace graftnav::diagnosis_test {
 
-
 // Car-like analytic rates (sinusoids), integrated exactly; a stop at the start.
 struct Motion {
   std::array<std::vector<std::array<double, 3>>, 6> waves;  // amp, omega, phase
@@ -56,14 +55,15 @@ inline Motion carMotion(uint64_t seed) {
   const double amp[6] = {0.04, 0.04, 0.2, 1.2, 1.5, 0.5};
   for (int c = 0; c < 6; ++c)
     for (int k = 0; k < 6; ++k)
-      m.waves[c].push_back({amp[c] * (0.3 + U(rng)), 2.0 * M_PI * (0.01 + 0.5 * U(rng)),
-                            2.0 * M_PI * U(rng)});
+      m.waves[c].push_back(
+          {amp[c] * (0.3 + U(rng)), 2.0 * M_PI * (0.01 + 0.5 * U(rng)), 2.0 * M_PI * U(rng)});
   m.offset << 0.0, 0.0, 0.0, 0.2, -0.1, -9.79;
   return m;
 }
 
 inline ImuSeries sampleMotion(const Motion& m, double rate_hz, double duration_s) {
-  return test::sampleIntegral([&m](double t) { return m.integral(t); }, rate_hz, duration_s, 5000.0);
+  return test::sampleIntegral([&m](double t) { return m.integral(t); }, rate_hz, duration_s,
+                              5000.0);
 }
 
 struct Pair {
@@ -82,7 +82,7 @@ inline Pair makePair(const ImuErrorModel& extra, uint64_t seed) {
   ref_noise.accel.white_noise.density.setConstant(2e-3);
   p.in.reference = applyErrors(sampleMotion(m, 100.0, T), ref_noise, seed + 1);
   p.truth = extra;
-  p.truth.gyro.white_noise.density.setConstant(3e-4);   // 0.017 deg/s/rtHz
+  p.truth.gyro.white_noise.density.setConstant(3e-4);  // 0.017 deg/s/rtHz
   p.truth.accel.white_noise.density.setConstant(3e-3);
   p.truth.gyro.constant_bias.b << 0.01, -0.015, 0.005;
   p.truth.accel.constant_bias.b << 0.1, -0.05, 0.08;
@@ -105,8 +105,8 @@ inline ImuErrorModel whiteNoise(double gyro_density, double accel_density) {
 // A simulation that applies `simulated_model` to `reference` (as SG#2 grafts the lab's terms)
 // against a real tested IMU with `real_model` on the same motion; noise streams seed, seed + 1.
 inline DiagnosisInputs graftedInputs(const ImuSeries& reference, const ImuErrorModel& real_model,
-                              const ImuErrorModel& simulated_model, uint64_t seed,
-                              const std::string& simulation_kind) {
+                                     const ImuErrorModel& simulated_model, uint64_t seed,
+                                     const std::string& simulation_kind) {
   DiagnosisInputs in;
   in.case_name = "synthetic";
   in.simulation_kind = simulation_kind;
@@ -135,6 +135,5 @@ inline const Effect* findEffect(const DiagnosisResult& r, const std::string& nam
     if (e.name == name) return &e;
   return nullptr;
 }
-
 
 }  // namespace graftnav::diagnosis_test

@@ -42,14 +42,14 @@ inline Motion carMotion(uint64_t seed) {
   const double amp[6] = {0.05, 0.05, 0.25, 1.5, 2.0, 0.6};
   for (int c = 0; c < 6; ++c)
     for (int k = 0; k < 6; ++k)
-      m.waves[c].push_back({amp[c] * (0.3 + U(rng)), 2.0 * M_PI * (0.005 + 0.4 * U(rng)),
-                            2.0 * M_PI * U(rng)});
+      m.waves[c].push_back(
+          {amp[c] * (0.3 + U(rng)), 2.0 * M_PI * (0.005 + 0.4 * U(rng)), 2.0 * M_PI * U(rng)});
   m.offset << 0.0, 0.0, 0.0, 0.1, -0.2, -9.79;
   return m;
 }
 
-inline ImuSeries sampleMotion(const Motion& m, double rate_hz, double duration_s, double tau_s = 0.0,
-                       double t0_s = 1000.0) {
+inline ImuSeries sampleMotion(const Motion& m, double rate_hz, double duration_s,
+                              double tau_s = 0.0, double t0_s = 1000.0) {
   ImuSeries out;
   const int n = static_cast<int>(duration_s * rate_hz);
   for (int k = 1; k <= n; ++k) {
@@ -117,7 +117,9 @@ inline int findTerm(const std::vector<CandidateTerm>& terms, const std::string& 
   return -1;
 }
 
-inline std::vector<double> G9() { return {2e-4, -1e-4, 3e-4, 1e-4, 2e-4, -2e-4, -3e-4, 1e-4, 2e-4}; }
+inline std::vector<double> G9() {
+  return {2e-4, -1e-4, 3e-4, 1e-4, 2e-4, -2e-4, -3e-4, 1e-4, 2e-4};
+}
 
 // The nuisance constant per channel over n bins, as the library's first term.
 inline CandidateTerm constantNuisance(int n) {

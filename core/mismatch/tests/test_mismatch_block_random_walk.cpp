@@ -33,7 +33,8 @@ Eigen::VectorXd blockMeansOfWalk(int blocks, double q, StandardNormalSampler* rn
 
 // One series against the field walk's covariance.
 double reml(const Eigen::VectorXd& y, const Eigen::MatrixXd& X, double white_var) {
-  return remlBlockRandomWalk({y}, {X}, white_var, blockRandomWalkCovariance(static_cast<int>(y.size())));
+  return remlBlockRandomWalk({y}, {X}, white_var,
+                             blockRandomWalkCovariance(static_cast<int>(y.size())));
 }
 
 Eigen::VectorXd warmUp(int blocks) {
@@ -128,7 +129,8 @@ TEST(BlockRandomWalk, RemlRecoversTheIntensityAndIgnoresFixedEffects) {
       const double q = reml(y, X, white_var);
       est.push_back(q);
       if (r < 20) {
-        const Eigen::VectorXd with_warm_up = y + 50.0 * std::sqrt(q_true + white_var) * warmUp(blocks);
+        const Eigen::VectorXd with_warm_up =
+            y + 50.0 * std::sqrt(q_true + white_var) * warmUp(blocks);
         EXPECT_DOUBLE_EQ(reml(with_warm_up, X, white_var), q);
         EXPECT_GT(reml(with_warm_up, X.leftCols(1), white_var), 4.0 * q + white_var);
       }
@@ -148,11 +150,11 @@ TEST(BlockRandomWalk, TooFewDegreesOfFreedomGiveZero) {
   Eigen::MatrixXd X = Eigen::MatrixXd::Ones(5, 3);
   X.col(1) = Eigen::VectorXd::LinSpaced(5, 0, 1);
   X.col(2) = X.col(1).cwiseAbs2();
-  EXPECT_EQ(reml(y, X, 1.0), 0.0);                   // 5 - 3 < 3
-  EXPECT_EQ(reml(y, X.leftCols(1), 0.0), 0.0);        // no white variance
+  EXPECT_EQ(reml(y, X, 1.0), 0.0);              // 5 - 3 < 3
+  EXPECT_EQ(reml(y, X.leftCols(1), 0.0), 0.0);  // no white variance
   Eigen::MatrixXd Xd(5, 2);
   Xd << Eigen::VectorXd::Ones(5), Eigen::VectorXd::Ones(5);
-  EXPECT_EQ(reml(y, Xd, 1.0), 0.0);                   // rank deficient
+  EXPECT_EQ(reml(y, Xd, 1.0), 0.0);  // rank deficient
   // Three axes sharing one intensity: 3 x (5 - 3) = 6 degrees of freedom are enough.
   const Eigen::MatrixXd K = blockRandomWalkCovariance(5);
   EXPECT_GE(remlBlockRandomWalk({y, y, y}, {X, X, X}, 1e-3, K), 0.0);

@@ -45,7 +45,8 @@ TEST(MismatchDiagnosis, FindsTimeOffsetLeverArmAndGSensitivityOnly) {
   ASSERT_NE(gs, nullptr);
   for (int k = 0; k < 9; ++k)
     EXPECT_NEAR(gs->parameters[0].values[k], extra.g_sensitivity.G(k / 3, k % 3),
-                3.5 * gs->parameters[0].sigma[k] + 2e-5) << "G element " << k;
+                3.5 * gs->parameters[0].sigma[k] + 2e-5)
+        << "G element " << k;
   // The model lowers the residual, also on the held-out second half.
   ASSERT_TRUE(r.has_holdout);
   for (int a = 0; a < 3; ++a) {
@@ -67,8 +68,8 @@ TEST(MismatchDiagnosis, GSensitivityReadsTheSpecificForceAtTheTestedImu) {
   ImuErrorModel real = quiet;
   real.lever_arm.r_m << -0.3, 0.6, -0.2;
   real.g_sensitivity.G << 3e-4, -1e-4, 2e-4, 2e-4, -3e-4, 1e-4, -1e-4, 4e-4, 2e-4;
-  const DiagnosisInputs in = graftedInputs(sampleMotion(m, 100.0, 150.0), real, quiet, 47,
-                                           "reference + white noise");
+  const DiagnosisInputs in =
+      graftedInputs(sampleMotion(m, 100.0, 150.0), real, quiet, 47, "reference + white noise");
   const DiagnosisResult r = diagnose(in);
   const std::set<std::string> names = effectNames(r);
   EXPECT_EQ(names, (std::set<std::string>{"lever_arm", "g_sensitivity"})) << diagnosisMarkdown(r);
@@ -76,7 +77,8 @@ TEST(MismatchDiagnosis, GSensitivityReadsTheSpecificForceAtTheTestedImu) {
   ASSERT_NE(gs, nullptr);
   for (int k = 0; k < 9; ++k)
     EXPECT_NEAR(gs->parameters[0].values[k], real.g_sensitivity.G(k / 3, k % 3),
-                3.0 * gs->parameters[0].sigma[k]) << "G element " << k;
+                3.0 * gs->parameters[0].sigma[k])
+        << "G element " << k;
 }
 
 // Separately started loggers: offsets of seconds are found by the coarse stage and refined.
@@ -148,7 +150,6 @@ TEST(MismatchDiagnosis, BinsOverlappingASamplingGapAreLeftOut) {
   for (int a = 0; a < 3; ++a) EXPECT_LT(r.rms_after.accel(a), 0.05) << "gap bins left in the RMS";
 }
 
-
 TEST(MismatchDiagnosis, NullPairClaimsNothing) {
   const Pair p = makePair(ImuErrorModel{}, 9);
   const DiagnosisResult r = diagnose(p.in);
@@ -160,9 +161,9 @@ TEST(MismatchDiagnosis, ExpectedWanderOfTwoRealizations) {
   lab.bias_instability << 1e-3, 0.0, 2e-3;
   lab.rate_random_walk << 0.0, 3e-4, 1e-4;
   const Eigen::Vector3d sd = expectedWanderSd(lab, 1200.0);
-  EXPECT_NEAR(sd(0), std::sqrt(2.0) * 1e-3, 1e-12);                      // B only
-  EXPECT_NEAR(sd(1), 3e-4 * std::sqrt(400.0), 1e-12);                    // K sqrt(T / 3)
-  EXPECT_NEAR(sd(2), std::sqrt(2.0 * 4e-6 + 1e-8 * 400.0), 1e-12);       // both
+  EXPECT_NEAR(sd(0), std::sqrt(2.0) * 1e-3, 1e-12);                 // B only
+  EXPECT_NEAR(sd(1), 3e-4 * std::sqrt(400.0), 1e-12);               // K sqrt(T / 3)
+  EXPECT_NEAR(sd(2), std::sqrt(2.0 * 4e-6 + 1e-8 * 400.0), 1e-12);  // both
 }
 
 // A tested accelerometer whose bias random-walks (1.5e-3 m/s^2/sqrt(s): ~0.008 m/s^2 over the
@@ -204,7 +205,6 @@ TEST(MismatchDiagnosis, WanderWithinTheLabNoiseFiguresIsNotUnexplained) {
   const Effect* bi = findEffect(beyond, "bias_instability");
   EXPECT_TRUE(accelSpans(beyond) > 0 || (bi && bi->sensor == "accel")) << diagnosisMarkdown(beyond);
 }
-
 
 TEST(MismatchDiagnosis, QuantizationFoundFromTheValueLattice) {
   ImuErrorModel extra;

@@ -55,7 +55,8 @@ TEST(MismatchDiagnosis, ScaleNonlinearityReportsTheSensorsOwnQuadratic) {
   EXPECT_TRUE(artefact.in_simulation.empty()) << diagnosisMarkdown(artefact);
   // 0.92 on this seed: the quadratic is ~40 % of the per-bin noise.
   EXPECT_LT(artefact.rms_after.gyro(2), 0.96 * artefact.rms_before.gyro(2))
-      << "the artefact stays in the model (SG#3)\n" << diagnosisMarkdown(artefact);
+      << "the artefact stays in the model (SG#3)\n"
+      << diagnosisMarkdown(artefact);
 
   ImuErrorModel own;
   own.gyro.scale_nonlinearity.k2 << 0.0, 0.0, 2.0 * c2;
@@ -96,7 +97,8 @@ TEST(MismatchDiagnosis, ScaleNonlinearityReportsTheSensorsOwnQuadratic) {
   EXPECT_TRUE(lab_json[0].at("uncertainty").at("k2")[0].is_null());
   EXPECT_NE(diagnosisMarkdown(within_lab).find("Already in the simulation"), std::string::npos);
   EXPECT_LT(within_lab.rms_after.gyro(2), 0.96 * within_lab.rms_before.gyro(2))
-      << "modelled in SG#3\n" << diagnosisMarkdown(within_lab);
+      << "modelled in SG#3\n"
+      << diagnosisMarkdown(within_lab);
 }
 
 // An accelerometer-only rotation of its cross-axis terms (what a lab calibration error of the
@@ -117,7 +119,8 @@ TEST(MismatchDiagnosis, MisalignmentWithinTheLabRotationUncertaintyIsNotClaimed)
     const Effect* n_accel = findEffect(without_lab, "non_orthogonality");
     ASSERT_TRUE(findEffect(without_lab, "mounting_misalignment") != nullptr ||
                 (n_accel != nullptr && n_accel->sensor == "accel"))
-        << "the case must show a rotation when nothing gates it\n" << diagnosisMarkdown(without_lab);
+        << "the case must show a rotation when nothing gates it\n"
+        << diagnosisMarkdown(without_lab);
     p.in.priors[Sensor::gyro].lab_M_sigma = lab_gyro_sigma;
     p.in.priors[Sensor::accel].lab_M_sigma = lab_accel_sigma;
     const DiagnosisResult r = diagnose(p.in);
@@ -132,7 +135,8 @@ TEST(MismatchDiagnosis, MisalignmentWithinTheLabRotationUncertaintyIsNotClaimed)
     const DiagnosisResult r = diagnose(p.in);
     const Effect* mm = findEffect(r, "mounting_misalignment");
     ASSERT_NE(mm, nullptr) << diagnosisMarkdown(r);
-    EXPECT_NEAR(mm->parameters[0].values[2], 1e-2, std::max(3.0 * mm->parameters[0].sigma[2], 2e-3));
+    EXPECT_NEAR(mm->parameters[0].values[2], 1e-2,
+                std::max(3.0 * mm->parameters[0].sigma[2], 2e-3));
   }
 }
 
@@ -149,10 +153,13 @@ TEST(MismatchDiagnosis, RotationOfSeveralDegreesIsNotSplitIntoScaleAndCrossAxisT
   ASSERT_NE(mm, nullptr) << diagnosisMarkdown(r);
   for (int a = 0; a < 3; ++a)
     EXPECT_NEAR(mm->parameters[0].values[a], extra.mounting_misalignment.rotation_rad(a),
-                3.0 * mm->parameters[0].sigma[a]) << a << "\n" << diagnosisMarkdown(r);
+                3.0 * mm->parameters[0].sigma[a])
+        << a << "\n"
+        << diagnosisMarkdown(r);
   EXPECT_EQ(r.effects.size(), 1u) << diagnosisMarkdown(r);
   bool repeated = false;
-  for (const std::string& n : r.notes) repeated |= n.find("linearized at the fitted rotation") != std::string::npos;
+  for (const std::string& n : r.notes)
+    repeated |= n.find("linearized at the fitted rotation") != std::string::npos;
   EXPECT_TRUE(repeated);
 }
 
@@ -171,7 +178,8 @@ TEST(MismatchDiagnosis, CalibrationErrorWithinTheLabUncertaintyIsNotUnexplained)
   const DiagnosisResult ungated = diagnose(in);
   ASSERT_FALSE(ungated.effects.empty()) << "the error must show when nothing gates it";
   in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-4);
-  in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(2e-3);  // 3 sigma = 6e-3: all within
+  in.priors[Sensor::accel].lab_M_sigma =
+      Eigen::Matrix3d::Constant(2e-3);  // 3 sigma = 6e-3: all within
   const DiagnosisResult r = diagnose(in);
   EXPECT_TRUE(r.effects.empty()) << diagnosisMarkdown(r);
   EXPECT_TRUE(r.unexplained.empty()) << diagnosisMarkdown(r);
@@ -196,7 +204,8 @@ TEST(MismatchDiagnosis, ClaimedTermIsFittedNextToTheGatedCalibrationError) {
   truth.g_sensitivity.G(0, 0) = -1.5e-4;
   DiagnosisInputs in = graftedInputs(sampleMotion(m, 100.0, T), truth, noise, 51,
                                      "reference + tested noise (as SG#2)");
-  in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(2e-3);  // 3 sigma = 6e-3: k is within
+  in.priors[Sensor::gyro].lab_M_sigma =
+      Eigen::Matrix3d::Constant(2e-3);  // 3 sigma = 6e-3: k is within
   in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-4);
   const DiagnosisResult r = diagnose(in);
   const Effect* g = findEffect(r, "g_sensitivity");
@@ -242,7 +251,8 @@ TEST(MismatchDiagnosis, ScaleWithinTheReferenceImusOwnUncertaintyIsNotClaimed) {
   ASSERT_TRUE(near);
   EXPECT_NE(near->find(kRefShare), std::string::npos) << *near;
   EXPECT_NE(near->find(" x the reference IMU's stated scale uncertainty (500 ppm"),
-            std::string::npos) << *near;
+            std::string::npos)
+      << *near;
   // Ten times the reference's uncertainty: the tested IMU's, no such remark.
   const std::optional<std::string> far = claimedScale(2e-4);
   ASSERT_TRUE(far);
@@ -288,8 +298,8 @@ DiagnosisInputs lateResponseInputs(const Motion& m, double T, double tau,
   ImuErrorModel truth = sensor;
   truth.gyro.white_noise = noise.gyro.white_noise;
   truth.accel.white_noise = noise.accel.white_noise;
-  const ImuSeries late = test::sampleIntegral([&](double t) { return m.integral(t - tau); }, 100.0,
-                                              T, 5000.0);
+  const ImuSeries late =
+      test::sampleIntegral([&](double t) { return m.integral(t - tau); }, 100.0, T, 5000.0);
   DiagnosisInputs in;
   in.case_name = "synthetic";
   in.simulation_kind = "lab response applied to the reference (as SG#2)";
@@ -311,8 +321,7 @@ TEST(MismatchDiagnosis, TimeOffsetShiftsTheLabCalibratedResponse) {
   sensor.gyro.scale_factor.k << 0.02, -0.02, 0.02;
   sensor.gyro.non_orthogonality.N << 0.0, 0.01, -0.01, 0.01, 0.0, 0.01, -0.01, 0.01, 0.0;
   const DiagnosisInputs in = lateResponseInputs(m, T, tau, sensor, 31);
-  const Eigen::Matrix3d M = Eigen::Matrix3d::Identity() +
-                            sensor.gyro.non_orthogonality.N +
+  const Eigen::Matrix3d M = Eigen::Matrix3d::Identity() + sensor.gyro.non_orthogonality.N +
                             Eigen::Matrix3d(sensor.gyro.scale_factor.k.asDiagonal());
   const auto run = [&](bool with_M) {
     DiagnosisInputs x = in;

@@ -81,7 +81,7 @@ TEST(MismatchDiagnosis, ScaleAsymmetryGainsAreRelativeToTheSimulationsGain) {
     const double truth_pos = real.gyro.scale_asymmetry.k_pos(a);
     const double truth_neg = real.gyro.scale_asymmetry.k_neg(a);
     EXPECT_NEAR(kp.values[a], truth_pos, 3.0 * kp.sigma[a]) << "axis " << a << "\n"
-                                                             << diagnosisMarkdown(r);
+                                                            << diagnosisMarkdown(r);
     EXPECT_NEAR(kn.values[a], truth_neg, 3.0 * kn.sigma[a]) << "axis " << a;
   }
   EXPECT_LT(kp.sigma[2], 0.1 * d) << "z is determined";
@@ -191,7 +191,8 @@ TEST(MismatchDiagnosis, AccelAsymmetryReplacesTheLabQuadraticItWasSeenAs) {
     // The fit's precision (k_pos_missing: the residual fit's sigma; k_pos adds the lab's gain
     // uncertainty, and with the quadratic its c2 sigma at the mean input).
     EXPECT_LT(sa->parameters[2].sigma[a], 1.3 * sa_plain->parameters[2].sigma[a])
-        << "axis " << a << "\n" << diagnosisMarkdown(folded);
+        << "axis " << a << "\n"
+        << diagnosisMarkdown(folded);
   }
   // SG#3 takes the lab's quadratic out: it is no longer listed as in the simulation.
   for (const Effect& e : folded.in_simulation) EXPECT_NE(e.sensor, "accel");
@@ -252,8 +253,8 @@ TEST(MismatchDiagnosis, OneSignedGainIsNamedByTheLabsCurvatureEstimate) {
       real.accel.scale_nonlinearity.k2 << 0.0, 0.0, k2;
     else
       real.accel.scale_factor.k << 0.0, 0.0, -2.0 * g * k2;  // the same slope at -g
-    DiagnosisInputs in = graftedInputs(reference, real, noise, 51,
-                                       "reference + the lab's line (as SG#2)");
+    DiagnosisInputs in =
+        graftedInputs(reference, real, noise, 51, "reference + the lab's line (as SG#2)");
     in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
     in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
     LabQuadratic lab;  // lines on all axes; the degree-2 estimates the test dropped
@@ -305,7 +306,7 @@ TEST(MismatchDiagnosis, OneSignedGainIsWeighedAgainstAnAsymmetryTheLabFolded) {
       real.accel.scale_asymmetry.k_pos << 0.0, 0.0, a;
       real.accel.scale_asymmetry.k_neg.setZero();
       sg2.accel.scale_factor.k << 0.0, 0.0, 0.5 * a;  // the lab's line: the mean gain
-      lab.c2(2) = 0.5 * a / g;                         // and its quadratic: d / g
+      lab.c2(2) = 0.5 * a / g;                        // and its quadratic: d / g
     } else {
       real.accel.scale_nonlinearity.k2(2) = -2e-4;  // a real z curvature the lab measured
       real.accel.scale_factor.k << 0.0, 0.0, 3e-3;  // and a gain change since

@@ -35,7 +35,9 @@ struct VibratingCar {
   Vector6d rate(double t) const {
     const double vib_hz[3] = {25.0, 30.0, 35.0};
     Vector6d w = car.offset;
-    const double env = t < 10.0 ? 0.0 : t > 15.0 ? 1.0 : 0.5 - 0.5 * std::cos(M_PI * (t - 10.0) / 5.0);
+    const double env = t < 10.0   ? 0.0
+                       : t > 15.0 ? 1.0
+                                  : 0.5 - 0.5 * std::cos(M_PI * (t - 10.0) / 5.0);
     for (int c = 0; c < 6; ++c)
       for (const auto& wave : car.waves[c]) w(c) += env * wave[0] * std::sin(wave[1] * t + wave[2]);
     for (int c = 0; c < 3; ++c) w(c) += env * 0.01 * std::sin(2.0 * M_PI * vib_hz[c] * t + c);
@@ -152,7 +154,8 @@ TEST(MismatchDiagnosis, LeverArmUnderVibrationWithATimeOffset) {
   ASSERT_NE(findEffect(res, "time_offset"), nullptr) << diagnosisMarkdown(res);
   for (int a = 0; a < 3; ++a)
     EXPECT_NEAR(la->parameters[0].values[a], r_m(a), 3.0 * la->parameters[0].sigma[a])
-        << "axis " << a << "\n" << diagnosisMarkdown(res);
+        << "axis " << a << "\n"
+        << diagnosisMarkdown(res);
 }
 
 // A rectified vibration bias follows the vibration level, which follows speed: a slow regressor.
@@ -179,8 +182,9 @@ TEST(MismatchDiagnosis, SlowRegressorNextToATimeOffsetKeepsItsGlsFit) {
     if (vr == nullptr || vr->sensor != "accel") continue;
     ++found;
     for (int a = 0; a < 3; ++a) {
-      const double z = std::abs(vr->parameters[0].values[a] - extra.accel.vibration_rectification.coeff(a)) /
-                       vr->parameters[0].sigma[a];
+      const double z =
+          std::abs(vr->parameters[0].values[a] - extra.accel.vibration_rectification.coeff(a)) /
+          vr->parameters[0].sigma[a];
       worst = std::max(worst, z);
       outside += z > 3.0;
     }
@@ -211,15 +215,16 @@ TEST(MismatchDiagnosis, LeverArmPassesThroughTheLabCalibratedQuadratic) {
   in.simulated = applyErrors(in.reference, quadratic, 0);
   const auto worstSigma = [&](bool with_lab_quadratic) {
     DiagnosisInputs x = in;
-    if (with_lab_quadratic) x.priors[Sensor::accel].lab_quadratic = LabQuadratic{quadratic.accel.scale_nonlinearity.k2,
-                                                                 Eigen::Vector3d::Zero()};
+    if (with_lab_quadratic)
+      x.priors[Sensor::accel].lab_quadratic =
+          LabQuadratic{quadratic.accel.scale_nonlinearity.k2, Eigen::Vector3d::Zero()};
     const DiagnosisResult res = diagnose(x);
     const Effect* la = findEffect(res, "lever_arm");
     EXPECT_NE(la, nullptr) << diagnosisMarkdown(res);
     double worst = 0.0;
     for (int a = 0; la && a < 3; ++a)
-      worst = std::max(worst, std::abs(la->parameters[0].values[a] - r_m(a)) /
-                                  la->parameters[0].sigma[a]);
+      worst = std::max(worst,
+                       std::abs(la->parameters[0].values[a] - r_m(a)) / la->parameters[0].sigma[a]);
     return worst;
   };
   EXPECT_LT(worstSigma(true), 3.0);

@@ -54,7 +54,8 @@ TEST(MismatchGrid, ShiftedBinMeansFollowVibration) {
     double max_err = 0.0;
     for (int i = 0; i < g.count; ++i) {
       const Vector6d exact = (m.integral(g.binStart(i + 1) + shift - 1000.0) -
-                              m.integral(g.binStart(i) + shift - 1000.0)) / g.bin_s;
+                              m.integral(g.binStart(i) + shift - 1000.0)) /
+                             g.bin_s;
       max_err = std::max(max_err, (b.row(i) - exact).cwiseAbs().maxCoeff());
     }
     EXPECT_LT(max_err, 1e-3) << f_hz << " Hz";
@@ -77,7 +78,8 @@ TEST(MismatchGrid, ShiftedBinMeansKeepTheirGain) {
       double err_sq = 0.0, exact_sq = 0.0;
       for (int i = 0; i < g.count; ++i) {
         const double exact = (m.integral(g.binStart(i + 1) + shift - 1000.0)(0) -
-                              m.integral(g.binStart(i) + shift - 1000.0)(0)) / g.bin_s;
+                              m.integral(g.binStart(i) + shift - 1000.0)(0)) /
+                             g.bin_s;
         err_sq += std::pow(b.omega_rad_s(i, 0) - exact, 2);
         exact_sq += exact * exact;
       }
@@ -121,7 +123,9 @@ TEST(MismatchLeverArm, AngularAccelerationBinMeansUnbiasedAtRoadFrequencies) {
     const Eigen::MatrixX3d wdot = angularAccelerationPerBin(imu, g).omega_dot_rad_s2;
     for (int c = 0; c < 3; ++c) {
       const Wave& w = m.waves[c][0];
-      const auto omega = [&](double t) { return w.amp * std::sin(w.omega * (t - 1000.0) + w.phase); };
+      const auto omega = [&](double t) {
+        return w.amp * std::sin(w.omega * (t - 1000.0) + w.phase);
+      };
       double num = 0.0, den = 0.0;
       for (int i = 0; i < g.count; ++i) {
         const double exact = (omega(g.binStart(i + 1)) - omega(g.binStart(i))) / g.bin_s;
@@ -130,8 +134,8 @@ TEST(MismatchLeverArm, AngularAccelerationBinMeansUnbiasedAtRoadFrequencies) {
       }
       // Gain of the regressor against the exact bin means: within 1 % up to 4.2 Hz (Richardson
       // residual 0.6 % there; the one-bin window lost 2.2 / 3.9 / 7 % at 2.3 / 3.1 / 4.2 Hz).
-      EXPECT_NEAR(num / den, 1.0, 1e-2) << "axis " << c << " at " << freq_hz[c] << " Hz, " << rate
-                                        << " Hz record";
+      EXPECT_NEAR(num / den, 1.0, 1e-2)
+          << "axis " << c << " at " << freq_hz[c] << " Hz, " << rate << " Hz record";
     }
   }
 }
@@ -169,8 +173,8 @@ TEST(MismatchLeverArm, AngularAccelerationBinMeansFollowVibrationNearNyquist) {
       num += exact * wdot.omega_dot_rad_s2(i, c);
       den += exact * exact;
     }
-    EXPECT_NEAR(num / den, 1.0, 1e-2) << "axis " << c << " at " << freq_hz[c] << " Hz (window "
-                                      << wdot.window_s(c) << " s)";
+    EXPECT_NEAR(num / den, 1.0, 1e-2)
+        << "axis " << c << " at " << freq_hz[c] << " Hz (window " << wdot.window_s(c) << " s)";
   }
 }
 

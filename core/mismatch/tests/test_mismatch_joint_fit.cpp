@@ -21,7 +21,8 @@ struct Waves {
   Vector6d integral(double t) const {
     Vector6d out = offset * t;
     for (int c = 0; c < 6; ++c)
-      for (const auto& s : w[c]) out(c) += s[0] / s[1] * (std::cos(s[2]) - std::cos(s[1] * t + s[2]));
+      for (const auto& s : w[c])
+        out(c) += s[0] / s[1] * (std::cos(s[2]) - std::cos(s[1] * t + s[2]));
     return out;
   }
 };
@@ -33,14 +34,15 @@ Waves carLikeWaves(uint64_t seed) {
   const double amp[6] = {0.05, 0.05, 0.2, 1.2, 1.5, 0.5};
   for (int c = 0; c < 6; ++c)
     for (int k = 0; k < 6; ++k)
-      m.w[c].push_back({amp[c] * (0.3 + U(rng)), 2.0 * M_PI * (0.02 + 0.6 * U(rng)),
-                        2.0 * M_PI * U(rng)});
+      m.w[c].push_back(
+          {amp[c] * (0.3 + U(rng)), 2.0 * M_PI * (0.02 + 0.6 * U(rng)), 2.0 * M_PI * U(rng)});
   m.offset << 0.0, 0.0, 0.0, 0.2, -0.1, -9.79;
   return m;
 }
 
 ImuSeries sample(const Waves& m, double rate_hz, double duration_s) {
-  return test::sampleIntegral([&m](double t) { return m.integral(t); }, rate_hz, duration_s, 1000.0);
+  return test::sampleIntegral([&m](double t) { return m.integral(t); }, rate_hz, duration_s,
+                              1000.0);
 }
 
 ImuErrorModel truthModel(double tau_s) {
@@ -125,8 +127,8 @@ TEST(MismatchJointFit, RecoversLargeTimeOffsetLeverArmAndGSensitivity) {
   ASSERT_GE(f.gs, 0);
   const std::vector<double> z = normalizedErrors(f, m);
   ASSERT_GE(z.size(), 7u);
-  for (std::size_t k = 0; k < z.size(); ++k) EXPECT_LT(std::abs(z[k]), 3.0) << "parameter " << k
-                                                                           << "; " << f.joint.summary;
+  for (std::size_t k = 0; k < z.size(); ++k)
+    EXPECT_LT(std::abs(z[k]), 3.0) << "parameter " << k << "; " << f.joint.summary;
   EXPECT_LT(f.joint.final_cost, f.joint.initial_cost + 1e-9);
   const TermFit& la_lin = f.linear.selected[f.la];
   std::printf("%s\nlever arm linear [%.4f %.4f %.4f] joint [%.4f %.4f %.4f] +- [%.4f %.4f %.4f]\n",
@@ -183,8 +185,10 @@ TEST(MismatchJointFit, CovarianceMatchesMonteCarloSpread) {
   EXPECT_GT(std::sqrt(var) / tau_sigma, 1.0 / 2.0);  // 8 seeds: the spread itself is +-25 %
   EXPECT_LT(std::sqrt(var) / tau_sigma, 2.0);
   RecordProperty("pooled_normalized_rms", std::to_string(rms));
-  std::printf("joint fit: pooled normalized error RMS %.3f over %zu values; tau spread %.3g s vs "
-              "sigma %.3g s\n", rms, z.size(), std::sqrt(var), tau_sigma);
+  std::printf(
+      "joint fit: pooled normalized error RMS %.3f over %zu values; tau spread %.3g s vs "
+      "sigma %.3g s\n",
+      rms, z.size(), std::sqrt(var), tau_sigma);
 }
 
 TEST(MismatchJointFit, RejectsBadInputs) {

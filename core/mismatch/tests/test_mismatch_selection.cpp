@@ -58,12 +58,14 @@ TEST(MismatchSelection, DetectionLimitSeparatesFoundFromMissed) {
       if (l.term == t) limit = l.theta_limit(2);
     ASSERT_TRUE(std::isfinite(limit) && limit > 0.0) << key;
     for (const double factor : {2.5, 0.3}) {
-      Eigen::VectorXd theta = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(terms[t].columns.size()));
+      Eigen::VectorXd theta =
+          Eigen::VectorXd::Zero(static_cast<Eigen::Index>(terms[t].columns.size()));
       theta(2) = factor * limit;
       int found = 0;
       for (uint64_t seed = 600; seed < 620; ++seed) {
         const Eigen::MatrixXd r = ar1Noise(n, 0.3, seed) + termContribution(terms[t], theta, n);
-        for (const TermFit& tf : selectTerms(r, terms).selected) found += tf.term == t && tf.claimed;
+        for (const TermFit& tf : selectTerms(r, terms).selected)
+          found += tf.term == t && tf.claimed;
       }
       if (factor > 1.0) {
         EXPECT_GE(found, 18) << key << " at " << factor << " x its limit " << limit;
@@ -73,7 +75,6 @@ TEST(MismatchSelection, DetectionLimitSeparatesFoundFromMissed) {
     }
   }
 }
-
 
 // Two terms that replace each other (as the gyro's two vibration regressors do) and explain the
 // residual equally well: backward elimination dropped one, which brought the other back, which
@@ -103,7 +104,6 @@ TEST(MismatchSelection, MutuallyExclusiveTermsOfEqualEvidenceDoNotCycle) {
   for (const TermFit& tf : sel.selected) chosen += tf.term == 1 || tf.term == 2;
   EXPECT_EQ(chosen, 1) << ::testing::PrintToString(sel.log);  // present, named once
 }
-
 
 // A g-sensitivity next to a mounting misalignment on car-like motion, where the lateral specific
 // force is v omega_z (so G f_y shares its signal with omega x phi and the gyro non-orthogonality)
@@ -140,7 +140,8 @@ TEST(MismatchSelection, GSensitivityNextToMisalignmentOnCarMotion) {
       if (tf.term == g) {
         ++found;
         for (int j = 0; j < 9; ++j)
-          EXPECT_LT(std::abs(tf.theta(j) - G(j)), 3.5 * tf.sigma(j)) << "seed " << seed << " G " << j;
+          EXPECT_LT(std::abs(tf.theta(j) - G(j)), 3.5 * tf.sigma(j))
+              << "seed " << seed << " G " << j;
       } else if (tf.term != mis) {
         ++other;
         log += terms[tf.term].key() + " ";
@@ -171,7 +172,8 @@ TEST(MismatchSelection, RotationNextToBothNonOrthogonalitiesKeepsItsName) {
   Eigen::VectorXd Ng(6), Na(6);  // off-diagonal elements in row order (01, 02, 10, 12, 20, 21)
   Ng << 4e-3, -3e-3, 1e-3, 5e-3, -2e-3, 3e-3;
   Na << 6e-3, -4e-3, 6e-3, 3e-3, -4e-3, 3e-3;  // symmetric: N_ij = N_ji
-  const Eigen::MatrixXd r = termContribution(terms[mis], phi, n) + termContribution(terms[ng], Ng, n) +
+  const Eigen::MatrixXd r = termContribution(terms[mis], phi, n) +
+                            termContribution(terms[ng], Ng, n) +
                             termContribution(terms[na], Na, n) + ar1Noise(n, 0.5, 31);
   const SelectionResult sel = selectTerms(r, terms);
   const TermFit* rot = nullptr;
@@ -182,11 +184,13 @@ TEST(MismatchSelection, RotationNextToBothNonOrthogonalitiesKeepsItsName) {
   }
   ASSERT_NE(rot, nullptr) << ::testing::PrintToString(sel.log);
   EXPECT_TRUE(rot->claimed);
-  for (int a = 0; a < 3; ++a) EXPECT_NEAR(rot->theta(a), phi(a), 3.5 * rot->sigma(a)) << "axis " << a;
+  for (int a = 0; a < 3; ++a)
+    EXPECT_NEAR(rot->theta(a), phi(a), 3.5 * rot->sigma(a)) << "axis " << a;
   ASSERT_NE(acc, nullptr) << ::testing::PrintToString(sel.log);
   EXPECT_EQ(terms[acc->term].regressor, "symmetric");
   const double sym[3] = {Na(0), Na(1), Na(3)};  // pairs 01, 02, 12
-  for (int k = 0; k < 3; ++k) EXPECT_NEAR(acc->theta(k), sym[k], 3.5 * acc->sigma(k)) << "pair " << k;
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(acc->theta(k), sym[k], 3.5 * acc->sigma(k)) << "pair " << k;
 }
 
 }  // namespace

@@ -138,14 +138,11 @@ TEST(MismatchSelection, FastTermSigmaIsCalibratedUnderBiasWander) {
     addGaussMarkovWander(&r, kAccelWander, sd.bin_s, 1200.0, seed + 5000);
     return r;
   };
-  const std::vector<double> rms =
-      rmsErrOverSigma(terms, t, k, 2, {opt, white}, 700, 720, residual);
+  const std::vector<double> rms = rmsErrOverSigma(terms, t, k, 2, {opt, white}, 700, 720, residual);
   EXPECT_GT(rms[0], 0.6);
   EXPECT_LT(rms[0], 1.5);
   EXPECT_GT(rms[1], 2.0 * rms[0]) << "the wander should matter on this motion";
 }
-
-
 
 // A fast term whose regressor lives on the wander's scales (white noise smoothed over 20 s)
 // under a random walk on top of white noise (c_j about 13 at the 60-s level, as a MEMS
@@ -297,7 +294,8 @@ TEST(MismatchSelection, CrossValidationInTheGlsMetricUnderBiasWander) {
   for (uint64_t seed = 810; seed < 820; ++seed) {
     Eigen::VectorXd k = Eigen::VectorXd::Zero(3);
     k(0) = 3.0 * limit;
-    const SelectionResult with = selectTerms(wander(seed) + termContribution(terms[t], k, n), terms, opt);
+    const SelectionResult with =
+        selectTerms(wander(seed) + termContribution(terms[t], k, n), terms, opt);
     for (const TermFit& tf : with.selected) found += tf.term == t && tf.claimed;
     const SelectionResult null = selectTerms(wander(seed), terms, opt);
     for (const TermFit& tf : null.selected)
@@ -310,7 +308,6 @@ TEST(MismatchSelection, CrossValidationInTheGlsMetricUnderBiasWander) {
   EXPECT_LE(null_claims, 1) << log;
 }
 
-
 // A term's slow-noise inflation is measured against the model it is tested in: once a
 // temperature warm-up is claimed, its ramp is no longer "slow noise". Before, the warm-up stayed
 // in the slow-noise residual, raised the gyro c_slow ~10-fold and cost a g-sensitivity (whose
@@ -322,7 +319,8 @@ TEST(MismatchSelection, ClaimedTemperatureDoesNotInflateOtherTerms) {
   const int n = in.reference.size();
   SelectionOptions opt;
   opt.slow_block_bins = static_cast<int>(60.0 / in.reference.grid.bin_s);
-  const int g = findTerm(terms, "g_sensitivity:gyro"), tb = findTerm(terms, "temperature_bias:gyro");
+  const int g = findTerm(terms, "g_sensitivity:gyro"),
+            tb = findTerm(terms, "temperature_bias:gyro");
   ASSERT_GE(g, 0);
   ASSERT_GE(tb, 0);
   Eigen::VectorXd G = Eigen::Map<const Eigen::VectorXd>(G9().data(), 9) * 0.25;

@@ -93,8 +93,6 @@ TEST_P(MismatchTermRecovery, RecoversInjectedParametersWithinStatedUncertainty) 
   EXPECT_LE(claimed, 2u) << inj.key;
 }
 
-
-
 INSTANTIATE_TEST_SUITE_P(
     AllTerms, MismatchTermRecovery,
     ::testing::Values(
@@ -111,8 +109,7 @@ INSTANTIATE_TEST_SUITE_P(
         Injection{"temperature_bias:accel", {2e-3, -1e-3, 3e-3}},
         Injection{"temperature_scale:gyro", {1e-3, -1e-3, 5e-4}},
         Injection{"temperature_scale:accel", {5e-4, -5e-4, 5e-4}},
-        Injection{"time_offset:both", {0.012}},
-        Injection{"lever_arm:accel", {0.4, -0.3, 0.2}},
+        Injection{"time_offset:both", {0.012}}, Injection{"lever_arm:accel", {0.4, -0.3, 0.2}},
         Injection{"mounting_misalignment:both", {0.01, -0.01, 0.02}},
         Injection{"vibration_rectification:accel:specific_force_hp_sq", {0.02, -0.03, 0.02}},
         Injection{"vibration_rectification:gyro:specific_force_hp_sq", {2e-3, -2e-3, 3e-3}},
@@ -210,7 +207,8 @@ TEST(MismatchRotation, LinearizedAtItsPivot) {
     const Eigen::Vector3d e = Eigen::Vector3d::Unit(j);
     const Eigen::MatrixXd numeric = (exact(phi0 + h * e) - exact(phi0 - h * e)) / (2.0 * h);
     const Eigen::MatrixXd analytic = termContribution(terms[t_rot], e, n);
-    EXPECT_LT((numeric - analytic).cwiseAbs().maxCoeff(), 1e-7 * numeric.cwiseAbs().maxCoeff() + 1e-9)
+    EXPECT_LT((numeric - analytic).cwiseAbs().maxCoeff(),
+              1e-7 * numeric.cwiseAbs().maxCoeff() + 1e-9)
         << "column " << j;
   }
   const Eigen::Vector3d dphi(2e-3, -1e-3, 1.5e-3);

@@ -12,12 +12,12 @@ double normalQuantile(double p) {
                                 std::to_string(p));
   }
   // Rational approximation (Acklam), |relative error| < 1.2e-9 after one Newton step below.
-  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
-                             1.383577518672690e+02, -3.066479806614716e+01, 2.506628277459239e+00};
+  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,  -2.759285104469687e+02,
+                             1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
   static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
                              6.680131188771972e+01, -1.328068155288572e+01};
   static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
-                             -2.549732539343734e+00, 4.374664141464968e+00, 2.938163982698783e+00};
+                             -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00};
   static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
                              3.754408661907416e+00};
   const double plow = 0.02425;
@@ -88,7 +88,10 @@ double chiSquareQuantile(double p, double dof) {
   double lo = 0.0, hi = std::max(2.0 * x0, dof + 20.0 * std::sqrt(2.0 * dof) + 50.0);
   for (int i = 0; i < 200 && hi - lo > 1e-10 * hi; ++i) {
     const double mid = 0.5 * (lo + hi);
-    if (regularizedGammaP(0.5 * dof, 0.5 * mid) < p) lo = mid; else hi = mid;
+    if (regularizedGammaP(0.5 * dof, 0.5 * mid) < p)
+      lo = mid;
+    else
+      hi = mid;
   }
   return 0.5 * (lo + hi);
 }
@@ -130,7 +133,8 @@ double regularizedBeta(double a, double b, double x) {
   if (x >= 1.0) return 1.0;
   const double log_front =
       std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x);
-  if (x < (a + 1.0) / (a + b + 2.0)) return std::exp(log_front) * incompleteBetaFraction(a, b, x) / a;
+  if (x < (a + 1.0) / (a + b + 2.0))
+    return std::exp(log_front) * incompleteBetaFraction(a, b, x) / a;
   return 1.0 - std::exp(log_front) * incompleteBetaFraction(b, a, 1.0 - x) / b;
 }
 

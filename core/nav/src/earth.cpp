@@ -10,7 +10,9 @@
 
 namespace graftnav::earth {
 namespace {
-const GeographicLib::NormalGravity& normalGravity() { return GeographicLib::NormalGravity::WGS84(); }
+const GeographicLib::NormalGravity& normalGravity() {
+  return GeographicLib::NormalGravity::WGS84();
+}
 const GeographicLib::Geocentric& geocentric() { return GeographicLib::Geocentric::WGS84(); }
 const GeographicLib::Ellipsoid& ellipsoid() { return GeographicLib::Ellipsoid::WGS84(); }
 }  // namespace

@@ -9,7 +9,8 @@ namespace graftnav {
 namespace {
 
 // Transport rate from precomputed radii (same formula as earth::omega_en_n).
-Eigen::Vector3d transportRate(const earth::Radii& r, const Geodetic& p, const Eigen::Vector3d& v_n) {
+Eigen::Vector3d transportRate(const earth::Radii& r, const Geodetic& p,
+                              const Eigen::Vector3d& v_n) {
   const double rn_h = r.prime_vertical_m + p.h_m;
   return {v_n.y() / rn_h, -v_n.x() / (r.meridian_m + p.h_m), -v_n.y() * std::tan(p.lat_rad) / rn_h};
 }
@@ -78,8 +79,8 @@ NavState strapdownStep(const NavState& s, const ImuSample& prev, const ImuSample
 
   // Attitude: body rotation with two-sample coning, n-frame rotation at the mid-interval state.
   const Eigen::Vector3d phi = dth + prev.dtheta_rad.cross(dth) / 12.0;
-  const Geodetic p_mid{0.5 * (s.pos.lat_rad + out.pos.lat_rad), 0.5 * (s.pos.lon_rad + out.pos.lon_rad),
-                       0.5 * (s.pos.h_m + out.pos.h_m)};
+  const Geodetic p_mid{0.5 * (s.pos.lat_rad + out.pos.lat_rad),
+                       0.5 * (s.pos.lon_rad + out.pos.lon_rad), 0.5 * (s.pos.h_m + out.pos.h_m)};
   zeta = (earth::omega_ie_n(p_mid.lat_rad) + transportRate(r_mid, p_mid, v_avg)) * dt;
   out.q_nb = (quatFromRotationVector(-zeta) * s.q_nb * quatFromRotationVector(phi)).normalized();
   return out;

@@ -39,8 +39,7 @@ std::optional<NavState> NavInterpolator::at(double t_s) {
     s.t_s = t_s;
     return s;
   }
-  if (idx_ + 1 >= n || series_[idx_].t_s > t_s ||
-      (idx_ + 64 < n && series_[idx_ + 64].t_s < t_s)) {
+  if (idx_ + 1 >= n || series_[idx_].t_s > t_s || (idx_ + 64 < n && series_[idx_ + 64].t_s < t_s)) {
     // Backwards or far-ahead query: binary search.
     auto it = std::upper_bound(series_.begin(), series_.end(), t_s,
                                [](double t, const NavState& s) { return t < s.t_s; });

@@ -52,8 +52,9 @@ TEST(Rotation, RotationVectorRoundTripNearZeroAndPi) {
 }
 
 TEST(Rotation, RightJacobianMatchesNumeric) {
-  for (const Eigen::Vector3d& phi : {Eigen::Vector3d(0.3, -0.2, 0.9), Eigen::Vector3d(1e-7, 0, 2e-7),
-                                    Eigen::Vector3d(2.0, 1.0, -0.5)}) {
+  for (const Eigen::Vector3d& phi :
+       {Eigen::Vector3d(0.3, -0.2, 0.9), Eigen::Vector3d(1e-7, 0, 2e-7),
+        Eigen::Vector3d(2.0, 1.0, -0.5)}) {
     // exp(phi + d) = exp(phi) exp(Jr d)  =>  log(exp(phi)^-1 exp(phi + d)) / d = Jr.
     const Eigen::Quaterniond q0 = quatFromRotationVector(phi);
     auto f = [&](const Eigen::VectorXd& d) -> Eigen::VectorXd {
@@ -61,9 +62,9 @@ TEST(Rotation, RightJacobianMatchesNumeric) {
     };
     const Eigen::MatrixXd J = test::numericJacobian(f, Eigen::Vector3d::Zero(), 1e-6);
     EXPECT_LT((J - rightJacobianSO3(phi)).norm(), 1e-8);
-    EXPECT_LT((rightJacobianInverseSO3(phi) * rightJacobianSO3(phi) - Eigen::Matrix3d::Identity())
-                  .norm(),
-              1e-10);
+    EXPECT_LT(
+        (rightJacobianInverseSO3(phi) * rightJacobianSO3(phi) - Eigen::Matrix3d::Identity()).norm(),
+        1e-10);
   }
 }
 

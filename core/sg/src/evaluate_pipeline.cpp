@@ -33,8 +33,8 @@ struct UnitResult {
   std::vector<std::string> notes;  // the navigator's, kept for the representative unit only
 };
 
-std::vector<Unit> makeUnits(bool with_real, const std::vector<SgStrategy>& strategies, int realizations,
-                            int shifts) {
+std::vector<Unit> makeUnits(bool with_real, const std::vector<SgStrategy>& strategies,
+                            int realizations, int shifts) {
   std::vector<Unit> units;
   for (int s = 0; s < shifts; ++s) {
     if (with_real) units.push_back({std::nullopt, 0, s});
@@ -83,8 +83,9 @@ std::string strategyLabels(const std::vector<SgStrategy>& strategies) {
 
 // Runs every unit on `jobs` workers; results land at the unit's index.
 template <typename NavigateUnit>
-std::vector<UnitResult> navigateAll(const std::vector<Unit>& units, const NavigateUnit& navigate_unit, int jobs,
-                                    const SgLogFn& log, const std::string& tag) {
+std::vector<UnitResult> navigateAll(const std::vector<Unit>& units,
+                                    const NavigateUnit& navigate_unit, int jobs, const SgLogFn& log,
+                                    const std::string& tag) {
   std::vector<UnitResult> results(units.size());
   std::atomic<std::size_t> next{0}, done{0};
   std::mutex log_mutex;
@@ -120,13 +121,15 @@ void SgEvaluationOptions::validate() const {
   if (realizations < 1)
     throw std::invalid_argument("--realizations must be >= 1, got " + std::to_string(realizations));
   if (outage_shifts < 1)
-    throw std::invalid_argument("--outage-shifts must be >= 1, got " + std::to_string(outage_shifts));
+    throw std::invalid_argument("--outage-shifts must be >= 1, got " +
+                                std::to_string(outage_shifts));
   if (strategies.empty()) throw std::invalid_argument("SgEvaluationOptions.strategies: empty");
   if (jobs < 0) throw std::invalid_argument("--jobs must be >= 0, got " + std::to_string(jobs));
   evaluation.validate();
 }
 
-std::vector<OutageScheduleConfig> shiftedSchedules(const OutageScheduleConfig& schedule, int shifts) {
+std::vector<OutageScheduleConfig> shiftedSchedules(const OutageScheduleConfig& schedule,
+                                                   int shifts) {
   std::vector<OutageScheduleConfig> out;
   for (int s = 0; s < shifts; ++s) {
     OutageScheduleConfig x = schedule;
@@ -143,7 +146,8 @@ SgEvaluationPipeline::SgEvaluationPipeline(const SgEvaluationOptions& options, G
   if (inputs_.reference_imu.empty())
     throw std::invalid_argument(inputs_.case_name + ": the reference IMU series is empty");
   if (options_.outage_shifts > 1 && !inputs_.outages.explicit_windows.empty())
-    throw std::invalid_argument("--outage-shifts needs a periodic schedule; the run config lists explicit windows");
+    throw std::invalid_argument(
+        "--outage-shifts needs a periodic schedule; the run config lists explicit windows");
   schedules_ = shiftedSchedules(inputs_.outages, options_.outage_shifts);
   t_first_s_ = inputs_.reference_imu.front().t_s - inputs_.reference_imu.front().dt_s;
   t_last_s_ = inputs_.reference_imu.back().t_s;
@@ -153,7 +157,8 @@ SgEvaluationPipeline::SgEvaluationPipeline(const SgEvaluationOptions& options, G
           "no GNSS outage fits in the data of '{}' ({:.1f} s of IMU data) with outages of {:g} s every "
           "{:g} s starting {:g} s after the first epoch and ending {:g} s before the last: nothing to "
           "evaluate (set --outage-start / --outage-period / --outage-length)",
-          inputs_.case_name, t_last_s_ - t_first_s_, s.length_s, s.period_s, s.start_s, s.end_margin_s));
+          inputs_.case_name, t_last_s_ - t_first_s_, s.length_s, s.period_s, s.start_s,
+          s.end_margin_s));
     }
   }
   header_.realizations = options_.realizations;
@@ -172,7 +177,8 @@ SgEvaluationPipeline::SgEvaluationPipeline(const SgEvaluationOptions& options, G
     for (auto& d : draws_) d.start_offset_s = options_.start_offset_s;
   describeRealizations();
   if (!inputs_.has_real)
-    header_.notes.push_back("no field/tested_imu.txt: ERR_REAL, DIFF and the verdicts are not available");
+    header_.notes.push_back(
+        "no field/tested_imu.txt: ERR_REAL, DIFF and the verdicts are not available");
 }
 
 void SgEvaluationPipeline::describeRealizations() {
@@ -185,7 +191,8 @@ void SgEvaluationPipeline::describeRealizations() {
       "basic error signal: lab static record {:.1f} s for a field test of {:.1f} s, extended by mirrored "
       "tiling; {} realizations start at {} of the tiled record",
       b.recordLength_s(), span, K,
-      b.recordLength_s() >= K * span ? "disjoint segments" : "offsets spread over twice its length"));
+      b.recordLength_s() >= K * span ? "disjoint segments"
+                                     : "offsets spread over twice its length"));
   if (!draws_.empty() && draws_.front().surrogate_seed) {
     header_.notes.push_back(
         "the record is shorter than the realizations' field spans: each realization grafts a phase-randomized "
@@ -193,21 +200,24 @@ void SgEvaluationPipeline::describeRealizations() {
         "IMU's noise model (docs/grafting.md)");
   }
   if (header_.shared_sample_fraction > 0.0) {
-    header_.notes.push_back(fmt::format("{:.0f} % of realization pairs take the same lab sample at the same field time "
-                                        "(a fixed grafting.start_offset_s): their lab noise is shared",
-                                        100.0 * header_.shared_sample_fraction));
+    header_.notes.push_back(
+        fmt::format("{:.0f} % of realization pairs take the same lab sample at the same field time "
+                    "(a fixed grafting.start_offset_s): their lab noise is shared",
+                    100.0 * header_.shared_sample_fraction));
   }
   if (inputs_.reference_noise_profile) {
-    const Eigen::Vector2d f = referenceResidualFraction(*inputs_.reference_noise_profile, inputs_.tested_profile);
+    const Eigen::Vector2d f =
+        referenceResidualFraction(*inputs_.reference_noise_profile, inputs_.tested_profile);
     header_.notes.push_back(fmt::format(
         "the reference IMU's own white noise, grafted along, is {:.2f} % (gyro) and {:.2f} % (accel) "
         "of the tested IMU's",
         100.0 * f[0], 100.0 * f[1]));
   }
   if (K < 19) {
-    header_.notes.push_back(fmt::format("{} realizations: the [p05, p95] interval covers about {:.0f} % of "
-                                        "realizations, not 90 % (use 19 or more)",
-                                        K, 100.0 * (K - 1) / (K + 1)));
+    header_.notes.push_back(
+        fmt::format("{} realizations: the [p05, p95] interval covers about {:.0f} % of "
+                    "realizations, not 90 % (use 19 or more)",
+                    K, 100.0 * (K - 1) / (K + 1)));
   }
 }
 
@@ -220,8 +230,9 @@ ImuSeries SgEvaluationPipeline::graft(SgStrategy strategy, int realization) cons
 namespace {
 
 // SG entries (one per strategy) and REAL of the report from the unit results.
-void summarize(const std::vector<Unit>& units, std::vector<UnitResult>& res, const SgEvaluationInputs& in,
-               const SgEvaluationOptions& o, SgEvaluationReport* rep) {
+void summarize(const std::vector<Unit>& units, std::vector<UnitResult>& res,
+               const SgEvaluationInputs& in, const SgEvaluationOptions& o,
+               SgEvaluationReport* rep) {
   std::optional<SgSolutionErrors> real;
   if (in.has_real) {
     real.emplace();
@@ -240,9 +251,10 @@ void summarize(const std::vector<Unit>& units, std::vector<UnitResult>& res, con
     for (int k = 0; k < o.realizations; ++k) {
       const Averaged a = averageOverShifts(units, res, g, k);
       if (!allFinite(a.rms))
-        throw std::runtime_error(fmt::format("{} realization {}: an outage statistic is not finite (no evaluated "
-                                             "epoch inside the outages?)",
-                                             e.label, k));
+        throw std::runtime_error(
+            fmt::format("{} realization {}: an outage statistic is not finite (no evaluated "
+                        "epoch inside the outages?)",
+                        e.label, k));
       e.draws.push_back(a.rms);
       mx.push_back(a.max_rms);
     }
@@ -256,18 +268,21 @@ void summarize(const std::vector<Unit>& units, std::vector<UnitResult>& res, con
 
 }  // namespace
 
-SgEvaluationReport SgEvaluationPipeline::run(const SolutionReference& reference, const SgNavigator& navigate,
-                                             const std::string& estimator_name, const SgLogFn& log_in) const {
+SgEvaluationReport SgEvaluationPipeline::run(const SolutionReference& reference,
+                                             const SgNavigator& navigate,
+                                             const std::string& estimator_name,
+                                             const SgLogFn& log_in) const {
   const SgLogFn log = log_in ? log_in : [](const std::string&) {};
   const std::string tag = std::filesystem::path(inputs_.case_name).filename().string();
-  const std::vector<Unit> units =
-      makeUnits(inputs_.has_real, options_.strategies, options_.realizations, options_.outage_shifts);
+  const std::vector<Unit> units = makeUnits(inputs_.has_real, options_.strategies,
+                                            options_.realizations, options_.outage_shifts);
   auto navigate_unit = [&](const Unit& u) {
     std::optional<ImuSeries> grafted;
     if (u.strategy) grafted = graft(*u.strategy, u.realization);
     SgNavigation nav = navigate(std::move(grafted), schedules_[u.shift]);
     UnitResult r;
-    Evaluation e = evaluateSolution(nav.solution, reference.states, nav.outages, options_.evaluation);
+    Evaluation e =
+        evaluateSolution(nav.solution, reference.states, nav.outages, options_.evaluation);
     r.rms = e.outage_rms;
     r.max_rms = e.outage_max_rms;
     if (u.representative()) {
@@ -277,11 +292,14 @@ SgEvaluationReport SgEvaluationPipeline::run(const SolutionReference& reference,
     return r;
   };
   const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const int jobs = std::max(1, std::min<int>(static_cast<int>(units.size()), options_.jobs > 0 ? options_.jobs : hw));
-  log(fmt::format("[{}] navigating {} realizations of {}{} with {} at {} outage schedule(s) "
+  const int jobs = std::max(
+      1, std::min<int>(static_cast<int>(units.size()), options_.jobs > 0 ? options_.jobs : hw));
+  log(
+      fmt::format("[{}] navigating {} realizations of {}{} with {} at {} outage schedule(s) "
                   "({} navigations, {} in parallel)",
                   tag, options_.realizations, strategyLabels(options_.strategies),
-                  inputs_.has_real ? " and REAL" : "", estimator_name, options_.outage_shifts, units.size(), jobs));
+                  inputs_.has_real ? " and REAL" : "", estimator_name, options_.outage_shifts,
+                  units.size(), jobs));
   std::vector<UnitResult> results = navigateAll(units, navigate_unit, jobs, log, tag);
 
   SgEvaluationReport rep = header_;

@@ -40,8 +40,9 @@ Eigen::Vector3d SensorDynamicFit::dynamicError(const Eigen::Vector3d& x) const {
 
 BasicErrorSignal::BasicErrorSignal(const ImuSeries& e) {
   if (e.size() < 2) {
-    throw std::invalid_argument("BasicErrorSignal: the static error record needs at least 2 samples, got " +
-                                std::to_string(e.size()));
+    throw std::invalid_argument(
+        "BasicErrorSignal: the static error record needs at least 2 samples, got " +
+        std::to_string(e.size()));
   }
   tau_end_s_.reserve(e.size());
   cum_.reserve(e.size());
@@ -93,7 +94,9 @@ Vec6 BasicErrorSignal::cumulative(double u) const {
   return m * whole + part;
 }
 
-Vec6 BasicErrorSignal::integral(double u0, double u1) const { return cumulative(u1) - cumulative(u0); }
+Vec6 BasicErrorSignal::integral(double u0, double u1) const {
+  return cumulative(u1) - cumulative(u0);
+}
 
 double BasicErrorSignal::sampleBoundaryAtOrBefore(double u) const {
   if (u <= 0.0) return 0.0;
@@ -122,7 +125,8 @@ LabErrorRates BasicErrorSignal::rates() const {
   return r;
 }
 
-BasicErrorSignal BasicErrorSignal::phaseRandomized(std::uint64_t seed, const SlowNoiseModel* slow) const {
+BasicErrorSignal BasicErrorSignal::phaseRandomized(std::uint64_t seed,
+                                                   const SlowNoiseModel* slow) const {
   const LabErrorRates s = phaseRandomizedSurrogate(rates(), seed, slow);
   ImuSeries inc(s.rate.size());
   double t = 0.0;

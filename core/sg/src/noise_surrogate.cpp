@@ -52,8 +52,9 @@ void SlowNoiseModel::validate() const {
   auto check = [](const Eigen::Matrix<double, 6, 1>& v, const char* name, bool positive) {
     for (int c = 0; c < 6; ++c) {
       if (!std::isfinite(v[c]) || v[c] < 0.0 || (positive && v[c] == 0.0)) {
-        throw std::invalid_argument(std::string("SlowNoiseModel: ") + name + "[" + std::to_string(c) +
-                                    "] = " + std::to_string(v[c]) + (positive ? " must be > 0" : " must be >= 0"));
+        throw std::invalid_argument(std::string("SlowNoiseModel: ") + name + "[" +
+                                    std::to_string(c) + "] = " + std::to_string(v[c]) +
+                                    (positive ? " must be > 0" : " must be >= 0"));
       }
     }
   };
@@ -61,7 +62,8 @@ void SlowNoiseModel::validate() const {
   check(wander_sigma, "wander_sigma", false);
   check(wander_tau_s, "wander_tau_s", true);
   if (!(slow_period_s > 0.0)) {
-    throw std::invalid_argument("SlowNoiseModel: slow_period_s = " + std::to_string(slow_period_s) + " must be > 0");
+    throw std::invalid_argument("SlowNoiseModel: slow_period_s = " + std::to_string(slow_period_s) +
+                                " must be > 0");
   }
 }
 
@@ -70,8 +72,9 @@ LabErrorRates phaseRandomizedSurrogate(const LabErrorRates& record, std::uint64_
   if (slow) slow->validate();
   const std::size_t n = record.rate.size();
   if (n < 2 || record.dt_s.size() != n) {
-    throw std::invalid_argument("phaseRandomizedSurrogate: the record needs >= 2 samples with one dt_s each, got " +
-                                std::to_string(n) + " rates and " + std::to_string(record.dt_s.size()) + " dt_s");
+    throw std::invalid_argument(
+        "phaseRandomizedSurrogate: the record needs >= 2 samples with one dt_s each, got " +
+        std::to_string(n) + " rates and " + std::to_string(record.dt_s.size()) + " dt_s");
   }
   // The mirrored record, cut to a fast transform length.
   const std::size_t m = largestFiveSmooth(2 * n);

@@ -47,9 +47,12 @@ double realPercentile(const std::vector<double>& draws, double real) {
 
 const char* verdictName(Verdict v) {
   switch (v) {
-    case Verdict::kOptimistic: return "optimistic";
-    case Verdict::kPessimistic: return "pessimistic";
-    case Verdict::kConsistent: break;
+    case Verdict::kOptimistic:
+      return "optimistic";
+    case Verdict::kPessimistic:
+      return "pessimistic";
+    case Verdict::kConsistent:
+      break;
   }
   return "consistent";
 }
@@ -62,7 +65,8 @@ Verdict verdictFor(const PredictiveSummary& s, double real) {
 
 std::array<double, 2> diffInterval(const std::vector<double>& draws, double real) {
   if (!(std::isfinite(real) && real > 0.0)) {
-    throw std::invalid_argument("diffInterval: ERR_REAL must be finite and > 0, got " + std::to_string(real));
+    throw std::invalid_argument("diffInterval: ERR_REAL must be finite and > 0, got " +
+                                std::to_string(real));
   }
   std::vector<double> d;
   d.reserve(draws.size());

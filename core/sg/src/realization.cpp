@@ -13,13 +13,16 @@ using Vec6 = PowerOnErrors::Vec6;
 
 // One independent stream per realization and purpose (splitmix64 of seed, k, purpose).
 std::uint64_t streamSeed(std::uint64_t seed, int k, int purpose) {
-  std::uint64_t z = seed + 0x9E3779B97F4A7C15ull * (static_cast<std::uint64_t>(k) * 8u + purpose + 1u);
+  std::uint64_t z =
+      seed + 0x9E3779B97F4A7C15ull * (static_cast<std::uint64_t>(k) * 8u + purpose + 1u);
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
   z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
   return z ^ (z >> 31);
 }
 
-double repeatability(double given, double instability) { return given >= 0.0 ? given : instability; }
+double repeatability(double given, double instability) {
+  return given >= 0.0 ? given : instability;
+}
 
 // The record holds K disjoint segments of the field span (each one lab sample longer).
 bool disjointSegmentsFit(const BasicErrorSignal& basic, int K, double span_s) {
@@ -46,7 +49,8 @@ double startOffset(const RealizationOptions& o, const BasicErrorSignal& basic, d
 }
 
 // Gauss-Markov path sampled every `step_s` from zero: x_{j+1} = phi x_j + sigma sqrt(1 - phi^2) w.
-std::vector<Vec6> wanderKnots(const ImuProfile& p, double step_s, double span_s, std::mt19937_64& rng) {
+std::vector<Vec6> wanderKnots(const ImuProfile& p, double step_s, double span_s,
+                              std::mt19937_64& rng) {
   std::normal_distribution<double> n01(0.0, 1.0);
   const int n = static_cast<int>(std::ceil(span_s / step_s - 1e-9)) + 1;  // knots cover the span
   const double phi_g = std::exp(-step_s / p.gyro_bias_corr_time_s);
@@ -66,10 +70,12 @@ std::vector<Vec6> wanderKnots(const ImuProfile& p, double step_s, double span_s,
 // The tested IMU's stated noise (profile) as the model of the surrogate's slow content.
 SlowNoiseModel slowNoiseModel(const ImuProfile& p, double slow_period_s) {
   SlowNoiseModel m;
-  m.white_density << Eigen::Vector3d::Constant(p.arw_rad_sqrt_s), Eigen::Vector3d::Constant(p.vrw_m_s_sqrt_s);
+  m.white_density << Eigen::Vector3d::Constant(p.arw_rad_sqrt_s),
+      Eigen::Vector3d::Constant(p.vrw_m_s_sqrt_s);
   m.wander_sigma << Eigen::Vector3d::Constant(p.gyro_bias_instability_rad_s),
       Eigen::Vector3d::Constant(p.accel_bias_instability_m_s2);
-  m.wander_tau_s << Eigen::Vector3d::Constant(p.gyro_bias_corr_time_s), Eigen::Vector3d::Constant(p.accel_bias_corr_time_s);
+  m.wander_tau_s << Eigen::Vector3d::Constant(p.gyro_bias_corr_time_s),
+      Eigen::Vector3d::Constant(p.accel_bias_corr_time_s);
   m.slow_period_s = slow_period_s;
   return m;
 }
@@ -77,26 +83,37 @@ SlowNoiseModel slowNoiseModel(const ImuProfile& p, double slow_period_s) {
 }  // namespace
 
 void RealizationOptions::validate() const {
-  if (count < 1) throw std::invalid_argument("realizations: count must be >= 1, got " + std::to_string(count));
+  if (count < 1)
+    throw std::invalid_argument("realizations: count must be >= 1, got " + std::to_string(count));
   if (!(slow_period_s >= 0.0)) {
-    throw std::invalid_argument("realizations: slow_period_s must be >= 0, got " + std::to_string(slow_period_s));
+    throw std::invalid_argument("realizations: slow_period_s must be >= 0, got " +
+                                std::to_string(slow_period_s));
   }
   if (lab_sessions < 1) {
-    throw std::invalid_argument("realizations: lab_sessions must be >= 1, got " + std::to_string(lab_sessions));
+    throw std::invalid_argument("realizations: lab_sessions must be >= 1, got " +
+                                std::to_string(lab_sessions));
   }
 }
 
-std::vector<RealizationDraw> drawRealizations(const RealizationOptions& o, const BasicErrorSignal& basic,
-                                              const ImuProfile& p, double span_s) {
+std::vector<RealizationDraw> drawRealizations(const RealizationOptions& o,
+                                              const BasicErrorSignal& basic, const ImuProfile& p,
+                                              double span_s) {
   o.validate();
   if (!(span_s > 0.0)) throw std::invalid_argument("drawRealizations: field span must be > 0 s");
   const double sd_factor = std::sqrt(1.0 + 1.0 / o.lab_sessions);
-  const double rep_g = repeatability(p.gyro_bias_repeatability_rad_s, p.gyro_bias_instability_rad_s) * sd_factor;
-  const double rep_a = repeatability(p.accel_bias_repeatability_m_s2, p.accel_bias_instability_m_s2) * sd_factor;
+  const double rep_g =
+      repeatability(p.gyro_bias_repeatability_rad_s, p.gyro_bias_instability_rad_s) * sd_factor;
+  const double rep_a =
+      repeatability(p.accel_bias_repeatability_m_s2, p.accel_bias_instability_m_s2) * sd_factor;
   const double T = basic.recordLength_s();
   // One realization is the seed's single graft: the lab record as it is, no power-on draws.
   const bool power_on = o.count > 1;
-  const bool surrogate = o.vary_segment && o.surrogate_short_record && !disjointSegmentsFit(basic, o.count, span_s);
+  // A record shorter than the field test: its slow content is one draw that every realization
+  // would share (offsets 2T/K apart see nearly the same wander at the outages). A record at least
+  // as long as the field test supplies realizations whose offsets are at least 2 spans / K apart,
+  // which on a 1-hour record is minutes, longer than the wander's correlation times.
+  const bool surrogate = o.vary_segment && o.surrogate_short_record &&
+                         !disjointSegmentsFit(basic, o.count, span_s) && T < span_s;
   std::vector<RealizationDraw> draws(o.count);
   for (int k = 0; k < o.count; ++k) {
     RealizationDraw& d = draws[k];
@@ -133,7 +150,8 @@ GraftOptions graftOptionsFor(const RealizationDraw& draw) {
   return g;
 }
 
-double sharedSampleFraction(const std::vector<RealizationDraw>& draws, const BasicErrorSignal& basic) {
+double sharedSampleFraction(const std::vector<RealizationDraw>& draws,
+                            const BasicErrorSignal& basic) {
   const double period = 2.0 * basic.recordLength_s();
   const double tol = 0.5 * basic.recordLength_s() / static_cast<double>(basic.sampleCount());
   int pairs = 0, shared = 0;
@@ -141,7 +159,8 @@ double sharedSampleFraction(const std::vector<RealizationDraw>& draws, const Bas
     for (std::size_t b = a + 1; b < draws.size(); ++b) {
       ++pairs;
       if (draws[a].surrogate_seed || draws[b].surrogate_seed) continue;
-      const double d = std::fmod(std::fabs(draws[a].start_offset_s - draws[b].start_offset_s), period);
+      const double d =
+          std::fmod(std::fabs(draws[a].start_offset_s - draws[b].start_offset_s), period);
       if (std::min(d, period - d) < tol) ++shared;
     }
   }

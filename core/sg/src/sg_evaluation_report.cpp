@@ -17,7 +17,8 @@ std::optional<DriftStats> SgEvaluationReport::diff(const std::string& label) con
   return relativeDifference(x->err_rms, real->err_rms);
 }
 
-SgSolutionErrors SgSolutionErrors::single(const std::string& label, const std::string& imu_file, Evaluation e) {
+SgSolutionErrors SgSolutionErrors::single(const std::string& label, const std::string& imu_file,
+                                          Evaluation e) {
   SgSolutionErrors s;
   s.label = label;
   s.imu_file = imu_file;

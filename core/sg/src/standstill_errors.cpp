@@ -25,29 +25,34 @@ void StandstillOptions::validate() const {
     throw std::invalid_argument("StandstillOptions.max_gnss_speed_m_s must be > 0, got " +
                                 std::to_string(max_gnss_speed_m_s));
   if (!(speed_chord_s > 0.0) || !std::isfinite(speed_chord_s))
-    throw std::invalid_argument("StandstillOptions.speed_chord_s must be > 0, got " + std::to_string(speed_chord_s));
+    throw std::invalid_argument("StandstillOptions.speed_chord_s must be > 0, got " +
+                                std::to_string(speed_chord_s));
 }
 
-double medianGnssChordSpeed(const GnssSeries& gnss, double t_begin_s, double t_end_s, double chord_s) {
+double medianGnssChordSpeed(const GnssSeries& gnss, double t_begin_s, double t_end_s,
+                            double chord_s) {
   std::vector<double> speeds;
   for (std::size_t i = 0; i < gnss.size(); ++i) {
     if (gnss[i].t_s < t_begin_s) continue;
     std::size_t j = i + 1;
     while (j < gnss.size() && gnss[j].t_s - gnss[i].t_s < chord_s) ++j;
     if (j >= gnss.size() || gnss[j].t_s > t_end_s) break;
-    speeds.push_back(earth::nedFromGeodetic(gnss[i].pos, gnss[j].pos).head<2>().norm() / (gnss[j].t_s - gnss[i].t_s));
+    speeds.push_back(earth::nedFromGeodetic(gnss[i].pos, gnss[j].pos).head<2>().norm() /
+                     (gnss[j].t_s - gnss[i].t_s));
   }
   if (speeds.empty()) return 0.0;
   std::nth_element(speeds.begin(), speeds.begin() + speeds.size() / 2, speeds.end());
   return speeds[speeds.size() / 2];
 }
 
-StandstillSpans findStandstills(const ImuSeries& imu, const GnssSeries& gnss, const StandstillOptions& options) {
+StandstillSpans findStandstills(const ImuSeries& imu, const GnssSeries& gnss,
+                                const StandstillOptions& options) {
   options.validate();
   StandstillSpans out;
   out.detection = detectStaticIntervals(imu, options.detector);
   for (const auto& sp : out.detection.intervals) {
-    if (medianGnssChordSpeed(gnss, sp.t_begin_s, sp.t_end_s, options.speed_chord_s) > options.max_gnss_speed_m_s) {
+    if (medianGnssChordSpeed(gnss, sp.t_begin_s, sp.t_end_s, options.speed_chord_s) >
+        options.max_gnss_speed_m_s) {
       ++out.dropped_moving;
     } else {
       out.kept.push_back(sp);
@@ -61,8 +66,8 @@ StandstillSpans findStandstills(const ImuSeries& imu, const GnssSeries& gnss, co
   return out;
 }
 
-ImuSeries staticErrorIncrements(const ImuSeries& imu, const std::vector<StaticInterval>& spans, const Geodetic& pos,
-                                double yaw_rad) {
+ImuSeries staticErrorIncrements(const ImuSeries& imu, const std::vector<StaticInterval>& spans,
+                                const Geodetic& pos, double yaw_rad) {
   ImuSeries err;
   double t = 0.0;
   const double g = earth::gravityMagnitude(pos);
@@ -76,7 +81,8 @@ ImuSeries staticErrorIncrements(const ImuSeries& imu, const std::vector<StaticIn
     f /= T;
     const Eigen::Vector3d f_th = f.normalized() * g;
     const Eigen::Vector2d rp = levelFromSpecificForce(f);
-    const Eigen::Matrix3d C_nb = quatFromEuler(Eigen::Vector3d(rp.x(), rp.y(), yaw_rad)).toRotationMatrix();
+    const Eigen::Matrix3d C_nb =
+        quatFromEuler(Eigen::Vector3d(rp.x(), rp.y(), yaw_rad)).toRotationMatrix();
     const Eigen::Vector3d w_th = C_nb.transpose() * earth::omega_ie_n(pos.lat_rad);
     for (std::size_t k = sp.begin; k < sp.end; ++k) {
       ImuSample s = imu[k];

@@ -120,11 +120,11 @@ TEST(EvaluatePipeline, TheOutcomeDoesNotDependOnTheThreads) {
   o.strategies = {SgStrategy::kBasic};
   std::atomic<int> calls{0};
   o.jobs = 1;
-  const SgEvaluationReport a =
-      SgEvaluationPipeline(o, plan(), inputs()).run({reference(), "r"}, fakeNavigator(&calls), "fake");
+  const SgEvaluationReport a = SgEvaluationPipeline(o, plan(), inputs())
+                                   .run({reference(), "r"}, fakeNavigator(&calls), "fake");
   o.jobs = 3;
-  const SgEvaluationReport b =
-      SgEvaluationPipeline(o, plan(), inputs()).run({reference(), "r"}, fakeNavigator(&calls), "fake");
+  const SgEvaluationReport b = SgEvaluationPipeline(o, plan(), inputs())
+                                   .run({reference(), "r"}, fakeNavigator(&calls), "fake");
   ASSERT_EQ(a.solutions.size(), 2u);  // SG1 and REAL only
   for (std::size_t k = 0; k < a.solutions[0].draws.size(); ++k)
     EXPECT_EQ(a.solutions[0].draws[k].horizontal_m, b.solutions[0].draws[k].horizontal_m);
@@ -150,13 +150,15 @@ TEST(EvaluatePipeline, BadOptionsAndSchedulesFailBeforeAnyNavigation) {
     EXPECT_NE(std::string(e.what()).find("/cases/fake"), std::string::npos) << e.what();
   }
   std::atomic<int> calls{0};
-  SgNavigator failing = [&calls](std::optional<ImuSeries>, const OutageScheduleConfig&) -> SgNavigation {
+  SgNavigator failing = [&calls](std::optional<ImuSeries>,
+                                 const OutageScheduleConfig&) -> SgNavigation {
     ++calls;
     throw std::runtime_error("estimator diverged");
   };
   o.realizations = 3;
   o.jobs = 1;
-  EXPECT_THROW(SgEvaluationPipeline(o, plan(), inputs()).run({reference(), "r"}, failing, "x"), std::runtime_error);
+  EXPECT_THROW(SgEvaluationPipeline(o, plan(), inputs()).run({reference(), "r"}, failing, "x"),
+               std::runtime_error);
   EXPECT_EQ(calls.load(), 1);  // the first failure stops the workers
 }
 

@@ -64,8 +64,8 @@ TEST(Grafting, TiledIntegralIsContinuousAndConservesTheRecord) {
   EXPECT_NEAR(basic.integral(T, 2 * T)(0), basic.integral(0.0, T)(0), 1e-12);
   // No jump at a seam: the rate just before and after 2T is the same sample (mirror).
   const double eps = 1e-4;
-  EXPECT_NEAR(basic.integral(2 * T - eps, 2 * T)(0) / eps, basic.integral(2 * T, 2 * T + eps)(0) / eps,
-              1e-9);
+  EXPECT_NEAR(basic.integral(2 * T - eps, 2 * T)(0) / eps,
+              basic.integral(2 * T, 2 * T + eps)(0) / eps, 1e-9);
 }
 
 TEST(Grafting, FullErrorAddsDynamicErrorsWithoutDoubleCountingBias) {
@@ -74,7 +74,7 @@ TEST(Grafting, FullErrorAddsDynamicErrorsWithoutDoubleCountingBias) {
   // measured = 0.5 + 1.01 x + 0.002 x^2 on x; M carries a cross-axis term y <- 0.003 x.
   gyro.poly[0] = {0.5, 1.01, 0.002};
   gyro.M << 1.01, 0.0, 0.0,  //
-      0.003, 1.0, 0.0,        //
+      0.003, 1.0, 0.0,       //
       0.0, 0.0, 1.0;
   SensorDynamicFit accel;
   const ImuSeries ref = series({2.0, 2.0}, 1.0);

@@ -68,14 +68,15 @@ TEST(Predictive, DiffIntervalByHand) {
 TEST(Predictive, StatsPerStatisticWithVerdicts) {
   // 19 draws with horizontal 1..19 m and the angles fixed; REAL horizontal 25 m (above p95 = 19).
   std::vector<DriftStats> draws;
-  for (int i = 1; i <= 19; ++i) draws.push_back(fromArray({double(i), 2.0 + 0.125 * i, 0.001, 0.002, 0.003}));
+  for (int i = 1; i <= 19; ++i)
+    draws.push_back(fromArray({double(i), 2.0 + 0.125 * i, 0.001, 0.002, 0.003}));
   const DriftStats real = fromArray({25.0, 3.25, 0.001, 0.0001, 0.0});
   const PredictiveStats p = predictiveStats(draws, &real);
   EXPECT_EQ(p.verdict[0], Verdict::kOptimistic);
   EXPECT_DOUBLE_EQ(p.real_percentile[0], 1.0);
-  EXPECT_EQ(p.verdict[1], Verdict::kConsistent);  // 3.25 (draw 10) inside [2.125, 4.375]
+  EXPECT_EQ(p.verdict[1], Verdict::kConsistent);         // 3.25 (draw 10) inside [2.125, 4.375]
   EXPECT_NEAR(p.real_percentile[1], 9.5 / 19.0, 1e-12);  // 9 below, one tie
-  EXPECT_EQ(p.verdict[2], Verdict::kConsistent);  // every draw ties with REAL
+  EXPECT_EQ(p.verdict[2], Verdict::kConsistent);         // every draw ties with REAL
   EXPECT_EQ(p.verdict[3], Verdict::kPessimistic);
   EXPECT_FALSE(p.real_valid[4]);  // ERR_REAL of zero: no percentile, DIFF or verdict
   EXPECT_TRUE(p.real_valid[0]);

@@ -95,7 +95,8 @@ TEST(Realization, DisjointSegmentsWhenTheRecordHoldsThemAll) {
   EXPECT_GE(off.front(), 0.0);
   EXPECT_DOUBLE_EQ(sharedSampleFraction(draws, basic), 0.0);
   EXPECT_TRUE(draws.front().power_on.wander_knots.empty());  // the record holds the wander
-  for (const auto& d : draws) EXPECT_FALSE(d.surrogate_seed) << "a long record grafts its own noise";
+  for (const auto& d : draws)
+    EXPECT_FALSE(d.surrogate_seed) << "a long record grafts its own noise";
 }
 
 TEST(Realization, ShortRecordOffsetsAreStratifiedOverTheMirrorPeriodOnSampleBoundaries) {
@@ -119,6 +120,17 @@ TEST(Realization, ShortRecordOffsetsAreStratifiedOverTheMirrorPeriodOnSampleBoun
   EXPECT_EQ(seeds.size(), draws.size());
   o.surrogate_short_record = false;
   for (const auto& d : drawRealizations(o, basic, profile(), 390.0)) EXPECT_FALSE(d.surrogate_seed);
+}
+
+TEST(Realization, RecordAsLongAsTheFieldTestTakesOffsetsOfItselfNotASurrogate) {
+  RealizationOptions o;
+  o.count = 20;
+  const BasicErrorSignal as_long = record(40000, 0.01);  // T = 400 s > the field span
+  for (const auto& d : drawRealizations(o, as_long, profile(), 390.0))
+    EXPECT_FALSE(d.surrogate_seed) << d.index;
+  const BasicErrorSignal shorter = record(38000, 0.01);  // T = 380 s
+  for (const auto& d : drawRealizations(o, shorter, profile(), 390.0))
+    EXPECT_TRUE(d.surrogate_seed) << d.index;
 }
 
 // A record with slow content (a random walk) and white noise, as a lab static record has.
@@ -193,7 +205,8 @@ TEST(Realization, SurrogateSlowContentHasTheModelsSpread) {
   for (int k = 1; 2 * k < m && m * dt / k > model.slow_period_s; ++k) {
     std::complex<double> g = 0.0;
     for (int j = j0; j < j0 + w; ++j) g += std::polar(1.0, 2.0 * M_PI * j * k / m);
-    expected_var += 2.0 / (double(m) * m) * std::norm(g) * model.binPower(2, 2.0 * M_PI * k / m, m, dt);
+    expected_var +=
+        2.0 / (double(m) * m) * std::norm(g) * model.binPower(2, 2.0 * M_PI * k / m, m, dt);
   }
   std::vector<double> sums;
   for (std::uint64_t seed = 1; seed <= 4000; ++seed) {
@@ -215,8 +228,10 @@ TEST(Realization, SurrogateSlowContentHasTheModelsSpread) {
     ASSERT_TRUE(draws.front().slow_noise);
     EXPECT_DOUBLE_EQ(draws.front().slow_noise->slow_period_s, 20.0);
     EXPECT_NEAR(draws.front().slow_noise->wander_sigma[0], p.gyro_bias_instability_rad_s, 1e-15);
-    if (span < 120.0) EXPECT_TRUE(draws.front().power_on.wander_knots.empty()) << "within 2T: the surrogate";
-    else EXPECT_NEAR(draws.front().power_on.wander_step_s, 120.0, 1e-9);
+    if (span < 120.0)
+      EXPECT_TRUE(draws.front().power_on.wander_knots.empty()) << "within 2T: the surrogate";
+    else
+      EXPECT_NEAR(draws.front().power_on.wander_step_s, 120.0, 1e-9);
   }
 }
 
@@ -243,7 +258,9 @@ TEST(Realization, GraftingASurrogateKeepsTheLabBiasButNotTheNoise) {
     sum_b += b[k].dtheta_rad;
     differ += std::fabs(a[k].dtheta_rad.x() - b[k].dtheta_rad.x());
   }
-  EXPECT_TRUE(sum_b.isApprox(sum_a, 1e-9)) << "the surrogate keeps the record's mean bias: " << sum_a.transpose() << " vs " << sum_b.transpose();
+  EXPECT_TRUE(sum_b.isApprox(sum_a, 1e-9))
+      << "the surrogate keeps the record's mean bias: " << sum_a.transpose() << " vs "
+      << sum_b.transpose();
   EXPECT_GT(differ / 2000, 0.5e-4 * 0.01) << "but its noise is another realization";
 }
 
@@ -301,7 +318,8 @@ TEST(Realization, GraftingAddsTheTurnOnBiasExactly) {
   on.power_on.accel_bias_m_s2 = Eigen::Vector3d(-1e-2, 2e-2, 5e-3);
   const ImuSeries a = graftBasic(ref, basic, plain), b = graftBasic(ref, basic, on);
   for (std::size_t k = 0; k < ref.size(); ++k) {
-    EXPECT_TRUE((b[k].dtheta_rad - a[k].dtheta_rad).isApprox(on.power_on.gyro_bias_rad_s * 0.01, 1e-9));
+    EXPECT_TRUE(
+        (b[k].dtheta_rad - a[k].dtheta_rad).isApprox(on.power_on.gyro_bias_rad_s * 0.01, 1e-9));
     EXPECT_TRUE((b[k].dvel_m_s - a[k].dvel_m_s).isApprox(on.power_on.accel_bias_m_s2 * 0.01, 1e-9));
   }
 }

@@ -24,10 +24,11 @@ Geodetic wuhan() {
 }
 
 // The output at rest of a level-ish IMU at heading yaw, plus constant biases.
-ImuSample atRest(double t, const Geodetic& pos, const Eigen::Vector3d& rpy, const Eigen::Vector3d& gyro_bias,
-                 const Eigen::Vector3d& accel_bias) {
+ImuSample atRest(double t, const Geodetic& pos, const Eigen::Vector3d& rpy,
+                 const Eigen::Vector3d& gyro_bias, const Eigen::Vector3d& accel_bias) {
   const Eigen::Matrix3d C_nb = quatFromEuler(rpy).toRotationMatrix();
-  const Eigen::Vector3d f_b = C_nb.transpose() * Eigen::Vector3d(0.0, 0.0, -earth::gravityMagnitude(pos));
+  const Eigen::Vector3d f_b =
+      C_nb.transpose() * Eigen::Vector3d(0.0, 0.0, -earth::gravityMagnitude(pos));
   const Eigen::Vector3d w_b = C_nb.transpose() * earth::omega_ie_n(pos.lat_rad);
   ImuSample s;
   s.t_s = t;
@@ -62,8 +63,10 @@ TEST(StandstillErrors, SpansWhereGnssMovesAreDropped) {
   const Geodetic pos = wuhan();
   ImuSeries imu;
   for (int k = 1; k <= 3000; ++k) {
-    ImuSample s = atRest(k * kDt, pos, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
-    if (k > 1000 && k <= 1200) s.dtheta_rad.z() += 0.5 * kDt * std::sin(k * 0.3);  // a turn splits the record
+    ImuSample s = atRest(k * kDt, pos, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                         Eigen::Vector3d::Zero());
+    if (k > 1000 && k <= 1200)
+      s.dtheta_rad.z() += 0.5 * kDt * std::sin(k * 0.3);  // a turn splits the record
     imu.push_back(s);
   }
   GnssSeries gnss;
@@ -71,7 +74,9 @@ TEST(StandstillErrors, SpansWhereGnssMovesAreDropped) {
     GnssFix f;
     f.t_s = t;
     f.pos = pos;
-    if (t > 12) f.pos.lat_rad += (t - 12) * 2.0 / earth::semiMajorAxis_m();  // drives north at ~2 m/s after 12 s
+    if (t > 12)
+      f.pos.lat_rad +=
+          (t - 12) * 2.0 / earth::semiMajorAxis_m();  // drives north at ~2 m/s after 12 s
     gnss.push_back(f);
   }
   StandstillOptions o;

@@ -38,9 +38,9 @@ FieldTrajectory buildTrajectory(const SimConfig& c) {
     const double t0 = first + s.start_offset_s;
     const double t1 = s.duration_s > 0.0 ? std::min(t0 + s.duration_s, last) : last;
     if (!(t1 > t0)) {
-      throw std::invalid_argument(c.source_path + ": trajectory.start_offset_s = " +
-                                  std::to_string(s.start_offset_s) + " is past the end of " +
-                                  s.path);
+      throw std::invalid_argument(
+          c.source_path + ": trajectory.start_offset_s = " + std::to_string(s.start_offset_s) +
+          " is past the end of " + s.path);
     }
     GnssSeries piece;
     for (const auto& fix : all) {
@@ -86,11 +86,12 @@ bool fieldImuStreams(const SimConfig& c, const ImuErrorModel& ref, const ImuErro
 // sample count.
 std::size_t streamFieldImu(const SimConfig& c, const FieldTrajectory& f, const IdealImuOptions& io,
                            const ImuErrorModel& ref_model, const ImuErrorModel& tested_model,
-                           const CasePaths& paths, const std::function<void(const std::string&)>& say) {
+                           const CasePaths& paths,
+                           const std::function<void(const std::string&)>& say) {
   io.validate();
   if (!(f.t_end > f.t_begin)) {
-    throw std::invalid_argument("simulateIdealImu: empty time span [" + std::to_string(f.t_begin) + ", " +
-                                std::to_string(f.t_end) + "]");
+    throw std::invalid_argument("simulateIdealImu: empty time span [" + std::to_string(f.t_begin) +
+                                ", " + std::to_string(f.t_end) + "]");
   }
   const GaussLegendreRule rule = gaussLegendreRule(io.quadrature_nodes);
   const long n = static_cast<long>(std::floor((f.t_end - f.t_begin) * io.rate_hz + 1e-6));
@@ -105,7 +106,8 @@ std::size_t streamFieldImu(const SimConfig& c, const FieldTrajectory& f, const I
     t_prev = t;
     ref_out.add(ref_gen.apply(s));
     if (k == 1) temperature_t0 = s.t_s - s.dt_s;  // as withTemperature
-    if (c.temperature) s.temperature_degC = c.temperature->at(s.t_s - 0.5 * s.dt_s - temperature_t0);
+    if (c.temperature)
+      s.temperature_degC = c.temperature->at(s.t_s - 0.5 * s.dt_s - temperature_t0);
     tested_out.add(tested_gen.apply(s));
     if (k % step == 0) say("field IMUs (streamed) " + std::to_string(100 * k / n) + "%");
   }
@@ -117,9 +119,9 @@ std::size_t streamFieldImu(const SimConfig& c, const FieldTrajectory& f, const I
 void describeModel(YAML::Emitter& out, const ImuErrorModel& m) {
   out << YAML::BeginSeq;
   for (const auto& d : m.describe()) {
-    out << YAML::Flow << YAML::BeginMap << YAML::Key << "term" << YAML::Value << d.name
-        << YAML::Key << "sensor" << YAML::Value << d.sensor << YAML::Key << "parameters"
-        << YAML::Value << d.parameters << YAML::EndMap;
+    out << YAML::Flow << YAML::BeginMap << YAML::Key << "term" << YAML::Value << d.name << YAML::Key
+        << "sensor" << YAML::Value << d.sensor << YAML::Key << "parameters" << YAML::Value
+        << d.parameters << YAML::EndMap;
   }
   out << YAML::EndSeq;
 }
@@ -133,8 +135,9 @@ namespace {
 // Independent realizations per file gave each of the six poses its own bias, which the
 // calibration then mistook for scale and cross-axis errors (0.05 % instead of 0.003 %).
 // Returns the number of files written.
-std::size_t writeLabRecords(const SimConfig& config, const std::string& case_dir, const ImuErrorModel& tested_model,
-                            std::size_t field_samples, uint64_t tested_noise_seed,
+std::size_t writeLabRecords(const SimConfig& config, const std::string& case_dir,
+                            const ImuErrorModel& tested_model, std::size_t field_samples,
+                            uint64_t tested_noise_seed,
                             const std::function<void(const std::string&)>& say) {
   LabSimOptions lab_options = config.lab;
   if (config.lab_common_random_numbers) {
@@ -161,8 +164,9 @@ std::size_t writeLabRecords(const SimConfig& config, const std::string& case_dir
   if (config.lab_common_random_numbers) {
     if (lab.empty() || lab.front().relative_path != "lab/static.txt" ||
         lab.front().ideal.size() < field_samples) {
-      throw std::invalid_argument(config.source_path +
-                                  ": lab.common_random_numbers needs a lab static record (lab.static_duration_s > 0)");
+      throw std::invalid_argument(
+          config.source_path +
+          ": lab.common_random_numbers needs a lab static record (lab.static_duration_s > 0)");
     }
     lab_noise_seed = tested_noise_seed;
   }
@@ -173,7 +177,8 @@ std::size_t writeLabRecords(const SimConfig& config, const std::string& case_dir
   return lab.size();
 }
 
-void writeSimulatedCaseYaml(const SimConfig& config, const NavState& initial_state, const CasePaths& paths) {
+void writeSimulatedCaseYaml(const SimConfig& config, const NavState& initial_state,
+                            const CasePaths& paths) {
   CaseConfig cc;
   cc.name = config.name;
   cc.imu_rate_hz = config.imu_rate_hz;
@@ -197,7 +202,8 @@ void writeSimulatedCaseYaml(const SimConfig& config, const NavState& initial_sta
 
 // What was simulated, for checking estimates against the truth (not part of dataset.md).
 void writeSimulationYaml(const SimConfig& config, const std::string& case_dir, double field_begin_s,
-                         double field_end_s, const ImuErrorModel& ref_model, const ImuErrorModel& tested_model) {
+                         double field_end_s, const ImuErrorModel& ref_model,
+                         const ImuErrorModel& tested_model) {
   YAML::Emitter out;
   out << YAML::BeginMap;
   out << YAML::Key << "config" << YAML::Value << config.source_path;
@@ -211,7 +217,8 @@ void writeSimulationYaml(const SimConfig& config, const std::string& case_dir, d
   out << YAML::Key << "tested_imu_errors" << YAML::Value;
   describeModel(out, tested_model);
   out << YAML::EndMap;
-  writeFileAtomically((fs::path(case_dir) / "simulation.yaml").string(), std::string(out.c_str()) + "\n");
+  writeFileAtomically((fs::path(case_dir) / "simulation.yaml").string(),
+                      std::string(out.c_str()) + "\n");
 }
 
 }  // namespace
@@ -292,8 +299,9 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
     writeImu(paths.refImu(), applyErrors(ideal, ref_model, deriveStreamSeed(seed, 1)));
     say("tested IMU");
     writeImu(paths.testedImu(),
-             applyErrors(withTemperature(tested_ideal.empty() ? ideal : tested_ideal, config.temperature),
-                         tested_field_model, deriveStreamSeed(seed, 2)));
+             applyErrors(
+                 withTemperature(tested_ideal.empty() ? ideal : tested_ideal, config.temperature),
+                 tested_field_model, deriveStreamSeed(seed, 2)));
     tested_ideal = {};
     ideal = {};
   }
@@ -302,13 +310,13 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
   say("GNSS");
   GnssSimOptions gopt = config.gnss;
   gopt.add_noise = !config.ideal;
-  const GnssSeries gnss =
-      simulateGnss(*f.trj, f.t_begin, f.t_end, gopt, deriveStreamSeed(seed, 5));
+  const GnssSeries gnss = simulateGnss(*f.trj, f.t_begin, f.t_end, gopt, deriveStreamSeed(seed, 5));
   writeGnssPos(paths.gnssPos(), gnss);
   sum.gnss_fixes = gnss.size();
 
   say("lab sessions");
-  sum.lab_files = writeLabRecords(config, case_dir, tested_model, sum.imu_samples, tested_noise_seed, say);
+  sum.lab_files =
+      writeLabRecords(config, case_dir, tested_model, sum.imu_samples, tested_noise_seed, say);
   say("case.yaml");
   writeSimulatedCaseYaml(config, truth.front(), paths);
   writeSimulationYaml(config, case_dir, f.t_begin, f.t_end, ref_model, tested_model);

@@ -15,8 +15,9 @@ void GnssSimOptions::validate() const {
   }
   if (!lever_arm_b_m.allFinite()) throw std::invalid_argument("GnssSimOptions: lever_arm_b_m");
   if (!(noise_std_neu_m.minCoeff() > 0.0) || !noise_std_neu_m.allFinite()) {
-    throw std::invalid_argument("GnssSimOptions: noise_std_neu_m must be > 0 (it is written as "
-                                "the std columns of the .pos file)");
+    throw std::invalid_argument(
+        "GnssSimOptions: noise_std_neu_m must be > 0 (it is written as "
+        "the std columns of the .pos file)");
   }
 }
 

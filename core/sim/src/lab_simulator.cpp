@@ -75,7 +75,7 @@ void LabSimOptions::validate() const {
 
 std::map<std::string, Eigen::Vector3d> sixPositionPoses() {
   const double q = units::kPi / 2;
-  return {{"x_up", {0, q, 0}},  {"x_down", {0, -q, 0}},       {"y_up", {-q, 0, 0}},
+  return {{"x_up", {0, q, 0}},   {"x_down", {0, -q, 0}},       {"y_up", {-q, 0, 0}},
           {"y_down", {q, 0, 0}}, {"z_up", {units::kPi, 0, 0}}, {"z_down", {0, 0, 0}}};
 }
 
@@ -107,8 +107,8 @@ std::vector<LabSession> simulateLabSessions(const LabSimOptions& opt) {
   const double t0 = opt.start_time_s;
   std::vector<LabSession> out;
   if (opt.static_duration_s > 0.0) {
-    out.push_back({"lab/static.txt",
-                   staticSeries(site, opt.static_euler_rad, t0, opt.static_duration_s, opt.rate_hz)});
+    out.push_back({"lab/static.txt", staticSeries(site, opt.static_euler_rad, t0,
+                                                  opt.static_duration_s, opt.rate_hz)});
   }
   const auto poses = sixPositionPoses();
   if (opt.six_position_duration_s > 0.0) {
@@ -136,8 +136,8 @@ std::vector<LabSession> simulateLabSessions(const LabSimOptions& opt) {
   }
   if (opt.tilt_duration_s > 0.0) {
     for (const auto& [name, e] : opt.tilt_euler_rad) {
-      out.push_back(
-          {"lab/tilt/" + name + ".txt", staticSeries(site, e, t0, opt.tilt_duration_s, opt.rate_hz)});
+      out.push_back({"lab/tilt/" + name + ".txt",
+                     staticSeries(site, e, t0, opt.tilt_duration_s, opt.rate_hz)});
     }
   }
   return out;

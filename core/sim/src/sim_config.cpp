@@ -25,7 +25,8 @@ class Reader {
  public:
   Reader(std::string path, std::vector<std::string>* warnings) : ctx_{std::move(path), warnings} {}
 
-  [[noreturn]] void fail(const YAML::Node& n, const std::string& key, const std::string& msg) const {
+  [[noreturn]] void fail(const YAML::Node& n, const std::string& key,
+                         const std::string& msg) const {
     yf::fail(ctx_, n, key, msg);
   }
 
@@ -35,7 +36,8 @@ class Reader {
     yf::warnUnknownKeys(ctx_, map, prefix, known);
   }
 
-  double num(const YAML::Node& map, const std::string& key, const std::string& full, double def) const {
+  double num(const YAML::Node& map, const std::string& key, const std::string& full,
+             double def) const {
     const YAML::Node n = map[key];
     return n ? yf::asDouble(ctx_, n, full) : def;
   }
@@ -48,12 +50,14 @@ class Reader {
     const YAML::Node n = map[key];
     return n ? yf::asString(ctx_, n, full) : def;
   }
-  bool boolean(const YAML::Node& map, const std::string& key, const std::string& full, bool def) const {
+  bool boolean(const YAML::Node& map, const std::string& key, const std::string& full,
+               bool def) const {
     const YAML::Node n = map[key];
     return n ? yf::asBool(ctx_, n, full) : def;
   }
   // An absent key gives an empty list; `size` > 0 requires exactly that many numbers.
-  std::vector<double> list(const YAML::Node& map, const std::string& key, const std::string& full, int size) const {
+  std::vector<double> list(const YAML::Node& map, const std::string& key, const std::string& full,
+                           int size) const {
     const YAML::Node n = map[key];
     return n ? yf::asDoubleList(ctx_, n, full, size > 0 ? size : -1) : std::vector<double>{};
   }
@@ -87,7 +91,8 @@ Eigen::Matrix3d offDiagonal(const std::vector<double>& v, double scale) {
 
 // The tested IMU's extra sensor errors: biases, scale factors, non-orthogonality, temperature
 // and g-sensitivity (config units, converted to SI).
-void parseExtraLinearTerms(const Reader& r, const YAML::Node& n, const std::string& key, ImuErrorModel* e) {
+void parseExtraLinearTerms(const Reader& r, const YAML::Node& n, const std::string& key,
+                           ImuErrorModel* e) {
   if (auto v = r.vec3(n, "gyro_bias_deg_h", key + ".gyro_bias_deg_h")) {
     e->gyro.constant_bias.b = *v * units::kDegPerHourToRadPerSec;
   }
@@ -100,9 +105,8 @@ void parseExtraLinearTerms(const Reader& r, const YAML::Node& n, const std::stri
   if (auto v = r.vec3(n, "accel_scale_ppm", key + ".accel_scale_ppm")) {
     e->accel.scale_factor.k = *v * units::kPpmToFraction;
   }
-  e->gyro.non_orthogonality.N =
-      offDiagonal(r.list(n, "gyro_nonorthogonality_urad", key + ".gyro_nonorthogonality_urad", 6),
-                  1e-6);
+  e->gyro.non_orthogonality.N = offDiagonal(
+      r.list(n, "gyro_nonorthogonality_urad", key + ".gyro_nonorthogonality_urad", 6), 1e-6);
   e->accel.non_orthogonality.N = offDiagonal(
       r.list(n, "accel_nonorthogonality_urad", key + ".accel_nonorthogonality_urad", 6), 1e-6);
   if (auto v = r.vec3(n, "gyro_bias_per_degC_deg_h", key + ".gyro_bias_per_degC_deg_h")) {
@@ -124,7 +128,8 @@ void parseExtraLinearTerms(const Reader& r, const YAML::Node& n, const std::stri
 }
 
 // The field-mounting geometry and the non-linear sensor terms of the tested IMU.
-void parseExtraGeometryAndNonlinearTerms(const Reader& r, const YAML::Node& n, const std::string& key, ImuErrorModel* e) {
+void parseExtraGeometryAndNonlinearTerms(const Reader& r, const YAML::Node& n,
+                                         const std::string& key, ImuErrorModel* e) {
   // Geometry of the field mounting (tested relative to the reference IMU; never in the lab).
   e->time_offset.tau_s = r.num(n, "time_offset_s", key + ".time_offset_s", 0.0);
   if (auto v = r.vec3(n, "lever_arm_m", key + ".lever_arm_m")) e->lever_arm.r_m = *v;
@@ -150,15 +155,15 @@ void parseExtraGeometryAndNonlinearTerms(const Reader& r, const YAML::Node& n, c
 }
 
 // Vibration rectification and quantization of the tested IMU.
-void parseExtraRectificationAndQuantization(const Reader& r, const YAML::Node& n, const std::string& key, ImuErrorModel* e) {
+void parseExtraRectificationAndQuantization(const Reader& r, const YAML::Node& n,
+                                            const std::string& key, ImuErrorModel* e) {
   for (const char* sensor : {"gyro", "accel"}) {
     const std::string vk = std::string(sensor) + "_vibration_rectification";
     const YAML::Node vn = n[vk];
     if (!vn) continue;
     r.checkKeys(vn, key + "." + vk, {"coeff", "regressor", "window_s"});
-    VibrationRectification& vr = sensor == std::string("gyro")
-                                     ? e->gyro.vibration_rectification
-                                     : e->accel.vibration_rectification;
+    VibrationRectification& vr = sensor == std::string("gyro") ? e->gyro.vibration_rectification
+                                                               : e->accel.vibration_rectification;
     const auto coeff = r.vec3(vn, "coeff", key + "." + vk + ".coeff");
     if (!coeff) r.fail(vn, key + "." + vk + ".coeff", "required key missing");
     vr.coeff = *coeff;  // SI: unit of the sensor per unit of the regressor
@@ -183,15 +188,28 @@ SimImuConfig parseImu(const Reader& r, const YAML::Node& n, const std::string& k
   if (!n) r.fail(n, key, "required section missing");
   std::set<std::string> known = {"profile", "turn_on_errors", "bias_instability_scale"};
   if (tested) {
-    known.insert({"gyro_bias_deg_h", "accel_bias_mg", "gyro_scale_ppm", "accel_scale_ppm",
-                  "gyro_nonorthogonality_urad", "accel_nonorthogonality_urad",
-                  "g_sensitivity_deg_h_per_g", "gyro_bias_per_degC_deg_h",
-                  "accel_bias_per_degC_mg", "temperature_ref_degC", "time_offset_s",
-                  "lever_arm_m", "mounting_misalignment_deg", "gyro_scale_asymmetry_pos_ppm",
-                  "gyro_scale_asymmetry_neg_ppm", "accel_scale_asymmetry_pos_ppm",
-                  "accel_scale_asymmetry_neg_ppm", "gyro_scale_nonlinearity_per_rad_s",
-                  "accel_scale_nonlinearity_per_m_s2", "gyro_vibration_rectification",
-                  "accel_vibration_rectification", "gyro_quantization_rad",
+    known.insert({"gyro_bias_deg_h",
+                  "accel_bias_mg",
+                  "gyro_scale_ppm",
+                  "accel_scale_ppm",
+                  "gyro_nonorthogonality_urad",
+                  "accel_nonorthogonality_urad",
+                  "g_sensitivity_deg_h_per_g",
+                  "gyro_bias_per_degC_deg_h",
+                  "accel_bias_per_degC_mg",
+                  "temperature_ref_degC",
+                  "time_offset_s",
+                  "lever_arm_m",
+                  "mounting_misalignment_deg",
+                  "gyro_scale_asymmetry_pos_ppm",
+                  "gyro_scale_asymmetry_neg_ppm",
+                  "accel_scale_asymmetry_pos_ppm",
+                  "accel_scale_asymmetry_neg_ppm",
+                  "gyro_scale_nonlinearity_per_rad_s",
+                  "accel_scale_nonlinearity_per_m_s2",
+                  "gyro_vibration_rectification",
+                  "accel_vibration_rectification",
+                  "gyro_quantization_rad",
                   "accel_quantization_m_s"});
   }
   r.checkKeys(n, key, known);
@@ -285,11 +303,11 @@ RoadVibrationOptions parseVibration(const Reader& r, const YAML::Node& v) {
   }
   o.components = static_cast<int>(n);
   const double seed = r.num(v, "seed", k + ".seed", static_cast<double>(o.seed));
-  if (seed < 0.0 || seed != std::floor(seed)) r.fail(v["seed"], k + ".seed", "must be an integer >= 0");
+  if (seed < 0.0 || seed != std::floor(seed))
+    r.fail(v["seed"], k + ".seed", "must be an integer >= 0");
   o.seed = static_cast<uint64_t>(seed);
-  o.half_amplitude_speed_m_s =
-      r.num(v, "half_amplitude_speed_m_s", k + ".half_amplitude_speed_m_s",
-            o.half_amplitude_speed_m_s);
+  o.half_amplitude_speed_m_s = r.num(v, "half_amplitude_speed_m_s", k + ".half_amplitude_speed_m_s",
+                                     o.half_amplitude_speed_m_s);
   if (!(o.half_amplitude_speed_m_s > 0.0)) {
     r.fail(v["half_amplitude_speed_m_s"], k + ".half_amplitude_speed_m_s", "must be > 0");
   }
@@ -302,7 +320,8 @@ double quadratureRelativeError(int nodes, double f_hz, double h_s) {
   const GaussLegendreRule rule = gaussLegendreRule(nodes);
   const double a = units::kPi * f_hz * h_s;
   double q = 0.0;
-  for (std::size_t i = 0; i < rule.nodes.size(); ++i) q += rule.weights[i] * std::cos(a * rule.nodes[i]);
+  for (std::size_t i = 0; i < rule.nodes.size(); ++i)
+    q += rule.weights[i] * std::cos(a * rule.nodes[i]);
   const double exact = a > 0.0 ? 2.0 * std::sin(a) / a : 2.0;
   return std::abs(q / exact - 1.0);
 }
@@ -321,14 +340,16 @@ void SimConfig::validate() const {
                                 " must divide imu_rate_hz = " + std::to_string(imu_rate_hz));
   }
   if (track.has_value() == script.has_value()) {
-    throw std::invalid_argument("SimConfig: give exactly one of trajectory.track and "
-                                "trajectory.script");
+    throw std::invalid_argument(
+        "SimConfig: give exactly one of trajectory.track and "
+        "trajectory.script");
   }
   if (track) {
     track->smoothing.validate();
     if (track->start_offset_s < 0.0 || track->duration_s < 0.0 || track->margin_s < 0.0) {
-      throw std::invalid_argument("SimConfig: trajectory start_offset_s, duration_s, margin_s "
-                                  "must be >= 0");
+      throw std::invalid_argument(
+          "SimConfig: trajectory start_offset_s, duration_s, margin_s "
+          "must be >= 0");
     }
     const RoadVibrationOptions& vib = track->smoothing.vibration;
     if (vib.enabled()) {
@@ -336,7 +357,8 @@ void SimConfig::validate() const {
       // the ideal IMU integrate its increments to 1e-4 (4 nodes at 100 Hz: 4e-7 at 35 Hz).
       if (!(vib.band_high_hz < 0.5 * imu_rate_hz)) {
         throw std::invalid_argument("SimConfig: trajectory.vibration.band_hz upper edge " +
-                                    std::to_string(vib.band_high_hz) + " Hz must be below the "
+                                    std::to_string(vib.band_high_hz) +
+                                    " Hz must be below the "
                                     "Nyquist frequency imu_rate_hz / 2 = " +
                                     std::to_string(0.5 * imu_rate_hz) + " Hz");
       }
@@ -353,8 +375,9 @@ void SimConfig::validate() const {
   if (script) script->validate();
   if (tested_imu.extra.gyro.usesTemperature() || tested_imu.extra.accel.usesTemperature()) {
     if (!temperature) {
-      throw std::invalid_argument("SimConfig: tested_imu has temperature coefficients but the "
-                                  "config has no temperature section");
+      throw std::invalid_argument(
+          "SimConfig: tested_imu has temperature coefficients but the "
+          "config has no temperature section");
     }
   }
   gnss.validate();
@@ -422,8 +445,7 @@ void parseLab(const Reader& r, const YAML::Node& l, SimConfig& c) {
   if (auto v = r.vec3(l, "static_attitude_deg", "lab.static_attitude_deg")) {
     c.lab.static_euler_rad = *v * units::kDegToRad;
   }
-  c.lab.six_position_duration_s = r.num(l, "six_position_duration_s",
-                                        "lab.six_position_duration_s",
+  c.lab.six_position_duration_s = r.num(l, "six_position_duration_s", "lab.six_position_duration_s",
                                         c.lab.six_position_duration_s);
   if (l["rate_table_deg_s"]) {
     c.lab.rate_table_rad_s.clear();
@@ -465,8 +487,7 @@ SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warni
   if (!trj) r.fail(root, "trajectory", "required section missing");
   r.checkKeys(trj, "trajectory",
               {"track", "start_offset_s", "duration_s", "margin_s", "position_cutoff_hz",
-               "attitude_cutoff_hz", "roll_deg_per_g", "oscillation_scale", "vibration",
-               "script"});
+               "attitude_cutoff_hz", "roll_deg_per_g", "oscillation_scale", "vibration", "script"});
   if (trj["track"]) c.track = parseTrackSource(r, trj);
   if (trj["script"]) c.script = parseScript(r, trj["script"]);
 
@@ -498,8 +519,8 @@ double SimTemperature::at(double dt_s) const {
 
 ImuErrorModel buildSimErrorModel(const SimImuConfig& imu, uint64_t seed, bool ideal) {
   if (ideal) return ImuErrorModel{};
-  ImuErrorModel m = imu.turn_on_errors ? sampleErrorModel(imu.profile, seed)
-                                       : stochasticErrorModel(imu.profile);
+  ImuErrorModel m =
+      imu.turn_on_errors ? sampleErrorModel(imu.profile, seed) : stochasticErrorModel(imu.profile);
   // The profile's bias instability stays in case.yaml (the navigator's model); only the simulated
   // sensor's Gauss-Markov wander is scaled (0: a sensor with only the terms grafting models).
   m.gyro.bias_instability.sigma *= imu.bias_instability_scale;

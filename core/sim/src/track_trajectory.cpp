@@ -146,8 +146,11 @@ class TrackTrajectory::Spline {
 
 std::vector<AttitudeOscillation> TrackSmoothingOptions::defaultOscillations() {
   const double d = units::kDegToRad;
-  return {{0, 0.20 * d, 1.7, 0.0}, {0, 0.08 * d, 3.1, 1.0}, {1, 0.15 * d, 1.3, 0.5},
-          {1, 0.06 * d, 2.6, 2.0}, {2, 0.03 * d, 2.3, 0.3}};
+  return {{0, 0.20 * d, 1.7, 0.0},
+          {0, 0.08 * d, 3.1, 1.0},
+          {1, 0.15 * d, 1.3, 0.5},
+          {1, 0.06 * d, 2.6, 2.0},
+          {2, 0.03 * d, 2.3, 0.3}};
 }
 
 void TrackSmoothingOptions::validate() const {
@@ -219,8 +222,8 @@ SpeedFade speedFade(const Eigen::Vector3d& v_n, const Eigen::Vector3d& a_n, doub
   f.m = s / sc;
   f.dm = c * ds / (sc * sc);
   if (jerk_ne) {
-    const double dds = 2.0 * (a_n.x() * a_n.x() + a_n.y() * a_n.y() + v_n.x() * jerk_ne[0] +
-                              v_n.y() * jerk_ne[1]);
+    const double dds =
+        2.0 * (a_n.x() * a_n.x() + a_n.y() * a_n.y() + v_n.x() * jerk_ne[0] + v_n.y() * jerk_ne[1]);
     f.ddm = c * dds / (sc * sc) - 2.0 * c * ds * ds / (sc * sc * sc);
   }
   return f;
@@ -407,8 +410,9 @@ void residualReport(const SplineAxes& pos, const TrackObservations& o, TrackFitR
 
 // Roll, pitch and yaw samples at 4 Hz from the smoothed motion: roll from the lateral
 // acceleration, pitch and yaw along the velocity, held (and yaw unwrapped) below the hold speed.
-void attitudeSamples(const SplineAxes& pos, double t_begin, double t_end, const TrackSmoothingOptions& opt,
-                     std::vector<double>* ts, std::vector<double>* ang) {
+void attitudeSamples(const SplineAxes& pos, double t_begin, double t_end,
+                     const TrackSmoothingOptions& opt, std::vector<double>* ts,
+                     std::vector<double>* ang) {
   const double g0 = units::kStandardGravity_m_s2;
   const int ns = static_cast<int>(std::floor((t_end - t_begin) * 4.0)) + 1;
   ts->resize(ns);
@@ -424,8 +428,9 @@ void attitudeSamples(const SplineAxes& pos, double t_begin, double t_end, const 
       acc[a] = d[2];
     }
     const double vh = std::hypot(v.x(), v.y());
-    const double alat = (v.x() * acc.y() - v.y() * acc.x()) /
-                        std::sqrt(vh * vh + opt.lateral_speed_floor_m_s * opt.lateral_speed_floor_m_s);
+    const double alat =
+        (v.x() * acc.y() - v.y() * acc.x()) /
+        std::sqrt(vh * vh + opt.lateral_speed_floor_m_s * opt.lateral_speed_floor_m_s);
     ang[0][k] = -opt.roll_per_lateral_g_rad * alat / g0;
     if (vh > opt.heading_hold_speed_m_s) {
       valid[k] = 1;
@@ -454,12 +459,13 @@ void attitudeSamples(const SplineAxes& pos, double t_begin, double t_end, const 
 void requireIncreasingFixes(const GnssSeries& track) {
   const std::size_t n = track.size();
   if (n < 10) {
-    throw std::invalid_argument("TrackTrajectory: need at least 10 fixes, got " + std::to_string(n));
+    throw std::invalid_argument("TrackTrajectory: need at least 10 fixes, got " +
+                                std::to_string(n));
   }
   for (std::size_t i = 1; i < n; ++i) {
     if (!(track[i].t_s > track[i - 1].t_s)) {
-      throw std::invalid_argument("TrackTrajectory: time not increasing at fix " + std::to_string(i) +
-                                  " (t=" + std::to_string(track[i].t_s) + ")");
+      throw std::invalid_argument("TrackTrajectory: time not increasing at fix " +
+                                  std::to_string(i) + " (t=" + std::to_string(track[i].t_s) + ")");
     }
   }
 }
@@ -515,8 +521,7 @@ void TrackTrajectory::addVibration(double t_s, LocalKinematics& k) const {
     pos_[a]->eval(t_s, d, 3);
     j[a] = d[3];
   }
-  const SpeedFade fade =
-      speedFade(k.v_n0, k.a_n0, opt_.vibration.half_amplitude_speed_m_s, j);
+  const SpeedFade fade = speedFade(k.v_n0, k.a_n0, opt_.vibration.half_amplitude_speed_m_s, j);
   const double m = fade.m, dm = fade.dm, ddm = fade.ddm;
   const double tau = t_s - t_begin_;
 

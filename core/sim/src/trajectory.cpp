@@ -35,9 +35,7 @@ NavState Trajectory::navState(double t_s) const {
 }
 
 TangentPlaneTrajectory::TangentPlaneTrajectory(const Geodetic& origin)
-    : origin_(origin),
-      origin_e_(earth::ecefFromGeodetic(origin)),
-      C_e_n0_(earth::C_en(origin)) {}
+    : origin_(origin), origin_e_(earth::ecefFromGeodetic(origin)), C_e_n0_(earth::C_en(origin)) {}
 
 TrajectoryPoint TangentPlaneTrajectory::at(double t_s) const {
   if (t_s < startTime_s() - 1e-3 || t_s > endTime_s() + 1e-3) {

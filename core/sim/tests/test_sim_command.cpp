@@ -83,8 +83,9 @@ TEST(SimCommand, IdealCaseRoundTripsThroughFiles) {
   EXPECT_EQ(truth.front().gnss_week, 2200);
   EXPECT_NEAR(truth.back().t_s - truth.front().t_s, ref.size() / 100.0, 1e-6);
   EXPECT_EQ(truth.size(), ref.size() / 10 + 1);
-  EXPECT_EQ(gnss.size(), static_cast<std::size_t>(std::floor(truth.back().t_s) -
-                                                  std::ceil(truth.front().t_s)) + 1);
+  EXPECT_EQ(
+      gnss.size(),
+      static_cast<std::size_t>(std::floor(truth.back().t_s) - std::ceil(truth.front().t_s)) + 1);
   // The initial state of case.yaml is the first truth epoch.
   ASSERT_TRUE(cc.initial_state.has_value());
   EXPECT_NEAR(cc.initial_state->pos.lat_rad, truth.front().pos.lat_rad, 1e-12);
@@ -93,8 +94,7 @@ TEST(SimCommand, IdealCaseRoundTripsThroughFiles) {
   for (const auto& s : ref) sd.step(s);
   const Eigen::Vector3d d = earth::nedFromGeodetic(truth.back().pos, sd.state().pos);
   EXPECT_LT(d.norm(), 2e-3);
-  EXPECT_LT(rotationVectorFromQuat(truth.back().q_nb.conjugate() * sd.state().q_nb).norm(),
-            1e-7);
+  EXPECT_LT(rotationVectorFromQuat(truth.back().q_nb.conjugate() * sd.state().q_nb).norm(), 1e-7);
   // Lab files in the layout.
   EXPECT_TRUE(fs::exists(paths.labStatic()));
   for (int a = 0; a < 3; ++a) {
@@ -158,7 +158,8 @@ TEST(SimCommand, CommonRandomNumbersShareTheFieldNoiseWithTheLab) {
     const std::string flag = std::string(c) == "ideal" ? " --ideal --common-random-numbers"
                              : std::string(c) == "crn" ? " --common-random-numbers"
                                                        : "";
-    ASSERT_EQ(run("simulate --config " + cfg + " --out " + dir + "/" + c + flag, dir + "/log.txt"), 0)
+    ASSERT_EQ(run("simulate --config " + cfg + " --out " + dir + "/" + c + flag, dir + "/log.txt"),
+              0)
         << slurp(dir + "/log.txt");
   }
   const ImuSeries field_ideal = readImu(dir + "/ideal/field/tested_imu.txt", {100.0, {}});
@@ -199,9 +200,7 @@ TEST(SimCommand, TemperatureWarmUpAndBiasCoefficient) {
   text.replace(text.find("  gyro_bias_deg_h"), 0,
                "  gyro_bias_per_degC_deg_h: [0, 0, 50]\n  temperature_ref_degC: 30\n");
   text += "temperature: {start_degC: 20, end_degC: 40, time_constant_s: 5}\n";
-  {
-    std::ofstream(dir + "/temp.yaml") << text;
-  }
+  { std::ofstream(dir + "/temp.yaml") << text; }
   ASSERT_EQ(run("simulate --config " + dir + "/temp.yaml --out " + dir + "/case", dir + "/log.txt"),
             0)
       << slurp(dir + "/log.txt");
@@ -252,7 +251,8 @@ TEST(SimCommand, TimeOffsetShiftsTheMeasuredMotionExactly) {
       << "  tilt_duration_s: 1\n  tilts: {tilt_a: [5, 0, 0]}\n";
     return dir + "/" + name + ".yaml";
   };
-  const auto simulate = [&](const std::string& cfg, const std::string& out, const std::string& extra) {
+  const auto simulate = [&](const std::string& cfg, const std::string& out,
+                            const std::string& extra) {
     ASSERT_EQ(run("simulate --config " + cfg + " --out " + out + extra, dir + "/log.txt"), 0)
         << slurp(dir + "/log.txt");
   };
@@ -267,8 +267,8 @@ TEST(SimCommand, TimeOffsetShiftsTheMeasuredMotionExactly) {
   double err2 = 0.0, sig2 = 0.0;
   for (std::size_t k = 1; k < a.size(); ++k) {
     // Sample k covers (k, k+1] / 100 s after the start, shifted: 200-Hz samples 2k-1 and 2k.
-    const Eigen::Vector3d expected = (c[2 * k - 1].dvel_m_s + c[2 * k].dvel_m_s) -
-                                     (c[2 * k].dvel_m_s + c[2 * k + 1].dvel_m_s);
+    const Eigen::Vector3d expected =
+        (c[2 * k - 1].dvel_m_s + c[2 * k].dvel_m_s) - (c[2 * k].dvel_m_s + c[2 * k + 1].dvel_m_s);
     const Eigen::Vector3d got = a[k].dvel_m_s - b[k].dvel_m_s;
     err2 += (got - expected).squaredNorm();
     sig2 += expected.squaredNorm();
@@ -283,9 +283,7 @@ TEST(SimCommand, LabTemperatureCanBeHeldConstant) {
   const std::string dir = test::makeTempDir("sim_lab_temp");
   std::string text = slurp(tinyConfig(dir));
   text += "temperature: {start_degC: 20, end_degC: 40, time_constant_s: 5, lab_degC: 23}\n";
-  {
-    std::ofstream(dir + "/temp.yaml") << text;
-  }
+  { std::ofstream(dir + "/temp.yaml") << text; }
   ASSERT_EQ(run("simulate --config " + dir + "/temp.yaml --out " + dir + "/case", dir + "/log.txt"),
             0)
       << slurp(dir + "/log.txt");
@@ -306,9 +304,7 @@ TEST(SimCommand, ConfigErrorsNameFileAndKey) {
   std::string text = slurp(cfg);
   // Break the first segment's type.
   text.replace(text.find("type: static"), 12, "type: hover");
-  {
-    std::ofstream(dir + "/bad.yaml") << text;
-  }
+  { std::ofstream(dir + "/bad.yaml") << text; }
   try {
     loadSimConfig(dir + "/bad.yaml");
     FAIL() << "expected an error";
@@ -319,9 +315,7 @@ TEST(SimCommand, ConfigErrorsNameFileAndKey) {
     EXPECT_NE(m.find("hover"), std::string::npos) << m;
   }
   std::vector<std::string> warnings;
-  {
-    std::ofstream(dir + "/extra.yaml") << slurp(cfg) << "colour: blue\n";
-  }
+  { std::ofstream(dir + "/extra.yaml") << slurp(cfg) << "colour: blue\n"; }
   const SimConfig c = loadSimConfig(dir + "/extra.yaml", &warnings);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("colour"), std::string::npos);
@@ -329,9 +323,7 @@ TEST(SimCommand, ConfigErrorsNameFileAndKey) {
   EXPECT_NEAR(c.tested_imu.extra.gyro.non_orthogonality.N(0, 1), 100e-6, 1e-18);
   EXPECT_NEAR(c.tested_imu.extra.gyro.non_orthogonality.N(2, 1), -50e-6, 1e-18);
   // The command reports a missing section and exits non-zero.
-  {
-    std::ofstream(dir + "/notrj.yaml") << "name: x\nreference_imu: {profile: a.yaml}\n";
-  }
+  { std::ofstream(dir + "/notrj.yaml") << "name: x\nreference_imu: {profile: a.yaml}\n"; }
   EXPECT_NE(run("simulate --config " + dir + "/notrj.yaml --out " + dir + "/o", dir + "/log.txt"),
             0);
   EXPECT_NE(slurp(dir + "/log.txt").find("trajectory"), std::string::npos)

@@ -108,7 +108,8 @@ TEST(SimModels, GaussLegendreIncrementsMatchFineTrapezoid) {
       return Eigen::Matrix<double, 6, 1>(sum * (t1 - t0) / n);
     };
     const Eigen::Matrix<double, 6, 1> ref = (4.0 * trap(512) - trap(256)) / 3.0;
-    EXPECT_LT((inc.dtheta_rad - ref.head<3>()).norm(), 1e-12 * std::max(1e-6, ref.head<3>().norm()));
+    EXPECT_LT((inc.dtheta_rad - ref.head<3>()).norm(),
+              1e-12 * std::max(1e-6, ref.head<3>().norm()));
     EXPECT_LT((inc.dvel_m_s - ref.tail<3>()).norm(), 1e-12 * ref.tail<3>().norm());
   }
   // The rule itself integrates x^(2n-1) and x^(2n-2) exactly and not x^(2n).
@@ -180,7 +181,8 @@ TEST(SimModels, LeverArmIncrementsFollowVibrationNearNyquist) {
     EXPECT_EQ(s.dtheta_rad, plain[k].dtheta_rad);  // a lever arm does not change the rotation
   }
   // Left out by the independent route: the Earth rate's share (~1e-5 of this).
-  EXPECT_LT(std::sqrt(err2 / sig2), 1e-3) << "rms lever-arm increment " << std::sqrt(sig2 / arm.size());
+  EXPECT_LT(std::sqrt(err2 / sig2), 1e-3)
+      << "rms lever-arm increment " << std::sqrt(sig2 / arm.size());
 }
 
 // The antenna sits at pos + C_nb r_b; noise has the configured spread.
@@ -198,7 +200,8 @@ TEST(SimModels, GnssLeverArmGeometryAndNoise) {
   }
   // Known answer: heading 30 deg, level at the start: forward 1 m is (cos 30, sin 30) N/E,
   // right -0.5 m is -0.5 (-sin 30, cos 30), up 1.5 m is -1.5 down.
-  const Eigen::Vector3d d0 = earth::nedFromGeodetic(trj.at(clean.front().t_s).pos, clean.front().pos);
+  const Eigen::Vector3d d0 =
+      earth::nedFromGeodetic(trj.at(clean.front().t_s).pos, clean.front().pos);
   const double c = std::cos(30 * kDeg), s = std::sin(30 * kDeg);
   EXPECT_LT((d0 - Eigen::Vector3d(c + 0.5 * s, s - 0.5 * c, -1.5)).norm(), 1e-6);
 
@@ -207,8 +210,8 @@ TEST(SimModels, GnssLeverArmGeometryAndNoise) {
   LabTrajectory still({0.5, 2.0, 10.0}, Eigen::Matrix3d::Identity(), 2, 0.0, 0.0, 4000.0);
   const GnssSeries noisy = simulateGnss(still, 0.0, 4000.0, opt, 11);
   Eigen::Vector3d var = Eigen::Vector3d::Zero();
-  const Geodetic ant = antennaPosition(still.at(0.0).pos, Eigen::Matrix3d::Identity(),
-                                       opt.lever_arm_b_m);
+  const Geodetic ant =
+      antennaPosition(still.at(0.0).pos, Eigen::Matrix3d::Identity(), opt.lever_arm_b_m);
   for (const auto& f : noisy) {
     EXPECT_EQ(f.std_ned_m, opt.noise_std_neu_m);
     var += earth::nedFromGeodetic(ant, f.pos).cwiseAbs2();
@@ -260,7 +263,8 @@ TEST(SimModels, LabPosesAndRateTable) {
           EXPECT_LT(std::abs(th[o]), 2e-5 * T) << p;
         }
       }
-      EXPECT_NEAR(T, 2.0 * units::kPi / (p.find("_100") != std::string::npos ? 100 * kDeg : 30 * kDeg),
+      EXPECT_NEAR(T,
+                  2.0 * units::kPi / (p.find("_100") != std::string::npos ? 100 * kDeg : 30 * kDeg),
                   1e-9)
           << p;
     }

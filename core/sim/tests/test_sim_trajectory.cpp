@@ -85,7 +85,7 @@ TEST(SimTrajectory, FullTrack57MinRoundTrip) {
   const Eigen::Vector3d d = earth::nedFromGeodetic(truth.pos, sd.state().pos);
   const double att = rotationVectorFromQuat(truth.q_nb.conjugate() * sd.state().q_nb).norm();
   EXPECT_LT(d.head<2>().norm(), 0.01);  // target 1 m; measured 0.17 mm
-  EXPECT_LT(att * kRadToDeg, 1e-6);  // target 1e-3 deg; measured 3e-9 deg
+  EXPECT_LT(att * kRadToDeg, 1e-6);     // target 1e-3 deg; measured 3e-9 deg
   RecordProperty("end_horizontal_error_m", fmtNum(d.head<2>().norm()));
   RecordProperty("end_vertical_error_m", fmtNum(d.z()));
   RecordProperty("end_attitude_error_deg", fmtNum(att * kRadToDeg));
@@ -93,8 +93,8 @@ TEST(SimTrajectory, FullTrack57MinRoundTrip) {
   RecordProperty("fit_rms_residual_ned_m", fmtNum(rep.rms_residual_m[0]) + " " +
                                                fmtNum(rep.rms_residual_m[1]) + " " +
                                                fmtNum(rep.rms_residual_m[2]));
-  RecordProperty("fit_rejected_stops", std::to_string(rep.fixes_rejected) + " " +
-                                           std::to_string(rep.stops));
+  RecordProperty("fit_rejected_stops",
+                 std::to_string(rep.fixes_rejected) + " " + std::to_string(rep.stops));
 }
 
 }  // namespace

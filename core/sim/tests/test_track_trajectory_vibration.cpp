@@ -79,7 +79,8 @@ struct VibrationPower {
   Eigen::Vector3d w_ms = Eigen::Vector3d::Zero();  // (rad/s)^2
   double f_max = 0.0;
 };
-VibrationPower vibrationPower(const Trajectory& vib, const Trajectory& still, double t0, double t1) {
+VibrationPower vibrationPower(const Trajectory& vib, const Trajectory& still, double t0,
+                              double t1) {
   VibrationPower p;
   int n = 0;
   for (double t = t0; t < t1; t += 1e-3, ++n) {
@@ -102,8 +103,8 @@ TEST(TrackTrajectoryVibration, RmsMatchesTheConfigAtSteadySpeed) {
   const RoadVibrationOptions v = carVibration();
   const TrackTrajectory vib(track, withVibration(v)), still(track);
   const double m = 400.0 / 425.0;
-  const VibrationPower p = vibrationPower(vib, still, vib.startTime_s() + 50.0,
-                                          vib.startTime_s() + 250.0);
+  const VibrationPower p =
+      vibrationPower(vib, still, vib.startTime_s() + 50.0, vib.startTime_s() + 250.0);
   const double f_rms = std::sqrt(p.f_ms.sum()), w_rms = std::sqrt(p.w_ms.sum());
   EXPECT_NEAR(f_rms / (m * v.accel_rms_m_s2), 1.0, 0.03) << f_rms;
   EXPECT_NEAR(w_rms / (m * v.gyro_rms_rad_s), 1.0, 0.03) << w_rms;
@@ -120,7 +121,9 @@ TEST(TrackTrajectoryVibration, RmsMatchesTheConfigAtSteadySpeed) {
 // m = 10^2 / (10^2 + 5^2) = 0.8 of the request while it cruises.
 TEST(TrackTrajectoryVibration, FadesOutWhenStopped) {
   auto speed = [](double t) {
-    auto ramp = [](double x) { return x <= 0 ? 0.0 : x >= 1 ? 1.0 : 0.5 - 0.5 * std::cos(M_PI * x); };
+    auto ramp = [](double x) {
+      return x <= 0 ? 0.0 : x >= 1 ? 1.0 : 0.5 - 0.5 * std::cos(M_PI * x);
+    };
     return 10.0 * (1.0 - ramp((t - 100.0) / 10.0) + ramp((t - 210.0) / 10.0));
   };
   const GnssSeries track = syntheticTrack(330.0, speed);
@@ -233,10 +236,12 @@ void expectRejected(const std::string& tag, const std::string& vib, const std::s
 
 TEST(TrackTrajectoryVibration, ConfigErrorsNameTheKey) {
   expectRejected("vib_neg", "{accel_rms_m_s2: -0.1}", "trajectory.vibration.accel_rms_m_s2");
-  expectRejected("vib_band", "{accel_rms_m_s2: 0.8, band_hz: [30, 8]}", "trajectory.vibration.band_hz");
+  expectRejected("vib_band", "{accel_rms_m_s2: 0.8, band_hz: [30, 8]}",
+                 "trajectory.vibration.band_hz");
   expectRejected("vib_comp", "{accel_rms_m_s2: 0.8, components: 2}",
                  "trajectory.vibration.components");
-  expectRejected("vib_nyq", "{accel_rms_m_s2: 0.8, band_hz: [8, 50]}", "trajectory.vibration.band_hz");
+  expectRejected("vib_nyq", "{accel_rms_m_s2: 0.8, band_hz: [8, 50]}",
+                 "trajectory.vibration.band_hz");
   // 2 Gauss-Legendre nodes at 100 Hz integrate 35 Hz to 6e-3 only.
   expectRejected("vib_quad", "{accel_rms_m_s2: 0.8, band_hz: [8, 35]}", "quadrature_nodes", 100, 2);
   EXPECT_NO_THROW(loadSimConfig(configWithVibration(

@@ -15,7 +15,7 @@ namespace graftnav {
 
 struct StaticAlignment {
   Eigen::Vector3d euler_rad = Eigen::Vector3d::Zero();  // roll, pitch, yaw (yaw 0 if refused)
-  double level_std_rad = 0.0;    // 1-sigma of roll/pitch from accel noise and bias
+  double level_std_rad = 0.0;  // 1-sigma of roll/pitch from accel noise and bias
   bool heading_valid = false;
   double heading_std_rad = 0.0;  // predicted 1-sigma from gyro bias + ARW over the window
   std::string note;              // why the heading was refused, when it was
@@ -30,9 +30,9 @@ StaticAlignment alignStatic(const ImuSeries& imu, double t_begin_s, double durat
                             double max_heading_std_rad = 3.0 * 0.017453292519943295);
 
 struct MotionAlignmentOptions {
-  double min_speed_m_s = 3.0;       // GNSS-derived speed needed for a heading
-  double max_fix_gap_s = 1.5;       // consecutive fixes closer than this
-  double level_window_s = 1.0;      // accelerometer averaging for roll/pitch
+  double min_speed_m_s = 3.0;           // GNSS-derived speed needed for a heading
+  double max_fix_gap_s = 1.5;           // consecutive fixes closer than this
+  double level_window_s = 1.0;          // accelerometer averaging for roll/pitch
   bool compensate_acceleration = true;  // remove the GNSS-derived acceleration before levelling
 };
 

@@ -41,9 +41,9 @@ struct EkfOptions {
 // What the RTS smoother needs at one record epoch of the forward pass.
 struct SmootherRecord {
   double t_s = 0.0;
-  NavState nav;              // nominal state after the feedback at this epoch
-  ImuErrorEstimate sensors;  // sensor estimates after the feedback
-  ErrorState dx = ErrorState::Zero();  // correction fed back here (zero without an update)
+  NavState nav;                         // nominal state after the feedback at this epoch
+  ImuErrorEstimate sensors;             // sensor estimates after the feedback
+  ErrorState dx = ErrorState::Zero();   // correction fed back here (zero without an update)
   ErrorCov P_prior = ErrorCov::Zero();  // before the update at t_s
   ErrorCov P_post = ErrorCov::Zero();   // after it
   ErrorCov Phi = ErrorCov::Identity();  // transition from the previous record to this one

@@ -76,7 +76,8 @@ constexpr int kBlocks = ekf::kStateDim / 3;
 using BlockMask = std::array<std::array<bool, kBlocks>, kBlocks>;
 BlockMask blockMask(const ErrorCov& A);
 // out = A B, skipping the zero blocks of A named by mask.
-void multiplyBlockSparse(const ErrorCov& A, const BlockMask& mask, const ErrorCov& B, ErrorCov* out);
+void multiplyBlockSparse(const ErrorCov& A, const BlockMask& mask, const ErrorCov& B,
+                         ErrorCov* out);
 
 // Position at the GNSS antenna: pos + C_nb lever_arm_b as a geodetic position.
 Geodetic antennaPosition(const NavState& s, const Eigen::Vector3d& lever_arm_b_m);

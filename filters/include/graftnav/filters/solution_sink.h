@@ -15,7 +15,8 @@ class SolutionSink {
   virtual ~SolutionSink() = default;
   // One output epoch: the state, its PVA 1-sigma (null when the estimator gives none) and the
   // sensor-error estimates at that epoch.
-  virtual void add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate& sensors) = 0;
+  virtual void add(const NavState& state, const PvaSigma* sigma,
+                   const ImuErrorEstimate& sensors) = 0;
 };
 
 // Appends every epoch to the vectors of a NavSolution (sigma only when given).

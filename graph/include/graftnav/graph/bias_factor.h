@@ -10,8 +10,8 @@
 namespace graftnav {
 
 struct BiasProcess {
-  double sigma = 0.0;     // steady-state 1-sigma (GM) or random-walk density (per sqrt(s))
-  double tau_s = 0.0;     // correlation time; <= 0 or inf: random walk
+  double sigma = 0.0;  // steady-state 1-sigma (GM) or random-walk density (per sqrt(s))
+  double tau_s = 0.0;  // correlation time; <= 0 or inf: random walk
   // Transition phi and driving-noise 1-sigma over an interval T.
   void discretize(double T_s, double* phi, double* sigma_d) const;
 };

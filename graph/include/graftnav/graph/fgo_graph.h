@@ -78,8 +78,8 @@ class FgoGraph {
   PreintegrationFactor* makePreintegrationFactor(size_t k) const;  // uses preintegration(k)
   BiasFactor* makeBiasFactor(size_t k) const;                      // node k -> k+1
   GnssPositionFactor* makeGnssFactor(size_t fix) const;
-  NodePriorFactor* makeInitialPrior() const;                       // on node 0
-  ceres::LossFunction* gnssLoss() const { return loss_.get(); }    // owned here; may be null
+  NodePriorFactor* makeInitialPrior() const;                     // on node 0
+  ceres::LossFunction* gnssLoss() const { return loss_.get(); }  // owned here; may be null
   ceres::Manifold* quaternionManifold() const { return &manifold_; }
 
   // Adds node k's parameter blocks (quaternion on the manifold) to `problem`.

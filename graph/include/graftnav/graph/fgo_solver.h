@@ -16,21 +16,21 @@ namespace graftnav {
 struct FgoReport {
   int nodes = 0;
   int gnss_factors = 0;
-  int gnss_culled = 0;          // removed by the chi-square test after a solve
-  std::vector<double> culled_times_s;   // their epochs
-  std::vector<double> culled_chi2;      // and their whitened squared residuals
-  int cull_refused = 0;         // batch: fixes that failed when too many failed to cull any
-  int reintegrations = 0;       // preintegrations redone because the bias moved far
+  int gnss_culled = 0;                 // removed by the chi-square test after a solve
+  std::vector<double> culled_times_s;  // their epochs
+  std::vector<double> culled_chi2;     // and their whitened squared residuals
+  int cull_refused = 0;                // batch: fixes that failed when too many failed to cull any
+  int reintegrations = 0;              // preintegrations redone because the bias moved far
   int solves = 0;
-  int iterations = 0;           // total solver iterations
-  double initial_cost = 0.0;    // batch: first solve's initial cost
-  double final_cost = 0.0;      // batch: last solve's final cost
-  double window_time_s = 0.0;   // sliding window pass (the batch's initializer; fgo-window: with
-                                // its output, written as the window goes)
-  double batch_time_s = 0.0;    // batch solves (not counting the window pass)
+  int iterations = 0;          // total solver iterations
+  double initial_cost = 0.0;   // batch: first solve's initial cost
+  double final_cost = 0.0;     // batch: last solve's final cost
+  double window_time_s = 0.0;  // sliding window pass (the batch's initializer; fgo-window: with
+                               // its output, written as the window goes)
+  double batch_time_s = 0.0;   // batch solves (not counting the window pass)
   double covariance_time_s = 0.0;
-  double output_time_s = 0.0;   // batch: IMU-rate integration of the output
-  std::string summary;          // one-line text summary
+  double output_time_s = 0.0;  // batch: IMU-rate integration of the output
+  std::string summary;         // one-line text summary
 };
 
 // Batch: initializes the nodes with a sliding-window (fixed-lag) pass, then solves the full

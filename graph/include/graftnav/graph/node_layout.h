@@ -22,15 +22,15 @@ namespace graftnav {
 
 struct GraphNode {
   double t_s = 0.0;
-  size_t sample_end = 0;        // index of the first IMU sample after the node
-  std::vector<size_t> gnss;     // indices into NodeLayout::fixes
+  size_t sample_end = 0;     // index of the first IMU sample after the node
+  std::vector<size_t> gnss;  // indices into NodeLayout::fixes
 };
 
 struct GnssObservation {
   GnssFix fix;
-  Eigen::Vector3d z_w;           // fix in the local frame
-  Eigen::Matrix3d sqrt_info_w;   // whitening of the fix in w
-  double dt_s = 0.0;             // t_fix - t_node
+  Eigen::Vector3d z_w;          // fix in the local frame
+  Eigen::Matrix3d sqrt_info_w;  // whitening of the fix in w
+  double dt_s = 0.0;            // t_fix - t_node
 };
 
 struct NodeLayout {

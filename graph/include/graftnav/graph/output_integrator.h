@@ -39,14 +39,17 @@ class OutputIntegrator {
     PvaSigma sigma;
     bool has_sigma = false;
   };
-  void emit() { output_(pending_.state, pending_.has_sigma ? &pending_.sigma : nullptr, pending_.bg, pending_.ba); }
+  void emit() {
+    output_(pending_.state, pending_.has_sigma ? &pending_.sigma : nullptr, pending_.bg,
+            pending_.ba);
+  }
 
   const LocalFrame& frame_;
   int gnss_week_;
   FgoEpochFn output_;
   std::optional<Strapdown> sd_;
-  NodeValue x_;       // the current node
-  Epoch pending_;     // the epoch held back
+  NodeValue x_;    // the current node
+  Epoch pending_;  // the epoch held back
 };
 
 }  // namespace graftnav

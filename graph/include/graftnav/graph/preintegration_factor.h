@@ -34,9 +34,8 @@ class PreintegrationFactor final : public ceres::SizedCostFunction<9, 3, 4, 3, 3
 
   // Node j predicted from node i by setting the residual to zero (used to initialize nodes).
   void predict(const Eigen::Vector3d& p_i, const Eigen::Quaterniond& q_i,
-               const Eigen::Vector3d& v_i, const Eigen::Vector3d& bg_i,
-               const Eigen::Vector3d& ba_i, Eigen::Vector3d* p_j, Eigen::Quaterniond* q_j,
-               Eigen::Vector3d* v_j) const;
+               const Eigen::Vector3d& v_i, const Eigen::Vector3d& bg_i, const Eigen::Vector3d& ba_i,
+               Eigen::Vector3d* p_j, Eigen::Quaterniond* q_j, Eigen::Vector3d* v_j) const;
 
   const ImuPreintegration& preintegration() const { return *pre_; }
 

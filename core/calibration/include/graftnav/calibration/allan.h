@@ -26,8 +26,8 @@
 namespace graftnav {
 
 struct AllanOptions {
-  bool octave = true;            // m = 1, 2, 4, ...; false: dense log spacing
-  int points_per_decade = 10;    // for dense spacing
+  bool octave = true;                 // m = 1, 2, 4, ...; false: dense log spacing
+  int points_per_decade = 10;         // for dense spacing
   double max_cluster_fraction = 0.1;  // largest m <= fraction * N (rel. error <= ~0.24 at 0.1)
   void validate() const;
 };
@@ -37,8 +37,8 @@ struct AllanCurve {
   std::size_t n = 0;
   std::vector<double> tau_s;
   std::vector<long> m;
-  std::vector<Eigen::Vector3d> adev;   // per axis
-  std::vector<double> rel_error;       // 1 / sqrt(2 (N/m - 1))
+  std::vector<Eigen::Vector3d> adev;  // per axis
+  std::vector<double> rel_error;      // 1 / sqrt(2 (N/m - 1))
 };
 
 // rate samples (one Vector3d a sample, rad/s or m/s^2) at a constant interval dt_s.
@@ -50,8 +50,8 @@ AllanCurve allanDeviation(const ImuSeries& imu, bool gyro, const AllanOptions& o
 
 struct AllanFitOptions {
   bool fit_quantization = false;
-  double min_tau_s = 0.0;      // restrict the fit range (0 = all)
-  double max_tau_s = 0.0;      // 0 = all
+  double min_tau_s = 0.0;  // restrict the fit range (0 = all)
+  double max_tau_s = 0.0;  // 0 = all
   // Cluster times shorter than this many samples are left out: real sensors low-pass filter
   // their output, which bends the shortest-tau part of the curve away from the noise model.
   int min_cluster_samples = 8;

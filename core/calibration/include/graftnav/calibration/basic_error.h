@@ -16,13 +16,13 @@
 namespace graftnav {
 
 struct BasicErrorExtraction {
-  ImuSeries error;                                   // increments (see above)
+  ImuSeries error;  // increments (see above)
   double duration_s = 0.0;
-  Eigen::Vector3d omega_ie_b = Eigen::Vector3d::Zero();   // removed theoretical gyro output
-  Eigen::Vector3d f_b = Eigen::Vector3d::Zero();          // removed theoretical specific force
-  Eigen::Vector3d gyro_mean_rad_s = Eigen::Vector3d::Zero();   // mean error rate (the basic bias)
+  Eigen::Vector3d omega_ie_b = Eigen::Vector3d::Zero();       // removed theoretical gyro output
+  Eigen::Vector3d f_b = Eigen::Vector3d::Zero();              // removed theoretical specific force
+  Eigen::Vector3d gyro_mean_rad_s = Eigen::Vector3d::Zero();  // mean error rate (the basic bias)
   Eigen::Vector3d accel_mean_m_s2 = Eigen::Vector3d::Zero();
-  Eigen::Vector3d gyro_std_rad_s = Eigen::Vector3d::Zero();    // per-sample std of the error rate
+  Eigen::Vector3d gyro_std_rad_s = Eigen::Vector3d::Zero();  // per-sample std of the error rate
   Eigen::Vector3d accel_std_m_s2 = Eigen::Vector3d::Zero();
   // White-noise density estimated as std * sqrt(mean dt) (exact for white noise sampled as
   // interval means): rad/sqrt(s) and m/s/sqrt(s). The Allan fit gives a better value.

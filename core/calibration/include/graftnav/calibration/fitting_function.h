@@ -42,17 +42,18 @@ namespace graftnav {
 
 struct FitPoint {
   double x = 0.0, y = 0.0, sigma = 1.0;
-  double sigma_dof = INFINITY;  // degrees of freedom of sigma^2 when it is estimated (Satterthwaite)
+  double sigma_dof =
+      INFINITY;  // degrees of freedom of sigma^2 when it is estimated (Satterthwaite)
 };
 
 struct PolynomialFitOptions {
-  int max_degree = 3;       // <= 4
-  int folds = 5;            // k of k-fold for cv_rms; leave-one-out for at most 2 * folds points
+  int max_degree = 3;  // <= 4
+  int folds = 5;       // k of k-fold for cv_rms; leave-one-out for at most 2 * folds points
   // False-alarm probability of a degree step, in (0, 1): of one axis in fitPolynomialSelectDegree,
   // of the sensor (any of its three axes, Sidak 1 - (1 - alpha)^(1/3) per axis) in
   // fitAxisPolynomials.
   double degree_alpha = 0.01;
-  void validate() const;    // throws std::invalid_argument naming the field
+  void validate() const;  // throws std::invalid_argument naming the field
   double perAxisAlpha() const { return 1.0 - std::pow(1.0 - degree_alpha, 1.0 / 3.0); }
 };
 
@@ -62,7 +63,8 @@ PolynomialFit fitPolynomial(const std::vector<FitPoint>& points, int degree);
 // Degree by the backward F-test (above). Throws std::invalid_argument (naming `name`) with fewer
 // than 3 points or fewer than 2 distinct x values.
 PolynomialFit fitPolynomialSelectDegree(const std::vector<FitPoint>& points,
-                                        const PolynomialFitOptions& options, const std::string& name);
+                                        const PolynomialFitOptions& options,
+                                        const std::string& name);
 
 // Builds the per-axis points from observations and M (see above) and fits each axis;
 // pose_drift.sigma (per axis, the unit of the observations) is added to every point's sigma in

@@ -61,6 +61,7 @@ struct LabCalibrationReport {
 };
 
 // Throws std::runtime_error when the session has neither six-position poses nor a static record.
-LabCalibrationReport calibrateLab(const LabData& session, const LabCalibrationOptions& options = {});
+LabCalibrationReport calibrateLab(const LabData& session,
+                                  const LabCalibrationOptions& options = {});
 
 }  // namespace graftnav

@@ -39,7 +39,7 @@ struct LabDataOptions {
   static StaticDetectorOptions defaultPoseCheck() {
     StaticDetectorOptions o;
     o.window_s = 0.5;
-    o.gyro_threshold_rad_s = 0.1;   // 5.7 deg/s: hand-held poses still pass, motion does not
+    o.gyro_threshold_rad_s = 0.1;  // 5.7 deg/s: hand-held poses still pass, motion does not
     o.accel_threshold_m_s2 = 0.5;
     o.min_duration_s = 0.0;
     return o;

@@ -31,10 +31,10 @@ namespace graftnav {
 
 struct MultiPositionOptions {
   StaticDetectorOptions detector;
-  double gravity_m_s2 = 9.80665;   // local gravity magnitude (normal gravity when latitude known)
+  double gravity_m_s2 = 9.80665;  // local gravity magnitude (normal gravity when latitude known)
   double latitude_rad = 0.0;
   bool latitude_known = false;
-  int min_intervals = 9;           // >= 9 (accel has 9 unknowns); fewer is an error
+  int min_intervals = 9;  // >= 9 (accel has 9 unknowns); fewer is an error
   // Static intervals whose gravity directions differ by less than this count as one attitude.
   double distinct_attitude_deg = 10.0;
   // With fewer distinct attitudes than 9 (e.g. a six-position session) the accelerometer
@@ -65,7 +65,8 @@ struct MultiPositionResult {
 
 // `imu` holds nominally scaled increments (SI). Throws std::runtime_error naming `source` when
 // fewer than min_intervals static intervals are found or the problem does not converge.
-MultiPositionResult calibrateMultiPosition(const ImuSeries& imu, const MultiPositionOptions& options,
+MultiPositionResult calibrateMultiPosition(const ImuSeries& imu,
+                                           const MultiPositionOptions& options,
                                            const std::string& source = "multi-position data");
 
 // Nominal count -> SI conversion for raw ADC recordings (imu_tk_xsens_calib/raw): per axis
@@ -74,7 +75,7 @@ struct RawCountScale {
   Eigen::Vector3d accel_offset = Eigen::Vector3d::Constant(32768.0);
   Eigen::Vector3d accel_scale = Eigen::Vector3d::Constant(9.81744 / 4000.0);  // m/s^2 per count
   Eigen::Vector3d gyro_offset = Eigen::Vector3d::Constant(32768.0);
-  Eigen::Vector3d gyro_scale = Eigen::Vector3d::Constant(1.0 / 6258.0);       // rad/s per count
+  Eigen::Vector3d gyro_scale = Eigen::Vector3d::Constant(1.0 / 6258.0);  // rad/s per count
 };
 
 // Reads the two imu_tk text files (`t ax ay az`, `t wx wy wz`, same time column) into an

@@ -25,7 +25,7 @@
 namespace graftnav {
 
 struct PoseDriftEstimate {
-  Eigen::Vector3d sigma = Eigen::Vector3d::Zero();  // per axis, the unit of the rates
+  Eigen::Vector3d sigma = Eigen::Vector3d::Zero();            // per axis, the unit of the rates
   Eigen::Vector3d dof = Eigen::Vector3d::Constant(INFINITY);  // of sigma^2, per axis
 };
 

@@ -51,10 +51,10 @@ struct LinearModelFit {
   Eigen::Matrix<double, 12, 12> covariance = Eigen::Matrix<double, 12, 12>::Zero();
   Eigen::Matrix3d M_sigma = Eigen::Matrix3d::Zero();
   Eigen::Vector3d bias_sigma = Eigen::Vector3d::Zero();
-  double chi2 = 0.0;               // sum of squared whitened residuals
-  int dof = 0;                     // 3K - 12 - (number of own-axis powers)
-  double covariance_scale = 1.0;   // factor applied to the covariance
-  double residual_rms = 0.0;       // RMS of the unwhitened residuals (units of `measured`)
+  double chi2 = 0.0;                       // sum of squared whitened residuals
+  int dof = 0;                             // 3K - 12 - (number of own-axis powers)
+  double covariance_scale = 1.0;           // factor applied to the covariance
+  double residual_rms = 0.0;               // RMS of the unwhitened residuals (units of `measured`)
   std::vector<Eigen::Vector3d> residuals;  // measured - (M true + bias + powers), per observation
 };
 
@@ -74,8 +74,9 @@ LinearModelFit fitLinearSensorModel(const std::vector<LinearObservation>& obs,
                                     const std::array<int, 3>& axis_degree = {1, 1, 1});
 
 // Closed form of Eq. 8: [M | b] = U A^T (A A^T)^-1 with A = [true; 1] (4 x K), U measured (3 x K).
-Eigen::Matrix<double, 3, 4> closedFormLinearModel(const Eigen::Matrix<double, 3, Eigen::Dynamic>& U,
-                                                  const Eigen::Matrix<double, 4, Eigen::Dynamic>& A);
+Eigen::Matrix<double, 3, 4> closedFormLinearModel(
+    const Eigen::Matrix<double, 3, Eigen::Dynamic>& U,
+    const Eigen::Matrix<double, 4, Eigen::Dynamic>& A);
 
 // Default attitude (rad, [roll, pitch, yaw]) of a six-position pose named x_up .. z_down;
 // throws std::invalid_argument for another name.

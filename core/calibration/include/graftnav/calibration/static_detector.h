@@ -22,9 +22,9 @@ namespace graftnav {
 
 struct StaticDetectorOptions {
   double window_s = 1.0;
-  double gyro_threshold_rad_s = 0.05;    // ~2.9 deg/s; <= 0 disables the gyro test
-  double accel_threshold_m_s2 = 0.3;     // <= 0 disables the accel test
-  double init_static_s = 0.0;            // > 0: adaptive thresholds from the initial interval
+  double gyro_threshold_rad_s = 0.05;  // ~2.9 deg/s; <= 0 disables the gyro test
+  double accel_threshold_m_s2 = 0.3;   // <= 0 disables the accel test
+  double init_static_s = 0.0;          // > 0: adaptive thresholds from the initial interval
   double threshold_factor = 3.0;
   double min_duration_s = 2.0;
   double trim_s = 0.0;
@@ -40,7 +40,7 @@ struct StaticInterval {
 
 struct StaticDetection {
   std::vector<StaticInterval> intervals;
-  double gyro_threshold_rad_s = 0.0;   // thresholds actually used
+  double gyro_threshold_rad_s = 0.0;  // thresholds actually used
   double accel_threshold_m_s2 = 0.0;
   std::vector<double> gyro_stat, accel_stat;  // per-sample statistics (for plots)
 };

@@ -27,13 +27,13 @@ Eigen::Vector3d staticEarthRate_b(const Eigen::Matrix3d& C_nb, double lat_rad);
 struct SegmentStats {
   std::string name;
   std::size_t begin = 0, end = 0;
-  double duration_s = 0.0;                     // sum of dt_s
-  Eigen::Vector3d omega_mean_rad_s = Eigen::Vector3d::Zero();   // sum dtheta / sum dt
-  Eigen::Vector3d f_mean_m_s2 = Eigen::Vector3d::Zero();        // sum dvel / sum dt
+  double duration_s = 0.0;                                     // sum of dt_s
+  Eigen::Vector3d omega_mean_rad_s = Eigen::Vector3d::Zero();  // sum dtheta / sum dt
+  Eigen::Vector3d f_mean_m_s2 = Eigen::Vector3d::Zero();       // sum dvel / sum dt
   Eigen::Vector3d dtheta_sum_rad = Eigen::Vector3d::Zero();
   Eigen::Vector3d dvel_sum_m_s = Eigen::Vector3d::Zero();
-  Eigen::Vector3d omega_std_rad_s = Eigen::Vector3d::Zero();    // per-sample std of dtheta/dt
-  Eigen::Vector3d f_std_m_s2 = Eigen::Vector3d::Zero();         // per-sample std of dvel/dt
+  Eigen::Vector3d omega_std_rad_s = Eigen::Vector3d::Zero();  // per-sample std of dtheta/dt
+  Eigen::Vector3d f_std_m_s2 = Eigen::Vector3d::Zero();       // per-sample std of dvel/dt
   std::size_t count() const { return end - begin; }
   // Standard deviation of the means assuming white noise: std / sqrt(n).
   Eigen::Vector3d omegaSigmaOfMean() const;

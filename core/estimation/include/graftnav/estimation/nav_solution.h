@@ -18,25 +18,25 @@ namespace graftnav {
 using PvaSigma = Eigen::Matrix<double, 9, 1>;
 
 struct NavSolution {
-  std::string estimator;            // "ekf", "rts", "fgo", "fgo-window", "free-inertial"
-  NavSeries states;                 // at the IMU rate (or a stated decimation)
-  std::vector<PvaSigma> sigma;      // same length as states, or empty
+  std::string estimator;        // "ekf", "rts", "fgo", "fgo-window", "free-inertial"
+  NavSeries states;             // at the IMU rate (or a stated decimation)
+  std::vector<PvaSigma> sigma;  // same length as states, or empty
   // Estimated IMU errors at each state epoch (same length as states, or empty):
   std::vector<Eigen::Vector3d> gyro_bias_rad_s, accel_bias_m_s2, gyro_scale, accel_scale;
   // GNSS bookkeeping.
   int gnss_used = 0;
-  int gnss_rejected = 0;   // failed the innovation gate
-  int gnss_withheld = 0;   // inside outages
+  int gnss_rejected = 0;  // failed the innovation gate
+  int gnss_withheld = 0;  // inside outages
 };
 
 // The inputs shared by all estimators.
 struct EstimationProblem {
   ImuSeries imu;
-  GnssSeries gnss;                       // all epochs; the estimator withholds those in outages
-  std::vector<TimeWindow> outages;       // GNSS withheld inside these
-  NavState initial;                      // at (or just before) imu.front().t_s
+  GnssSeries gnss;                  // all epochs; the estimator withholds those in outages
+  std::vector<TimeWindow> outages;  // GNSS withheld inside these
+  NavState initial;                 // at (or just before) imu.front().t_s
   Eigen::Vector3d lever_arm_b_m = Eigen::Vector3d::Zero();  // antenna from IMU, body FRD
-  ImuProfile imu_profile;                // noise and bias model of the IMU being navigated
+  ImuProfile imu_profile;  // noise and bias model of the IMU being navigated
   PvaSigma initial_sigma = PvaSigma::Constant(-1.0);  // < 0: estimator default
 };
 

@@ -27,18 +27,18 @@ struct DriftStats {
 // Solution minus reference at one solution epoch.
 struct EpochError {
   double t_s = 0.0;
-  Eigen::Vector3d pos_ned_m = Eigen::Vector3d::Zero();    // north, east, down (m)
-  Eigen::Vector3d vel_ned_m_s = Eigen::Vector3d::Zero();  // (m/s)
-  Eigen::Vector3d euler_rad = Eigen::Vector3d::Zero();    // roll, pitch, heading; wrapped
-  Eigen::Vector3d att_n_rad = Eigen::Vector3d::Zero();    // rotation vector of q_sol q_ref^-1 (n)
-  double nees = std::numeric_limits<double>::quiet_NaN(); // sum over the 9 PVA of (e/sigma)^2
-  int outage = -1;                                        // index into the outages, -1 outside
+  Eigen::Vector3d pos_ned_m = Eigen::Vector3d::Zero();     // north, east, down (m)
+  Eigen::Vector3d vel_ned_m_s = Eigen::Vector3d::Zero();   // (m/s)
+  Eigen::Vector3d euler_rad = Eigen::Vector3d::Zero();     // roll, pitch, heading; wrapped
+  Eigen::Vector3d att_n_rad = Eigen::Vector3d::Zero();     // rotation vector of q_sol q_ref^-1 (n)
+  double nees = std::numeric_limits<double>::quiet_NaN();  // sum over the 9 PVA of (e/sigma)^2
+  int outage = -1;                                         // index into the outages, -1 outside
 };
 
 struct OutageDrift {
   TimeWindow window;
-  int epochs = 0;   // solution epochs evaluated inside
-  DriftStats max;   // maximum of each absolute error inside the window
+  int epochs = 0;  // solution epochs evaluated inside
+  DriftStats max;  // maximum of each absolute error inside the window
 };
 
 enum class EvaluationEpochs {
@@ -59,11 +59,11 @@ struct EvaluationOptions {
 };
 
 struct Evaluation {
-  std::vector<EpochError> epochs;   // solution epochs inside the reference span
-  DriftStats overall_rms;           // all evaluated epochs
-  DriftStats outage_rms;            // seed: RMS over all epochs inside outages
-  DriftStats outage_max_rms;        // peers: RMS over outages of the per-outage maximum
-  std::vector<OutageDrift> outages; // one per outage window with at least one epoch
+  std::vector<EpochError> epochs;    // solution epochs inside the reference span
+  DriftStats overall_rms;            // all evaluated epochs
+  DriftStats outage_rms;             // seed: RMS over all epochs inside outages
+  DriftStats outage_max_rms;         // peers: RMS over outages of the per-outage maximum
+  std::vector<OutageDrift> outages;  // one per outage window with at least one epoch
   int outage_epochs = 0;
   // NEES of the 9 PVA error states using the solution's diagonal sigma (an average of
   // sum_i e_i^2 / sigma_i^2, expectation 9 for a consistent estimator).
@@ -81,6 +81,5 @@ struct Evaluation {
 Evaluation evaluateSolution(const NavSolution& solution, const NavSeries& reference,
                             const std::vector<TimeWindow>& outages,
                             const EvaluationOptions& options = {});
-
 
 }  // namespace graftnav

@@ -30,35 +30,35 @@
 namespace graftnav {
 
 struct FixResidual {
-  double t_s = 0.0;                                   // fix time tag (as given)
-  Eigen::Vector3d r_ned_m = Eigen::Vector3d::Zero();  // fix minus track antenna position (NED)
+  double t_s = 0.0;                                     // fix time tag (as given)
+  Eigen::Vector3d r_ned_m = Eigen::Vector3d::Zero();    // fix minus track antenna position (NED)
   Eigen::Vector3d v_ned_m_s = Eigen::Vector3d::Zero();  // track velocity at the evaluated time
   int fix_type = 0;
 };
 
 // Residuals of `fixes` against the antenna position of `track` (IMU position + C_nb lever arm)
 // evaluated at t_tag - shift_s. Fixes outside the track span are skipped.
-std::vector<FixResidual> fixResiduals(const NavSeries& track, const GnssSeries& fixes, double shift_s,
-                                      const Eigen::Vector3d& lever_arm_b_m);
+std::vector<FixResidual> fixResiduals(const NavSeries& track, const GnssSeries& fixes,
+                                      double shift_s, const Eigen::Vector3d& lever_arm_b_m);
 
 struct LatencyScanOptions {
   double min_shift_s = -1.5;
   double max_shift_s = 1.5;
   double step_s = 0.02;
   double min_speed_m_s = 3.0;
-  double outlier_m = 5.0;   // horizontal residual at the best shift above which a fix is dropped
-  void validate() const;    // throws std::invalid_argument naming the field
+  double outlier_m = 5.0;  // horizontal residual at the best shift above which a fix is dropped
+  void validate() const;   // throws std::invalid_argument naming the field
 };
 
 struct LatencyEstimate {
-  std::vector<double> shift_s;      // grid
-  std::vector<double> rms_h_m;      // horizontal RMS of r(shift) over the used fixes
-  double grid_s = 0.0;              // grid estimate (parabola-refined)
-  double grid_rms_h_m = 0.0;        // RMS at the nearest grid point
-  double rms_h_at_zero_m = 0.0;     // RMS without correction (shift 0, or nearest grid point)
-  double slope_s = 0.0;             // least-squares along-track estimate
+  std::vector<double> shift_s;   // grid
+  std::vector<double> rms_h_m;   // horizontal RMS of r(shift) over the used fixes
+  double grid_s = 0.0;           // grid estimate (parabola-refined)
+  double grid_rms_h_m = 0.0;     // RMS at the nearest grid point
+  double rms_h_at_zero_m = 0.0;  // RMS without correction (shift 0, or nearest grid point)
+  double slope_s = 0.0;          // least-squares along-track estimate
   int fixes_used = 0;
-  int fixes_slow = 0;               // below min_speed_m_s
+  int fixes_slow = 0;  // below min_speed_m_s
   int fixes_outliers = 0;
 };
 
@@ -78,7 +78,7 @@ struct CheckpointWindowStats {
 struct CheckpointEvaluation {
   std::vector<CheckpointWindowStats> windows;  // windows with at least one check point
   int n = 0;
-  double rms_h_m = 0.0, rms_v_m = 0.0;         // over all check points
+  double rms_h_m = 0.0, rms_v_m = 0.0;                // over all check points
   double rms_of_max_h_m = 0.0, rms_of_max_v_m = 0.0;  // over windows, of the per-window maximum
   double mean_of_max_h_m = 0.0;
 };

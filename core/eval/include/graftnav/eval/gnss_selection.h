@@ -24,12 +24,12 @@
 namespace graftnav {
 
 struct GnssSelectionOptions {
-  std::vector<int> accepted_fix_types;        // empty: every fix type (0 unknown included)
-  double max_horizontal_std_m = 1e9;          // reject when max(std_N, std_E) exceeds this
-  double max_vertical_std_m = 1e9;            // reject when std_U exceeds this
-  double latency_s = 0.0;                     // time-tag latency of fix types not listed below
+  std::vector<int> accepted_fix_types;  // empty: every fix type (0 unknown included)
+  double max_horizontal_std_m = 1e9;    // reject when max(std_N, std_E) exceeds this
+  double max_vertical_std_m = 1e9;      // reject when std_U exceeds this
+  double latency_s = 0.0;               // time-tag latency of fix types not listed below
   std::map<int, double> latency_s_by_fix_type;
-  double min_spacing_s = 0.0;                 // 0: off
+  double min_spacing_s = 0.0;  // 0: off
   // Throws std::invalid_argument naming the field.
   void validate() const;
   bool isIdentity() const;  // nothing would be rejected or shifted
@@ -43,7 +43,7 @@ struct GnssSelectionCounts {
   int rejected_std = 0;
   int rejected_duplicate_time = 0;
   int rejected_spacing = 0;
-  int reordered = 0;                  // epochs that changed order after the time-tag correction
+  int reordered = 0;  // epochs that changed order after the time-tag correction
   std::map<int, int> used_by_fix_type;
   std::map<int, int> input_by_fix_type;
   int rejected() const {

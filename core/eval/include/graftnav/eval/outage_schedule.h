@@ -10,9 +10,9 @@
 namespace graftnav {
 
 struct OutageScheduleConfig {
-  double length_s = 60.0;   // outage length
-  double period_s = 180.0;  // start-to-start spacing
-  double start_s = 300.0;   // first outage start, seconds after the first IMU epoch (warm-up)
+  double length_s = 60.0;      // outage length
+  double period_s = 180.0;     // start-to-start spacing
+  double start_s = 300.0;      // first outage start, seconds after the first IMU epoch (warm-up)
   double end_margin_s = 10.0;  // no outage may end closer than this to the data end
   std::vector<TimeWindow> explicit_windows;  // absolute times (s of week); overrides the above
   bool enabled = true;

@@ -26,17 +26,17 @@
 namespace graftnav {
 
 struct PlausibleRanges {
-  std::string sensor_class;  // consumer_mems | industrial_mems | tactical | navigation
-  std::string source;        // where the bounds come from (the datasheet class)
-  double gyro_scale_max = 0.0;                       // |k| (fraction)
+  std::string sensor_class;     // consumer_mems | industrial_mems | tactical | navigation
+  std::string source;           // where the bounds come from (the datasheet class)
+  double gyro_scale_max = 0.0;  // |k| (fraction)
   double accel_scale_max = 0.0;
-  double gyro_nonorthogonality_max_rad = 0.0;        // |N_ij|
+  double gyro_nonorthogonality_max_rad = 0.0;  // |N_ij|
   double accel_nonorthogonality_max_rad = 0.0;
-  double gyro_scale_asymmetry_max = 0.0;             // |k_pos|, |k_neg| (fraction)
+  double gyro_scale_asymmetry_max = 0.0;  // |k_pos|, |k_neg| (fraction)
   double accel_scale_asymmetry_max = 0.0;
   double gyro_scale_nonlinearity_max_per_rad_s = 0.0;  // |k2|
   double accel_scale_nonlinearity_max_per_m_s2 = 0.0;
-  double g_sensitivity_max_rad_s_per_m_s2 = 0.0;     // |G_ij|
+  double g_sensitivity_max_rad_s_per_m_s2 = 0.0;  // |G_ij|
   // Throws std::invalid_argument naming the field when a bound is not positive and finite.
   void validate() const;
 };

@@ -29,18 +29,20 @@ struct LabConfig {
 };
 
 struct CaseConfig {
-  std::string name;                          // required
-  double imu_rate_hz = 0.0;                  // required, > 0 (reference IMU, and tested IMU unless...)
+  std::string name;          // required
+  double imu_rate_hz = 0.0;  // required, > 0 (reference IMU, and tested IMU unless...)
   std::optional<double> tested_imu_rate_hz;  // ...this is given
-  std::optional<std::string> reference_solution;  // path relative to the case dir, e.g. field/reference.nav
+  std::optional<std::string>
+      reference_solution;  // path relative to the case dir, e.g. field/reference.nav
   // IMU sections. A section may hold only the grade ({grade: mems}); then *_noise_given is false and
   // the noise fields are 0, meaning UNKNOWN (not perfect).
   std::optional<ImuProfile> reference_imu;
   bool reference_imu_noise_given = false;
   std::optional<ImuProfile> tested_imu;
   bool tested_imu_noise_given = false;
-  std::optional<Eigen::Vector3d> lever_arm_m;  // antenna phase centre from the reference IMU, FRD (m)
-  std::optional<int> gnss_week;                // gnss.week
+  std::optional<Eigen::Vector3d>
+      lever_arm_m;               // antenna phase centre from the reference IMU, FRD (m)
+  std::optional<int> gnss_week;  // gnss.week
   // initial_state: time, position (deg, deg, m), velocity_ned, attitude_deg; gnss_week from gnss.week.
   std::optional<NavState> initial_state;
   std::optional<LabConfig> lab;
@@ -60,9 +62,9 @@ void saveCaseConfig(const std::string& path, const CaseConfig& config);
 // A rate-table file lab/rate/<x|y|z>_<pos|neg>_<deg/s>.txt with its parsed name.
 struct RateFile {
   std::string path;
-  int axis = 0;       // 0 x, 1 y, 2 z (body FRD)
-  int sign = 1;       // +1 pos (right-handed positive rotation about the axis), -1 neg
-  double rate_deg_s = 0.0;  // the number in the file name (deg/s, > 0)
+  int axis = 0;               // 0 x, 1 y, 2 z (body FRD)
+  int sign = 1;               // +1 pos (right-handed positive rotation about the axis), -1 neg
+  double rate_deg_s = 0.0;    // the number in the file name (deg/s, > 0)
   double rate_rad_s() const;  // sign * rate in rad/s
 };
 
@@ -72,17 +74,17 @@ class CasePaths {
   explicit CasePaths(std::string case_dir);
   const std::string& dir() const { return dir_; }
   std::string caseYaml() const;
-  std::string refImu() const;        // field/ref_imu.txt
-  std::string testedImu() const;     // field/tested_imu.txt
-  std::string gnssPos() const;       // field/gnss.pos
-  std::string gnssFixType() const;   // field/gnss_fixtype.txt
-  std::string truthNav() const;      // field/truth.nav
+  std::string refImu() const;       // field/ref_imu.txt
+  std::string testedImu() const;    // field/tested_imu.txt
+  std::string gnssPos() const;      // field/gnss.pos
+  std::string gnssFixType() const;  // field/gnss_fixtype.txt
+  std::string truthNav() const;     // field/truth.nav
   // The external reference solution named by case.yaml (nullopt when the key is absent).
   std::optional<std::string> referenceSolution(const CaseConfig& config) const;
-  std::string labStatic() const;     // lab/static.txt
+  std::string labStatic() const;  // lab/static.txt
   // lab/six_position/<x|y|z>_<up|down>.txt; axis 0..2. Throws std::invalid_argument otherwise.
   std::string sixPosition(int axis, bool up) const;
-  std::string rateDir() const;       // lab/rate
+  std::string rateDir() const;                      // lab/rate
   std::string tilt(const std::string& name) const;  // lab/tilt/<name>.txt
   // Lists lab/rate/*.txt sorted by (axis, sign, rate); empty when the folder does not exist.
   // Throws std::runtime_error naming the file when a .txt name does not follow the pattern.

@@ -39,7 +39,8 @@ struct GnssReadPolicy {
 // Reads a .pos file. Throws std::runtime_error naming path:line for a missing file, an empty file,
 // a malformed line, a column count other than 7, NaN/inf, latitude outside [-90, 90], a negative
 // std, and the conditions whose rule is kError.
-GnssSeries readGnssPos(const std::string& path, const GnssReadPolicy& policy = {}, ReadReport* report = nullptr);
+GnssSeries readGnssPos(const std::string& path, const GnssReadPolicy& policy = {},
+                       ReadReport* report = nullptr);
 
 struct GnssFixTypeRecord {
   double t_s = 0.0;
@@ -48,7 +49,8 @@ struct GnssFixTypeRecord {
   int line = 0;  // line in the file, for messages
 };
 // Reads gnss_fixtype.txt (3 integer-valued columns after the time). Same time-order rules.
-std::vector<GnssFixTypeRecord> readGnssFixTypes(const std::string& path, const GnssReadPolicy& policy = {},
+std::vector<GnssFixTypeRecord> readGnssFixTypes(const std::string& path,
+                                                const GnssReadPolicy& policy = {},
                                                 ReadReport* report = nullptr);
 
 // Sets fix_type and num_sv of each fix whose time matches a record within

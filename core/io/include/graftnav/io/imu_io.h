@@ -53,7 +53,8 @@ struct ImuReadOptions {
 // Reads an IMU file. Fills *report (when given) with counts and examples of every condition met.
 // Throws std::runtime_error naming path, line and value on any error (missing file, empty file,
 // malformed line, column count not 7/8, NaN/inf, and the conditions whose rule is kError).
-ImuSeries readImu(const std::string& path, const ImuReadOptions& options = {}, ReadReport* report = nullptr);
+ImuSeries readImu(const std::string& path, const ImuReadOptions& options = {},
+                  ReadReport* report = nullptr);
 
 // Reads an IMU file in blocks of at most block_samples samples, in a chunk of text at a time:
 // memory does not grow with the file. The samples, their dt_s and the report equal readImu's for
@@ -63,7 +64,8 @@ ImuSeries readImu(const std::string& path, const ImuReadOptions& options = {}, R
 // caller may have processed earlier blocks already).
 class ImuBlockReader {
  public:
-  ImuBlockReader(const std::string& path, const ImuReadOptions& options, std::size_t block_samples = 4096);
+  ImuBlockReader(const std::string& path, const ImuReadOptions& options,
+                 std::size_t block_samples = 4096);
   // Replaces *block with the next samples; returns false (block empty) at the end of the file.
   // Throws std::runtime_error "path: no IMU samples in the file" when the file holds none.
   bool next(ImuSeries* block);

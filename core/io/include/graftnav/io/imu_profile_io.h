@@ -47,7 +47,8 @@ void saveImuProfile(const std::string& path, const ImuProfile& profile);
 // --- used by the case.yaml parser and writer ---
 struct ImuProfileParse {
   ImuProfile profile;
-  bool noise_given = false;  // the four noise keys were present (else the noise fields are 0 = unknown)
+  bool noise_given =
+      false;  // the four noise keys were present (else the noise fields are 0 = unknown)
 };
 // Parses one profile map. key_prefix names it in messages ("tested_imu"); require_noise makes
 // the four noise keys required (profile files), otherwise they are optional as a group (all four

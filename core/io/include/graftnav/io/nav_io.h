@@ -24,7 +24,8 @@ struct NavReadPolicy {
 // Throws std::runtime_error naming path:line for a missing or empty file, a malformed line, a column
 // count other than 11, NaN/inf, a non-integer or negative week, latitude outside [-90, 90], and the
 // conditions whose rule is kError.
-NavSeries readNav(const std::string& path, const NavReadPolicy& policy = {}, ReadReport* report = nullptr);
+NavSeries readNav(const std::string& path, const NavReadPolicy& policy = {},
+                  ReadReport* report = nullptr);
 
 // Atomic writer: week %d, sow %.9f, lat/lon %.11f deg, height %.6f m, velocity %.6f m/s, roll and
 // pitch %.9f deg, yaw %.9f deg in [0, 360). Throws std::invalid_argument on non-finite values or

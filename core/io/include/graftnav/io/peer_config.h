@@ -42,20 +42,20 @@ struct PeerOutageSchedule {
 
 struct PeerSetup {
   PeerFormat format = PeerFormat::kKfGins;
-  std::string config_path;       // the peer's yaml, as given
-  std::string imu_path;          // resolved (exists)
-  std::string gnss_path;         // resolved (exists)
-  int imu_columns = 7;           // imudatalen
-  double imu_rate_hz = 0.0;      // imudatarate
-  double start_s = 0.0;          // starttime
-  std::optional<double> end_s;   // endtime; nullopt = to the end of the IMU file
+  std::string config_path;      // the peer's yaml, as given
+  std::string imu_path;         // resolved (exists)
+  std::string gnss_path;        // resolved (exists)
+  int imu_columns = 7;          // imudatalen
+  double imu_rate_hz = 0.0;     // imudatarate
+  double start_s = 0.0;         // starttime
+  std::optional<double> end_s;  // endtime; nullopt = to the end of the IMU file
   // Initial position: KF-GINS initpos; OB_GINS has none (the importer takes the first GNSS fix).
   std::optional<Geodetic> initial_position;
   Eigen::Vector3d initial_velocity_ned_m_s = Eigen::Vector3d::Zero();
   Eigen::Vector3d initial_euler_rad = Eigen::Vector3d::Zero();  // roll, pitch, yaw
   // Initial 1-sigma of the filter (KF-GINS initposstd, initvelstd, initattstd); nullopt: not given.
   std::optional<Eigen::Vector3d> initial_pos_std_m, initial_vel_std_m_s, initial_att_std_rad;
-  ImuProfile profile;            // noise converted to SI; name "<format> imunoise"
+  ImuProfile profile;                          // noise converted to SI; name "<format> imunoise"
   std::optional<Eigen::Vector3d> lever_arm_m;  // antlever, antenna from the IMU, body FRD
   std::optional<PeerOutageSchedule> outage_schedule;  // OB_GINS isuseoutage: true
   std::optional<double> gnss_max_std_m;               // OB_GINS gnssthreshold

@@ -31,10 +31,10 @@ struct ImportOptions {
   // 10 Hz data with a lost epoch or two do not make outages.
   double min_gap_s = 3.0;
   double gap_factor = 5.0;
-  bool copy_files = false;         // copy the data files instead of linking them
-  std::string reference_path;      // optional reference solution (.nav) for the errors
-  std::string case_name;           // default: the peer yaml's file stem
-  void validate() const;           // throws std::invalid_argument naming the field
+  bool copy_files = false;     // copy the data files instead of linking them
+  std::string reference_path;  // optional reference solution (.nav) for the errors
+  std::string case_name;       // default: the peer yaml's file stem
+  void validate() const;       // throws std::invalid_argument naming the field
 };
 
 // Gaps of `gnss` inside [t_begin_s, t_end_s] longer than the threshold above, as outage windows.

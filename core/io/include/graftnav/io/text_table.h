@@ -27,7 +27,8 @@ class TextTableReader {
   // Reads the file in chunks of about chunk_bytes (a line longer than that is still read whole):
   // memory is one chunk plus one line, whatever the file's length. Lines, tokens and line numbers
   // are the same as the whole-file reader's. Throws std::runtime_error when it cannot be opened.
-  static TextTableReader streaming(std::string path, std::size_t chunk_bytes = std::size_t{1} << 20);
+  static TextTableReader streaming(std::string path,
+                                   std::size_t chunk_bytes = std::size_t{1} << 20);
 
   // Advances to the next data line and parses its numbers. Returns false at the end of the file.
   // Throws (naming path, line and token) when a token is not a number or the line has more than
@@ -101,8 +102,8 @@ const char* toString(ReadCondition condition);
 
 struct ReadExample {
   ReadCondition condition = ReadCondition::kGap;
-  int line = 0;       // 1-based line number in the file
-  std::string text;   // what was seen, e.g. "dt 0.0300 s = 3.00 x nominal 0.0100 s"
+  int line = 0;      // 1-based line number in the file
+  std::string text;  // what was seen, e.g. "dt 0.0300 s = 3.00 x nominal 0.0100 s"
 };
 
 // What a reader met and did. Nothing is dropped without being counted here.

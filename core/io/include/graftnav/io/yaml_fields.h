@@ -17,7 +17,7 @@
 namespace graftnav::yaml_fields {
 
 struct Context {
-  std::string path;                             // file, for messages
+  std::string path;                              // file, for messages
   std::vector<std::string>* warnings = nullptr;  // unknown keys go here (may be null)
 };
 
@@ -32,7 +32,8 @@ inline std::string join(const std::string& prefix, const std::string& key) {
   return prefix.empty() ? key : prefix + "." + key;
 }
 
-[[noreturn]] inline void fail(const Context& ctx, const YAML::Node& node, const std::string& key, const std::string& what) {
+[[noreturn]] inline void fail(const Context& ctx, const YAML::Node& node, const std::string& key,
+                              const std::string& what) {
   throw std::runtime_error(where(ctx, node) + ": key '" + key + "': " + what);
 }
 
@@ -43,17 +44,19 @@ inline std::string describe(const YAML::Node& node) {
   return "nothing";
 }
 
-inline YAML::Node requireMap(const Context& ctx, const YAML::Node& parent, const std::string& key_path,
-                             const YAML::Node& node) {
-  if (!node.IsMap()) fail(ctx, node.IsDefined() ? node : parent, key_path, "expected a map, got " + describe(node));
+inline YAML::Node requireMap(const Context& ctx, const YAML::Node& parent,
+                             const std::string& key_path, const YAML::Node& node) {
+  if (!node.IsMap())
+    fail(ctx, node.IsDefined() ? node : parent, key_path, "expected a map, got " + describe(node));
   return node;
 }
 
-inline YAML::Node child(const Context& ctx, const YAML::Node& map, const std::string& prefix, const char* key,
-                        bool required) {
+inline YAML::Node child(const Context& ctx, const YAML::Node& map, const std::string& prefix,
+                        const char* key, bool required) {
   const YAML::Node n = map[key];
   if (required && (!n.IsDefined() || n.IsNull()))
-    throw std::runtime_error(where(ctx, map) + ": missing required key '" + join(prefix, key) + "'");
+    throw std::runtime_error(where(ctx, map) + ": missing required key '" + join(prefix, key) +
+                             "'");
   return n;
 }
 
@@ -73,7 +76,8 @@ inline double asDouble(const Context& ctx, const YAML::Node& n, const std::strin
 
 inline int asInt(const Context& ctx, const YAML::Node& n, const std::string& key_path) {
   const double v = asDouble(ctx, n, key_path);
-  if (v != std::floor(v) || std::fabs(v) > 2e9) fail(ctx, n, key_path, "expected an integer, got " + describe(n));
+  if (v != std::floor(v) || std::fabs(v) > 2e9)
+    fail(ctx, n, key_path, "expected an integer, got " + describe(n));
   return static_cast<int>(v);
 }
 
@@ -91,14 +95,17 @@ inline std::string asString(const Context& ctx, const YAML::Node& n, const std::
   return n.Scalar();
 }
 
-inline Eigen::Vector3d asVector3(const Context& ctx, const YAML::Node& n, const std::string& key_path) {
-  if (!n.IsSequence() || n.size() != 3) fail(ctx, n, key_path, "expected a list of 3 numbers, got " + describe(n));
+inline Eigen::Vector3d asVector3(const Context& ctx, const YAML::Node& n,
+                                 const std::string& key_path) {
+  if (!n.IsSequence() || n.size() != 3)
+    fail(ctx, n, key_path, "expected a list of 3 numbers, got " + describe(n));
   Eigen::Vector3d v;
   for (int i = 0; i < 3; ++i) v[i] = asDouble(ctx, n[i], key_path + "[" + std::to_string(i) + "]");
   return v;
 }
 
-inline unsigned long long asUint64(const Context& ctx, const YAML::Node& n, const std::string& key_path) {
+inline unsigned long long asUint64(const Context& ctx, const YAML::Node& n,
+                                   const std::string& key_path) {
   if (!n.IsScalar()) fail(ctx, n, key_path, "expected a non-negative integer, got " + describe(n));
   const std::string& text = n.Scalar();
   if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
@@ -111,26 +118,32 @@ inline unsigned long long asUint64(const Context& ctx, const YAML::Node& n, cons
 }
 
 // A list of finite numbers; `size` >= 0 requires exactly that many.
-inline std::vector<double> asDoubleList(const Context& ctx, const YAML::Node& n, const std::string& key_path,
-                                        int size = -1) {
+inline std::vector<double> asDoubleList(const Context& ctx, const YAML::Node& n,
+                                        const std::string& key_path, int size = -1) {
   if (!n.IsSequence()) fail(ctx, n, key_path, "expected a list of numbers, got " + describe(n));
   if (size >= 0 && static_cast<int>(n.size()) != size)
-    fail(ctx, n, key_path, "expected " + std::to_string(size) + " numbers, got " + std::to_string(n.size()));
+    fail(ctx, n, key_path,
+         "expected " + std::to_string(size) + " numbers, got " + std::to_string(n.size()));
   std::vector<double> v;
-  for (std::size_t i = 0; i < n.size(); ++i) v.push_back(asDouble(ctx, n[i], key_path + "[" + std::to_string(i) + "]"));
+  for (std::size_t i = 0; i < n.size(); ++i)
+    v.push_back(asDouble(ctx, n[i], key_path + "[" + std::to_string(i) + "]"));
   return v;
 }
 
-inline std::vector<int> asIntList(const Context& ctx, const YAML::Node& n, const std::string& key_path) {
+inline std::vector<int> asIntList(const Context& ctx, const YAML::Node& n,
+                                  const std::string& key_path) {
   if (!n.IsSequence()) fail(ctx, n, key_path, "expected a list of integers, got " + describe(n));
   std::vector<int> v;
-  for (std::size_t i = 0; i < n.size(); ++i) v.push_back(asInt(ctx, n[i], key_path + "[" + std::to_string(i) + "]"));
+  for (std::size_t i = 0; i < n.size(); ++i)
+    v.push_back(asInt(ctx, n[i], key_path + "[" + std::to_string(i) + "]"));
   return v;
 }
 
 // A map from integer keys to finite numbers ({4: 0.1, 5: 0.2}).
-inline std::map<int, double> asIntDoubleMap(const Context& ctx, const YAML::Node& n, const std::string& key_path) {
-  if (!n.IsMap()) fail(ctx, n, key_path, "expected a map of integer keys to numbers, got " + describe(n));
+inline std::map<int, double> asIntDoubleMap(const Context& ctx, const YAML::Node& n,
+                                            const std::string& key_path) {
+  if (!n.IsMap())
+    fail(ctx, n, key_path, "expected a map of integer keys to numbers, got " + describe(n));
   std::map<int, double> m;
   for (const auto& kv : n) {
     const int k = asInt(ctx, kv.first, key_path + " key");
@@ -140,22 +153,28 @@ inline std::map<int, double> asIntDoubleMap(const Context& ctx, const YAML::Node
 }
 
 // The typed conversions `readOptional` can fill.
-inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path, double* out) {
+inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path,
+                    double* out) {
   *out = asDouble(ctx, n, key_path);
 }
-inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path, int* out) {
+inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path,
+                    int* out) {
   *out = asInt(ctx, n, key_path);
 }
-inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path, bool* out) {
+inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path,
+                    bool* out) {
   *out = asBool(ctx, n, key_path);
 }
-inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path, std::string* out) {
+inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path,
+                    std::string* out) {
   *out = asString(ctx, n, key_path);
 }
-inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path, unsigned long long* out) {
+inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path,
+                    unsigned long long* out) {
   *out = asUint64(ctx, n, key_path);
 }
-inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path, std::vector<int>* out) {
+inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path,
+                    std::vector<int>* out) {
   *out = asIntList(ctx, n, key_path);
 }
 inline void convert(const Context& ctx, const YAML::Node& n, const std::string& key_path,
@@ -170,19 +189,21 @@ inline void convert(const Context& ctx, const YAML::Node& n, const std::string& 
 // Fills *out from map[key] when the key is there (a key given without a value is an error, not a
 // default); returns whether it was.
 template <typename T>
-bool readOptional(const Context& ctx, const YAML::Node& map, const std::string& prefix, const char* key, T* out) {
+bool readOptional(const Context& ctx, const YAML::Node& map, const std::string& prefix,
+                  const char* key, T* out) {
   const YAML::Node n = map[key];
   if (!n.IsDefined()) return false;
   convert(ctx, n, join(prefix, key), out);
   return true;
 }
 
-inline double requireDouble(const Context& ctx, const YAML::Node& map, const std::string& prefix, const char* key) {
+inline double requireDouble(const Context& ctx, const YAML::Node& map, const std::string& prefix,
+                            const char* key) {
   return asDouble(ctx, child(ctx, map, prefix, key, true), join(prefix, key));
 }
 
-inline std::optional<double> optionalDouble(const Context& ctx, const YAML::Node& map, const std::string& prefix,
-                                            const char* key) {
+inline std::optional<double> optionalDouble(const Context& ctx, const YAML::Node& map,
+                                            const std::string& prefix, const char* key) {
   const YAML::Node n = map[key];
   if (!present(n)) return std::nullopt;
   return asDouble(ctx, n, join(prefix, key));
@@ -191,13 +212,16 @@ inline std::optional<double> optionalDouble(const Context& ctx, const YAML::Node
 // Adds "path:line: unknown key 'prefix.key' ignored" for every key of map not in known.
 // `known` is a braced list of names or any container of strings.
 template <typename Known = std::initializer_list<const char*>>
-void warnUnknownKeys(const Context& ctx, const YAML::Node& map, const std::string& prefix, const Known& known) {
+void warnUnknownKeys(const Context& ctx, const YAML::Node& map, const std::string& prefix,
+                     const Known& known) {
   if (!map.IsMap() || !ctx.warnings) return;
   for (const auto& kv : map) {
     const std::string k = kv.first.Scalar();
     bool found = false;
     for (const auto& kn : known) found = found || k == kn;
-    if (!found) ctx.warnings->push_back(where(ctx, kv.first) + ": unknown key '" + join(prefix, k) + "' ignored");
+    if (!found)
+      ctx.warnings->push_back(where(ctx, kv.first) + ": unknown key '" + join(prefix, k) +
+                              "' ignored");
   }
 }
 
@@ -207,7 +231,8 @@ inline YAML::Node loadFile(const std::string& path) {
   } catch (const YAML::BadFile&) {
     throw std::runtime_error(path + ": cannot open file (missing or unreadable)");
   } catch (const YAML::ParserException& e) {
-    throw std::runtime_error(path + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+    throw std::runtime_error(path + ":" + std::to_string(e.mark.line + 1) +
+                             ": YAML syntax error: " + e.msg);
   }
 }
 

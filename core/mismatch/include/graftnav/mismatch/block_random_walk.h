@@ -37,7 +37,8 @@ struct ReplayTiling {
 
 // The replay's block-mean covariance for a unit intensity, in block units: the mean over both
 // blocks of min(fold(s), fold(t)) / block_s, the fold taken at `nodes` midpoints per block.
-Eigen::MatrixXd replayedRandomWalkCovariance(int blocks, const ReplayTiling& tiling, int nodes = 24);
+Eigen::MatrixXd replayedRandomWalkCovariance(int blocks, const ReplayTiling& tiling,
+                                             int nodes = 24);
 
 // REML estimate of q (per block, in the units of y squared) for series y[c] with fixed effects
 // X[c] (blocks x p, the constant included by the caller) sharing one intensity (the three axes of

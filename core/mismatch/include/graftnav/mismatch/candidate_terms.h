@@ -59,8 +59,8 @@ struct CandidateTerm {
                             // symmetric non_orthogonality: "symmetric"; else empty
   std::string explanation;  // plain-language physics
   std::vector<RegressorColumn> columns;
-  bool nuisance = false;    // always in the model, never claimed
-  bool fixed = false;       // coefficients fixed at 1 (earth_rotation_omitted)
+  bool nuisance = false;  // always in the model, never claimed
+  bool fixed = false;     // coefficients fixed at 1 (earth_rotation_omitted)
   // Never selected on its own: only the selection's gauge step puts it in a final model (the
   // symmetric accelerometer non_orthogonality; term_selection.h, step 4).
   bool gauge_only = false;
@@ -83,21 +83,23 @@ struct CandidateTerm {
   // Key of the term this fixed one completes (mounting_rotation_remainder: the rotation's
   // remainder at its pivot): in a model only with that term, never selected or claimed alone.
   std::string part_of;
-  double knot_spacing_s = 0.0;        // bias_instability only
-  double t_ref_degC = 0.0;            // temperature terms only
+  double knot_spacing_s = 0.0;  // bias_instability only
+  double t_ref_degC = 0.0;      // temperature terms only
   // The term's record mean is a physical offset from the simulation, not a part of the constant
   // bias it cannot be told from: temperature_bias regressed on the tested minus the simulation's
   // temperature is per_degC (T - T_sim), whose mean is the bias change between the temperature
   // behind the simulation's bias (the lab's) and the field's. SG#3 grafts such a term in full;
   // every other term only as its variation (diagnosis.cpp, step 6).
   bool mean_is_physical = false;
-  std::string key() const { return name + ":" + sensor + (regressor.empty() ? "" : ":" + regressor); }
+  std::string key() const {
+    return name + ":" + sensor + (regressor.empty() ? "" : ":" + regressor);
+  }
 };
 
 // What the regressors are built from, all on one grid.
 struct RegressorInputs {
-  BinnedImu reference;                  // true inputs x (reference IMU signals, binned)
-  Eigen::MatrixXd time_offset_column;   // n x 6 (timeOffsetRegressor) or empty: no term
+  BinnedImu reference;                      // true inputs x (reference IMU signals, binned)
+  Eigen::MatrixXd time_offset_column;       // n x 6 (timeOffsetRegressor) or empty: no term
   Eigen::VectorXd tested_temperature_degC;  // n, or empty / NaN: no temperature terms
   // n, optional: the temperature behind the simulation's own bias (e.g. the tiled lab record of
   // SG#2, whose basic error signal carries the lab warm-up). When given, temperature_bias regresses
@@ -111,11 +113,11 @@ struct RegressorInputs {
   // per sample, the inputs of scale_asymmetry and scale_nonlinearity (empty: |bin mean| and
   // bin mean^2, exact without within-bin vibration).
   EvenPowerBins even_powers;
-  Eigen::VectorXd vibration_f_hp_sq;    // n, specific_force_hp_sq level, or empty
+  Eigen::VectorXd vibration_f_hp_sq;  // n, specific_force_hp_sq level, or empty
   // n x 3, optional: the specific force the tested gyros feel, g_sensitivity's columns (the
   // reference's moved to the tested IMU by a fitted lever arm; empty: reference.f_m_s2).
   Eigen::MatrixX3d g_sensitivity_f_m_s2;
-  Eigen::VectorXd vibration_w_hp_sq;    // n, angular_rate_hp_sq level, or empty
+  Eigen::VectorXd vibration_w_hp_sq;  // n, angular_rate_hp_sq level, or empty
   // The tested IMU's accelerometer response as the lab calibrated it,
   // y_i = c0 + c1 x_i + c2_i x_i^2 + sum_j M_ij x_j: a motion signal the reference does not carry
   // (lever-arm acceleration, a mounting rotation's f x phi) reaches the tested output through its
@@ -131,13 +133,13 @@ struct RegressorInputs {
   // exact rotation's Jacobian there and a fixed part, mounting_rotation_remainder, carries the
   // rest, so a rotation of several degrees is not left with second-order "scale" terms.
   Eigen::Vector3d mounting_rotation_pivot_rad = Eigen::Vector3d::Zero();
-  std::vector<Eigen::Matrix3d> C_bn;    // n attitudes (nav to body) or empty: no earth/gravity terms
+  std::vector<Eigen::Matrix3d> C_bn;  // n attitudes (nav to body) or empty: no earth/gravity terms
   Eigen::Vector3d omega_ie_n = Eigen::Vector3d::Zero();  // Earth rate in n (rad/s)
 };
 
 struct CandidateLibraryOptions {
-  double knot_spacing_s = 60.0;   // bias_instability knot spacing (s)
-  int max_knots = 20;             // the spacing grows for long records to keep at most this many
+  double knot_spacing_s = 60.0;  // bias_instability knot spacing (s)
+  int max_knots = 20;            // the spacing grows for long records to keep at most this many
   double min_temperature_span_degC = 0.5;  // temperature terms need this much range
   // Add a linear drift per channel to the nuisance. Off by default: a drift absorbs most of a
   // temperature warm-up and costs the temperature terms their power.
@@ -165,10 +167,10 @@ Eigen::VectorXd vibrationLevelPerBin(const ImuSeries& imu, const GridSpec& grid,
 // record still lost 13 %), a long one keeps a noisy reference's noise out of the regressor
 // (errors-in-variables biases r_m towards 0).
 struct AngularAccelerationBins {
-  Eigen::MatrixX3d omega_dot_rad_s2;       // n x 3
-  Eigen::Vector3d window_s;                // the window w chosen per axis
-  Eigen::Vector3d noise_fraction;          // white-noise share of the regressor's variance
-  Eigen::Vector3d rate_noise_sd_rad_s;     // per-sample white noise of the rates (estimate)
+  Eigen::MatrixX3d omega_dot_rad_s2;    // n x 3
+  Eigen::Vector3d window_s;             // the window w chosen per axis
+  Eigen::Vector3d noise_fraction;       // white-noise share of the regressor's variance
+  Eigen::Vector3d rate_noise_sd_rad_s;  // per-sample white noise of the rates (estimate)
 };
 // Throws std::invalid_argument with fewer than 2 samples.
 AngularAccelerationBins angularAccelerationPerBin(const ImuSeries& imu, const GridSpec& grid,

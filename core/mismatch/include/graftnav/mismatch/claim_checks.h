@@ -29,7 +29,7 @@ struct ClaimCheckInputs {
   const Eigen::MatrixXd* residual = nullptr;   // n x 6, the residual the selection fitted
   const std::vector<char>* masked = nullptr;   // per bin
   double bin_s = 0.0;
-  bool lab_calibrated = false;                 // the simulation carries a lab calibration of M
+  bool lab_calibrated = false;  // the simulation carries a lab calibration of M
   std::optional<PlausibleRanges> ranges;
 };
 

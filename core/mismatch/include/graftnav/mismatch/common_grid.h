@@ -41,9 +41,9 @@ class CumulativeImu {
  private:
   std::size_t segment(double t_s) const;
   void computeSlopes();
-  std::vector<double> t_;         // sample boundaries: t_[0] = start of sample 0, t_[k+1] = end of k
-  std::vector<Vector6d> cum_;     // integral at t_[k]
-  std::vector<Vector6d> slope_;   // rate at t_[k] (node slope of the Hermite interpolation)
+  std::vector<double> t_;        // sample boundaries: t_[0] = start of sample 0, t_[k+1] = end of k
+  std::vector<Vector6d> cum_;    // integral at t_[k]
+  std::vector<Vector6d> slope_;  // rate at t_[k] (node slope of the Hermite interpolation)
   std::vector<double> cum_temp_;  // temperature integral at t_[k]
   std::vector<int> irregular_;    // prefix count of interval changes (uniform-window test)
   bool has_temperature_ = false;
@@ -75,9 +75,9 @@ std::vector<char> binsOverlappingGaps(const ImuSeries& imu, const GridSpec& grid
 // Mean rates of one record over the bins of a grid.
 struct BinnedImu {
   GridSpec grid;
-  Eigen::MatrixX3d omega_rad_s;        // mean angular rate per bin
-  Eigen::MatrixX3d f_m_s2;             // mean specific force per bin
-  Eigen::VectorXd temperature_degC;    // mean temperature per bin (NaN when absent)
+  Eigen::MatrixX3d omega_rad_s;      // mean angular rate per bin
+  Eigen::MatrixX3d f_m_s2;           // mean specific force per bin
+  Eigen::VectorXd temperature_degC;  // mean temperature per bin (NaN when absent)
   // Within-bin RMS of the sample specific force about the bin mean (m/s^2): vibration level.
   Eigen::VectorXd f_within_rms_m_s2;
   int size() const { return grid.count; }

@@ -92,11 +92,11 @@ struct SensorPriors {
 
 struct DiagnosisInputs {
   std::string case_name;
-  ImuSeries reference;   // reference IMU: the true inputs x, reference body frame
-  ImuSeries simulated;   // the simulation of the tested IMU (SG#2, or reference + static bias);
-                         // its temperature column, when every sample has one, is the temperature
-                         // behind its own bias (see RegressorInputs::simulated_temperature_degC)
-  ImuSeries real;        // the tested IMU's field recording
+  ImuSeries reference;  // reference IMU: the true inputs x, reference body frame
+  ImuSeries simulated;  // the simulation of the tested IMU (SG#2, or reference + static bias);
+                        // its temperature column, when every sample has one, is the temperature
+                        // behind its own bias (see RegressorInputs::simulated_temperature_degC)
+  ImuSeries real;       // the tested IMU's field recording
   std::string simulation_kind;  // e.g. "SG#2" or "reference + static bias", for the report
   // Initial attitude and position of the reference body (enables the earth_rotation_omitted and
   // gravity_model terms).
@@ -121,8 +121,8 @@ struct DiagnosisInputs {
 };
 
 struct DiagnoseOptions {
-  double bin_s = 0.05;       // averaging bin (s)
-  double margin_s = 1.0;     // dropped at both ends of the overlap (room for the time shift)
+  double bin_s = 0.05;    // averaging bin (s)
+  double margin_s = 1.0;  // dropped at both ends of the overlap (room for the time shift)
   // A cross-correlation time offset larger than this is taken out of the real record's tags
   // before binning (the joint fit shifts the other terms only to first order); the reported
   // time_offset adds the fitted remainder.
@@ -132,7 +132,7 @@ struct DiagnoseOptions {
   SelectionOptions selection;
   RegimeOptions regimes;
   LocateOptions locate;
-  bool holdout = true;       // first half fit, second half check
+  bool holdout = true;         // first half fit, second half check
   double slow_block_s = 60.0;  // block of the slow-noise check (term_selection.h); 0 = off
   bool detect_quantization = true;
   QuantizationEvidenceOptions quantization;  // when a value lattice is claimed (header there)
@@ -153,13 +153,13 @@ struct EffectParameter {
   std::string key;
   std::vector<double> values;
   std::vector<double> sigma;
-  bool scalar = false;       // written as a number, not a list
-  std::string text;          // for string-valued parameters (vibration regressor)
+  bool scalar = false;  // written as a number, not a list
+  std::string text;     // for string-valued parameters (vibration regressor)
 };
 
 struct Effect {
-  std::string name;          // effect name as diagnosis.json writes it
-  std::string sensor;        // gyro | accel | both
+  std::string name;    // effect name as diagnosis.json writes it
+  std::string sensor;  // gyro | accel | both
   std::vector<EffectParameter> parameters;
   double delta_bic = 0.0;
   double cv_gain = 0.0;
@@ -183,13 +183,13 @@ struct AmbiguousEffect {
 // most (canonical correlation `correlation`), empty when none above 0.3.
 struct ImplausibleEffect {
   Effect effect;
-  std::string parameter;     // the parameter key out of range, e.g. "k" or "N"
-  double value = 0.0;        // its largest |element|
-  double bound = 0.0;        // the class's bound for it
+  std::string parameter;  // the parameter key out of range, e.g. "k" or "N"
+  double value = 0.0;     // its largest |element|
+  double bound = 0.0;     // the class's bound for it
   std::string sensor_class;
   std::string absorbing;
   double correlation = 0.0;
-  std::string reason;        // the sentence the report shows
+  std::string reason;  // the sentence the report shows
 };
 
 struct ChannelRms {
@@ -202,9 +202,9 @@ struct DiagnosisResult {
   std::string simulation_kind;
   GridSpec grid;
   TimeOffsetEstimate time_offset_xcorr;
-  std::vector<LocatedSpan> located;       // residual before modelling
-  std::vector<Effect> effects;            // claimed
-  std::vector<AmbiguousEffect> ambiguous; // found, modelled, name not settled (not claimed)
+  std::vector<LocatedSpan> located;        // residual before modelling
+  std::vector<Effect> effects;             // claimed
+  std::vector<AmbiguousEffect> ambiguous;  // found, modelled, name not settled (not claimed)
   // Physics of the tested IMU that the simulation already carries beyond the linear model: the
   // lab fitting function's quadratic (scale_nonlinearity, k2 = c2 per axis, 1-sigma NaN on axes
   // fitted with a line), which SG#2 grafts, so the field residual cannot show it (evidence_method
@@ -224,27 +224,27 @@ struct DiagnosisResult {
   std::optional<SeparationNeed> separation;
   std::vector<QuantizationCheck> quantization_checks;  // per sensor, when detect_quantization
   std::optional<PlausibleRanges> plausible_ranges;     // the ranges the claims were checked with
-  std::vector<LocatedSpan> unexplained;   // still above noise after modelling
-  std::vector<WanderCheck> wander;        // per channel, when the lab's noise figures are known
+  std::vector<LocatedSpan> unexplained;                // still above noise after modelling
+  std::vector<WanderCheck> wander;  // per channel, when the lab's noise figures are known
   // Per bin: 1 = left out (overlaps a sampling gap of a record; common_grid.h), and those spans.
   std::vector<char> masked_bins;
   std::vector<std::pair<double, double>> masked_spans;  // [t_start, t_end) s
-  ChannelRms rms_raw;                     // residual as is
-  ChannelRms rms_before;                  // residual minus its per-channel constant + linear drift
-  ChannelRms rms_after;                   // residual minus constant, drift and selected terms
+  ChannelRms rms_raw;                                   // residual as is
+  ChannelRms rms_before;  // residual minus its per-channel constant + linear drift
+  ChannelRms rms_after;   // residual minus constant, drift and selected terms
   bool has_holdout = false;
   ChannelRms holdout_before, holdout_after;  // second half, model fitted on the first half
   std::vector<std::string> holdout_terms;    // terms selected on the first half
   double holdout_split_s = 0.0;
-  Vector6d nuisance_bias = Vector6d::Zero(); // constant real - simulated per channel (SI)
-  Vector6d nuisance_drift = Vector6d::Zero();// linear drift over the record, end minus start (SI)
+  Vector6d nuisance_bias = Vector6d::Zero();   // constant real - simulated per channel (SI)
+  Vector6d nuisance_drift = Vector6d::Zero();  // linear drift over the record, end minus start (SI)
   SelectionResult selection;
-  std::vector<std::string> notes;            // assumptions and warnings for the report
-  Eigen::MatrixXd residual_before;           // n x 6, for plots
-  Eigen::MatrixXd model;                     // n x 6, selected terms (no constant)
-  Eigen::MatrixXd nuisance;                  // n x 6, constant + drift
-  std::vector<std::string> regimes;          // per bin
-  ImuSeries sg3;                             // simulated + selected terms (record mean removed)
+  std::vector<std::string> notes;    // assumptions and warnings for the report
+  Eigen::MatrixXd residual_before;   // n x 6, for plots
+  Eigen::MatrixXd model;             // n x 6, selected terms (no constant)
+  Eigen::MatrixXd nuisance;          // n x 6, constant + drift
+  std::vector<std::string> regimes;  // per bin
+  ImuSeries sg3;                     // simulated + selected terms (record mean removed)
 };
 
 DiagnosisResult diagnose(const DiagnosisInputs& inputs, const DiagnoseOptions& options = {});

@@ -69,7 +69,7 @@ enum class SlopeCause { kGain, kCurvature, kAsymmetry, kUnsettled };
 
 struct OneSignedSlope {
   double chi2_gain = 0.0, chi2_curvature = 0.0;
-  double chi2_asymmetry = std::nan("");       // NaN: not weighed
+  double chi2_asymmetry = std::nan("");         // NaN: not weighed
   double k2_field = 0.0, k2_field_sigma = 0.0;  // the field's k2 under the curvature hypothesis
   double k2 = 0.0, k2_sigma = 0.0;              // curvature: lab and field combined
   // Asymmetry with the sensor's curvature on the axis left free (two parameters, exact): d and

@@ -33,25 +33,25 @@
 namespace graftnav {
 
 struct JointFitOptions {
-  int max_iterations = 50;   // Levenberg-Marquardt iterations
-  int chunk_bins = 256;      // bins per Ceres residual block
+  int max_iterations = 50;                  // Levenberg-Marquardt iterations
+  int chunk_bins = 256;                     // bins per Ceres residual block
   double min_reciprocal_condition = 1e-14;  // dense-SVD covariance truncation
-  void validate() const;     // throws std::invalid_argument naming the field
+  void validate() const;                    // throws std::invalid_argument naming the field
 };
 
 struct JointFitResult {
-  bool converged = false;        // Ceres reported convergence and the covariance was computed
+  bool converged = false;  // Ceres reported convergence and the covariance was computed
   int iterations = 0;
   double initial_cost = 0.0, final_cost = 0.0;  // 0.5 x whitened sum of squares
   double tau_s = 0.0;
-  double tau_sigma_s = 0.0;      // inflated like the linear covariance
-  TermFit nuisance;              // constant bias per channel
-  std::vector<TermFit> terms;    // the linear fit's selected terms, in its order; the time_offset
-                                 // term carries theta = [tau_s]
+  double tau_sigma_s = 0.0;    // inflated like the linear covariance
+  TermFit nuisance;            // constant bias per channel
+  std::vector<TermFit> terms;  // the linear fit's selected terms, in its order; the time_offset
+                               // term carries theta = [tau_s]
   // n x 6 prediction of the joint model without the nuisance (the shift of the reference, the
   // shifted other terms and the fixed terms): what the finder subtracts and grafts (SG#3).
   Eigen::MatrixXd model;
-  std::string summary;           // one line: costs, iterations, tau linear -> joint
+  std::string summary;  // one line: costs, iterations, tau linear -> joint
 };
 
 // Fits `linear`'s model (nuisance + selected terms) with the time offset of term

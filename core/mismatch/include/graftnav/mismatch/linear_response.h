@@ -43,8 +43,8 @@ struct SeparationNeed {
   Eigen::Vector2d gyro_needed_s = Eigen::Vector2d::Zero();   // at excitation_rate_rad_s RMS
   Eigen::Vector2d gyro_present_s = Eigen::Vector2d::Zero();  // this record, same rate
   Eigen::Vector2d accel_needed_s = Eigen::Vector2d::Zero();  // held at excitation_tilt_rad
-  double bound_rad = 0.0;                                   // the non-orthogonality bound used
-  double rate_rad_s = 0.0, tilt_rad = 0.0;                  // the excitation options used
+  double bound_rad = 0.0;                                    // the non-orthogonality bound used
+  double rate_rad_s = 0.0, tilt_rad = 0.0;                   // the excitation options used
   bool separable = false;  // the record's roll and pitch excitation resolve the gyro columns
   double information_share = 1.0;  // of the present excitation, after shrinkPresent
   // A column correlated with the other members' keeps `share` of its information: the record's
@@ -56,9 +56,8 @@ struct SeparationNeed {
 // `reference` = the binned true inputs on the residual's grid (x.omega_rad_s, x.f_m_s2), `sel`
 // the final selection (noise model), `bound_rad` the smaller non-orthogonality bound of the two
 // triads. Throws std::invalid_argument for a non-positive bound or bin.
-SeparationNeed separationNeed(const BinnedImu& reference, const SelectionResult& sel,
-                              double bin_s, double bound_rad,
-                              const LinearResponseOptions& options = {});
+SeparationNeed separationNeed(const BinnedImu& reference, const SelectionResult& sel, double bin_s,
+                              double bound_rad, const LinearResponseOptions& options = {});
 
 // The candidate with E_gyro and E_accel as free parameters (18 columns, row-major per sensor:
 // E_s(i, j) on channel i of sensor s, column x_s,j).

@@ -24,15 +24,15 @@
 namespace graftnav {
 
 struct RegimeOptions {
-  double smooth_s = 1.0;                 // moving-average length of the regime signals (s)
-  double trend_s = 30.0;                 // forward accel = f_x minus its moving average over this
-  double stopped_rate_rad_s = 0.01;      // |omega| below this ...
-  double stopped_accel_m_s2 = 0.15;      // ... and |forward accel| below this: stopped
-  double turn_rate_rad_s = 0.05;         // |yaw rate| above: turning
-  double accel_m_s2 = 0.5;               // |forward accel| above: accelerating / braking
+  double smooth_s = 1.0;             // moving-average length of the regime signals (s)
+  double trend_s = 30.0;             // forward accel = f_x minus its moving average over this
+  double stopped_rate_rad_s = 0.01;  // |omega| below this ...
+  double stopped_accel_m_s2 = 0.15;  // ... and |forward accel| below this: stopped
+  double turn_rate_rad_s = 0.05;     // |yaw rate| above: turning
+  double accel_m_s2 = 0.5;           // |forward accel| above: accelerating / braking
   double temperature_ramp_degC_s = 0.5 / 60.0;
-  double vibration_factor = 2.0;         // within-bin scatter above factor x median ...
-  double vibration_min_m_s2 = 0.3;       // ... and above this: high_vibration
+  double vibration_factor = 2.0;    // within-bin scatter above factor x median ...
+  double vibration_min_m_s2 = 0.3;  // ... and above this: high_vibration
 };
 
 // One label per bin. temperature_degC may be empty.
@@ -42,16 +42,16 @@ std::vector<std::string> labelRegimes(const BinnedImu& reference,
 
 struct LocateOptions {
   double window_s = 10.0;
-  double noise_quantile = 0.25;   // quantile of window mean squares taken as the noise level
-  double false_alarm = 1e-3;      // per window and channel
-  int max_entries = 40;           // the largest excesses are kept
+  double noise_quantile = 0.25;  // quantile of window mean squares taken as the noise level
+  double false_alarm = 1e-3;     // per window and channel
+  int max_entries = 40;          // the largest excesses are kept
 };
 
 struct LocatedSpan {
   std::string channel;   // gyro_x .. accel_z
   double t_start = 0.0;  // s (record time tags)
   double t_end = 0.0;
-  std::string regime;    // most frequent regime label over the span
+  std::string regime;       // most frequent regime label over the span
   double excess_rms = 0.0;  // SI (rad/s or m/s^2)
 };
 

@@ -32,13 +32,13 @@ struct QuantizationEvidenceOptions {
 
 // Per axis of one sensor of the tested record.
 struct QuantizationCheck {
-  std::string sensor;                     // gyro | accel
+  std::string sensor;                                            // gyro | accel
   Eigen::Vector3d step = Eigen::Vector3d::Zero();                // lattice step (0: none)
   Eigen::Vector3d printed_resolution = Eigen::Vector3d::Zero();  // 10^-d (0: not fixed decimals)
   Eigen::Vector3d white_noise_sd = Eigen::Vector3d::Zero();      // per sample (rad, m/s)
   Eigen::Vector3d noise_share = Eigen::Vector3d::Zero();         // (q^2 / 12) / sigma_w^2
-  double resolvable_share = 0.0;          // resolvable_sigmas sqrt(2 / N)
-  double min_step_over_resolution = 1.5;  // the option (a) was checked with
+  double resolvable_share = 0.0;                                 // resolvable_sigmas sqrt(2 / N)
+  double min_step_over_resolution = 1.5;                         // the option (a) was checked with
   Eigen::Vector3d detectable_step = Eigen::Vector3d::Zero();     // the step (b) needs
   bool simulation_on_same_lattice = false;  // the simulation's increments share the step
   bool claimed[3] = {false, false, false};

@@ -90,9 +90,9 @@ struct SelectionOptions {
                                  //   docs/mismatch.md for the false-alarm rate this gives)
   double min_cv_gain = 0.0;      // relative CV improvement required
   double min_name_margin = 6.0;  // evidence a name needs over its shape alternative (step 5;
-                                 // also gain vs curvature on a one-signed axis, gain_or_curvature.h)
-  int max_terms = 12;            // forward steps at most
-  double max_rho = 0.98;         // AR(1) coefficient clamp
+      // also gain vs curvature on a one-signed axis, gain_or_curvature.h)
+  int max_terms = 12;     // forward steps at most
+  double max_rho = 0.98;  // AR(1) coefficient clamp
   // Block length (bins) of the slow-noise check (see below); 0 = off. diagnose sets 60 s.
   int slow_block_bins = 0;
   // The SG#2 replay of the lab's static record (block_random_walk.h), for the slow terms' random
@@ -114,11 +114,11 @@ struct SelectionOptions {
 };
 
 struct TermFit {
-  int term = -1;                 // index into the candidate list
-  Eigen::VectorXd theta;         // one value per column (SI)
-  Eigen::VectorXd sigma;         // 1-sigma, inflated for autocorrelation
-  Eigen::MatrixXd covariance;    // of theta
-  double delta_bic = 0.0;        // evidence of step 2 (2 ln Bayes factor; diagnosis.json name)
+  int term = -1;               // index into the candidate list
+  Eigen::VectorXd theta;       // one value per column (SI)
+  Eigen::VectorXd sigma;       // 1-sigma, inflated for autocorrelation
+  Eigen::MatrixXd covariance;  // of theta
+  double delta_bic = 0.0;      // evidence of step 2 (2 ln Bayes factor; diagnosis.json name)
   double cv_gain = 0.0;
   // A slow term's block-mean factor (1 + sum_c s_c (c_slow_c - 1)); 1 for a fast term, whose
   // slow noise is in its GLS weights. The covariance above already carries it and c.
@@ -144,22 +144,23 @@ struct TermLimit {
 };
 
 struct SelectionResult {
-  std::vector<TermFit> selected;            // claimed terms (nuisance excluded)
-  TermFit nuisance;                         // the constant bias per channel
-  Eigen::Matrix<double, 6, 1> rho;          // AR(1) coefficient per channel
-  Eigen::Matrix<double, 6, 1> sigma;        // AR(1) innovation scale per channel (SI)
-  double inflation = 1.0;                   // c of the header
+  std::vector<TermFit> selected;      // claimed terms (nuisance excluded)
+  TermFit nuisance;                   // the constant bias per channel
+  Eigen::Matrix<double, 6, 1> rho;    // AR(1) coefficient per channel
+  Eigen::Matrix<double, 6, 1> sigma;  // AR(1) innovation scale per channel (SI)
+  double inflation = 1.0;             // c of the header
   // Slow noise per channel: the GLS law's c_j at the block length (1 for white noise).
   Eigen::Matrix<double, 6, 1> slow_inflation = Eigen::Matrix<double, 6, 1>::Ones();
-  int rows = 0;                             // N
-  std::vector<std::string> log;             // one line per selection step
-  std::vector<TermLimit> limits;            // every non-fixed candidate not in the model
+  int rows = 0;                   // N
+  std::vector<std::string> log;   // one line per selection step
+  std::vector<TermLimit> limits;  // every non-fixed candidate not in the model
 };
 
 // Selects terms explaining `residual` (n x 6) over bins [row_begin, row_end) (row_end < 0: all).
 // Throws std::invalid_argument when the residual is not n x 6, the library is empty or term 0 is
 // not the nuisance.
-SelectionResult selectTerms(const Eigen::MatrixXd& residual, const std::vector<CandidateTerm>& terms,
+SelectionResult selectTerms(const Eigen::MatrixXd& residual,
+                            const std::vector<CandidateTerm>& terms,
                             const SelectionOptions& options = {}, int row_begin = 0,
                             int row_end = -1);
 
@@ -176,7 +177,8 @@ SelectionResult fitTerms(const Eigen::MatrixXd& residual, const std::vector<Cand
 Eigen::MatrixXd atLeastTheVariances(const Eigen::MatrixXd& P, const Eigen::MatrixXd& Q);
 
 // Model prediction on all n bins (n x 6): the selected terms, plus the nuisance when asked.
-Eigen::MatrixXd predictSelection(const SelectionResult& sel, const std::vector<CandidateTerm>& terms,
-                                 int n, bool include_nuisance);
+Eigen::MatrixXd predictSelection(const SelectionResult& sel,
+                                 const std::vector<CandidateTerm>& terms, int n,
+                                 bool include_nuisance);
 
 }  // namespace graftnav

@@ -29,13 +29,13 @@
 namespace graftnav {
 
 struct TimeOffsetOptions {
-  double bin_s = 0.01;         // averaging bin of the correlation (s)
-  double max_offset_s = 0.5;   // fine search range +/- (s) around the coarse peak
-  double coarse_bin_s = 0.05;  // bins of the coarse search (s)
+  double bin_s = 0.01;                // averaging bin of the correlation (s)
+  double max_offset_s = 0.5;          // fine search range +/- (s) around the coarse peak
+  double coarse_bin_s = 0.05;         // bins of the coarse search (s)
   double coarse_max_offset_s = 10.0;  // coarse search range +/- (s), capped at a quarter of the
                                       // overlap; <= max_offset_s: no coarse stage
-  double min_correlation = 0.3;  // below this peak correlation the estimate is not trusted
-  void validate() const;       // throws std::invalid_argument naming the field
+  double min_correlation = 0.3;       // below this peak correlation the estimate is not trusted
+  void validate() const;              // throws std::invalid_argument naming the field
 };
 
 struct TimeOffsetEstimate {

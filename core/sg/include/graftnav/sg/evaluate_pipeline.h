@@ -28,7 +28,8 @@
 namespace graftnav {
 
 struct SgEvaluationOptions {
-  int realizations = 20;  // K per strategy; 19 is the smallest K whose [p05, p95] is a 90 % interval
+  int realizations =
+      20;  // K per strategy; 19 is the smallest K whose [p05, p95] is a 90 % interval
   int outage_shifts = 1;  // N schedules, starts spread over one period
   std::uint64_t seed = 1;
   // Where the field test starts in the tiled lab record (s); negative: drawn per realization.
@@ -53,8 +54,8 @@ struct SgEvaluationInputs {
   ImuProfile tested_profile;
   // The reference IMU's noise, when known: its share of the tested IMU's noise is noted.
   std::optional<ImuProfile> reference_noise_profile;
-  bool has_real = false;      // a real tested IMU recording is navigated too (REAL)
-  std::string real_imu_file;  // its path, for the report
+  bool has_real = false;           // a real tested IMU recording is navigated too (REAL)
+  std::string real_imu_file;       // its path, for the report
   OutageScheduleConfig outages;    // the first schedule; shifts move its start
   std::vector<std::string> notes;  // leading report notes (e.g. the lab calibration's)
 };
@@ -68,8 +69,8 @@ struct SgNavigation {
 };
 // Navigates `grafted` (moved in), or the real tested IMU when std::nullopt, with `schedule`.
 // Called from several threads at once: it must not modify shared state.
-using SgNavigator =
-    std::function<SgNavigation(std::optional<ImuSeries> grafted, const OutageScheduleConfig& schedule)>;
+using SgNavigator = std::function<SgNavigation(std::optional<ImuSeries> grafted,
+                                               const OutageScheduleConfig& schedule)>;
 using SgLogFn = std::function<void(const std::string&)>;
 
 struct SolutionReference {
@@ -82,7 +83,8 @@ class SgEvaluationPipeline {
   // Validates the options, checks that every schedule has an outage inside the reference IMU's
   // span and draws the realizations. Throws std::invalid_argument / std::runtime_error naming the
   // option or the case.
-  SgEvaluationPipeline(const SgEvaluationOptions& options, GraftPlan plan, SgEvaluationInputs inputs);
+  SgEvaluationPipeline(const SgEvaluationOptions& options, GraftPlan plan,
+                       SgEvaluationInputs inputs);
 
   const std::vector<OutageScheduleConfig>& schedules() const { return schedules_; }
   // Realization k of one strategy: the series the navigator receives (e.g. to write IMU_SG1.txt).
@@ -105,6 +107,7 @@ class SgEvaluationPipeline {
 };
 
 // The N schedules: the periodic schedule with its first start moved by s * period / N.
-std::vector<OutageScheduleConfig> shiftedSchedules(const OutageScheduleConfig& schedule, int shifts);
+std::vector<OutageScheduleConfig> shiftedSchedules(const OutageScheduleConfig& schedule,
+                                                   int shifts);
 
 }  // namespace graftnav

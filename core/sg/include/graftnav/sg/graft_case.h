@@ -14,7 +14,8 @@ namespace graftnav {
 // SG#2's dynamic model from one sensor's calibration: the per-axis fitting functions when the
 // lab had dynamic tests (else the linear part of M: p_i(x) = b_i + M_ii x), and M's
 // off-diagonal for the cross-axis terms.
-SensorDynamicFit dynamicFitFromCalibration(const SensorCalibration& cal, bool use_cross_axis = true);
+SensorDynamicFit dynamicFitFromCalibration(const SensorCalibration& cal,
+                                           bool use_cross_axis = true);
 
 // Which of the seed's grafting strategies.
 enum class SgStrategy {
@@ -38,9 +39,9 @@ struct GraftedCase {
   ImuSeries sg1;  // IMU_SG#1: reference + basic error signal
   ImuSeries sg2;  // IMU_SG#2: reference + dynamic errors + basic error signal
   SensorDynamicFit gyro_fit, accel_fit;
-  double start_offset_s = 0.0;      // where the field test starts in the tiled lab record
-  double static_record_s = 0.0;     // length of the lab static record
-  int tiles = 0;                    // how many record lengths the field test spans
+  double start_offset_s = 0.0;   // where the field test starts in the tiled lab record
+  double static_record_s = 0.0;  // length of the lab static record
+  int tiles = 0;                 // how many record lengths the field test spans
 };
 
 struct GraftCaseOptions {

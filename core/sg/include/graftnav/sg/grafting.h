@@ -39,9 +39,8 @@ namespace graftnav {
 // Per-sensor dynamic model of SG#2.
 struct SensorDynamicFit {
   // poly[i]: coefficients of measured_i = sum_k poly[i][k] * true_i^k, lowest order first (SI).
-  std::array<std::vector<double>, 3> poly{std::vector<double>{0.0, 1.0},
-                                          std::vector<double>{0.0, 1.0},
-                                          std::vector<double>{0.0, 1.0}};
+  std::array<std::vector<double>, 3> poly{
+      std::vector<double>{0.0, 1.0}, std::vector<double>{0.0, 1.0}, std::vector<double>{0.0, 1.0}};
   // Calibration matrix (measured = M true + bias); only its off-diagonal is used here.
   Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
   bool use_cross_axis = true;
@@ -84,12 +83,12 @@ class BasicErrorSignal {
   BasicErrorSignal phaseRandomized(std::uint64_t seed, const SlowNoiseModel* slow = nullptr) const;
 
  private:
-  Eigen::Matrix<double, 6, 1> cumulative(double u_s) const;  // integral over (0, u], u >= 0
+  Eigen::Matrix<double, 6, 1> cumulative(double u_s) const;      // integral over (0, u], u >= 0
   Eigen::Matrix<double, 6, 1> withinRecord(double tau_s) const;  // 0 <= tau <= T
 
-  std::vector<double> tau_end_s_;                       // end time of each lab sample, from 0
-  std::vector<Eigen::Matrix<double, 6, 1>> cum_;        // cumulative integral at tau_end_s_
-  std::vector<Eigen::Matrix<double, 6, 1>> rate_;       // rate within each lab sample
+  std::vector<double> tau_end_s_;                  // end time of each lab sample, from 0
+  std::vector<Eigen::Matrix<double, 6, 1>> cum_;   // cumulative integral at tau_end_s_
+  std::vector<Eigen::Matrix<double, 6, 1>> rate_;  // rate within each lab sample
   double record_length_s_ = 0.0;
 };
 

@@ -39,12 +39,13 @@ namespace graftnav {
 struct RealizationOptions {
   int count = 20;  // K. 19 is the smallest K whose extreme order statistics bound a 90 % interval.
   std::uint64_t seed = 1;
-  int lab_sessions = 1;          // n: sessions whose mean bias the lab record stands for
+  int lab_sessions = 1;  // n: sessions whose mean bias the lab record stands for
   bool vary_segment = true;
   bool vary_turn_on_bias = true;
   bool vary_bias_wander = true;
-  // A record shorter than K field spans: draw a surrogate of the lab noise per realization
+  // A record shorter than the field test: draw a surrogate of the lab noise per realization
   // (false: stratified segments of the record itself, intervals too narrow on short records).
+  // A record of one to K field spans takes stratified offsets of the record itself.
   bool surrogate_short_record = true;
   // Surrogate content of period longer than this (s) is drawn from the profile's noise model;
   // 0: keep the record's own spectrum at every period. 20 s: at least 30 cycles of what is kept
@@ -58,7 +59,7 @@ struct RealizationDraw {
   int index = 0;
   double start_offset_s = 0.0;  // where the field test starts in the tiled lab record
   std::optional<std::uint64_t> surrogate_seed;  // set: graft a surrogate of the record (above)
-  std::optional<SlowNoiseModel> slow_noise;      // its slow content's model, when slow_period_s > 0
+  std::optional<SlowNoiseModel> slow_noise;     // its slow content's model, when slow_period_s > 0
   PowerOnErrors power_on;
 };
 
@@ -74,6 +75,7 @@ GraftOptions graftOptionsFor(const RealizationDraw& draw);
 // Fraction of realization pairs that take the same lab sample at every field time (start offsets
 // equal modulo the mirror period 2T, within half a lab sample, both grafting the record itself);
 // 0 when every pair differs.
-double sharedSampleFraction(const std::vector<RealizationDraw>& draws, const BasicErrorSignal& basic);
+double sharedSampleFraction(const std::vector<RealizationDraw>& draws,
+                            const BasicErrorSignal& basic);
 
 }  // namespace graftnav

@@ -25,19 +25,22 @@ struct SgSolutionErrors {
   std::vector<DriftStats> draws;  // SG only: ERR of each realization
   PredictiveStats predictive;     // SG only
   // For results built from one Evaluation (one realization, one schedule).
-  static SgSolutionErrors single(const std::string& label, const std::string& imu_file, Evaluation e);
+  static SgSolutionErrors single(const std::string& label, const std::string& imu_file,
+                                 Evaluation e);
 };
 
 struct SgEvaluationReport {
   std::string case_name;
   std::string estimator;
-  std::string reference;  // what SOL_REF is: "truth", "reference_solution", "smoothed reference IMU (rts)"
+  std::string
+      reference;  // what SOL_REF is: "truth", "reference_solution", "smoothed reference IMU (rts)"
   std::string tested_grade;
   std::vector<TimeWindow> outages;  // of the first schedule
   double outage_length_s = 0.0;
-  int realizations = 1;                // K per SG strategy
-  int outage_shifts = 1;               // N schedules
-  std::vector<double> shift_starts_s;  // first-outage start of each schedule (s after the first epoch)
+  int realizations = 1;   // K per SG strategy
+  int outage_shifts = 1;  // N schedules
+  std::vector<double>
+      shift_starts_s;  // first-outage start of each schedule (s after the first epoch)
   double static_record_s = 0.0;
   double shared_sample_fraction = 0.0;
   double csv_rate_hz = 10.0;

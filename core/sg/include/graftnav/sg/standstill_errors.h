@@ -32,20 +32,22 @@ struct StandstillOptions {
 };
 
 struct StandstillSpans {
-  StaticDetection detection;           // everything the detector found
-  std::vector<StaticInterval> kept;    // the standstills (GNSS agrees)
-  int dropped_moving = 0;              // detected spans dropped for their GNSS speed
+  StaticDetection detection;         // everything the detector found
+  std::vector<StaticInterval> kept;  // the standstills (GNSS agrees)
+  int dropped_moving = 0;            // detected spans dropped for their GNSS speed
 };
 
 // Median chord speed of the fixes inside [t_begin_s, t_end_s]; 0 when no chord fits.
-double medianGnssChordSpeed(const GnssSeries& gnss, double t_begin_s, double t_end_s, double chord_s);
+double medianGnssChordSpeed(const GnssSeries& gnss, double t_begin_s, double t_end_s,
+                            double chord_s);
 
 // Standstill spans of `imu` confirmed by `gnss`. Throws std::runtime_error when none is left.
-StandstillSpans findStandstills(const ImuSeries& imu, const GnssSeries& gnss, const StandstillOptions& options);
+StandstillSpans findStandstills(const ImuSeries& imu, const GnssSeries& gnss,
+                                const StandstillOptions& options);
 
 // Error increments of `imu` over `spans`, concatenated on a time axis starting at 0 (the input of
 // BasicErrorSignal). `pos` is where the vehicle stands, `yaw_rad` its heading.
-ImuSeries staticErrorIncrements(const ImuSeries& imu, const std::vector<StaticInterval>& spans, const Geodetic& pos,
-                                double yaw_rad);
+ImuSeries staticErrorIncrements(const ImuSeries& imu, const std::vector<StaticInterval>& spans,
+                                const Geodetic& pos, double yaw_rad);
 
 }  // namespace graftnav

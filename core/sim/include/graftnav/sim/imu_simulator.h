@@ -19,13 +19,13 @@ struct GaussLegendreRule {
 GaussLegendreRule gaussLegendreRule(int n);
 
 struct IdealImuOptions {
-  double rate_hz = 200.0;     // output rate; sample k ends at t_begin + k / rate_hz
-  int quadrature_nodes = 6;   // Gauss-Legendre nodes per interval (exact for degree 2n-1)
+  double rate_hz = 200.0;    // output rate; sample k ends at t_begin + k / rate_hz
+  int quadrature_nodes = 6;  // Gauss-Legendre nodes per interval (exact for degree 2n-1)
   // Where the sensor sits relative to the trajectory's point, body frame (m): a rigid-body point
   // at r feels f_b + omega_dot x r + omega x (omega x r) (omega = omega_ib_b; the gravity
   // gradient over r is left out).
   Eigen::Vector3d lever_arm_b_m = Eigen::Vector3d::Zero();
-  void validate() const;      // throws std::invalid_argument naming the bad field
+  void validate() const;  // throws std::invalid_argument naming the bad field
 };
 
 // The increment over (t0_s, t1_s] of a sensor at lever_arm_b_m from the trajectory's point. The

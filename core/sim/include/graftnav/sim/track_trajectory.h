@@ -30,7 +30,7 @@ namespace graftnav {
 
 // One road oscillation term added to an Euler angle: amplitude m(t) A sin(2 pi f (t - t0) + phase).
 struct AttitudeOscillation {
-  int euler_index = 0;       // 0 roll, 1 pitch, 2 yaw
+  int euler_index = 0;  // 0 roll, 1 pitch, 2 yaw
   double amplitude_rad = 0.0;
   double frequency_hz = 1.0;
   double phase_rad = 0.0;
@@ -70,18 +70,19 @@ struct RoadVibrationOptions {
 };
 
 struct TrackSmoothingOptions {
-  double position_cutoff_hz = 0.4;     // approximate -6 dB frequency of the position smoother
-  double attitude_cutoff_hz = 0.3;     // same for the fitted Euler angles
-  double knot_spacing_s = 1.0;         // P-spline knot spacing
-  double outlier_sigma = 5.0;          // reject fixes farther than this many robust sigmas
-  double stop_speed_m_s = 0.05;        // fitted speed below this is a stop...
-  int stop_min_epochs = 5;             // ...when it lasts at least this many fixes
-  double heading_hold_speed_m_s = 0.5; // hold yaw and pitch below this speed
-  double roll_per_lateral_g_rad = 0.07;  // outward body roll per g of lateral acceleration (~4 deg/g)
+  double position_cutoff_hz = 0.4;      // approximate -6 dB frequency of the position smoother
+  double attitude_cutoff_hz = 0.3;      // same for the fitted Euler angles
+  double knot_spacing_s = 1.0;          // P-spline knot spacing
+  double outlier_sigma = 5.0;           // reject fixes farther than this many robust sigmas
+  double stop_speed_m_s = 0.05;         // fitted speed below this is a stop...
+  int stop_min_epochs = 5;              // ...when it lasts at least this many fixes
+  double heading_hold_speed_m_s = 0.5;  // hold yaw and pitch below this speed
+  double roll_per_lateral_g_rad =
+      0.07;  // outward body roll per g of lateral acceleration (~4 deg/g)
   double lateral_speed_floor_m_s = 1.0;  // v_floor in a_lat
   double oscillation_speed_m_s = 2.0;    // v_osc in m(t)
   std::vector<AttitudeOscillation> oscillations = defaultOscillations();
-  RoadVibrationOptions vibration;      // default off
+  RoadVibrationOptions vibration;  // default off
   static std::vector<AttitudeOscillation> defaultOscillations();
   void validate() const;  // throws std::invalid_argument naming the field
 };
