@@ -195,7 +195,7 @@ void SgEvaluationPipeline::describeRealizations() {
                                      : "offsets spread over twice its length"));
   if (!draws_.empty() && draws_.front().surrogate_seed) {
     header_.notes.push_back(
-        "the record is shorter than the realizations' field spans: each realization grafts a phase-randomized "
+        "the record is shorter than the field test: each realization grafts a phase-randomized "
         "surrogate of it (its mean and spectrum at short periods) whose slower content is drawn from the tested "
         "IMU's noise model (docs/grafting.md)");
   }
