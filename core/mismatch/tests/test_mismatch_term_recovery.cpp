@@ -117,8 +117,8 @@ INSTANTIATE_TEST_SUITE_P(
         Injection{"earth_rotation_omitted:gyro", {}, 0.01},
         // Tested against a wandering accel bias (requires_terms): needs a quieter (tactical) IMU.
         Injection{"gravity_model:accel", {0.05}, 0.1}),
-    [](const ::testing::TestParamInfo<Injection>& info) {
-      std::string s = info.param.key;
+    [](const ::testing::TestParamInfo<Injection>& param_info) {
+      std::string s = param_info.param.key;
       for (char& c : s)
         if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
       return s;
