@@ -235,4 +235,14 @@ EstimationProblem makeProblem(const CaseInputs& c, const ImuSelection& sel, cons
   return pr;
 }
 
+ImuSelection graftedSelection(ImuSeries imu, const ImuProfile& tested_profile,
+                              const ImuReadOptions& read_options) {
+  ImuSelection sel;
+  sel.imu = std::move(imu);
+  sel.profile = tested_profile;
+  sel.profile_given = true;
+  sel.read_options = read_options;
+  return sel;
+}
+
 }  // namespace graftnav::app

@@ -43,6 +43,9 @@ struct ImuSelection {
   std::string read_summary;     // the reader's conditions met (repairs/warnings); empty when clean
   ImuReadOptions read_options;  // how the file is (or is to be) read
 };
+// A grafted series to navigate as the tested IMU: its samples with the tested IMU's profile.
+ImuSelection graftedSelection(ImuSeries imu, const ImuProfile& tested_profile,
+                              const ImuReadOptions& read_options = {});
 // read_samples = false leaves `imu` empty (for a run that streams the file with read_options).
 ImuSelection selectImu(const CaseInputs& c, const std::string& which,
                        const std::string& profile_file = "", bool lenient = false,

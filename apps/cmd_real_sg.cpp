@@ -78,12 +78,9 @@ SgNavigator realNavigator(const CaseInputs& c, const RunConfig& rc, const ImuSel
     SgNavigation nav;
     EstimationProblem pr;
     if (grafted) {
-      ImuSelection sel;
-      sel.imu = std::move(*grafted);
+      const ImuSelection sel =
+          graftedSelection(std::move(*grafted), tested.profile, ref.read_options);
       grafted.reset();
-      sel.profile = tested.profile;
-      sel.profile_given = true;
-      sel.read_options = ref.read_options;
       pr = problemReal(c, sel, rc, schedule, false, &nav.notes);
     } else {
       pr = problemReal(c, tested, rc, schedule, false, &nav.notes);

@@ -70,11 +70,8 @@ SgNavigator caseNavigator(const CaseInputs& c, const RunConfig& rc,
     SgNavigation nav;
     EstimationProblem pr;
     if (grafted) {
-      ImuSelection sel;
-      sel.imu = std::move(*grafted);
+      const ImuSelection sel = graftedSelection(std::move(*grafted), *c.config.tested_imu);
       grafted.reset();
-      sel.profile = *c.config.tested_imu;
-      sel.profile_given = true;
       pr = makeProblem(c, sel, rc, schedule, &nav.notes);
     } else {
       pr = makeProblem(c, *real, rc, schedule, &nav.notes);

@@ -112,8 +112,7 @@ std::vector<RealizationDraw> drawRealizations(const RealizationOptions& o,
   // would share (offsets 2T/K apart see nearly the same wander at the outages). A record at least
   // as long as the field test supplies realizations whose offsets are at least 2 spans / K apart,
   // which on a 1-hour record is minutes, longer than the wander's correlation times.
-  const bool surrogate = o.vary_segment && o.surrogate_short_record &&
-                         !disjointSegmentsFit(basic, o.count, span_s) && T < span_s;
+  const bool surrogate = o.vary_segment && o.surrogate_short_record && T < span_s;
   std::vector<RealizationDraw> draws(o.count);
   for (int k = 0; k < o.count; ++k) {
     RealizationDraw& d = draws[k];
