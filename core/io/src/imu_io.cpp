@@ -134,10 +134,11 @@ ImuSeries readImu(const std::string& path, const ImuReadOptions& options, ReadRe
   report = ReadReport{};
   report.path = path;
 
-  TextTableReader reader(path);
+  // Streamed: the file's text is not held next to the series.
+  const std::size_t max_lines = countPhysicalLines(path);
+  TextTableReader reader = TextTableReader::streaming(path);
   ImuSeries imu;
   std::vector<int> lines;  // line number of each kept sample, for messages of the interval checks
-  const std::size_t max_lines = reader.physicalLineCount();
   imu.reserve(max_lines);
   lines.reserve(max_lines);
   TimeOrderGuard order(policy.duplicate_stamp, policy.backwards_stamp);

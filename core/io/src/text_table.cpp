@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
+#include <vector>
 
 namespace graftnav {
 
@@ -29,6 +30,20 @@ std::string readWholeFile(const std::string& path) {
   std::fclose(f);
   if (failed) throw std::runtime_error(path + ": read error");
   return data;
+}
+
+std::size_t countPhysicalLines(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw std::runtime_error(path + ": cannot open file (missing or unreadable)");
+  std::size_t n = 1;
+  std::vector<char> chunk(std::size_t{1} << 20);
+  std::size_t got;
+  while ((got = std::fread(chunk.data(), 1, chunk.size(), f)) > 0)
+    n += static_cast<std::size_t>(std::count(chunk.data(), chunk.data() + got, '\n'));
+  const bool failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (failed) throw std::runtime_error(path + ": read error");
+  return n;
 }
 
 std::string quoteForMessage(std::string_view text, std::size_t max_chars) {

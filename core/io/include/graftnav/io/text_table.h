@@ -18,6 +18,11 @@ namespace graftnav {
 // Reads a whole file into memory; throws std::runtime_error "path: cannot open ..." when missing.
 std::string readWholeFile(const std::string& path);
 
+// Number of physical lines of a file (1 + its newlines, as TextTableReader::physicalLineCount),
+// read in chunks: the size to reserve before a streaming read. Throws std::runtime_error when the
+// file cannot be read.
+std::size_t countPhysicalLines(const std::string& path);
+
 class TextTableReader {
  public:
   static constexpr int kMaxColumns = 16;
