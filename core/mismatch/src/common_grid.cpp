@@ -8,7 +8,7 @@
 
 namespace graftnav {
 
-CumulativeImu::CumulativeImu(const ImuSeries& imu) {
+CumulativeImu::CumulativeImu(const ImuSeries& imu, const ImuSampleMap& map) {
   if (imu.empty()) throw std::invalid_argument("CumulativeImu: empty IMU series");
   has_temperature_ =
       std::all_of(imu.begin(), imu.end(), [](const ImuSample& s) { return s.hasTemperature(); });
@@ -16,9 +16,10 @@ CumulativeImu::CumulativeImu(const ImuSeries& imu) {
   cum_.reserve(imu.size() + 1);
   t_.push_back(imu.front().t_s - imu.front().dt_s);
   cum_.push_back(Vector6d::Zero());
-  cum_temp_.push_back(0.0);
+  if (has_temperature_) cum_temp_.reserve(imu.size() + 1);
+  if (has_temperature_) cum_temp_.push_back(0.0);  // else not stored (temperatureIntegralAt: NaN)
   for (std::size_t k = 0; k < imu.size(); ++k) {
-    const ImuSample& s = imu[k];
+    const ImuSample s = map ? map(imu[k]) : imu[k];
     if (!(s.dt_s > 0.0))
       throw std::invalid_argument("CumulativeImu: sample " + std::to_string(k) +
                                   " has dt_s = " + std::to_string(s.dt_s) + " (must be > 0)");
@@ -32,11 +33,10 @@ CumulativeImu::CumulativeImu(const ImuSeries& imu) {
     inc << s.dtheta_rad, s.dvel_m_s;
     t_.push_back(t_end);
     cum_.push_back(cum_.back() + inc);
-    cum_temp_.push_back(cum_temp_.back() + (has_temperature_
-                                                ? s.temperature_degC * (t_end - t_[t_.size() - 2])
-                                                : 0.0));
+    if (has_temperature_)
+      cum_temp_.push_back(cum_temp_.back() + s.temperature_degC * (t_end - t_[t_.size() - 2]));
   }
-  computeSlopes();
+  computeIrregular();
 }
 
 std::size_t CumulativeImu::segment(double t_s) const {
@@ -46,7 +46,7 @@ std::size_t CumulativeImu::segment(double t_s) const {
   return std::min(k, t_.size() - 2);
 }
 
-void CumulativeImu::computeSlopes() {
+void CumulativeImu::computeIrregular() {
   // irregular_[k]: intervals before node k that differ from their predecessor by more than 1e-6
   // (a prefix count: a window of nodes is uniform when the count does not change across it).
   irregular_.assign(t_.size(), 0);
@@ -54,27 +54,27 @@ void CumulativeImu::computeSlopes() {
     const double d = t_[k] - t_[k - 1], d0 = t_[k - 1] - t_[k - 2];
     irregular_[k] = irregular_[k - 1] + (std::abs(d - d0) > 1e-6 * d0 ? 1 : 0);
   }
-  // Node slopes of the cumulative integral: 5-point derivative where the four neighbouring
-  // intervals are equal (to 1e-6), else 3-point; the adjacent sample's rate at the ends.
+}
+
+// Node slopes of the cumulative integral: 5-point derivative where the four neighbouring
+// intervals are equal (to 1e-6), else 3-point; the adjacent sample's rate at the ends. Computed
+// when asked rather than stored (48 bytes a sample).
+Vector6d CumulativeImu::slope(std::size_t k) const {
   const std::size_t N = t_.size();
-  slope_.assign(N, Vector6d::Zero());
-  for (std::size_t k = 0; k < N; ++k) {
-    if (k == 0 || k + 1 == N) {
-      const std::size_t a = k == 0 ? 0 : k - 1;
-      slope_[k] = (cum_[a + 1] - cum_[a]) / (t_[a + 1] - t_[a]);
-    } else if (k >= 2 && k + 2 < N) {
-      const double d = t_[k + 1] - t_[k];
-      bool uniform = true;
-      for (std::size_t j = k - 2; j < k + 2; ++j)
-        uniform &= std::abs((t_[j + 1] - t_[j]) - d) <= 1e-6 * d;
-      slope_[k] =
-          uniform ? Vector6d((cum_[k - 2] - 8.0 * cum_[k - 1] + 8.0 * cum_[k + 1] - cum_[k + 2]) /
-                             (12.0 * d))
-                  : Vector6d((cum_[k + 1] - cum_[k - 1]) / (t_[k + 1] - t_[k - 1]));
-    } else {
-      slope_[k] = (cum_[k + 1] - cum_[k - 1]) / (t_[k + 1] - t_[k - 1]);
-    }
+  if (k == 0 || k + 1 == N) {
+    const std::size_t a = k == 0 ? 0 : k - 1;
+    return (cum_[a + 1] - cum_[a]) / (t_[a + 1] - t_[a]);
   }
+  if (k >= 2 && k + 2 < N) {
+    const double d = t_[k + 1] - t_[k];
+    bool uniform = true;
+    for (std::size_t j = k - 2; j < k + 2; ++j)
+      uniform &= std::abs((t_[j + 1] - t_[j]) - d) <= 1e-6 * d;
+    return uniform ? Vector6d((cum_[k - 2] - 8.0 * cum_[k - 1] + 8.0 * cum_[k + 1] - cum_[k + 2]) /
+                              (12.0 * d))
+                   : Vector6d((cum_[k + 1] - cum_[k - 1]) / (t_[k + 1] - t_[k - 1]));
+  }
+  return (cum_[k + 1] - cum_[k - 1]) / (t_[k + 1] - t_[k - 1]);
 }
 
 namespace {
@@ -114,8 +114,8 @@ const std::vector<double>& sincTable() {
 
 Vector6d CumulativeImu::at(double t_s) const {
   if (t_.size() < 2) return Vector6d::Zero();
-  if (t_s <= t_.front()) return cum_.front() + (t_s - t_.front()) * slope_.front();
-  if (t_s >= t_.back()) return cum_.back() + (t_s - t_.back()) * slope_.back();
+  if (t_s <= t_.front()) return cum_.front() + (t_s - t_.front()) * slope(0);
+  if (t_s >= t_.back()) return cum_.back() + (t_s - t_.back()) * slope(t_.size() - 1);
   const std::size_t k = segment(t_s);
   const double L = t_[k + 1] - t_[k];
   if (k >= kSincHalfWidth - 1 && k + kSincHalfWidth < t_.size() &&
@@ -143,19 +143,19 @@ Vector6d CumulativeImu::at(double t_s) const {
     return out;
   }
   const double s = (t_s - t_[k]) / L, s2 = s * s, s3 = s2 * s;
-  return (2.0 * s3 - 3.0 * s2 + 1.0) * cum_[k] + (s3 - 2.0 * s2 + s) * L * slope_[k] +
-         (-2.0 * s3 + 3.0 * s2) * cum_[k + 1] + (s3 - s2) * L * slope_[k + 1];
+  return (2.0 * s3 - 3.0 * s2 + 1.0) * cum_[k] + (s3 - 2.0 * s2 + s) * L * slope(k) +
+         (-2.0 * s3 + 3.0 * s2) * cum_[k + 1] + (s3 - s2) * L * slope(k + 1);
 }
 
 Vector6d CumulativeImu::rateAt(double t_s) const {
   if (t_.size() < 2) return Vector6d::Zero();
-  if (t_s <= t_.front()) return slope_.front();
-  if (t_s >= t_.back()) return slope_.back();
+  if (t_s <= t_.front()) return slope(0);
+  if (t_s >= t_.back()) return slope(t_.size() - 1);
   const std::size_t k = segment(t_s);
   const double L = t_[k + 1] - t_[k];
   const double s = (t_s - t_[k]) / L, s2 = s * s;
   return ((6.0 * s2 - 6.0 * s) * (cum_[k] - cum_[k + 1])) / L +
-         (3.0 * s2 - 4.0 * s + 1.0) * slope_[k] + (3.0 * s2 - 2.0 * s) * slope_[k + 1];
+         (3.0 * s2 - 4.0 * s + 1.0) * slope(k) + (3.0 * s2 - 2.0 * s) * slope(k + 1);
 }
 
 double CumulativeImu::temperatureIntegralAt(double t_s) const {
@@ -182,8 +182,9 @@ GridSpec commonGrid(const ImuSeries& a, const ImuSeries& b, double bin_s, double
   return g;
 }
 
-BinnedImu binImu(const ImuSeries& imu, const GridSpec& grid, double time_shift_s) {
-  const CumulativeImu cum(imu);
+BinnedImu binImu(const ImuSeries& imu, const GridSpec& grid, double time_shift_s,
+                 const ImuSampleMap& map) {
+  const CumulativeImu cum(imu, map);
   BinnedImu out;
   out.grid = grid;
   const int n = grid.count;
@@ -209,11 +210,11 @@ BinnedImu binImu(const ImuSeries& imu, const GridSpec& grid, double time_shift_s
   // Within-bin vibration: samples whose end tag falls inside a (shifted) bin.
   Eigen::VectorXd sum_sq = Eigen::VectorXd::Zero(n);
   Eigen::VectorXi count = Eigen::VectorXi::Zero(n);
-  for (const ImuSample& s : imu) {
+  for (const ImuSample& raw : imu) {
     const int i =
-        static_cast<int>(std::floor((s.t_s - time_shift_s - grid.t_begin_s) / grid.bin_s));
-    if (i < 0 || i >= n || !(s.dt_s > 0.0)) continue;
-    const Eigen::Vector3d f = s.dvel_m_s / s.dt_s;
+        static_cast<int>(std::floor((raw.t_s - time_shift_s - grid.t_begin_s) / grid.bin_s));
+    if (i < 0 || i >= n || !(raw.dt_s > 0.0)) continue;
+    const Eigen::Vector3d f = (map ? map(raw) : raw).dvel_m_s / raw.dt_s;
     sum_sq(i) += (f - out.f_m_s2.row(i).transpose()).squaredNorm();
     ++count(i);
   }
@@ -223,17 +224,23 @@ BinnedImu binImu(const ImuSeries& imu, const GridSpec& grid, double time_shift_s
 }
 
 EvenPowerBins binEvenPowers(const ImuSeries& imu, const GridSpec& grid, double time_shift_s) {
-  ImuSeries abs_in = imu, sq_in = imu;
-  for (std::size_t k = 0; k < imu.size(); ++k) {
-    const double dt = imu[k].dt_s;
-    if (!(dt > 0.0)) continue;
-    const Eigen::Vector3d w = imu[k].dtheta_rad / dt, f = imu[k].dvel_m_s / dt;
-    abs_in[k].dtheta_rad = w.cwiseAbs() * dt;
-    abs_in[k].dvel_m_s = f.cwiseAbs() * dt;
-    sq_in[k].dtheta_rad = w.cwiseAbs2() * dt;
-    sq_in[k].dvel_m_s = f.cwiseAbs2() * dt;
-  }
-  const BinnedImu a = binImu(abs_in, grid, time_shift_s), q = binImu(sq_in, grid, time_shift_s);
+  // Per sample: the rate's even function times the sample's length (a sample without a length
+  // is left as it is, as binImu skips it).
+  const auto even = [](auto power) {
+    return [power](const ImuSample& smp) {
+      ImuSample out = smp;
+      const double dt = smp.dt_s;
+      if (!(dt > 0.0)) return out;
+      const Eigen::Vector3d w = smp.dtheta_rad / dt, f = smp.dvel_m_s / dt;
+      out.dtheta_rad = power(w) * dt;
+      out.dvel_m_s = power(f) * dt;
+      return out;
+    };
+  };
+  const BinnedImu a =
+      binImu(imu, grid, time_shift_s, even([](const Eigen::Vector3d& x) { return x.cwiseAbs(); }));
+  const BinnedImu q =
+      binImu(imu, grid, time_shift_s, even([](const Eigen::Vector3d& x) { return x.cwiseAbs2(); }));
   return {a.omega_rad_s, a.f_m_s2, q.omega_rad_s, q.f_m_s2};
 }
 

@@ -214,7 +214,8 @@ void jointResults(const JointData& d, const JointLayout& L, const Eigen::MatrixX
 JointFitResult jointFitWithTimeOffset(const Eigen::MatrixXd& residual, const ImuSeries& reference,
                                       const GridSpec& grid, const std::vector<CandidateTerm>& terms,
                                       const SelectionResult& linear, int time_offset_term,
-                                      double regressor_pivot_s, const JointFitOptions& options) {
+                                      double regressor_pivot_s, const JointFitOptions& options,
+                                      const ImuSampleMap& response) {
   options.validate();
   checkJointInputs(residual, grid, terms, linear, time_offset_term);
   int to_pos = -1;
@@ -223,7 +224,7 @@ JointFitResult jointFitWithTimeOffset(const Eigen::MatrixXd& residual, const Imu
   if (to_pos < 0)
     throw std::invalid_argument("jointFitWithTimeOffset: the time_offset term is not selected");
   const int n = grid.count;
-  const CumulativeImu cum(reference);
+  const CumulativeImu cum(reference, response);
   JointData d;
   initJointData(residual, cum, grid, regressor_pivot_s, linear, &d);
   JointLayout L = layoutParameters(terms, linear, time_offset_term, &d);

@@ -116,15 +116,15 @@ TimeOffsetEstimate estimateTimeOffset(const ImuSeries& reference, const ImuSerie
 }
 
 Eigen::MatrixXd timeOffsetRegressor(const ImuSeries& reference, const GridSpec& grid,
-                                    double pivot_s) {
-  const BinnedImu x = binImu(reference, grid);
+                                    double pivot_s, const ImuSampleMap& response) {
+  const BinnedImu x = binImu(reference, grid, 0.0, response);
   const int n = grid.count;
   Eigen::MatrixXd xs(n, 6);
   xs << x.omega_rad_s, x.f_m_s2;
   Eigen::MatrixXd u(n, 6);
   if (pivot_s != 0.0) {
     // Bin (a, b] of x(t - pivot) = integral of x over (a - pivot, b - pivot].
-    const BinnedImu shifted = binImu(reference, grid, -pivot_s);
+    const BinnedImu shifted = binImu(reference, grid, -pivot_s, response);
     Eigen::MatrixXd ss(n, 6);
     ss << shifted.omega_rad_s, shifted.f_m_s2;
     u = (ss - xs) / pivot_s;

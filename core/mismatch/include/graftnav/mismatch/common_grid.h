@@ -7,6 +7,7 @@
 // (100 vs 120 Hz) and sample phases are handled, and a time shift is a shift of a and b.
 
 #include <Eigen/Core>
+#include <functional>
 #include <vector>
 
 #include "graftnav/nav/types.h"
@@ -15,12 +16,17 @@ namespace graftnav {
 
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
+// A per-sample map applied as a record is read, in place of a mapped copy of the record (e.g. the
+// tested IMU's lab-calibrated response to the reference's inputs, or |x| of each sample). It must
+// keep t_s, dt_s and the temperature. Empty: the samples as they are.
+using ImuSampleMap = std::function<ImuSample(const ImuSample&)>;
+
 // Cumulative integral of an IMU record: [angle (rad); velocity (m/s)] since the start of the
 // first sample, and the integral of temperature (degC s) when every sample has one.
 class CumulativeImu {
  public:
   // Throws std::invalid_argument when the series is empty or a dt_s <= 0 (naming the index).
-  explicit CumulativeImu(const ImuSeries& imu);
+  explicit CumulativeImu(const ImuSeries& imu, const ImuSampleMap& map = {});
 
   double beginTime_s() const { return t_.front(); }
   double endTime_s() const { return t_.back(); }
@@ -40,10 +46,10 @@ class CumulativeImu {
 
  private:
   std::size_t segment(double t_s) const;
-  void computeSlopes();
-  std::vector<double> t_;        // sample boundaries: t_[0] = start of sample 0, t_[k+1] = end of k
-  std::vector<Vector6d> cum_;    // integral at t_[k]
-  std::vector<Vector6d> slope_;  // rate at t_[k] (node slope of the Hermite interpolation)
+  void computeIrregular();
+  Vector6d slope(std::size_t k) const;  // node slope of the Hermite interpolation at t_[k]
+  std::vector<double> t_;      // sample boundaries: t_[0] = start of sample 0, t_[k+1] = end of k
+  std::vector<Vector6d> cum_;  // integral at t_[k]
   std::vector<double> cum_temp_;  // temperature integral at t_[k]
   std::vector<int> irregular_;    // prefix count of interval changes (uniform-window test)
   bool has_temperature_ = false;
@@ -91,7 +97,9 @@ struct BinnedImu {
 
 // Bins `imu` on `grid`. time_shift_s re-aligns a record whose tags are late by time_shift_s: bin
 // (a, b] of the grid (true time) takes the record's integral over tags (a + shift, b + shift].
-BinnedImu binImu(const ImuSeries& imu, const GridSpec& grid, double time_shift_s = 0.0);
+// `map`, when given, is applied to every sample first (ImuSampleMap).
+BinnedImu binImu(const ImuSeries& imu, const GridSpec& grid, double time_shift_s = 0.0,
+                 const ImuSampleMap& map = {});
 
 // Bin means (as binImu, same grid and shift) of even functions of each sample's input, per axis:
 // |x| and x^2 of the rates and of the specific force. A sensor bends its input sample by sample:

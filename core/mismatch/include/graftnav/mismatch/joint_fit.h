@@ -64,6 +64,7 @@ JointFitResult jointFitWithTimeOffset(const Eigen::MatrixXd& residual, const Imu
                                       const GridSpec& grid, const std::vector<CandidateTerm>& terms,
                                       const SelectionResult& linear, int time_offset_term,
                                       double regressor_pivot_s = 0.0,
-                                      const JointFitOptions& options = {});
+                                      const JointFitOptions& options = {},
+                                      const ImuSampleMap& response = {});
 
 }  // namespace graftnav

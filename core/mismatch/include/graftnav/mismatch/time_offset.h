@@ -52,7 +52,8 @@ TimeOffsetEstimate estimateTimeOffset(const ImuSeries& reference, const ImuSerie
 // x(t - tau) - x(t) = tau u(t). With pivot_s != 0 the chord u = (x(t - pivot) - x(t)) / pivot is
 // returned (exact at tau = pivot, so a large offset stays linear); with pivot_s == 0 the
 // derivative u = -dx/dt (central differences of the bin means). Columns [omega (3), f (3)].
+// `response`, when given, maps each reference sample first (the tested IMU's response to it).
 Eigen::MatrixXd timeOffsetRegressor(const ImuSeries& reference, const GridSpec& grid,
-                                    double pivot_s);
+                                    double pivot_s, const ImuSampleMap& response = {});
 
 }  // namespace graftnav
