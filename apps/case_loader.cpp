@@ -40,17 +40,22 @@ CaseInputs loadCaseInputs(const std::string& case_dir, const CaseLoadOptions& o)
     for (const auto& r : reports)
       if (!r.summary().empty()) c.warnings.push_back(r.summary());
   }
-  if (CasePaths::exists(paths.truthNav())) {
-    c.reference = readNav(paths.truthNav());
-    c.reference_name = paths.truthNav();
-    c.reference_is_truth = true;
-  } else if (auto ref = paths.referenceSolution(c.config); ref && CasePaths::exists(*ref)) {
-    ReadReport rep;
-    c.reference = readNav(*ref, o.lenient ? NavReadPolicy::real() : NavReadPolicy{}, &rep);
-    if (!rep.summary().empty()) c.warnings.push_back(rep.summary());
-    c.reference_name = *ref;
-  }
+  if (o.load_reference) loadCaseReference(&c, o.lenient);
   return c;
+}
+
+void loadCaseReference(CaseInputs* c, bool lenient) {
+  const CasePaths paths = c->paths();
+  if (CasePaths::exists(paths.truthNav())) {
+    c->reference = readNav(paths.truthNav());
+    c->reference_name = paths.truthNav();
+    c->reference_is_truth = true;
+  } else if (auto ref = paths.referenceSolution(c->config); ref && CasePaths::exists(*ref)) {
+    ReadReport rep;
+    c->reference = readNav(*ref, lenient ? NavReadPolicy::real() : NavReadPolicy{}, &rep);
+    if (!rep.summary().empty()) c->warnings.push_back(rep.summary());
+    c->reference_name = *ref;
+  }
 }
 
 ImuSelection selectImu(const CaseInputs& c, const std::string& which,

@@ -27,10 +27,16 @@ struct CaseInputs {
 struct CaseLoadOptions {
   bool load_gnss = true;
   bool lenient = false;  // the "real" read policies (repair/warn) instead of strict
+  // Read the reference solution (truth.nav, else case.yaml's reference solution) now; false:
+  // later, with loadCaseReference (a caller that holds other records first).
+  bool load_reference = true;
 };
 
 // Throws std::runtime_error naming the directory or file when the case is not usable.
 CaseInputs loadCaseInputs(const std::string& case_dir, const CaseLoadOptions& options = {});
+// Reads the case's reference solution into c (reference, reference_name, reference_is_truth);
+// nothing when it has none.
+void loadCaseReference(CaseInputs* c, bool lenient);
 
 // Which IMU of a case: "ref", "tested", or a file path (navigated with the tested IMU's rate and
 // profile unless a profile file is given).

@@ -27,6 +27,7 @@
 #include "graftnav/io/atomic_file.h"
 #include "graftnav/io/imu_io.h"
 #include "graftnav/io/imu_profile_io.h"
+#include "graftnav/io/nav_io.h"
 #include "graftnav/mismatch/diagnosis.h"
 #include "graftnav/mismatch/diagnosis_report.h"
 #include "graftnav/mismatch/diagnosis_setup.h"
@@ -113,7 +114,7 @@ struct DiagnoseArgs {
 // The finder's inputs from the loaded case: records, plausible ranges, and the simulation with
 // its priors (SG#2 from the lab data, or the static-bias simulation without). The records are
 // moved out of the selections, so the case holds each IMU series once; so is the truth (the
-// attitude along the record) when the navigation level does not need it.
+// attitude along the record), read by the finder when the navigation level does not need it.
 DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const DiagnoseArgs& args, const RunConfig& rc,
                                   ImuSelection* ref_imu, ImuSelection* tested,
                                   std::vector<std::string>* notes) {
@@ -133,10 +134,6 @@ DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const DiagnoseArgs& args, const
     in.tested_plausible_ranges = cfg.tested_imu->plausible_ranges;
   }
   if (in.tested_plausible_ranges) in.tested_plausible_ranges->validate();
-  // A case with a truth trajectory is simulated: its reference IMU may lack navigation physics.
-  in.reference_is_simulated = c.reference_is_truth;
-  if (in.reference_is_simulated)
-    in.attitude = args.estimator.empty() ? std::move(c.reference) : c.reference;
   if (CasePaths::exists(c.paths().labStatic())) {
     fmt::print(stderr, "diagnose: lab data found: simulation = SG#2 from the lab calibration\n");
     PerSensor<double> ref_scale_std;
@@ -144,12 +141,28 @@ DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const DiagnoseArgs& args, const
       ref_scale_std[Sensor::gyro] = cfg.reference_imu->gyro_scale_std;
       ref_scale_std[Sensor::accel] = cfg.reference_imu->accel_scale_std;
     }
-    simulateFromLab(loadLabData(args.case_dir), rc.grafting.start_offset_s, ref_scale_std, &in);
+    const std::string case_dir = args.case_dir;
+    simulateFromLab(loadLabData(case_dir), rc.grafting.start_offset_s, ref_scale_std, &in,
+                    [case_dir] { return loadLabData(case_dir); });
   } else {
     std::vector<std::string> warnings;
     simulateWithoutLab(&in, notes, &warnings);
     for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
   }
+  // A case with a truth trajectory is simulated: its reference IMU may lack navigation physics.
+  // The truth is as long as the records: the finder reads it when it needs the attitude, after
+  // it has binned them; the navigation level reads it here (its SOL_REF), after the simulation.
+  const std::string truth = c.paths().truthNav();
+  in.reference_is_simulated = CasePaths::exists(truth);
+  if (args.estimator.empty()) {
+    if (in.reference_is_simulated) in.read_attitude = [truth] { return readNav(truth); };
+    return in;
+  }
+  const std::size_t warned = c.warnings.size();
+  loadCaseReference(&c, true);
+  for (std::size_t k = warned; k < c.warnings.size(); ++k)
+    fmt::print(stderr, "warning: {}\n", c.warnings[k]);
+  if (in.reference_is_simulated) in.attitude = c.reference;
   return in;
 }
 
@@ -219,6 +232,7 @@ void runDiagnose(const DiagnoseArgs& args) {
   CaseLoadOptions lo;
   lo.lenient = true;
   lo.load_gnss = !args.estimator.empty() && CasePaths::exists(CasePaths(args.case_dir).gnssPos());
+  lo.load_reference = false;  // diagnosisInputsOf reads it after the simulation
   CaseInputs c = loadCaseInputs(args.case_dir, lo);
   std::vector<std::string> warnings = c.warnings;
   DiagnoseOptions opt;
@@ -235,18 +249,21 @@ void runDiagnose(const DiagnoseArgs& args) {
   ImuSelection tested = selectImu(c, "tested", "", true);
   for (const ImuSelection* sel : {&ref_imu, &tested})
     if (!sel->read_summary.empty()) fmt::print(stderr, "warning: {}\n", sel->read_summary);
-  const DiagnosisInputs in = diagnosisInputsOf(c, args, rc, &ref_imu, &tested, &notes);
+  DiagnosisInputs in = diagnosisInputsOf(c, args, rc, &ref_imu, &tested, &notes);
   fmt::print(stderr, "diagnose: {} reference, {} tested samples; simulation: {}\n",
              in.reference.size(), in.real.size(), in.simulation_kind);
-  DiagnosisResult res = diagnose(in, opt);
+  const auto remake_simulated = in.remake_simulated;
+  // The finder releases each record once binned; the navigation level reads them again.
+  DiagnosisResult res = diagnose(std::move(in), opt);
   res.notes.insert(res.notes.end(), notes.begin(), notes.end());
   std::optional<NavigationComparison> nav;
   if (!args.estimator.empty()) {
     try {
       fmt::print(stderr, "diagnose: navigating SG#2, SG#3 and REAL with {}\n", args.estimator);
-      tested.imu = in.real;  // REAL, navigated as the tested IMU
-      nav = navigateComparison(c, tested, args.estimator, rc, outagesFromArgs(args), in.simulated,
-                               res.sg3, &res.notes);
+      tested = selectImu(c, "tested", "", true);  // REAL, navigated as the tested IMU
+      const ImuSeries sg2 = remake_simulated(selectImu(c, "ref", "", true).imu);
+      nav = navigateComparison(c, tested, args.estimator, rc, outagesFromArgs(args), sg2, res.sg3,
+                               &res.notes);
     } catch (const std::exception& e) {
       res.notes.push_back(std::string("navigation level skipped: ") + e.what());
       fmt::print(stderr, "warning: navigation level skipped: {}\n", e.what());

@@ -3,11 +3,30 @@
 
 #include <CLI/CLI.hpp>
 #include <exception>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "commands.h"
 #include "provenance.h"
 
+namespace {
+
+// Blocks of 128 KiB and more are mapped on their own and unmapped when freed, so what a stage
+// frees (a record, a library of regressor columns) goes back to the system before the next
+// stage allocates. glibc's default threshold grows up to 32 MiB as large blocks are freed; the
+// blocks below it then stay in the heap, fragmented: diagnose's peak RSS on a 57-min case was
+// 411 MB against 313 MB of live heap (320 MB with the fixed threshold).
+void returnFreedMemoryToTheSystem() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+#endif
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  returnFreedMemoryToTheSystem();
   CLI::App app{"graftnav: IMU evaluation by signal grafting (Niu et al., Sensors 2016)"};
   app.require_subcommand(1);
   graftnav::app::setCommandLine(argc, argv);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "diagnosis_stages.h"
 #include "graftnav/mismatch/locate.h"
@@ -62,9 +63,46 @@ Eigen::Matrix<double, 6, 1> locateBeforeModelling(const ResidualBins& bins,
   return noise_ms;
 }
 
+// A record the finder no longer reads: its memory goes back now, not when the inputs die.
+template <class Series>
+void release(Series* series) {
+  Series().swap(*series);
+}
+
+// Selection to report on the binned records (the reference record is the only one it reads);
+// returns SG#3's per-bin contribution. Kept apart from diagnose() so the library, the regressors
+// and the passes are freed before SG#3 is built.
+Eigen::MatrixXd explainAndReport(DiagnosisInputs& in, const DiagnoseOptions& opt,
+                                 const TimeAlignment& alignment, const ResidualBins& bins,
+                                 const RawRecordChecks& raw, DiagnosisResult* out) {
+  std::vector<Eigen::Matrix3d> C_bn = attitudeOnGrid(in, bins);
+  release(&in.attitude);  // now C_bn, per bin
+  RegressorState reg = initialRegressors(in, bins, alignment.pivot_s, std::move(C_bn), &out->notes);
+  const ExplainInputs explain{in, opt, bins, out->masked_bins};
+  const SelectionPasses passes = runSelectionPasses(explain, alignment.pivot_s, &reg, &out->notes);
+  const Explanation& ex = passes.explanation;
+  out->notes.insert(out->notes.end(), ex.notes.begin(), ex.notes.end());
+  out->notes.insert(out->notes.end(), passes.repeat_notes.begin(), passes.repeat_notes.end());
+  const Vector6d bin_variance = binNoiseVariance(ex.sel);
+  const Eigen::Matrix<double, 6, 1> noise_ms = locateBeforeModelling(bins, opt, bin_variance, out);
+  out->selection = ex.sel;
+  const ClaimInputs claims{in, opt, bins, raw, ex, reg, alignment, passes.pivot_s};
+  std::vector<std::string> lab_quadratic_not_listed = claimEffects(claims, out);
+  const ReferenceInputStats inputs = referenceInputStats(bins, out->masked_bins);
+  ownAsymmetryGains(claims, inputs.mean, out);
+  claimChecks(claims, inputs, &lab_quadratic_not_listed, out);
+  Eigen::MatrixXd sg3_contribution = modelAndReport(claims, noise_ms, bin_variance, out);
+  out->in_simulation = labModelledTerms(in, lab_quadratic_not_listed);
+  return sg3_contribution;
+}
+
 }  // namespace
 
-DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt_in) {
+DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt) {
+  return diagnose(DiagnosisInputs(in), opt);
+}
+
+DiagnosisResult diagnose(DiagnosisInputs&& in, const DiagnoseOptions& opt_in) {
   opt_in.validate();
   if (in.reference.empty() || in.simulated.empty() || in.real.empty())
     throw std::invalid_argument(
@@ -72,26 +110,24 @@ DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt_i
   DiagnosisResult out;
   out.case_name = in.case_name;
   out.simulation_kind = in.simulation_kind;
-  const TimeAlignment alignment = alignTime(in, opt_in, &out);
+  TimeAlignment alignment = alignTime(in, opt_in, &out);
   out.grid = finderGrid(in, alignment.real(in), alignment.pivot_s, opt_in, &out.notes);
   const DiagnoseOptions opt = optionsOnGrid(in, out.grid, opt_in);
   const ResidualBins bins = binResidual(in, alignment, out.grid, &out);
-  RegressorState reg = initialRegressors(in, bins, alignment.pivot_s, &out.notes);
-  const ExplainInputs explain{in, opt, bins, out.masked_bins};
-  const SelectionPasses passes = runSelectionPasses(explain, alignment.pivot_s, &reg, &out.notes);
-  const Explanation& ex = passes.explanation;
-  out.notes.insert(out.notes.end(), ex.notes.begin(), ex.notes.end());
-  out.notes.insert(out.notes.end(), passes.repeat_notes.begin(), passes.repeat_notes.end());
-  const Vector6d bin_variance = binNoiseVariance(ex.sel);
-  const Eigen::Matrix<double, 6, 1> noise_ms = locateBeforeModelling(bins, opt, bin_variance, &out);
-  out.selection = ex.sel;
-  const ClaimInputs claims{in, opt, bins, ex, reg, alignment, passes.pivot_s};
-  std::vector<std::string> lab_quadratic_not_listed = claimEffects(claims, &out);
-  const ReferenceInputStats inputs = referenceInputStats(bins, out.masked_bins);
-  ownAsymmetryGains(claims, inputs.mean, &out);
-  claimChecks(claims, inputs, &lab_quadratic_not_listed, &out);
-  modelAndReport(claims, noise_ms, bin_variance, &out);
-  out.in_simulation = labModelledTerms(in, lab_quadratic_not_listed);
+  const RawRecordChecks raw = rawRecordChecks(in, alignment, opt);
+  // Past here the finder reads the real record and the simulation only as bins.
+  release(&in.real);
+  release(&alignment.realigned);
+  if (in.remake_simulated) release(&in.simulated);
+  const Eigen::MatrixXd sg3_contribution = explainAndReport(in, opt, alignment, bins, raw, &out);
+  if (in.simulated.empty()) {
+    in.simulated = in.remake_simulated(in.reference);
+    release(&in.reference);
+    if (in.simulated.empty())
+      throw std::runtime_error("diagnose: remake_simulated returned an empty record");
+  }
+  out.sg3 = std::move(in.simulated);
+  addBinnedContributionInPlace(out.grid, sg3_contribution, &out.sg3);
   return out;
 }
 

@@ -39,9 +39,7 @@ void noteReferenceScaleShare(const DiagnosisInputs& in, double share_limit, Diag
 
 // A value lattice only beyond the printed resolution and with a resolvable noise
 // (quantization_evidence.h): claimed, or its detection limit.
-void claimQuantization(const ImuSeries& real, const ImuSeries& simulated, bool gyro,
-                       const QuantizationEvidenceOptions& options, DiagnosisResult* out) {
-  const QuantizationCheck q = checkQuantization(real, simulated, gyro, options);
+void claimQuantization(const QuantizationCheck& q, DiagnosisResult* out) {
   out->quantization_checks.push_back(q);
   Effect e;
   e.name = "quantization";
@@ -74,6 +72,16 @@ void claimQuantization(const ImuSeries& real, const ImuSeries& simulated, bool g
 
 }  // namespace
 
+RawRecordChecks rawRecordChecks(const DiagnosisInputs& in, const TimeAlignment& alignment,
+                                const DiagnoseOptions& opt) {
+  RawRecordChecks raw;
+  if (opt.detect_quantization)
+    for (const bool gyro : {true, false})
+      raw.quantization.push_back(
+          checkQuantization(alignment.real(in), in.simulated, gyro, opt.quantization));
+  return raw;
+}
+
 ReferenceInputStats referenceInputStats(const ResidualBins& bins, const std::vector<char>& masked) {
   Eigen::MatrixXd ref_inputs(bins.n(), kMismatchChannels);
   ref_inputs << bins.x.omega_rad_s, bins.x.f_m_s2;
@@ -98,9 +106,7 @@ void claimChecks(const ClaimInputs& c, const ReferenceInputStats& inputs,
   if (sel.nuisance.theta.size() == 12) out->nuisance_drift = 2.0 * sel.nuisance.theta.segment<6>(6);
   // Claims: a value lattice (quantization_evidence.h); then correlations, plausible ranges and
   // identifiability (claim_checks.h). Neither changes the model.
-  if (c.opt.detect_quantization)
-    for (const bool gyro : {true, false})
-      claimQuantization(c.alignment.real(in), in.simulated, gyro, c.opt.quantization, out);
+  for (const QuantizationCheck& q : c.raw.quantization) claimQuantization(q, out);
   ClaimCheckInputs cc;
   cc.terms = &c.ex.terms;
   cc.selection = &sel;

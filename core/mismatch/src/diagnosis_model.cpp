@@ -132,8 +132,8 @@ void holdoutCheck(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& te
   out->has_holdout = true;
 }
 
-void modelAndReport(const ClaimInputs& c, const Eigen::Matrix<double, 6, 1>& noise_ms,
-                    const Vector6d& bin_variance, DiagnosisResult* out) {
+Eigen::MatrixXd modelAndReport(const ClaimInputs& c, const Eigen::Matrix<double, 6, 1>& noise_ms,
+                               const Vector6d& bin_variance, DiagnosisResult* out) {
   const std::vector<CandidateTerm>& terms = c.ex.terms;
   const SelectionResult& sel = c.ex.sel;
   const Eigen::MatrixXd& r = c.bins.r;
@@ -157,7 +157,7 @@ void modelAndReport(const ClaimInputs& c, const Eigen::Matrix<double, 6, 1>& noi
   out->unexplained =
       locateResidual(unexplained_residual, c.bins.grid, out->regimes, opt.locate, &noise_ms);
   if (opt.holdout) holdoutCheck(r, terms, opt, out);
-  out->sg3 = addBinnedContribution(c.in.simulated, c.bins.grid, sg3Contribution(c, out));
+  return sg3Contribution(c, out);
 }
 
 }  // namespace graftnav::diagnosis_detail

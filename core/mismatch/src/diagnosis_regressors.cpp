@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "diagnosis_stages.h"
 #include "graftnav/nav/earth.h"
@@ -47,8 +48,7 @@ std::vector<Eigen::Matrix3d> attitudeAlongGrid(const BinnedImu& x, const NavStat
 // without a lab calibration. Without the quadratic the shift's slope on z missed 2 c2_z f_z
 // (-0.7 % at c2_z 3.4e-4 per m/s^2): with a 20-ms offset on road vibration that remainder was
 // claimed as a -0.5 % z scale factor (random_15_18).
-ImuSeries labResponseOfReference(const DiagnosisInputs& in) {
-  ImuSeries responded;
+ImuSampleMap labResponseOfReference(const DiagnosisInputs& in) {
   PerSensor<Eigen::Matrix3d> M;
   PerSensor<Eigen::Vector3d> c2;
   bool any = false;
@@ -58,26 +58,34 @@ ImuSeries labResponseOfReference(const DiagnosisInputs& in) {
     M[s] = prior.lab_M.value_or(Eigen::Matrix3d::Identity());
     c2[s] = prior.lab_quadratic ? prior.lab_quadratic->c2 : Eigen::Vector3d::Zero();
   }
-  if (!any) return responded;
-  responded = in.reference;
-  for (ImuSample& smp : responded) {
+  if (!any) return {};
+  return [M, c2](const ImuSample& raw) {
+    ImuSample smp = raw;
     const Eigen::Vector3d dtheta = smp.dtheta_rad, dvel = smp.dvel_m_s;
     smp.dtheta_rad = M[Sensor::gyro] * dtheta;
     smp.dvel_m_s = M[Sensor::accel] * dvel;
-    if (!(smp.dt_s > 0.0)) continue;  // no mean rate to bend (binImu skips such samples)
+    if (!(smp.dt_s > 0.0)) return smp;  // no mean rate to bend (binImu skips such samples)
     // Increments: the quadratic acts on the sample's mean rate, times its length.
     smp.dtheta_rad += smp.dt_s * c2[Sensor::gyro].cwiseProduct((dtheta / smp.dt_s).cwiseAbs2());
     smp.dvel_m_s += smp.dt_s * c2[Sensor::accel].cwiseProduct((dvel / smp.dt_s).cwiseAbs2());
-  }
-  return responded;
+    return smp;
+  };
 }
 
 }  // namespace
 
+std::vector<Eigen::Matrix3d> attitudeOnGrid(const DiagnosisInputs& in, const ResidualBins& bins) {
+  if (!(in.initial_state && in.reference_is_simulated)) return {};
+  if (in.attitude.empty() && in.read_attitude)
+    return attitudeAlongGrid(bins.x, *in.initial_state, in.read_attitude());
+  return attitudeAlongGrid(bins.x, *in.initial_state, in.attitude);
+}
+
 RegressorState initialRegressors(const DiagnosisInputs& in, const ResidualBins& bins,
-                                 double pivot_s, std::vector<std::string>* notes) {
+                                 double pivot_s, std::vector<Eigen::Matrix3d> C_bn,
+                                 std::vector<std::string>* notes) {
   RegressorState reg;
-  reg.responded = labResponseOfReference(in);
+  reg.lab_response = labResponseOfReference(in);
   RegressorInputs& ri = reg.ri;
   const SensorPriors& gyro = in.priors[Sensor::gyro];
   const SensorPriors& accel = in.priors[Sensor::accel];
@@ -93,7 +101,7 @@ RegressorState initialRegressors(const DiagnosisInputs& in, const ResidualBins& 
   }
   buildMotionRegressors(in, bins, pivot_s, &reg, notes);
   if (in.initial_state && in.reference_is_simulated) {
-    ri.C_bn = attitudeAlongGrid(bins.x, *in.initial_state, in.attitude);
+    ri.C_bn = std::move(C_bn);
     ri.omega_ie_n = earth::omega_ie_n(in.initial_state->pos.lat_rad);
   } else {
     notes->push_back(

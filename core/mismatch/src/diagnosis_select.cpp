@@ -63,14 +63,15 @@ void derivativeSecondPass(const ExplainInputs& ex, double pv, RegressorInputs* r
 
 // Joint fit with Ceres: the time offset as a non-linear parameter with everything else selected
 // (joint_fit.h); the linear solution is its start. Evidence stays that of the selection.
-void jointFitTimeOffset(const ExplainInputs& ex, double pv, const ImuSeries& shifted_signal,
+void jointFitTimeOffset(const ExplainInputs& ex, double pv, const ImuSampleMap& response,
                         Explanation* e) {
   int to_idx = -1;
   for (const TermFit& tf : e->sel.selected)
     if (kindOf(e->terms[tf.term]) == TermKind::time_offset) to_idx = tf.term;
   if (to_idx < 0) return;
-  const JointFitResult jf = jointFitWithTimeOffset(ex.bins.r, shifted_signal, ex.bins.grid,
-                                                   e->terms, e->sel, to_idx, pv, ex.opt.joint_fit);
+  const JointFitResult jf =
+      jointFitWithTimeOffset(ex.bins.r, ex.in.reference, ex.bins.grid, e->terms, e->sel, to_idx, pv,
+                             ex.opt.joint_fit, response);
   e->sel.log.push_back(jf.summary);
   if (jf.converged && std::abs(jf.tau_s - pv) <= ex.opt.finder.pivot_tolerance_s) {
     // At its own pivot the linear model is exact in tau, and its terms were fitted by GLS
@@ -179,14 +180,15 @@ std::optional<Eigen::Vector3d> leverArmToMoveForce(const Explanation& e) {
 Explanation explainAt(const ExplainInputs& ex, double pv, RegressorState* reg,
                       std::vector<std::string>* report_notes) {
   Explanation e;
-  reg->ri.time_offset_column = timeOffsetRegressor(reg->shiftedSignal(ex.in), ex.bins.grid, pv);
+  reg->ri.time_offset_column =
+      timeOffsetRegressor(ex.in.reference, ex.bins.grid, pv, reg->lab_response);
   buildMotionRegressors(ex.in, ex.bins, pv, reg, report_notes);
   e.terms = maskedLibrary(reg->ri, ex);
   e.sel = selectTerms(ex.bins.r, e.terms, ex.opt.selection);
   derivativeSecondPass(ex, pv, &reg->ri, &e);
   e.sel = applyLabGates(ex.bins.r, e.terms, ex.in, ex.opt, ex.bins.grid, std::move(e.sel), &e.notes,
                         &e.calibration_gated);
-  if (ex.opt.ceres_joint_fit) jointFitTimeOffset(ex, pv, reg->shiftedSignal(ex.in), &e);
+  if (ex.opt.ceres_joint_fit) jointFitTimeOffset(ex, pv, reg->lab_response, &e);
   return e;
 }
 

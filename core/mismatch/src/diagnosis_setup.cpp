@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <functional>
 #include <stdexcept>
 #include <utility>
 
@@ -37,19 +38,59 @@ SensorPriors labPriors(const SensorCalibration& cal) {
   return p;
 }
 
-void simulateFromLab(const LabData& lab, double start_offset_s,
-                     const PerSensor<double>& reference_scale_std, DiagnosisInputs* in) {
+namespace {
+
+// What SG#2 takes from the lab: the graft plan, and the priors the finder takes from the
+// calibration. The calibration report itself (its error signal as long as the lab record) is
+// gone when this returns.
+struct LabSimulation {
+  GraftPlan plan;
+  PerSensor<SensorPriors> priors;
+};
+LabSimulation labSimulation(const LabData& lab) {
   const LabCalibrationReport report = calibrateLab(lab);
-  GraftCaseOptions go;
-  go.graft.start_offset_s = start_offset_s;
-  GraftedCase g = graftCase(in->reference, report, go);
-  in->simulated = std::move(g.sg2);
-  attachLabTemperature(lab.static_imu, g.start_offset_s, &in->simulated);
-  in->graft_static_record_s = g.static_record_s;
-  in->graft_start_offset_s = g.start_offset_s;
+  LabSimulation out{makeGraftPlan(report), {}};
+  out.priors[Sensor::gyro] = labPriors(report.result.gyro);
+  out.priors[Sensor::accel] = labPriors(report.result.accel);
+  return out;
+}
+
+// SG#2 of `reference`: graftCase's tiling and SG#2 without its SG#1, and the tiled lab
+// temperature. Sets *start_offset_s_out and *record_s_out when given.
+ImuSeries sg2FromPlan(const GraftPlan& plan, const ImuSeries& lab_static,
+                      const ImuSeries& reference, double start_offset_s,
+                      double* start_offset_s_out = nullptr, double* record_s_out = nullptr) {
+  if (reference.empty())
+    throw std::invalid_argument("simulateFromLab: the reference IMU series is empty");
+  GraftOptions graft;
+  graft.start_offset_s = start_offset_s;
+  graft.start_offset_s = graftStartOffset(graft, plan.basic);
+  ImuSeries sg2 = graftSeries(reference, plan, SgStrategy::kFull, graft);
+  attachLabTemperature(lab_static, graft.start_offset_s, &sg2);
+  if (start_offset_s_out) *start_offset_s_out = graft.start_offset_s;
+  if (record_s_out) *record_s_out = plan.basic.recordLength_s();
+  return sg2;
+}
+
+}  // namespace
+
+void simulateFromLab(const LabData& lab, double start_offset_s,
+                     const PerSensor<double>& reference_scale_std, DiagnosisInputs* in,
+                     std::function<LabData()> reload_lab) {
+  {
+    const LabSimulation sim = labSimulation(lab);
+    in->simulated = sg2FromPlan(sim.plan, lab.static_imu, in->reference, start_offset_s,
+                                &in->graft_start_offset_s, &in->graft_static_record_s);
+    in->priors = sim.priors;
+  }
+  // Made again from the lab files, not held: the lab record and its error signal can be as long
+  // as the field test.
+  if (reload_lab)
+    in->remake_simulated = [reload_lab, start_offset_s](const ImuSeries& reference) {
+      const LabData again = reload_lab();
+      return sg2FromPlan(labSimulation(again).plan, again.static_imu, reference, start_offset_s);
+    };
   in->simulation_kind = "SG#2 (lab calibration + grafting)";
-  in->priors[Sensor::gyro] = labPriors(report.result.gyro);
-  in->priors[Sensor::accel] = labPriors(report.result.accel);
   for (const Sensor s : kSensors)
     if (reference_scale_std[s] > 0.0) in->priors[s].reference_scale_sigma = reference_scale_std[s];
 }
@@ -59,6 +100,10 @@ void simulateWithoutLab(DiagnosisInputs* in, std::vector<std::string>* notes,
   try {
     StaticBiasSimulation sim = simulateFromReferenceAndStaticBias(in->reference, in->real);
     in->simulated = std::move(sim.simulated);
+    in->remake_simulated = [gyro = sim.gyro_bias_rad_s, accel = sim.accel_bias_m_s2,
+                            temp = sim.temperature_degC](const ImuSeries& reference) {
+      return withStaticBias(reference, gyro, accel, temp);
+    };
     in->simulation_kind = fmt::format(
         "reference IMU + tested IMU static bias (no lab data; bias from the static span "
         "{:.2f}-{:.2f} s: gyro [{:.4f} {:.4f} {:.4f}] deg/s, accel [{:.4f} {:.4f} {:.4f}] m/s^2)",
@@ -69,6 +114,7 @@ void simulateWithoutLab(DiagnosisInputs* in, std::vector<std::string>* notes,
     // A recording that starts moving has no static span: the simulation is the reference alone;
     // the per-channel constant of the model (the nuisance) carries the bias instead.
     in->simulated = in->reference;
+    in->remake_simulated = [](const ImuSeries& reference) { return reference; };
     in->simulation_kind = "reference IMU (no lab data, no static span for the tested bias)";
     notes->push_back(std::string("no static span in the tested record (") + e.what() +
                      "): the simulation is the reference IMU alone and the tested bias is the "

@@ -58,24 +58,35 @@ struct ResidualBins {
 // Also marks the bins overlapping sampling gaps (out->masked_bins, masked_spans, a note).
 ResidualBins binResidual(const DiagnosisInputs& in, const TimeAlignment& alignment,
                          const GridSpec& grid, DiagnosisResult* out);
+// What the finder reads from the raw samples of the real record and the simulation besides
+// their bins: the value lattices of both triads (quantization_evidence.h), gyro then accel.
+// Taken before the records are released; claimChecks turns them into claims.
+struct RawRecordChecks {
+  std::vector<QuantizationCheck> quantization;  // empty when the check is off
+};
+RawRecordChecks rawRecordChecks(const DiagnosisInputs& in, const TimeAlignment& alignment,
+                                const DiagnoseOptions& opt);
 
 // ---- 4. regressors ----
 struct RegressorState {
-  ImuSeries responded;      // the reference as the lab-calibrated tested IMU responds (or empty)
+  // What the time offset shifts: the reference as the lab-calibrated tested IMU responds to it,
+  // applied sample by sample as the reference is read (empty: the reference itself).
+  ImuSampleMap lab_response;
   ImuSeries at_tested_imu;  // the reference moved by a fitted lever arm (empty: not moved)
   RegressorInputs ri;
   double motion_pivot_s = kNaN;  // the pivot ri's motion regressors were last built at
-  const ImuSeries& shiftedSignal(const DiagnosisInputs& in) const {
-    return responded.empty() ? in.reference : responded;
-  }
   const ImuSeries& testedForce(const DiagnosisInputs& in) const {
     return at_tested_imu.empty() ? in.reference : at_tested_imu;
   }
 };
-// The pivot-independent inputs (lab response, temperatures, attitude); notes to `notes`.
-// Ends by building the motion regressors at pivot_s.
+// The reference body's attitude at the bin middles (nav to body), for the Earth and gravity
+// terms; empty when they are not tested (no initial state, or a recorded reference).
+std::vector<Eigen::Matrix3d> attitudeOnGrid(const DiagnosisInputs& in, const ResidualBins& bins);
+// The pivot-independent inputs (lab response, temperatures, the attitude C_bn from
+// attitudeOnGrid); notes to `notes`. Ends by building the motion regressors at pivot_s.
 RegressorState initialRegressors(const DiagnosisInputs& in, const ResidualBins& bins,
-                                 double pivot_s, std::vector<std::string>* notes);
+                                 double pivot_s, std::vector<Eigen::Matrix3d> C_bn,
+                                 std::vector<std::string>* notes);
 // The motion regressors at pivot pv (x(t - pv)); nothing when already built there. A fresh state
 // (motion_pivot_s NaN) also notes the lever arm's angular-acceleration windows.
 void buildMotionRegressors(const DiagnosisInputs& in, const ResidualBins& bins, double pv,
@@ -116,6 +127,7 @@ struct ClaimInputs {
   const DiagnosisInputs& in;
   const DiagnoseOptions& opt;
   const ResidualBins& bins;
+  const RawRecordChecks& raw;
   const Explanation& ex;
   const RegressorState& reg;
   const TimeAlignment& alignment;
@@ -139,8 +151,9 @@ void claimChecks(const ClaimInputs& c, const ReferenceInputStats& inputs,
                  std::vector<std::string>* lab_quadratic_not_listed, DiagnosisResult* out);
 
 // ---- 7. model, locate, report ----
-void modelAndReport(const ClaimInputs& c, const Eigen::Matrix<double, 6, 1>& noise_ms,
-                    const Vector6d& bin_variance, DiagnosisResult* out);
+// Returns SG#3's per-bin contribution to the simulation (n x 6, addBinnedContribution).
+Eigen::MatrixXd modelAndReport(const ClaimInputs& c, const Eigen::Matrix<double, 6, 1>& noise_ms,
+                               const Vector6d& bin_variance, DiagnosisResult* out);
 void holdoutCheck(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
                   const DiagnoseOptions& opt, DiagnosisResult* out);
 

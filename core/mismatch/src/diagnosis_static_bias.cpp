@@ -49,11 +49,18 @@ StaticBiasSimulation simulateFromReferenceAndStaticBias(const ImuSeries& referen
   // the reference IMU's: temperature_bias is regressed on the tested minus this temperature.
   const Eigen::VectorXd span_degC = y.temperature_degC.segment(a, b - a);
   out.temperature_degC = span_degC.allFinite() ? span_degC.mean() : std::nan("");
-  out.simulated = reference;
-  for (ImuSample& smp : out.simulated) {
-    smp.dtheta_rad += out.gyro_bias_rad_s * smp.dt_s;
-    smp.dvel_m_s += out.accel_bias_m_s2 * smp.dt_s;
-    smp.temperature_degC = out.temperature_degC;
+  out.simulated =
+      withStaticBias(reference, out.gyro_bias_rad_s, out.accel_bias_m_s2, out.temperature_degC);
+  return out;
+}
+
+ImuSeries withStaticBias(const ImuSeries& reference, const Eigen::Vector3d& gyro_bias_rad_s,
+                         const Eigen::Vector3d& accel_bias_m_s2, double temperature_degC) {
+  ImuSeries out = reference;
+  for (ImuSample& smp : out) {
+    smp.dtheta_rad += gyro_bias_rad_s * smp.dt_s;
+    smp.dvel_m_s += accel_bias_m_s2 * smp.dt_s;
+    smp.temperature_degC = temperature_degC;
   }
   return out;
 }
@@ -95,17 +102,22 @@ Eigen::Vector3d detectQuantizationStep(const ImuSeries& imu, bool gyro) {
 
 ImuSeries addBinnedContribution(const ImuSeries& simulated, const GridSpec& grid,
                                 const Eigen::MatrixXd& c) {
+  ImuSeries out = simulated;
+  addBinnedContributionInPlace(grid, c, &out);
+  return out;
+}
+
+void addBinnedContributionInPlace(const GridSpec& grid, const Eigen::MatrixXd& c,
+                                  ImuSeries* series) {
   if (c.rows() != grid.count || c.cols() != kMismatchChannels)
     throw std::invalid_argument("addBinnedContribution: contribution is not grid.count x 6");
-  ImuSeries out = simulated;
-  for (ImuSample& s : out) {
+  for (ImuSample& s : *series) {
     const double mid = s.t_s - 0.5 * s.dt_s;
     const int i = std::clamp(static_cast<int>(std::floor((mid - grid.t_begin_s) / grid.bin_s)), 0,
                              grid.count - 1);
     s.dtheta_rad += c.row(i).head<3>().transpose() * s.dt_s;
     s.dvel_m_s += c.row(i).tail<3>().transpose() * s.dt_s;
   }
-  return out;
 }
 
 }  // namespace graftnav

@@ -346,3 +346,58 @@ TEST(MismatchDiagnosis, JsonHasTheIssueShape) {
 
 }  // namespace
 }  // namespace graftnav
+
+namespace graftnav {
+namespace {
+
+using namespace diagnosis_test;
+
+// The consuming diagnose() releases the real record and the simulation once binned, makes the
+// simulation again for SG#3 and reads the attitude only when it needs it: the same report and
+// SG#3, sample for sample, as the finder that holds everything.
+TEST(MismatchDiagnosis, ReleasingRecordsAndReadingTheAttitudeLateChangeNothing) {
+  ImuErrorModel extra;
+  extra.gyro.scale_factor.k << 3e-3, 0.0, 0.0;
+  Pair p = makePair(extra, 21);
+  NavState init;
+  init.pos.lat_rad = 0.53;
+  init.q_nb = Eigen::Quaterniond::Identity();
+  p.in.initial_state = init;
+  p.in.reference_is_simulated = true;
+  NavSeries attitude;
+  for (double t = p.in.reference.front().t_s - 1.0; t < p.in.reference.back().t_s + 1.0; t += 0.1) {
+    NavState s = init;
+    s.t_s = t;
+    s.q_nb = quatFromEuler(Eigen::Vector3d(0.01, -0.02, 0.3 + 0.001 * t));
+    attitude.push_back(s);
+  }
+  DiagnosisInputs held = p.in;
+  held.attitude = attitude;
+  const DiagnosisResult a = diagnose(held);
+
+  DiagnosisInputs consumed = p.in;
+  int reads = 0, remakes = 0;
+  consumed.read_attitude = [&] {
+    ++reads;
+    return attitude;
+  };
+  consumed.remake_simulated = [&, sim = p.in.simulated](const ImuSeries& reference) {
+    ++remakes;
+    EXPECT_EQ(reference.size(), p.in.reference.size());
+    return sim;
+  };
+  const DiagnosisResult b = diagnose(std::move(consumed));
+  EXPECT_EQ(reads, 1);
+  EXPECT_EQ(remakes, 1);
+  EXPECT_TRUE(consumed.real.empty());  // released, not merely moved from
+  EXPECT_TRUE(consumed.reference.empty());
+  EXPECT_EQ(diagnosisMarkdown(a), diagnosisMarkdown(b));
+  ASSERT_EQ(a.sg3.size(), b.sg3.size());
+  for (std::size_t i = 0; i < a.sg3.size(); ++i) {
+    ASSERT_EQ(a.sg3[i].dtheta_rad, b.sg3[i].dtheta_rad) << i;
+    ASSERT_EQ(a.sg3[i].dvel_m_s, b.sg3[i].dvel_m_s) << i;
+  }
+}
+
+}  // namespace
+}  // namespace graftnav

@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -108,6 +109,9 @@ struct DiagnosisInputs {
   // empty, the attitude is integrated from initial_state with the reference gyros (Earth rate
   // removed).
   NavSeries attitude;
+  // When `attitude` is empty: reads it (e.g. truth.nav), called once the records are binned, so
+  // the attitude is not held next to them. Empty: none.
+  std::function<NavSeries()> read_attitude;
   // SG#2 replays the lab's static record (its bias wander included) tiled forward and backward
   // (GraftedCase): its length and the tiling time at the reference's first sample start. The
   // slow terms' wander model then holds that replay next to the field's own walk. 0: none.
@@ -118,6 +122,12 @@ struct DiagnosisInputs {
   // The tested IMU's plausible ranges (its profile's, or its grade's class defaults). A fitted
   // value outside them is not claimed as that physics (claim_checks.h). Unset: no range check.
   std::optional<PlausibleRanges> tested_plausible_ranges;
+  // The simulation made again from the reference record, sample for sample the same as
+  // `simulated` (e.g. SG#2 grafted again from the lab calibration). When set, diagnose() on
+  // inputs it may consume releases `simulated` once it is binned and calls this for SG#3 at the
+  // end, so the finder holds one IMU record (the reference) through selection. Empty: the
+  // simulation is kept.
+  std::function<ImuSeries(const ImuSeries& reference)> remake_simulated;
 };
 
 struct DiagnoseOptions {
@@ -247,7 +257,12 @@ struct DiagnosisResult {
   ImuSeries sg3;                     // simulated + selected terms (record mean removed)
 };
 
+// Works on a copy of the inputs; the overload below consumes them.
 DiagnosisResult diagnose(const DiagnosisInputs& inputs, const DiagnoseOptions& options = {});
+// The same result, holding less: the records are released as soon as the finder has binned them
+// (the real record and, with remake_simulated, the simulation after the residual; the attitude
+// after the regressors), so past binning only the reference record is held (docs/BENCHMARKS.md).
+DiagnosisResult diagnose(DiagnosisInputs&& inputs, const DiagnoseOptions& options = {});
 
 // The simulation used when the case has no lab data: the reference increments plus the tested
 // IMU's bias measured in the first static span of the field recording (mean tested minus mean
@@ -267,6 +282,11 @@ StaticBiasSimulation simulateFromReferenceAndStaticBias(const ImuSeries& referen
                                                         double min_static_s = 2.0,
                                                         double max_static_s = 30.0);
 
+// The reference plus a constant bias per triad, every sample at one temperature (the static-bias
+// simulation's series).
+ImuSeries withStaticBias(const ImuSeries& reference, const Eigen::Vector3d& gyro_bias_rad_s,
+                         const Eigen::Vector3d& accel_bias_m_s2, double temperature_degC);
+
 // Step of a value lattice of the raw increments (rad or m/s per sample) per axis; 0 where the
 // values are not on a lattice (fewer than half of them repeat, or they miss the lattice).
 Eigen::Vector3d detectQuantizationStep(const ImuSeries& imu, bool gyro);
@@ -275,5 +295,8 @@ Eigen::Vector3d detectQuantizationStep(const ImuSeries& imu, bool gyro);
 // sample as rate x dt from the bin that holds the sample's middle (clamped at the grid's ends).
 ImuSeries addBinnedContribution(const ImuSeries& simulated, const GridSpec& grid,
                                 const Eigen::MatrixXd& contribution);
+// The same, in place.
+void addBinnedContributionInPlace(const GridSpec& grid, const Eigen::MatrixXd& contribution,
+                                  ImuSeries* series);
 
 }  // namespace graftnav

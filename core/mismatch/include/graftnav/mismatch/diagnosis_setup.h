@@ -5,6 +5,7 @@
 // finder's priors; without, it is the reference plus the tested IMU's bias measured in a static
 // span of the field record (or the reference alone when there is none).
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -24,9 +25,12 @@ SensorPriors labPriors(const SensorCalibration& cal);
 // in->reference with the graft starting start_offset_s into the tiled lab record), its
 // temperature column from the tiled lab temperature, the graft's tiling, and the priors of both
 // sensors. reference_scale_std: the reference IMU's 1-sigma scale uncertainty per sensor
-// (fraction; 0 = not stated). Throws what calibrateLab and graftCase throw.
+// (fraction; 0 = not stated). With reload_lab (the same lab data read again), also
+// in->remake_simulated, which calibrates and grafts again rather than holding the lab record.
+// Throws what calibrateLab and graftCase throw.
 void simulateFromLab(const LabData& lab, double start_offset_s,
-                     const PerSensor<double>& reference_scale_std, DiagnosisInputs* in);
+                     const PerSensor<double>& reference_scale_std, DiagnosisInputs* in,
+                     std::function<LabData()> reload_lab = {});
 
 // Sets in->simulated without lab data: the reference plus the tested IMU's static bias
 // (simulateFromReferenceAndStaticBias), or the reference alone when the field record has no
