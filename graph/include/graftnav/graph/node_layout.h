@@ -23,7 +23,7 @@ namespace graftnav {
 struct GraphNode {
   double t_s = 0.0;
   size_t sample_end = 0;     // index of the first IMU sample after the node
-  std::vector<size_t> gnss;  // indices into NodeLayout::fixes
+  std::vector<size_t> gnss;  // indices into NodeLayout::fixes, ascending
 };
 
 struct GnssObservation {
@@ -35,14 +35,15 @@ struct GnssObservation {
 
 struct NodeLayout {
   std::vector<GraphNode> nodes;
-  std::vector<GnssObservation> fixes;  // GNSS used, in the problem's order
+  std::vector<GnssObservation> fixes;  // GNSS used, in time order
   int gnss_withheld = 0;               // fixes inside outages
   size_t first_sample = 0;             // first IMU sample after the initial state
   size_t sample_count = 0;             // IMU samples in the recording
 };
 
-// The layout of `problem` (its IMU samples come from `imu`, problem.imu is not read). Throws
-// std::invalid_argument for fewer than 2 samples or an initial state after the last sample.
+// The layout of `problem` (its IMU samples come from `imu`, problem.imu is not read; its GNSS
+// fixes, in time order, from one pass over them). Throws std::invalid_argument for fewer than 2
+// samples, an initial state after the last sample, or fixes out of time order.
 NodeLayout buildNodeLayout(const EstimationProblem& problem, const LocalFrame& frame,
                            const FgoOptions& options, const ImuPassFn& imu);
 
