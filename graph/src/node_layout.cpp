@@ -21,16 +21,25 @@ struct SampleTime {
   double dt_s = 0.0;
 };
 
+}  // namespace
+
 // Streams the samples once. A GNSS fix is placed on the sample whose end is nearest its time
 // (searched from the first sample after the initial state), as soon as the first sample at or
 // after the fix arrives; fixes are taken in time order. A node's sample (an "anchor") is final
 // when a later fix lands on a later sample; then the nodes filling the gap before it every
 // max_node_spacing_s are placed on the sample times held since the previous node.
-class LayoutBuilder {
+class NodeLayoutBuilder::Impl {
  public:
-  LayoutBuilder(const EstimationProblem& problem, const LocalFrame& frame,
-                const FgoOptions& options)
-      : gnss_(problem), frame_(frame), options_(options), t0_(problem.initial.t_s) {}
+  Impl(const EstimationProblem& problem, const LocalFrame& frame, const FgoOptions& options,
+       NodeLayout* layout)
+      : gnss_(problem),
+        frame_(frame),
+        options_(options),
+        t0_(problem.initial.t_s),
+        layout_(*layout) {
+    layout_ = NodeLayout{};
+    layout_.first_sample = kNone;
+  }
 
   void add(const ImuSample& s) {
     const size_t i = count_++;
@@ -48,7 +57,7 @@ class LayoutBuilder {
       placeFix(*f, times_.size() - 1);
   }
 
-  NodeLayout finish() {
+  void finish() {
     if (count_ < 2) throw std::invalid_argument("FgoGraph: fewer than 2 IMU samples");
     if (layout_.first_sample == kNone) {
       throw std::invalid_argument("FgoGraph: initial state at t=" + std::to_string(t0_) +
@@ -65,7 +74,7 @@ class LayoutBuilder {
       closeAnchor();
     }
     layout_.sample_count = count_;
-    return std::move(layout_);
+    layout_.complete = true;
   }
 
  private:
@@ -91,7 +100,7 @@ class LayoutBuilder {
       pos = positionOf(index);
     }
     open_anchor_ = pos;
-    anchor_fixes_.push_back(layout_.fixes.size());
+    anchor_fixes_.push_back(layout_.fixCount());
     layout_.fixes.push_back(observe(fix, t - times_[pos].t_s));
   }
 
@@ -114,7 +123,7 @@ class LayoutBuilder {
   // Nodes every max_node_spacing_s between the last node and the open anchor, then the anchor
   // with its fixes; keeps the sample times from the sample before the anchor on.
   void closeAnchor() {
-    std::vector<GraphNode>& nodes = layout_.nodes;
+    std::deque<GraphNode>& nodes = layout_.nodes;
     const SampleTime a = times_[open_anchor_];
     const double t_prev = nodes.back().t_s;
     const int n_sub =
@@ -158,22 +167,58 @@ class LayoutBuilder {
   const LocalFrame& frame_;
   const FgoOptions& options_;
   const double t0_;
-  NodeLayout layout_{{}, {}, 0, kNone, 0};
+  NodeLayout& layout_;
   size_t count_ = 0;                  // samples seen
   std::vector<SampleTime> times_;     // from the sample before the last node on
   size_t open_anchor_ = kNone;        // position in times_ of the newest fixes' sample
-  std::vector<size_t> anchor_fixes_;  // their numbers in layout_.fixes
+  std::vector<size_t> anchor_fixes_;  // their fix numbers
 };
 
-}  // namespace
+const GraphNode& NodeLayout::node(std::size_t k) const {
+  if (k < nodes_base || k >= nodeCount()) {
+    throw std::out_of_range("NodeLayout: node " + std::to_string(k) + " not held (held [" +
+                            std::to_string(nodes_base) + ", " + std::to_string(nodeCount()) + "))");
+  }
+  return nodes[k - nodes_base];
+}
+
+const GnssObservation& NodeLayout::fix(std::size_t i) const {
+  if (i < fixes_base || i >= fixCount()) {
+    throw std::out_of_range("NodeLayout: fix " + std::to_string(i) + " not held (held [" +
+                            std::to_string(fixes_base) + ", " + std::to_string(fixCount()) + "))");
+  }
+  return fixes[i - fixes_base];
+}
+
+void NodeLayout::forgetBefore(std::size_t k) {
+  k = std::min(k, nodeCount() > 0 ? nodeCount() - 1 : 0);
+  std::size_t fixes_end = fixes_base;  // one past the last fix on a forgotten node
+  for (; nodes_base < k; ++nodes_base) {
+    if (!nodes.front().gnss.empty()) fixes_end = std::max(fixes_end, nodes.front().gnss.back() + 1);
+    nodes.pop_front();
+  }
+  for (; fixes_base < fixes_end && !fixes.empty(); ++fixes_base) fixes.pop_front();
+}
+
+NodeLayoutBuilder::NodeLayoutBuilder(const EstimationProblem& problem, const LocalFrame& frame,
+                                     const FgoOptions& options, NodeLayout* layout)
+    : impl_(std::make_unique<Impl>(problem, frame, options, layout)) {}
+
+NodeLayoutBuilder::~NodeLayoutBuilder() = default;
+
+void NodeLayoutBuilder::add(const ImuSample& s) { impl_->add(s); }
+
+void NodeLayoutBuilder::finish() { impl_->finish(); }
 
 NodeLayout buildNodeLayout(const EstimationProblem& problem, const LocalFrame& frame,
                            const FgoOptions& options, const ImuPassFn& imu) {
-  LayoutBuilder builder(problem, frame, options);
+  NodeLayout layout;
+  NodeLayoutBuilder builder(problem, frame, options, &layout);
   imu([&](const ImuSeries& block) {
     for (const ImuSample& s : block) builder.add(s);
   });
-  return builder.finish();
+  builder.finish();
+  return layout;
 }
 
 }  // namespace graftnav

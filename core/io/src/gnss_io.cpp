@@ -250,16 +250,17 @@ GnssSeries readGnss(const std::string& pos_path, const std::string& fixtype_path
 
 // The readers, order guards, reports and fix-type matcher of one pass.
 struct GnssStreamReader::State {
-  State(const std::string& pos_path, const std::string& ft_path, const GnssReadPolicy& p)
+  State(const std::string& pos_path, const std::string& ft_path, const GnssReadPolicy& p,
+        std::size_t chunk_bytes)
       : policy(p),
-        pos(TextTableReader::streaming(pos_path)),
+        pos(TextTableReader::streaming(pos_path, chunk_bytes)),
         pos_order(p.duplicate_stamp, p.backwards_stamp),
         fixtype_order(p.duplicate_stamp, p.backwards_stamp),
         fixtype_path(ft_path) {
     beginReport(pos_report, pos_path);
     if (fixtype_path.empty()) return;
     beginReport(fixtype_report, fixtype_path);
-    fixtype.emplace(TextTableReader::streaming(fixtype_path));
+    fixtype.emplace(TextTableReader::streaming(fixtype_path, chunk_bytes));
     matcher.emplace(fixtype_path, policy, fixtype_report,
                     [this](GnssFixTypeRecord* rec) { return nextRecord(rec); });
   }
@@ -286,9 +287,9 @@ struct GnssStreamReader::State {
 };
 
 GnssStreamReader::GnssStreamReader(const std::string& pos_path, const std::string& fixtype_path,
-                                   const GnssReadPolicy& policy) {
+                                   const GnssReadPolicy& policy, std::size_t chunk_bytes) {
   policy.validate();
-  state_ = std::make_unique<State>(pos_path, fixtype_path, policy);
+  state_ = std::make_unique<State>(pos_path, fixtype_path, policy, chunk_bytes);
 }
 
 GnssStreamReader::~GnssStreamReader() = default;

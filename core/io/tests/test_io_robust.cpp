@@ -339,7 +339,7 @@ TEST(IoRobust, GnssStreamReaderEqualsReadGnss) {
   for (const std::string& fixtype : {t, std::string()}) {
     std::vector<ReadReport> want_reports;
     const GnssSeries want = readGnss(p, fixtype, GnssReadPolicy::real(), &want_reports);
-    GnssStreamReader reader(p, fixtype, GnssReadPolicy::real());
+    GnssStreamReader reader(p, fixtype, GnssReadPolicy::real(), 256);  // chunk boundaries
     GnssSeries got;
     for (GnssFix f; reader.next(&f);) got.push_back(f);
     ASSERT_EQ(got.size(), want.size());

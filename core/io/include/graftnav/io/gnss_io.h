@@ -4,6 +4,7 @@
 //   gnss_fixtype.txt  `sow fix_type num_sv` (1 single point, 4 RTK fixed, 5 RTK float)
 // Strict by default (errors name path:line and value); GnssReadPolicy::real() for real recordings.
 
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <vector>
@@ -72,9 +73,12 @@ GnssSeries readGnss(const std::string& pos_path, const std::string& fixtype_path
 // earlier in time is reported, not the .pos file's). One pass; open another reader for more.
 class GnssStreamReader {
  public:
-  // fixtype_path empty: no fix-type file. Throws std::runtime_error when a file cannot be opened.
+  // fixtype_path empty: no fix-type file. Each file is read in chunks of about chunk_bytes
+  // (default 64 KiB: ~900 epochs of .pos; the reader holds up to twice that per file). Throws
+  // std::runtime_error when a file cannot be opened.
   GnssStreamReader(const std::string& pos_path, const std::string& fixtype_path,
-                   const GnssReadPolicy& policy = {});
+                   const GnssReadPolicy& policy = {}, std::size_t chunk_bytes = kDefaultChunkBytes);
+  static constexpr std::size_t kDefaultChunkBytes = std::size_t{1} << 16;
   ~GnssStreamReader();
   GnssStreamReader(const GnssStreamReader&) = delete;
   GnssStreamReader& operator=(const GnssStreamReader&) = delete;
