@@ -264,8 +264,9 @@ void BatchSolver::reintegrationRounds() {
 }
 
 // Initial values: a fixed-lag sliding-window pass that solves every batch_init_stride nodes
-// (counts of its culling are not kept: the batch re-decides every fix). Every interval's
-// preintegration stays.
+// (counts of its culling are not kept: the batch re-decides every fix) and places the nodes as
+// it goes (its options differ from the batch's in window fields only, which the layout does not
+// read). Every node and interval's preintegration stays.
 void initializeByWindow(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions& options,
                         FgoReport* rep) {
   FgoOptions init = options;
@@ -326,7 +327,7 @@ NavSolution solveBatchFgo(const EstimationProblem& problem, const ImuPassFn& imu
   FgoReport local;
   FgoReport& rep = report ? *report : local;
   auto t0 = std::chrono::steady_clock::now();
-  FgoGraph graph(problem, options, imu);
+  FgoGraph graph(problem, options, PlaceNodesDuringPass{});  // placed by the window pass
   initializeByWindow(graph, imu, options, &rep);
   rep.window_time_s = secondsSince(t0);
   t0 = std::chrono::steady_clock::now();

@@ -41,8 +41,8 @@ struct FgoReport {
 NavSolution solveBatchFgo(const EstimationProblem& problem, const FgoOptions& options,
                           FgoReport* report = nullptr, const FgoEpochFn& output = {});
 // The same with the samples from passes over `imu` (problem.imu is not read): the graph holds
-// one preintegration per node, not the samples. Passes: the node layout, the window
-// initialization, one per re-preintegration round that has work, and the output.
+// one preintegration per node, not the samples. Passes: the window initialization (which places
+// the nodes), one per re-preintegration round that has work, and the output.
 NavSolution solveBatchFgo(const EstimationProblem& problem, const ImuPassFn& imu,
                           const FgoOptions& options, FgoReport* report = nullptr,
                           const FgoEpochFn& output = {});
