@@ -114,9 +114,9 @@ bool streamsGnss(const NavigateArgs& a, const RunConfig& rc) {
 
 // The case's GNSS read once epoch by epoch before anything is written, as scanStreamedImu reads
 // the IMU: its errors stop the run here, its warnings are printed, the coverage check gets the
-// counts. Memory stays flat; the run reads the files again. Returns the first epoch, which
-// stands in for the series in makeProblem (it asks only whether there is GNSS).
-GnssFix scanStreamedGnss(const NavigateArgs& a, NavigateSetup* s) {
+// counts. Memory stays flat; the run reads the files again through *stream. Returns the first
+// epoch, which stands in for the series in makeProblem (it asks only whether there is GNSS).
+GnssFix scanStreamedGnss(const NavigateArgs& a, NavigateSetup* s, GnssOpenFn* stream) {
   const CasePaths paths = s->c.paths();
   if (!CasePaths::exists(paths.gnssPos()))
     throw std::runtime_error("GNSS file '" + paths.gnssPos() + "' not found");
@@ -135,7 +135,7 @@ GnssFix scanStreamedGnss(const NavigateArgs& a, NavigateSetup* s) {
     if (!r.summary().empty()) fmt::print(stderr, "warning: {}\n", r.summary());
   warnAll(checkGnssCoverage(coverage, paths.gnssPos(), false), &s->notes);
   s->gnss_count = coverage.total;
-  s->pr.gnss_stream = gnssFileStream(paths.gnssPos(), ft, policy);
+  *stream = gnssFileStream(paths.gnssPos(), ft, policy);
   return first;
 }
 
@@ -207,8 +207,9 @@ NavigateSetup prepareNavigate(const NavigateArgs& a) {
   if (a.free_inertial) s.rc.alignment.mode = "given";
 
   selectNavigateImu(a, &s);
+  GnssOpenFn gnss_stream;
   if (s.stream_gnss) {
-    s.c.gnss = {scanStreamedGnss(a, &s)};
+    s.c.gnss = {scanStreamedGnss(a, &s, &gnss_stream)};
   } else if (!a.free_inertial) {
     warnAll(checkGnssCoverage(s.c.gnss, s.c.paths().gnssPos(), s.imu.imu, false), &s.notes);
   }
@@ -221,7 +222,6 @@ NavigateSetup prepareNavigate(const NavigateArgs& a) {
   if (a.outage_start) s.oc.start_s = *a.outage_start;
   std::optional<OutageScheduleConfig> outages;
   if ((s.rc.outages_given || cli_outage) && !a.free_inertial) outages = s.oc;
-  const GnssOpenFn gnss_stream = s.pr.gnss_stream;
   s.pr = makeProblem(s.c, s.imu, s.rc, outages, &s.notes);
   if (s.stream_gnss) {  // makeProblem saw the first epoch only; the run reads the files
     s.pr.gnss = {};
