@@ -3,7 +3,8 @@
 //   [--run-config FILE] [--start T --end T] [--decimate N] [--lenient] [--no-plots]
 // Several estimators write OUT_DIR/<estimator>/. Without --run-config, CASE_DIR/run.yaml is used
 // when present (written by `graftnav import`). Estimators with a streamed form (ekf, rts, fgo,
-// fgo-window) read the IMU in blocks and write their per-epoch files as they go (streamedRun).
+// fgo-window) read the IMU in blocks and the GNSS epoch by epoch (unless the run config selects
+// GNSS epochs) and write their per-epoch files as they go (streamedRun).
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
