@@ -127,7 +127,8 @@ using ProgressFn = std::function<void(double fraction_done)>;
 class EkfPass {
  public:
   // Applies the fixes at (or before, within 1 us) the initial time. With `record`, the forward
-  // pass is recorded for the smoother.
+  // pass is recorded for the smoother. The problem must outlive the pass (its fixes are read
+  // one at a time as the samples come).
   EkfPass(const EstimationProblem& problem, const EkfOptions& options, bool record);
   // Processes the next sample (times increasing); samples not after the current time are skipped.
   // `sink` (may be null) receives the output epochs.
