@@ -3,7 +3,8 @@
 //   [--run-config FILE] [--start T --end T] [--decimate N] [--lenient] [--no-plots]
 // Several estimators write OUT_DIR/<estimator>/. Without --run-config, CASE_DIR/run.yaml is used
 // when present (written by `graftnav import`). Estimators with a streamed form (ekf, rts, fgo,
-// fgo-window) read the IMU in blocks and write their per-epoch files as they go (streamedRun).
+// fgo-window) read the IMU in blocks and the GNSS epoch by epoch (unless the run config selects
+// GNSS epochs) and write their per-epoch files as they go (streamedRun).
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
@@ -92,7 +93,9 @@ struct NavigateSetup {
   OutageScheduleConfig oc;
   EstimationProblem pr;
   std::vector<std::string> notes;
-  bool stream = false;  // the IMU read in blocks during the run; imu.imu and pr.imu not held
+  bool stream = false;       // the IMU read in blocks during the run; imu.imu and pr.imu not held
+  bool stream_gnss = false;  // the GNSS read epoch by epoch during the run (pr.gnss_stream)
+  long gnss_count = 0;       // GNSS epochs in the case
 };
 
 // Whether the run streams the IMU (read in blocks, the per-epoch files written as they go).
@@ -101,6 +104,40 @@ struct NavigateSetup {
 // (restrictToTimeRange cuts the series in memory).
 bool streamable(const std::string& estimator, const RunConfig& rc, const TimeRangeConfig& range) {
   return canStream(estimator) && rc.alignment.mode == "given" && range.empty();
+}
+
+// Whether a streamed run also reads the GNSS epoch by epoch: unless the run config selects GNSS
+// epochs (selectGnss re-sorts and spaces the whole series).
+bool streamsGnss(const NavigateArgs& a, const RunConfig& rc) {
+  return !a.free_inertial &&
+         streamable(a.estimator, rc, mergeTimeRange(rc.time_range, a.time_range)) && !rc.gnss.given;
+}
+
+// The case's GNSS read once epoch by epoch before anything is written, as scanStreamedImu reads
+// the IMU: its errors stop the run here, its warnings are printed, the coverage check gets the
+// counts. Memory stays flat; the run reads the files again through *stream. Returns the first
+// epoch, which stands in for the series in makeProblem (it asks only whether there is GNSS).
+GnssFix scanStreamedGnss(const NavigateArgs& a, NavigateSetup* s, GnssOpenFn* stream) {
+  const CasePaths paths = s->c.paths();
+  if (!CasePaths::exists(paths.gnssPos()))
+    throw std::runtime_error("GNSS file '" + paths.gnssPos() + "' not found");
+  const std::string ft = CasePaths::exists(paths.gnssFixType()) ? paths.gnssFixType() : "";
+  const GnssReadPolicy policy = a.lenient ? GnssReadPolicy::real() : GnssReadPolicy{};
+  GnssStreamReader reader(paths.gnssPos(), ft, policy);
+  GnssCoverage coverage;
+  coverage.imu_t0_s = s->imu.imu.front().t_s - s->imu.imu.front().dt_s;
+  coverage.imu_t1_s = s->imu.imu.back().t_s;
+  GnssFix fix, first;
+  while (reader.next(&fix)) {
+    if (coverage.total == 0) first = fix;
+    coverage.add(fix.t_s);
+  }
+  for (const auto& r : reader.reports())
+    if (!r.summary().empty()) fmt::print(stderr, "warning: {}\n", r.summary());
+  warnAll(checkGnssCoverage(coverage, paths.gnssPos(), false), &s->notes);
+  s->gnss_count = coverage.total;
+  *stream = gnssFileStream(paths.gnssPos(), ft, policy);
+  return first;
 }
 
 // A streamed IMU file read once through the block reader before anything is written, so that its
@@ -149,15 +186,19 @@ NavigateSetup prepareNavigate(const NavigateArgs& a) {
       throw std::runtime_error("--estimator '" + a.estimator + "': unknown estimator");
   }
   NavigateSetup s;
+  // The run config first: whether the GNSS is held depends on it.
+  std::vector<std::string> config_warnings;
+  const std::string run_config = runConfigPathFor(a.config, a.case_dir);
+  if (!run_config.empty()) s.rc = loadRunConfig(run_config, &config_warnings);
+  s.stream_gnss = streamsGnss(a, s.rc);
   CaseLoadOptions lo;
-  lo.load_gnss = !a.free_inertial;
+  lo.load_gnss = !a.free_inertial && !s.stream_gnss;
   lo.lenient = a.lenient;
   s.c = loadCaseInputs(a.case_dir, lo);
   recordConfigFile(s.c.paths().caseYaml());
   std::vector<std::string> warnings = s.c.warnings;
-  const std::string run_config = runConfigPathFor(a.config, a.case_dir);
+  warnings.insert(warnings.end(), config_warnings.begin(), config_warnings.end());
   if (!run_config.empty()) {
-    s.rc = loadRunConfig(run_config, &warnings);
     recordConfigFile(run_config);
     s.notes.push_back("run config: " + run_config);
     if (a.config.empty()) fmt::print(stderr, "note: using the case's run config {}\n", run_config);
@@ -167,8 +208,12 @@ NavigateSetup prepareNavigate(const NavigateArgs& a) {
   if (a.free_inertial) s.rc.alignment.mode = "given";
 
   selectNavigateImu(a, &s);
-  if (!a.free_inertial)
+  GnssOpenFn gnss_stream;
+  if (s.stream_gnss) {
+    s.c.gnss = {scanStreamedGnss(a, &s, &gnss_stream)};
+  } else if (!a.free_inertial) {
     warnAll(checkGnssCoverage(s.c.gnss, s.c.paths().gnssPos(), s.imu.imu, false), &s.notes);
+  }
 
   // Outages: config section, overridden by the command line; none for a free-inertial run.
   const bool cli_outage = a.outage_length || a.outage_period || a.outage_start;
@@ -179,6 +224,13 @@ NavigateSetup prepareNavigate(const NavigateArgs& a) {
   std::optional<OutageScheduleConfig> outages;
   if ((s.rc.outages_given || cli_outage) && !a.free_inertial) outages = s.oc;
   s.pr = makeProblem(s.c, s.imu, s.rc, outages, &s.notes);
+  if (s.stream_gnss) {  // makeProblem saw the first epoch only; the run reads the files
+    s.pr.gnss = {};
+    s.c.gnss = {};
+    s.pr.gnss_stream = gnss_stream;
+  } else {
+    s.gnss_count = static_cast<long>(s.pr.gnss.size());
+  }
   for (const auto& n : s.notes)
     if (n.find("alignment") != std::string::npos || n.find("lever") != std::string::npos ||
         n.find("GNSS selection") != std::string::npos || n.find("time range") != std::string::npos)
@@ -302,10 +354,10 @@ void runNavigateOne(const NavigateArgs& a) {
   if (s.stream) {
     fmt::print(stderr,
                "[{:6.1f} s] streaming the {} IMU: {} on {} in blocks, {} GNSS fixes, {} outages\n",
-               elapsed(), a.imu, estimator, s.imu.path, s.pr.gnss.size(), s.pr.outages.size());
+               elapsed(), a.imu, estimator, s.imu.path, s.gnss_count, s.pr.outages.size());
   } else {
     fmt::print(stderr, "[{:6.1f} s] {} on {} IMU samples, {} GNSS fixes, {} outages\n", elapsed(),
-               estimator, s.pr.imu.size(), s.pr.gnss.size(), s.pr.outages.size());
+               estimator, s.pr.imu.size(), s.gnss_count, s.pr.outages.size());
   }
   int last_decile = -1;
   const ProgressFn progress = [&](double f) {

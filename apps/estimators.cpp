@@ -96,6 +96,25 @@ ImuStream imuFileStream(const std::string& path, const ImuReadOptions& options,
   return s;
 }
 
+namespace {
+class GnssFileSource final : public GnssSource {
+ public:
+  GnssFileSource(const std::string& pos, const std::string& fixtype, const GnssReadPolicy& policy)
+      : reader_(pos, fixtype, policy) {}
+  bool next(GnssFix* fix) override { return reader_.next(fix); }
+
+ private:
+  GnssStreamReader reader_;
+};
+}  // namespace
+
+GnssOpenFn gnssFileStream(const std::string& pos_path, const std::string& fixtype_path,
+                          const GnssReadPolicy& policy) {
+  return [pos_path, fixtype_path, policy]() -> std::unique_ptr<GnssSource> {
+    return std::make_unique<GnssFileSource>(pos_path, fixtype_path, policy);
+  };
+}
+
 NavSolution runEstimatorStreaming(const std::string& name, const EstimationProblem& problem,
                                   const ImuStream& imu, const RunConfig& config,
                                   SolutionSink& sink) {

@@ -9,6 +9,7 @@
 #include "graftnav/estimation/nav_solution.h"
 #include "graftnav/filters/ekf.h"
 #include "graftnav/filters/solution_sink.h"
+#include "graftnav/io/gnss_io.h"
 #include "graftnav/io/imu_io.h"
 #include "run_config.h"
 
@@ -47,6 +48,11 @@ bool canStream(const std::string& name);
 // reader report.
 ImuStream imuFileStream(const std::string& path, const ImuReadOptions& options,
                         ReadReport* report = nullptr);
+
+// GNSS files read one epoch at a time (GnssStreamReader) as a problem's gnss_stream; each pass
+// reads them again. fixtype_path empty: no fix-type file.
+GnssOpenFn gnssFileStream(const std::string& pos_path, const std::string& fixtype_path,
+                          const GnssReadPolicy& policy);
 
 // Runs the streamed form of `name`; throws std::invalid_argument when it has none.
 NavSolution runEstimatorStreaming(const std::string& name, const EstimationProblem& problem,

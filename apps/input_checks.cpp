@@ -61,20 +61,31 @@ void requireOutagesInsideData(const OutageScheduleConfig& c, const std::vector<T
       c.start_s, c.length_s, c.end_margin_s, span));
 }
 
+void GnssCoverage::add(double t_s) {
+  if (total++ == 0) first_t_s = t_s;
+  last_t_s = t_s;
+  if (t_s >= imu_t0_s && t_s <= imu_t1_s) ++inside;
+}
+
 std::vector<std::string> checkGnssCoverage(const GnssSeries& gnss, const std::string& gnss_path,
                                            const ImuSeries& imu, bool free_inertial,
                                            const InputCheckOptions& o) {
-  o.validate();
   if (imu.empty()) throw std::runtime_error("checkGnssCoverage: no IMU samples");
-  const double t0 = imuBegin(imu), t1 = imu.back().t_s;
-  const auto inside = std::count_if(gnss.begin(), gnss.end(),
-                                    [&](const GnssFix& f) { return f.t_s >= t0 && f.t_s <= t1; });
-  if (inside >= o.min_gnss_epochs) return {};
+  GnssCoverage c;
+  c.imu_t0_s = imuBegin(imu);
+  c.imu_t1_s = imu.back().t_s;
+  for (const GnssFix& f : gnss) c.add(f.t_s);
+  return checkGnssCoverage(c, gnss_path, free_inertial, o);
+}
+
+std::vector<std::string> checkGnssCoverage(const GnssCoverage& c, const std::string& gnss_path,
+                                           bool free_inertial, const InputCheckOptions& o) {
+  o.validate();
+  if (c.inside >= o.min_gnss_epochs) return {};
   std::string what =
       fmt::format("{}: {} of {} GNSS epochs lie inside the IMU span [{:.3f}, {:.3f}] s", gnss_path,
-                  inside, gnss.size(), t0, t1);
-  if (!gnss.empty())
-    what += fmt::format(" (GNSS span [{:.3f}, {:.3f}] s)", gnss.front().t_s, gnss.back().t_s);
+                  c.inside, c.total, c.imu_t0_s, c.imu_t1_s);
+  if (c.total > 0) what += fmt::format(" (GNSS span [{:.3f}, {:.3f}] s)", c.first_t_s, c.last_t_s);
   what += fmt::format("; at least {} are needed for GNSS/INS", o.min_gnss_epochs);
   if (!free_inertial)
     throw std::runtime_error(

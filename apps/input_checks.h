@@ -50,6 +50,16 @@ void requireOutagesInsideData(const OutageScheduleConfig& config,
 std::vector<std::string> checkGnssCoverage(const GnssSeries& gnss, const std::string& gnss_path,
                                            const ImuSeries& imu, bool free_inertial,
                                            const InputCheckOptions& options = {});
+// The same from counts, for GNSS read one epoch at a time: add() each epoch's time in order.
+struct GnssCoverage {
+  double imu_t0_s = 0.0, imu_t1_s = 0.0;  // the IMU span (imuBegin, last sample's end)
+  long total = 0, inside = 0;
+  double first_t_s = 0.0, last_t_s = 0.0;
+  void add(double t_s);
+};
+std::vector<std::string> checkGnssCoverage(const GnssCoverage& coverage,
+                                           const std::string& gnss_path, bool free_inertial,
+                                           const InputCheckOptions& options = {});
 // After the run: the number of GNSS epochs the estimator used, same rule.
 std::vector<std::string> checkGnssUsed(int gnss_used, bool free_inertial,
                                        const InputCheckOptions& options = {});

@@ -7,7 +7,6 @@
 #include <string>
 
 #include "graftnav/nav/distributions.h"
-#include "graftnav/eval/outage_schedule.h"
 
 namespace graftnav {
 
@@ -244,38 +243,37 @@ void GnssInsEkf::pushRecord(const ErrorState& dx, const ErrorCov& P_prior) {
 
 EkfPass::EkfPass(const EstimationProblem& problem, const EkfOptions& options, bool record)
     : options_(options),
-      gnss_(withholdGnss(problem.gnss, problem.outages)),
+      gnss_(problem),
       lever_arm_b_m_(problem.lever_arm_b_m),
       gnss_week_(problem.initial.gnss_week),
       filter_(problem.initial, initialCovariance(problem, options), problem.imu_profile, options),
       t_cur_(problem.initial.t_s) {
   bookkeeping_.estimator = "ekf";
-  bookkeeping_.gnss_withheld = static_cast<int>(problem.gnss.size() - gnss_.size());
   filter_.enableRecording(record);
-  while (next_fix_ < gnss_.size() && gnss_[next_fix_].t_s < t_cur_ - kTimeTol_s)
-    ++next_fix_;  // before the start
-  while (next_fix_ < gnss_.size() && gnss_[next_fix_].t_s <= t_cur_ + kTimeTol_s)
-    applyFix(next_fix_++);  // at it
+  for (const GnssFix* f; (f = gnss_.peek()) && f->t_s < t_cur_ - kTimeTol_s;)
+    gnss_.pop();  // before the start
+  for (const GnssFix* f; (f = gnss_.peek()) && f->t_s <= t_cur_ + kTimeTol_s;)
+    applyNextFix();  // at it
 }
 
-void EkfPass::applyFix(std::size_t i) {
-  if (filter_.updatePosition(gnss_[i], lever_arm_b_m_)) ++bookkeeping_.gnss_used;
+void EkfPass::applyNextFix() {
+  if (filter_.updatePosition(*gnss_.peek(), lever_arm_b_m_)) ++bookkeeping_.gnss_used;
+  gnss_.pop();
 }
 
 void EkfPass::add(const ImuSample& s, SolutionSink* sink) {
   if (s.t_s <= t_cur_ + kTimeTol_s) return;
   double piece_start = std::max(s.t_s - s.dt_s, t_cur_);
-  while (next_fix_ < gnss_.size() && gnss_[next_fix_].t_s < s.t_s - kTimeTol_s) {
-    const double tg = gnss_[next_fix_].t_s;
+  for (const GnssFix* f; (f = gnss_.peek()) && f->t_s < s.t_s - kTimeTol_s;) {
+    const double tg = f->t_s;
     if (tg > piece_start + kTimeTol_s) {
       filter_.propagate(sliceImuSample(s, piece_start, tg));
       piece_start = tg;
     }
-    applyFix(next_fix_++);
+    applyNextFix();
   }
   filter_.propagate(sliceImuSample(s, piece_start, s.t_s));
-  while (next_fix_ < gnss_.size() && gnss_[next_fix_].t_s <= s.t_s + kTimeTol_s)
-    applyFix(next_fix_++);
+  for (const GnssFix* f; (f = gnss_.peek()) && f->t_s <= s.t_s + kTimeTol_s;) applyNextFix();
   t_cur_ = s.t_s;
   if (++processed_ % static_cast<size_t>(options_.output_decimation) == 0 && sink) {
     NavState st = filter_.state();
@@ -291,6 +289,8 @@ NavSolution EkfPass::finish(SmootherRecords* records) {
                                 std::to_string(t_cur_));
   }
   filter_.recordNow();
+  gnss_.skipRest();
+  bookkeeping_.gnss_withheld = gnss_.withheld();
   bookkeeping_.gnss_rejected = filter_.rejected();
   if (records) *records = std::move(filter_.records());
   return bookkeeping_;

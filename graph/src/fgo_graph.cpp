@@ -33,16 +33,27 @@ void NodeBlocks::set(const NodeValue& x) {
 
 FgoGraph::FgoGraph(const EstimationProblem& problem, const FgoOptions& options)
     : problem_(problem), options_(options), frame_(problem.initial.pos), memory_imu_(&problem.imu) {
-  setUp(seriesPass(problem.imu));
+  setUp();
+  layout_ = buildNodeLayout(problem_, frame_, options_, seriesPass(problem.imu));
+  addNodeStorage();
 }
 
 FgoGraph::FgoGraph(const EstimationProblem& problem, const FgoOptions& options,
                    const ImuPassFn& imu)
     : problem_(problem), options_(options), frame_(problem.initial.pos) {
-  setUp(imu);
+  setUp();
+  layout_ = buildNodeLayout(problem_, frame_, options_, imu);
+  addNodeStorage();
 }
 
-void FgoGraph::setUp(const ImuPassFn& imu) {
+FgoGraph::FgoGraph(const EstimationProblem& problem, const FgoOptions& options,
+                   PlaceNodesDuringPass)
+    : problem_(problem), options_(options), frame_(problem.initial.pos) {
+  setUp();
+  builder_ = std::make_unique<NodeLayoutBuilder>(problem_, frame_, options_, &layout_);
+}
+
+void FgoGraph::setUp() {
   std::string err;
   if (!options_.validate(&err)) throw std::invalid_argument("FgoGraph: " + err);
   const ImuProfile& prof = problem_.imu_profile;
@@ -59,27 +70,52 @@ void FgoGraph::setUp(const ImuPassFn& imu) {
   } else if (options_.robust_loss == "cauchy") {
     loss_ = std::make_unique<ceres::CauchyLoss>(options_.robust_loss_scale);
   }
-  layout_ = buildNodeLayout(problem_, frame_, options_, imu);
-  const size_t n = layout_.nodes.size();
-  blocks_.resize(n);
-  pre_.resize(n > 0 ? n - 1 : 0);
-  gravity_point_.resize(pre_.size());
-  initializeFirstNode();
+}
+
+void FgoGraph::addNodeStorage() {
+  const bool first = blocks_.empty() && layout_.nodes_base == 0;
+  while (layout_.nodes_base + blocks_.size() < layout_.nodeCount()) {
+    blocks_.emplace_back();
+    pre_.emplace_back();
+    gravity_point_.emplace_back(Eigen::Vector3d::Zero());
+  }
+  if (first && !blocks_.empty()) initializeFirstNode();
+}
+
+void FgoGraph::placeSample(const ImuSample& s) {
+  builder_->add(s);
+  addNodeStorage();
+}
+
+void FgoGraph::finishPlacing() {
+  builder_->finish();
+  builder_.reset();
+  addNodeStorage();
+}
+
+void FgoGraph::forgetBefore(size_t k) {
+  layout_.forgetBefore(k);
+  while (blocks_.size() > layout_.nodes.size()) {
+    blocks_.pop_front();
+    pre_.pop_front();
+    gravity_point_.pop_front();
+  }
 }
 
 void FgoGraph::initializeFirstNode() {
   NodeValue x;
   frame_.fromNavState(problem_.initial, &x.p_w, &x.v_w, &x.q_wb);
-  blocks_[0].set(x);
+  blocks(0).set(x);
 }
 
 ImuPreintegration& FgoGraph::preintegrate(size_t k) {
   if (!memory_imu_) throw std::logic_error("FgoGraph::preintegrate: no samples in memory");
-  const NodeValue x = blocks_[k].value();
-  if (!pre_[k]) pre_[k] = std::make_unique<ImuPreintegration>(x.bg, x.ba, noise_);
-  pre_[k]->reintegrate(*memory_imu_, intervalBegin(k), intervalEnd(k), x.bg, x.ba);
-  gravity_point_[k] = x.p_w;
-  return *pre_[k];
+  const NodeValue x = blocks(k).value();
+  std::unique_ptr<ImuPreintegration>& p = pre(k);
+  if (!p) p = std::make_unique<ImuPreintegration>(x.bg, x.ba, noise_);
+  p->reintegrate(*memory_imu_, intervalBegin(k), intervalEnd(k), x.bg, x.ba);
+  gravity_point_[k - layout_.nodes_base] = x.p_w;
+  return *p;
 }
 
 ImuPreintegration& FgoGraph::preintegrate(size_t k, const ImuSampleBuffer& samples) {
@@ -90,12 +126,12 @@ ImuPreintegration& FgoGraph::preintegrate(size_t k, const ImuSampleBuffer& sampl
   }
   const ImuSample* first = &samples.at(begin);
   samples.at(end - 1);  // the whole interval is held (contiguous storage)
-  const NodeValue x = blocks_[k].value();
-  if (!pre_[k]) pre_[k] = std::make_unique<ImuPreintegration>(x.bg, x.ba, noise_);
-  pre_[k]->reintegrate(first, end - begin, begin > 0 ? &samples.at(begin - 1) : nullptr, x.bg,
-                       x.ba);
-  gravity_point_[k] = x.p_w;
-  return *pre_[k];
+  const NodeValue x = blocks(k).value();
+  std::unique_ptr<ImuPreintegration>& p = pre(k);
+  if (!p) p = std::make_unique<ImuPreintegration>(x.bg, x.ba, noise_);
+  p->reintegrate(first, end - begin, begin > 0 ? &samples.at(begin - 1) : nullptr, x.bg, x.ba);
+  gravity_point_[k - layout_.nodes_base] = x.p_w;
+  return *p;
 }
 
 void FgoGraph::preintegrateFromPass(const ImuPassFn& imu, const std::vector<size_t>& intervals) {
@@ -123,8 +159,8 @@ void FgoGraph::preintegrateFromPass(const ImuPassFn& imu, const std::vector<size
 }
 
 bool FgoGraph::biasMovedFar(size_t k) const {
-  const NodeBlocks& b = blocks_[k];
-  const ImuPreintegration& pre = *pre_[k];
+  const NodeBlocks& b = blocks(k);
+  const ImuPreintegration& pre = *this->pre(k);
   return (Eigen::Map<const Eigen::Vector3d>(b.bg) - pre.bgLin()).norm() >
              options_.reintegrate_gyro_bias_rad_s ||
          (Eigen::Map<const Eigen::Vector3d>(b.ba) - pre.baLin()).norm() >
@@ -135,15 +171,16 @@ PreintegrationFactor* FgoGraph::makePreintegrationFactor(size_t k) const {
   const Eigen::Vector3d w =
       options_.earth_rotation ? frame_.omega_ie_w() : Eigen::Vector3d::Zero().eval();
   // Gravity linearized at node k's position when the interval was preintegrated.
-  return new PreintegrationFactor(pre_[k].get(), w, frame_.linearGravity(gravity_point_[k]));
+  return new PreintegrationFactor(pre(k).get(), w,
+                                  frame_.linearGravity(gravity_point_[k - layout_.nodes_base]));
 }
 
 BiasFactor* FgoGraph::makeBiasFactor(size_t k) const {
-  return new BiasFactor(gyro_process_, accel_process_, nodes()[k + 1].t_s - nodes()[k].t_s);
+  return new BiasFactor(gyro_process_, accel_process_, node(k + 1).t_s - node(k).t_s);
 }
 
 GnssPositionFactor* FgoGraph::makeGnssFactor(size_t fix) const {
-  const GnssObservation& o = layout_.fixes[fix];
+  const GnssObservation& o = layout_.fix(fix);
   return new GnssPositionFactor(o.z_w, o.sqrt_info_w, problem_.lever_arm_b_m, o.dt_s);
 }
 
@@ -182,7 +219,7 @@ NodePriorFactor* FgoGraph::makeInitialPrior() const {
 }
 
 void FgoGraph::addNodeBlocks(ceres::Problem* problem, size_t k) const {
-  NodeBlocks& b = const_cast<NodeBlocks&>(blocks_[k]);
+  NodeBlocks& b = const_cast<NodeBlocks&>(blocks(k));
   problem->AddParameterBlock(b.p, 3);
   problem->AddParameterBlock(b.q, 4, quaternionManifold());
   problem->AddParameterBlock(b.v, 3);
@@ -191,21 +228,24 @@ void FgoGraph::addNodeBlocks(ceres::Problem* problem, size_t k) const {
 }
 
 std::vector<double*> FgoGraph::preintegrationBlocks(size_t k) {
-  NodeBlocks& i = blocks_[k];
-  NodeBlocks& j = blocks_[k + 1];
+  NodeBlocks& i = blocks(k);
+  NodeBlocks& j = blocks(k + 1);
   return {i.p, i.q, i.v, i.bg, i.ba, j.p, j.q, j.v};
 }
 
 std::vector<double*> FgoGraph::biasBlocks(size_t k) {
-  return {blocks_[k].bg, blocks_[k].ba, blocks_[k + 1].bg, blocks_[k + 1].ba};
+  NodeBlocks& i = blocks(k);
+  NodeBlocks& j = blocks(k + 1);
+  return {i.bg, i.ba, j.bg, j.ba};
 }
 
 std::vector<double*> FgoGraph::poseBlocks(size_t k) {
-  return {blocks_[k].p, blocks_[k].q, blocks_[k].v};
+  NodeBlocks& b = blocks(k);
+  return {b.p, b.q, b.v};
 }
 
 std::vector<double*> FgoGraph::nodeBlocks(size_t k) {
-  NodeBlocks& b = blocks_[k];
+  NodeBlocks& b = blocks(k);
   return {b.p, b.q, b.v, b.bg, b.ba};
 }
 
@@ -218,9 +258,9 @@ double FgoGraph::gnssChi2(size_t fix, size_t node) {
 }
 
 void FgoGraph::requireFinite(size_t begin, size_t end, const std::string& stage) const {
-  end = std::min(end, blocks_.size());
-  for (size_t k = begin; k < end; ++k) {
-    const NodeBlocks& b = blocks_[k];
+  end = std::min(end, nodeCount());
+  for (size_t k = std::max(begin, layout_.nodes_base); k < end; ++k) {
+    const NodeBlocks& b = blocks(k);
     const char* bad = nullptr;
     auto finite = [](const double* x, int n) {
       for (int i = 0; i < n; ++i) {
@@ -240,11 +280,11 @@ void FgoGraph::requireFinite(size_t begin, size_t end, const std::string& stage)
       bad = "accel bias";
     if (bad == nullptr) continue;
     std::string msg = stage + ": node " + std::to_string(k) +
-                      " at t=" + std::to_string(nodes()[k].t_s) + " has a non-finite " + bad;
+                      " at t=" + std::to_string(node(k).t_s) + " has a non-finite " + bad;
     if (k > 0 && hasPreintegration(k - 1)) {
       msg += " (preintegration from node " + std::to_string(k - 1) +
-             " at t=" + std::to_string(nodes()[k - 1].t_s) + " over " +
-             std::to_string(pre_[k - 1]->dt_s()) + " s, " + std::to_string(nodes()[k].gnss.size()) +
+             " at t=" + std::to_string(node(k - 1).t_s) + " over " +
+             std::to_string(pre(k - 1)->dt_s()) + " s, " + std::to_string(node(k).gnss.size()) +
              " GNSS fixes on the node)";
     }
     throw std::runtime_error(msg);
@@ -252,23 +292,23 @@ void FgoGraph::requireFinite(size_t begin, size_t end, const std::string& stage)
 }
 
 void FgoGraph::predictNode(size_t k) {
-  const NodeValue x = blocks_[k - 1].value();
+  const NodeValue x = blocks(k - 1).value();
   std::unique_ptr<PreintegrationFactor> f(makePreintegrationFactor(k - 1));
   NodeValue y;
   f->predict(x.p_w, x.q_wb, x.v_w, x.bg, x.ba, &y.p_w, &y.q_wb, &y.v_w);
   y.bg = x.bg;
   y.ba = x.ba;
-  blocks_[k].set(y);
+  blocks(k).set(y);
 }
 
 void FgoGraph::outputPass(const ImuPassFn& imu, const std::vector<PvaSigma>& sigma_nodes,
                           const FgoEpochFn& output) const {
   OutputIntegrator out(frame_, problem_.initial.gnss_week, output);
-  const std::vector<GraphNode>& n = nodes();
+  const size_t n = nodeCount();
   size_t next = 0, i = 0;                 // the next node to start, the sample's index
   auto startNodes = [&](size_t sample) {  // every node whose interval starts at or before it
-    for (; next < n.size() && n[next].sample_end <= sample; ++next) {
-      out.node(n[next].t_s, blocks_[next].value(),
+    for (; next < n && node(next).sample_end <= sample; ++next) {
+      out.node(node(next).t_s, blocks(next).value(),
                sigma_nodes.empty() ? nullptr : &sigma_nodes[next]);
     }
   };

@@ -27,7 +27,7 @@ std::vector<PvaSigma> nodeSigmas(FgoGraph& graph, ceres::Problem& problem, int n
   co.num_threads = num_threads;
   ceres::Covariance cov(co);
   std::vector<std::pair<const double*, const double*>> pairs;
-  const size_t n = graph.nodes().size();
+  const size_t n = graph.nodeCount();
   for (size_t k = 0; k < n; ++k) {
     const NodeBlocks& b = graph.blocks(k);
     pairs.emplace_back(b.p, b.p);
@@ -64,7 +64,9 @@ NavSolution outputSolution(const FgoGraph& graph, const std::string& estimator,
   if (output) {
     run(output);
   } else {
-    const size_t n_out = graph.sampleCount() - graph.firstSample() + 1;
+    // Every sample after the initial state (placed nodes: the samples held, else known later).
+    const size_t n_out = !graph.placing() ? graph.sampleCount() - graph.firstSample() + 1
+                                          : graph.problem().imu.size() + 1;
     sol.states.reserve(n_out);
     sol.gyro_bias_rad_s.reserve(n_out);
     sol.accel_bias_m_s2.reserve(n_out);
@@ -103,7 +105,7 @@ class WindowOutput final : public WindowListener {
     if (fixed_lag_) emitInterval(k, x, samples);
   }
   void finished(const ImuSampleBuffer& samples) override {
-    if (!fixed_lag_) emitInterval(graph_.nodes().size() - 1, held_, samples);
+    if (!fixed_lag_) emitInterval(graph_.nodeCount() - 1, held_, samples);
     out_.finish();
   }
 
@@ -114,9 +116,9 @@ class WindowOutput final : public WindowListener {
     const NodeValue y = b.value();
     if (!allFinite(y)) {
       throw std::runtime_error("solveWindowFgo: node " + std::to_string(k) + " at t=" +
-                               std::to_string(graph_.nodes()[k].t_s) + " has a non-finite value");
+                               std::to_string(graph_.node(k).t_s) + " has a non-finite value");
     }
-    out_.node(graph_.nodes()[k].t_s, y, nullptr);
+    out_.node(graph_.node(k).t_s, y, nullptr);
     for (size_t i = graph_.intervalBegin(k); i < graph_.intervalEnd(k); ++i)
       out_.sample(samples.at(i));
   }
@@ -175,7 +177,7 @@ BatchSolver::BatchSolver(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions
       imu_(imu),
       options_(options),
       rep_(*rep),
-      n_(graph.nodes().size()),
+      n_(graph.nodeCount()),
       prob_(problemOptions()),
       pfs_(n_ > 0 ? n_ - 1 : 0),
       gnss_(n_) {
@@ -190,7 +192,7 @@ BatchSolver::BatchSolver(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions
     prob_.AddResidualBlock(graph_.makeBiasFactor(k), nullptr, graph_.biasBlocks(k));
   }
   for (size_t k = 0; k < n_; ++k) {
-    for (size_t fix : graph_.nodes()[k].gnss) {
+    for (size_t fix : graph_.node(k).gnss) {
       gnss_[k].emplace_back(prob_.AddResidualBlock(graph_.makeGnssFactor(fix), graph_.gnssLoss(),
                                                    graph_.poseBlocks(k)),
                             fix);
@@ -234,13 +236,13 @@ void BatchSolver::cullRounds() {
       }
     }
     if (bad.empty()) break;
-    if (bad.size() > options_.max_cull_fraction * static_cast<double>(graph_.fixes().size())) {
+    if (bad.size() > options_.max_cull_fraction * static_cast<double>(graph_.fixCount())) {
       rep_.cull_refused = static_cast<int>(bad.size());
       break;
     }
     for (size_t b = bad.size(); b-- > 0;) {  // back to front keeps positions valid
       auto& list = gnss_[bad[b].first];
-      rep_.culled_times_s.push_back(graph_.fixes()[list[bad[b].second].second].fix.t_s);
+      rep_.culled_times_s.push_back(graph_.fix(list[bad[b].second].second).fix.t_s);
       rep_.culled_chi2.push_back(bad_chi2[b]);
       prob_.RemoveResidualBlock(list[bad[b].second].first);
       list.erase(list.begin() + static_cast<long>(bad[b].second));
@@ -262,8 +264,9 @@ void BatchSolver::reintegrationRounds() {
 }
 
 // Initial values: a fixed-lag sliding-window pass that solves every batch_init_stride nodes
-// (counts of its culling are not kept: the batch re-decides every fix). Every interval's
-// preintegration stays.
+// (counts of its culling are not kept: the batch re-decides every fix) and places the nodes as
+// it goes (its options differ from the batch's in window fields only, which the layout does not
+// read). Every node and interval's preintegration stays.
 void initializeByWindow(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions& options,
                         FgoReport* rep) {
   FgoOptions init = options;
@@ -274,7 +277,7 @@ void initializeByWindow(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions&
   runSlidingWindow(graph, imu, &wrep, true);
   rep->reintegrations += wrep.reintegrations;
   graph.setOptions(options);
-  graph.requireFinite(0, graph.nodes().size(), "solveBatchFgo (window initialization)");
+  graph.requireFinite(0, graph.nodeCount(), "solveBatchFgo (window initialization)");
 }
 
 }  // namespace
@@ -293,7 +296,7 @@ NavSolution solveWindowFgo(const EstimationProblem& problem, const ImuPassFn& im
   FgoReport local;
   FgoReport& rep = report ? *report : local;
   const auto t0 = std::chrono::steady_clock::now();
-  FgoGraph graph(problem, options, imu);
+  FgoGraph graph(problem, options, PlaceNodesDuringPass{});  // one read of the IMU
   NavSolution sol = outputSolution(
       graph, "fgo-window",
       [&](const FgoEpochFn& out) {
@@ -302,8 +305,8 @@ NavSolution solveWindowFgo(const EstimationProblem& problem, const ImuPassFn& im
       },
       output);
   rep.window_time_s = secondsSince(t0);  // with the output, written as the window goes
-  rep.nodes = static_cast<int>(graph.nodes().size());
-  rep.gnss_factors = static_cast<int>(graph.fixes().size());
+  rep.nodes = static_cast<int>(graph.nodeCount());
+  rep.gnss_factors = static_cast<int>(graph.fixCount());
   sol.gnss_used = rep.gnss_factors - rep.gnss_culled;
   sol.gnss_rejected = rep.gnss_culled;
   rep.summary = fmt::format(
@@ -324,12 +327,12 @@ NavSolution solveBatchFgo(const EstimationProblem& problem, const ImuPassFn& imu
   FgoReport local;
   FgoReport& rep = report ? *report : local;
   auto t0 = std::chrono::steady_clock::now();
-  FgoGraph graph(problem, options, imu);
+  FgoGraph graph(problem, options, PlaceNodesDuringPass{});  // placed by the window pass
   initializeByWindow(graph, imu, options, &rep);
   rep.window_time_s = secondsSince(t0);
   t0 = std::chrono::steady_clock::now();
-  rep.nodes = static_cast<int>(graph.nodes().size());
-  rep.gnss_factors = static_cast<int>(graph.fixes().size());
+  rep.nodes = static_cast<int>(graph.nodeCount());
+  rep.gnss_factors = static_cast<int>(graph.fixCount());
   BatchSolver batch(graph, imu, options, &rep);
   batch.solve();
   batch.cullRounds();

@@ -8,6 +8,8 @@
 #include <string>
 #include <utility>
 
+#include "graftnav/estimation/usable_gnss.h"
+
 namespace graftnav {
 namespace {
 
@@ -19,28 +21,24 @@ struct SampleTime {
   double dt_s = 0.0;
 };
 
+}  // namespace
+
 // Streams the samples once. A GNSS fix is placed on the sample whose end is nearest its time
 // (searched from the first sample after the initial state), as soon as the first sample at or
 // after the fix arrives; fixes are taken in time order. A node's sample (an "anchor") is final
 // when a later fix lands on a later sample; then the nodes filling the gap before it every
 // max_node_spacing_s are placed on the sample times held since the previous node.
-class LayoutBuilder {
+class NodeLayoutBuilder::Impl {
  public:
-  LayoutBuilder(const EstimationProblem& problem, const LocalFrame& frame,
-                const FgoOptions& options)
-      : problem_(problem), frame_(frame), options_(options), t0_(problem.initial.t_s) {
-    for (size_t i = 0; i < problem.gnss.size(); ++i) {
-      const GnssFix& f = problem.gnss[i];
-      bool withheld = false;
-      for (const TimeWindow& w : problem.outages) withheld = withheld || w.contains(f.t_s);
-      if (withheld) {
-        ++layout_.gnss_withheld;
-      } else if (f.t_s > t0_ + 1e-6) {
-        by_time_.push_back(i);
-      }
-    }
-    std::stable_sort(by_time_.begin(), by_time_.end(),
-                     [&](size_t a, size_t b) { return problem.gnss[a].t_s < problem.gnss[b].t_s; });
+  Impl(const EstimationProblem& problem, const LocalFrame& frame, const FgoOptions& options,
+       NodeLayout* layout)
+      : gnss_(problem),
+        frame_(frame),
+        options_(options),
+        t0_(problem.initial.t_s),
+        layout_(*layout) {
+    layout_ = NodeLayout{};
+    layout_.first_sample = kNone;
   }
 
   void add(const ImuSample& s) {
@@ -55,38 +53,42 @@ class LayoutBuilder {
       layout_.nodes.push_back(n0);
     }
     times_.push_back(cur);
-    while (next_fix_ < by_time_.size() && problem_.gnss[by_time_[next_fix_]].t_s <= s.t_s) {
-      placeFix(by_time_[next_fix_++], times_.size() - 1);
-    }
+    for (const GnssFix* f; (f = nextFix()) && f->t_s <= s.t_s; gnss_.pop())
+      placeFix(*f, times_.size() - 1);
   }
 
-  NodeLayout finish() {
+  void finish() {
     if (count_ < 2) throw std::invalid_argument("FgoGraph: fewer than 2 IMU samples");
     if (layout_.first_sample == kNone) {
       throw std::invalid_argument("FgoGraph: initial state at t=" + std::to_string(t0_) +
                                   " is after the last IMU sample");
     }
     const SampleTime last = times_.back();
-    for (; next_fix_ < by_time_.size(); ++next_fix_) {  // fixes after the last sample's end
-      if (problem_.gnss[by_time_[next_fix_]].t_s <= last.t_s + 0.5 * last.dt_s) {
-        placeFix(by_time_[next_fix_], times_.size() - 1);
-      }
+    for (const GnssFix* f; (f = nextFix()); gnss_.pop()) {  // fixes after the last sample's end
+      if (f->t_s <= last.t_s + 0.5 * last.dt_s) placeFix(*f, times_.size() - 1);
     }
+    layout_.gnss_withheld = gnss_.withheld();
     if (open_anchor_ != kNone) closeAnchor();
     if (layout_.nodes.back().sample_end != count_) {
       open_anchor_ = times_.size() - 1;
       closeAnchor();
     }
-    numberFixes();
     layout_.sample_count = count_;
-    return std::move(layout_);
+    layout_.complete = true;
   }
 
  private:
-  // Fix `fix` (problem index) on the sample times_[pos] or the one before it, whichever ends
-  // nearer; dropped when that sample does not cover it (an IMU gap at the fix).
-  void placeFix(size_t fix, size_t pos) {
-    const double t = problem_.gnss[fix].t_s;
+  // The next usable fix after the initial state (those at or before it are skipped).
+  const GnssFix* nextFix() {
+    const GnssFix* f = gnss_.peek();
+    for (; f && !(f->t_s > t0_ + 1e-6); f = gnss_.peek()) gnss_.pop();
+    return f;
+  }
+
+  // `fix` on the sample times_[pos] or the one before it, whichever ends nearer; dropped when
+  // that sample does not cover it (an IMU gap at the fix).
+  void placeFix(const GnssFix& fix, size_t pos) {
+    const double t = fix.t_s;
     if (times_[pos].index > layout_.first_sample &&
         std::abs(times_[pos - 1].t_s - t) < std::abs(times_[pos].t_s - t)) {
       --pos;
@@ -98,8 +100,22 @@ class LayoutBuilder {
       pos = positionOf(index);
     }
     open_anchor_ = pos;
-    anchor_fixes_.push_back(fix);
-    placed_.emplace_back(fix, t - times_[pos].t_s);
+    anchor_fixes_.push_back(layout_.fixCount());
+    layout_.fixes.push_back(observe(fix, t - times_[pos].t_s));
+  }
+
+  // The fix in the local frame, whitened.
+  GnssObservation observe(const GnssFix& f, double dt_s) const {
+    GnssObservation obs;
+    obs.fix = f;
+    obs.z_w = frame_.toLocal(f.pos);
+    const Eigen::Vector3d std_ned = f.std_ned_m.cwiseMax(options_.gnss_min_std_m);
+    const Eigen::Matrix3d C_wn = frame_.C_nw(f.pos).transpose();
+    const Eigen::Matrix3d cov_w = C_wn * std_ned.cwiseAbs2().asDiagonal() * C_wn.transpose();
+    obs.sqrt_info_w =
+        Eigen::LLT<Eigen::Matrix3d>(cov_w).matrixL().solve(Eigen::Matrix3d::Identity());
+    obs.dt_s = dt_s;
+    return obs;
   }
 
   size_t positionOf(size_t index) const { return index - times_.front().index; }
@@ -107,7 +123,7 @@ class LayoutBuilder {
   // Nodes every max_node_spacing_s between the last node and the open anchor, then the anchor
   // with its fixes; keeps the sample times from the sample before the anchor on.
   void closeAnchor() {
-    std::vector<GraphNode>& nodes = layout_.nodes;
+    std::deque<GraphNode>& nodes = layout_.nodes;
     const SampleTime a = times_[open_anchor_];
     const double t_prev = nodes.back().t_s;
     const int n_sub =
@@ -125,7 +141,7 @@ class LayoutBuilder {
       GraphNode n;
       n.t_s = a.t_s;
       n.sample_end = a.index + 1;
-      n.gnss = anchor_fixes_;  // problem indices until numberFixes()
+      n.gnss = anchor_fixes_;
       nodes.push_back(n);
     }
     anchor_fixes_.clear();
@@ -147,53 +163,62 @@ class LayoutBuilder {
     return *it;
   }
 
-  // GNSS observations in the problem's order; node lists renumbered to them.
-  void numberFixes() {
-    std::sort(placed_.begin(), placed_.end());
-    std::vector<size_t> number(problem_.gnss.size(), kNone);
-    for (const auto& p : placed_) {
-      const GnssFix& f = problem_.gnss[p.first];
-      GnssObservation obs;
-      obs.fix = f;
-      obs.z_w = frame_.toLocal(f.pos);
-      const Eigen::Vector3d std_ned = f.std_ned_m.cwiseMax(options_.gnss_min_std_m);
-      const Eigen::Matrix3d C_wn = frame_.C_nw(f.pos).transpose();
-      const Eigen::Matrix3d cov_w = C_wn * std_ned.cwiseAbs2().asDiagonal() * C_wn.transpose();
-      obs.sqrt_info_w =
-          Eigen::LLT<Eigen::Matrix3d>(cov_w).matrixL().solve(Eigen::Matrix3d::Identity());
-      obs.dt_s = p.second;
-      number[p.first] = layout_.fixes.size();
-      layout_.fixes.push_back(obs);
-    }
-    for (GraphNode& n : layout_.nodes) {
-      for (size_t& g : n.gnss) g = number[g];
-      std::sort(n.gnss.begin(), n.gnss.end());
-    }
-  }
-
-  const EstimationProblem& problem_;
+  UsableGnss gnss_;  // the problem's fixes in time order, outages withheld
   const LocalFrame& frame_;
   const FgoOptions& options_;
   const double t0_;
-  NodeLayout layout_{{}, {}, 0, kNone, 0};
-  std::vector<size_t> by_time_;  // candidate fixes (problem indices) in time order
-  size_t next_fix_ = 0;
-  size_t count_ = 0;                               // samples seen
-  std::vector<SampleTime> times_;                  // from the sample before the last node on
-  size_t open_anchor_ = kNone;                     // position in times_ of the newest fixes' sample
-  std::vector<size_t> anchor_fixes_;               // their problem indices
-  std::vector<std::pair<size_t, double>> placed_;  // (problem index, t_fix - t_node)
+  NodeLayout& layout_;
+  size_t count_ = 0;                  // samples seen
+  std::vector<SampleTime> times_;     // from the sample before the last node on
+  size_t open_anchor_ = kNone;        // position in times_ of the newest fixes' sample
+  std::vector<size_t> anchor_fixes_;  // their fix numbers
 };
 
-}  // namespace
+const GraphNode& NodeLayout::node(std::size_t k) const {
+  if (k < nodes_base || k >= nodeCount()) {
+    throw std::out_of_range("NodeLayout: node " + std::to_string(k) + " not held (held [" +
+                            std::to_string(nodes_base) + ", " + std::to_string(nodeCount()) + "))");
+  }
+  return nodes[k - nodes_base];
+}
+
+const GnssObservation& NodeLayout::fix(std::size_t i) const {
+  if (i < fixes_base || i >= fixCount()) {
+    throw std::out_of_range("NodeLayout: fix " + std::to_string(i) + " not held (held [" +
+                            std::to_string(fixes_base) + ", " + std::to_string(fixCount()) + "))");
+  }
+  return fixes[i - fixes_base];
+}
+
+void NodeLayout::forgetBefore(std::size_t k) {
+  k = std::min(k, nodeCount() > 0 ? nodeCount() - 1 : 0);
+  std::size_t fixes_end = fixes_base;  // one past the last fix on a forgotten node
+  for (; nodes_base < k; ++nodes_base) {
+    if (!nodes.front().gnss.empty()) fixes_end = std::max(fixes_end, nodes.front().gnss.back() + 1);
+    nodes.pop_front();
+  }
+  for (; fixes_base < fixes_end && !fixes.empty(); ++fixes_base) fixes.pop_front();
+}
+
+NodeLayoutBuilder::NodeLayoutBuilder(const EstimationProblem& problem, const LocalFrame& frame,
+                                     const FgoOptions& options, NodeLayout* layout)
+    : impl_(std::make_unique<Impl>(problem, frame, options, layout)) {}
+
+NodeLayoutBuilder::~NodeLayoutBuilder() = default;
+
+void NodeLayoutBuilder::add(const ImuSample& s) { impl_->add(s); }
+
+void NodeLayoutBuilder::finish() { impl_->finish(); }
 
 NodeLayout buildNodeLayout(const EstimationProblem& problem, const LocalFrame& frame,
                            const FgoOptions& options, const ImuPassFn& imu) {
-  LayoutBuilder builder(problem, frame, options);
+  NodeLayout layout;
+  NodeLayoutBuilder builder(problem, frame, options, &layout);
   imu([&](const ImuSeries& block) {
     for (const ImuSample& s : block) builder.add(s);
   });
-  return builder.finish();
+  builder.finish();
+  return layout;
 }
 
 }  // namespace graftnav

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <deque>
 #include <map>
+#include <optional>
 #include <string>
 #include <stdexcept>
 
@@ -168,6 +169,8 @@ class SlidingWindow {
 
  private:
   NodeResiduals& residuals(size_t k) { return res_[k - oldest_]; }
+  // Every node placed and k the last of them.
+  bool isLastNode(size_t k) const { return !graph_.placing() && k + 1 == graph_.nodeCount(); }
   void solve();
   void addFactors(size_t k);
   void cullNewest(size_t k, bool reacquiring, bool solved);
@@ -206,7 +209,7 @@ SlidingWindow::SlidingWindow(FgoGraph& graph, bool keep_preintegrations, WindowL
   res_.emplace_back();
   res_.front().prior =
       problem_.AddResidualBlock(graph_.makeInitialPrior(), nullptr, graph_.nodeBlocks(0));
-  last_gnss_t_ = reacquired_t_ = graph_.nodes()[0].t_s;
+  last_gnss_t_ = reacquired_t_ = graph_.node(0).t_s;
   listener_->entered(0, graph_.blocks(0).value(), ImuSampleBuffer());
 }
 
@@ -216,7 +219,7 @@ void SlidingWindow::solve() {
   if (summary.termination_type == ceres::FAILURE) {
     throw std::runtime_error(
         "runSlidingWindow: Ceres failed at node " + std::to_string(solving_node_) +
-        " (t=" + std::to_string(graph_.nodes()[solving_node_].t_s) + "): " + summary.message);
+        " (t=" + std::to_string(graph_.node(solving_node_).t_s) + "): " + summary.message);
   }
   ++solves_;
   iterations_ += static_cast<int>(summary.iterations.size());
@@ -234,8 +237,8 @@ void SlidingWindow::addFactors(size_t k) {
   prev.bias_out =
       problem_.AddResidualBlock(graph_.makeBiasFactor(k - 1), nullptr, graph_.biasBlocks(k - 1));
   res_.emplace_back();
-  const bool reacquiring = graph_.nodes()[k].t_s - reacquired_t_ <= opt_.cull_grace_s;
-  for (size_t fix : graph_.nodes()[k].gnss) {
+  const bool reacquiring = graph_.node(k).t_s - reacquired_t_ <= opt_.cull_grace_s;
+  for (size_t fix : graph_.node(k).gnss) {
     res_.back().gnss.emplace_back(
         problem_.AddResidualBlock(graph_.makeGnssFactor(fix),
                                   reacquiring ? nullptr : graph_.gnssLoss(), graph_.poseBlocks(k)),
@@ -266,17 +269,16 @@ void SlidingWindow::cullNewest(size_t k, bool reacquiring, bool solved) {
 }
 
 void SlidingWindow::addNode(size_t k, const ImuSampleBuffer& samples) {
-  const double t_k = graph_.nodes()[k].t_s;
+  const double t_k = graph_.node(k).t_s;
   solving_node_ = k;
-  if (!graph_.nodes()[k].gnss.empty()) {
+  if (!graph_.node(k).gnss.empty()) {
     if (t_k - last_gnss_t_ > 2.0 * opt_.max_node_spacing_s) reacquired_t_ = t_k;
     last_gnss_t_ = t_k;
   }
   graph_.preintegrate(k - 1, samples);
   graph_.predictNode(k);
   addFactors(k);
-  const bool solve_now =
-      (k % static_cast<size_t>(opt_.window_solve_stride) == 0) || k + 1 == graph_.nodes().size();
+  const bool solve_now = (k % static_cast<size_t>(opt_.window_solve_stride) == 0) || isLastNode(k);
   if (solve_now) solve();
   cullNewest(k, t_k - reacquired_t_ <= opt_.cull_grace_s, solve_now);
   if (solve_now) {
@@ -311,11 +313,12 @@ void SlidingWindow::marginalizeOldest(const ImuSampleBuffer& samples) {
   if (!keep_preintegrations_) graph_.releasePreintegration(oldest_);
   res_.pop_front();
   ++oldest_;
+  if (!keep_preintegrations_) graph_.forgetBefore(oldest_);
   res_.front().prior = problem_.AddResidualBlock(prior, nullptr, graph_.nodeBlocks(oldest_));
 }
 
 void SlidingWindow::finish(const ImuSampleBuffer& samples) {
-  for (size_t k = oldest_; k < graph_.nodes().size(); ++k) {
+  for (size_t k = oldest_; k < graph_.nodeCount(); ++k) {
     listener_->left(k, graph_.blocks(k).value(), samples);
   }
   listener_->finished(samples);
@@ -332,25 +335,35 @@ void SlidingWindow::addCounts(FgoReport* report) const {
 
 void runSlidingWindow(FgoGraph& graph, const ImuPassFn& imu, FgoReport* report,
                       bool keep_preintegrations, WindowListener* listener) {
-  SlidingWindow window(graph, keep_preintegrations, listener);
+  std::optional<SlidingWindow> window;  // from the moment node 0 is placed
   ImuSampleBuffer samples;
-  const size_t n = graph.nodes().size();
   size_t next = 1;  // the next node to add
+  const bool placing = graph.placing();
+  auto addReady = [&]() {  // the nodes whose interval the buffer holds
+    if (!window && graph.nodeCount() > 0) window.emplace(graph, keep_preintegrations, listener);
+    while (window && next < graph.nodeCount() && graph.intervalEnd(next - 1) <= samples.end()) {
+      window->addNode(next++, samples);
+    }
+  };
   imu([&](const ImuSeries& block) {
     for (const ImuSample& s : block) {
       samples.push(s);
-      while (next < n && graph.intervalEnd(next - 1) <= samples.end()) {
-        window.addNode(next++, samples);
-      }
-      samples.dropBefore(window.firstNeededSample());
+      if (placing) graph.placeSample(s);
+      addReady();
+      // Before node 0, only the sample before the next one may be needed (coning memory).
+      samples.dropBefore(window ? window->firstNeededSample() : samples.end() - 1);
     }
   });
-  if (next < n) {
+  if (placing) {
+    graph.finishPlacing();
+    addReady();
+  }
+  if (!window || next < graph.nodeCount()) {
     throw std::runtime_error("runSlidingWindow: the IMU pass ended before node " +
                              std::to_string(next) + " (fewer samples than the layout's)");
   }
-  window.finish(samples);
-  if (report) window.addCounts(report);
+  window->finish(samples);
+  if (report) window->addCounts(report);
 }
 
 }  // namespace graftnav

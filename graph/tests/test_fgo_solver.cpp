@@ -149,7 +149,7 @@ TEST(FgoSolver, MarginalizationPreservesOptimumAndCovariance) {
   c.problem.imu.resize(2 * 200);  // 2 s: nodes at 0, 1, 2 s
   FgoOptions opt;
   FgoGraph graph(c.problem, opt);
-  ASSERT_EQ(graph.nodes().size(), 3u);
+  ASSERT_EQ(graph.nodeCount(), 3u);
   ceres::Problem::Options po;
   po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -167,7 +167,7 @@ TEST(FgoSolver, MarginalizationPreservesOptimumAndCovariance) {
                                      graph.preintegrationBlocks(k - 1));
     auto id2 = full.AddResidualBlock(graph.makeBiasFactor(k - 1), nullptr, graph.biasBlocks(k - 1));
     if (k == 1) touching0.insert(touching0.end(), {id1, id2});
-    for (size_t fix : graph.nodes()[k].gnss)
+    for (size_t fix : graph.node(k).gnss)
       full.AddResidualBlock(graph.makeGnssFactor(fix), nullptr, graph.poseBlocks(k));
   }
   ceres::Solver::Options so;

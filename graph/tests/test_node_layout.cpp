@@ -1,15 +1,15 @@
 // The node layout found in one streamed pass (buildNodeLayout) against a direct in-memory
 // construction of the same rule (binary searches over the whole series), on a drive with an
-// outage, an IMU gap, GNSS in shuffled order, fixes before the initial state and after the
-// last sample, fed in blocks of every size from 1 sample to the whole series.
+// outage, an IMU gap, fixes before the initial state and after the last sample, fed in blocks
+// of every size from 1 sample to the whole series; GNSS out of time order is refused.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <utility>
 #include <vector>
 
+#include "graftnav/graph/fgo_solver.h"
 #include "graftnav/graph/node_layout.h"
 #include "graph_scenario.h"
 
@@ -92,7 +92,8 @@ EstimationProblem layoutProblem() {
   p.gnss.push_back(before);
   p.gnss.push_back(late);
   p.gnss.push_back(past);
-  std::shuffle(p.gnss.begin(), p.gnss.end(), std::mt19937(5));
+  std::stable_sort(p.gnss.begin(), p.gnss.end(),
+                   [](const GnssFix& a, const GnssFix& b) { return a.t_s < b.t_s; });
   p.outages.push_back(TimeWindow{p.initial.t_s + 20.0, p.initial.t_s + 28.5});
   return p;
 }
@@ -127,6 +128,33 @@ TEST(NodeLayout, StreamedPassEqualsTheDirectConstruction) {
       EXPECT_EQ(got.nodes[k].gnss, want.nodes[k].gnss) << k;
     }
   }
+}
+
+TEST(NodeLayout, RefusesGnssOutOfTimeOrder) {
+  EstimationProblem p = layoutProblem();
+  std::swap(p.gnss[10], p.gnss[11]);
+  const LocalFrame frame(p.initial.pos);
+  EXPECT_THROW(buildNodeLayout(p, frame, FgoOptions{}, seriesPass(p.imu)), std::invalid_argument);
+}
+
+TEST(NodeLayout, StreamedGnssEqualsHeldGnss) {
+  const EstimationProblem held = layoutProblem();
+  EstimationProblem streamed = held;
+  streamed.gnss.clear();
+  streamed.gnss_stream = [&held]() { return seriesGnssSource(held.gnss); };
+  const LocalFrame frame(held.initial.pos);
+  FgoOptions o;
+  o.max_node_spacing_s = 0.4;
+  const NodeLayout want = buildNodeLayout(held, frame, o, seriesPass(held.imu));
+  const NodeLayout got = buildNodeLayout(streamed, frame, o, seriesPass(held.imu));
+  EXPECT_EQ(got.gnss_withheld, want.gnss_withheld);
+  ASSERT_EQ(got.fixes.size(), want.fixes.size());
+  for (size_t i = 0; i < want.fixes.size(); ++i) {
+    EXPECT_EQ(got.fixes[i].fix.t_s, want.fixes[i].fix.t_s) << i;
+    EXPECT_EQ(got.fixes[i].z_w, want.fixes[i].z_w) << i;
+  }
+  ASSERT_EQ(got.nodes.size(), want.nodes.size());
+  for (size_t k = 0; k < want.nodes.size(); ++k) EXPECT_EQ(got.nodes[k].gnss, want.nodes[k].gnss);
 }
 
 }  // namespace

@@ -1,10 +1,11 @@
 // The streamed estimators (IMU read in blocks, solution written as it goes) against the in-memory
 // ones on the bundled sample: solution.nav byte-identical, every other output number equal
-// (ekf, rts, fgo-window, fgo).
+// (ekf, rts, fgo-window, fgo), with the GNSS held or read from its file epoch by epoch.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 
@@ -54,6 +55,28 @@ EstimationProblem sampleProblem() {
   return p;
 }
 
+// The sample's GNSS file read epoch by epoch, as `navigate` streams it.
+class GnssFileSource : public GnssSource {
+ public:
+  GnssFileSource() : reader_(CasePaths(sampleDir()).gnssPos(), "") {}
+  bool next(GnssFix* fix) override { return reader_.next(fix); }
+
+ private:
+  GnssStreamReader reader_;
+};
+
+// The problem without the samples (the streamed run must not need them), its GNSS held or
+// streamed from the file.
+EstimationProblem streamedHeader(const EstimationProblem& problem, bool gnss_from_file) {
+  EstimationProblem header = problem;
+  header.imu.clear();
+  if (gnss_from_file) {
+    header.gnss.clear();
+    header.gnss_stream = [] { return std::make_unique<GnssFileSource>(); };
+  }
+  return header;
+}
+
 // Writes solution.nav and keeps the epochs, as `navigate` does with a reference.
 class TeeSink : public SolutionSink {
  public:
@@ -101,6 +124,7 @@ struct Case {
   const char* estimator;
   int decimation;
   std::size_t block;
+  bool gnss_from_file;
 };
 
 class StreamedEstimator : public ::testing::TestWithParam<Case> {};
@@ -116,8 +140,7 @@ TEST_P(StreamedEstimator, SolutionFileByteIdenticalToInMemory) {
   const std::string dir = test::makeTempDir("streaming");
   writeNav(dir + "/memory.nav", memory.states);
 
-  EstimationProblem header = problem;
-  header.imu.clear();  // the streamed run must not need it
+  const EstimationProblem header = streamedHeader(problem, c.gnss_from_file);
   NavSolution streamed;
   TeeSink sink(dir + "/streamed.nav", &streamed);
   const NavSolution book = rts ? runRtsStreaming(header, o, filePass(c.block), sink)
@@ -135,9 +158,9 @@ TEST_P(StreamedEstimator, SolutionFileByteIdenticalToInMemory) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EkfAndRts, StreamedEstimator,
-                         ::testing::Values(Case{"ekf", 1, 4096}, Case{"ekf", 3, 37},
-                                           Case{"rts", 1, 4096}, Case{"rts", 3, 37},
-                                           Case{"rts", 1, 1}));
+                         ::testing::Values(Case{"ekf", 1, 4096, false}, Case{"ekf", 3, 37, true},
+                                           Case{"ekf", 1, 4096, true}, Case{"rts", 1, 4096, false},
+                                           Case{"rts", 3, 37, true}, Case{"rts", 1, 1, false}));
 
 // The factor graphs with the samples read from the file in blocks (the window holding only its
 // intervals' samples, the batch re-reading the file for re-preintegration and output) against
@@ -149,6 +172,7 @@ struct GraphCase {
   bool window;
   bool fixed_lag;
   std::size_t block;
+  bool gnss_from_file;
 };
 
 class StreamedFactorGraph : public ::testing::TestWithParam<GraphCase> {};
@@ -163,8 +187,7 @@ TEST_P(StreamedFactorGraph, SolutionFileByteIdenticalToInMemory) {
   const std::string dir = test::makeTempDir("streaming_graph");
   writeNav(dir + "/memory.nav", memory.states);
 
-  EstimationProblem header = problem;
-  header.imu.clear();  // the streamed run must not need it
+  const EstimationProblem header = streamedHeader(problem, c.gnss_from_file);
   NavSolution streamed;
   TeeSink sink(dir + "/streamed.nav", &streamed);
   const FgoEpochFn out = [&](const NavState& s, const PvaSigma* sigma, const Eigen::Vector3d& bg,
@@ -201,8 +224,10 @@ TEST_P(StreamedFactorGraph, SolutionFileByteIdenticalToInMemory) {
 }
 
 INSTANTIATE_TEST_SUITE_P(WindowAndBatch, StreamedFactorGraph,
-                         ::testing::Values(GraphCase{true, false, 4096}, GraphCase{true, false, 37},
-                                           GraphCase{true, true, 37}, GraphCase{false, false, 37}));
+                         ::testing::Values(GraphCase{true, false, 4096, false},
+                                           GraphCase{true, false, 37, true},
+                                           GraphCase{true, true, 37, true},
+                                           GraphCase{false, false, 37, true}));
 
 // The CLI streams ekf, rts and the factor graphs: its solution.nav equals the in-memory run's to
 // the last digit.

@@ -3,6 +3,9 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <functional>
+#include <optional>
+#include <utility>
 #include <iterator>
 #include <stdexcept>
 
@@ -64,6 +67,117 @@ void beginReport(ReadReport& report, const std::string& path) {
 }
 }  // namespace
 
+namespace {
+
+// The current line of a .pos reader as a fix into *fix; false when the time-order rule drops it.
+bool parsePosLine(TextTableReader& reader, const GnssReadPolicy& policy, TimeOrderGuard& order,
+                  ReadReport& report, GnssFix* fix) {
+  ++report.data_lines;
+  reader.requireColumns(7, 7, "GNSS .pos");
+  reader.requireFinite(kPosColumns);
+  const double* v = reader.values();
+  if (std::fabs(v[1]) > 90.0)
+    reader.fail("latitude " + std::string(reader.token(1)) + " deg is outside [-90, 90]");
+  if (std::fabs(v[2]) > 360.0)
+    reader.fail("longitude " + std::string(reader.token(2)) + " deg is outside [-360, 360]");
+  if (!order.accept(reader, v[0], 0, report)) return false;
+  checkOffWholeSecond(reader, v[0], policy, report);
+  GnssFix f;
+  f.t_s = v[0];
+  f.pos = Geodetic{v[1] * units::kDegToRad, v[2] * units::kDegToRad, v[3]};
+  for (int i = 0; i < 3; ++i) {
+    double s = v[4 + i];
+    if (s < 0.0)
+      reader.fail(std::string(kPosColumns[4 + i]) + " " + std::string(reader.token(4 + i)) +
+                  " m is negative");
+    if (s == 0.0) {
+      const std::string what =
+          std::string(kPosColumns[4 + i]) + " is " + quoteForMessage(reader.token(4 + i));
+      if (policy.zero_std == ReadRule::kError)
+        reader.fail(what + ": a zero standard deviation is not usable");
+      report.note(
+          ReadCondition::kZeroStd, reader.lineNumber(),
+          what + ": replaced by the floor " + fmt::format("{:g}", policy.std_floor_m) + " m");
+      s = policy.std_floor_m;
+    }
+    f.std_ned_m[i] = s;
+  }
+  *fix = f;
+  return true;
+}
+
+// The current line of a fix-type reader as a record; false when the time-order rule drops it.
+bool parseFixTypeLine(TextTableReader& reader, TimeOrderGuard& order, ReadReport& report,
+                      GnssFixTypeRecord* rec) {
+  ++report.data_lines;
+  reader.requireColumns(3, 3, "GNSS fix type");
+  reader.requireFinite(kFixTypeColumns);
+  rec->t_s = reader.value(0);
+  rec->fix_type = reader.integerValue(1, "fix_type");
+  rec->num_sv = reader.integerValue(2, "num_sv");
+  rec->line = reader.lineNumber();
+  if (rec->fix_type < 0) reader.fail("fix_type " + std::string(reader.token(1)) + " is negative");
+  if (rec->num_sv < 0) reader.fail("num_sv " + std::string(reader.token(2)) + " is negative");
+  return order.accept(reader, rec->t_s, 0, report);
+}
+
+// Fixes (in time order) matched with fix-type records (in time order) in one merge pass: each
+// fix takes the record within policy.match_tolerance_s; unmatched fixes and records follow
+// policy.unmatched_fix_type.
+class FixTypeMatcher {
+ public:
+  using NextRecord = std::function<bool(GnssFixTypeRecord*)>;
+  FixTypeMatcher(const std::string& path, const GnssReadPolicy& policy, ReadReport& report,
+                 NextRecord next)
+      : path_(path), policy_(policy), report_(report), next_(std::move(next)) {}
+  void match(GnssFix& fix) {
+    const double tol = policy_.match_tolerance_s;
+    while (peek() && rec_.t_s < fix.t_s - tol) {
+      unmatched(rec_.line,
+                "fix type epoch " + fmt::format("{:.6f}", rec_.t_s) + " has no .pos epoch");
+      has_ = false;
+    }
+    if (peek() && rec_.t_s <= fix.t_s + tol) {
+      fix.fix_type = rec_.fix_type;
+      fix.num_sv = rec_.num_sv;
+      has_ = false;
+    } else {
+      unmatched(0,
+                "GNSS epoch " + fmt::format("{:.6f}", fix.t_s) + " (.pos) has no fix type record");
+    }
+  }
+  // The records after the last fix.
+  void finish() {
+    for (; peek(); has_ = false)
+      unmatched(rec_.line,
+                "fix type epoch " + fmt::format("{:.6f}", rec_.t_s) + " has no .pos epoch");
+  }
+
+ private:
+  bool peek() {
+    if (!has_ && !ended_) {
+      has_ = next_(&rec_);
+      ended_ = !has_;
+    }
+    return has_;
+  }
+  void unmatched(int line, const std::string& what) {
+    if (policy_.unmatched_fix_type == ReadRule::kError)
+      throw std::runtime_error(path_ + (line > 0 ? ":" + std::to_string(line) : std::string()) +
+                               ": " + what);
+    report_.note(ReadCondition::kUnmatchedEpoch, line, what);
+  }
+
+  const std::string& path_;
+  const GnssReadPolicy& policy_;
+  ReadReport& report_;
+  NextRecord next_;
+  GnssFixTypeRecord rec_;
+  bool has_ = false, ended_ = false;
+};
+
+}  // namespace
+
 GnssSeries readGnssPos(const std::string& path, const GnssReadPolicy& policy,
                        ReadReport* report_out) {
   policy.validate();
@@ -74,38 +188,9 @@ GnssSeries readGnssPos(const std::string& path, const GnssReadPolicy& policy,
   GnssSeries fixes;
   fixes.reserve(reader.physicalLineCount());
   TimeOrderGuard order(policy.duplicate_stamp, policy.backwards_stamp);
+  GnssFix f;
   while (reader.next()) {
-    ++report.data_lines;
-    reader.requireColumns(7, 7, "GNSS .pos");
-    reader.requireFinite(kPosColumns);
-    const double* v = reader.values();
-    if (std::fabs(v[1]) > 90.0)
-      reader.fail("latitude " + std::string(reader.token(1)) + " deg is outside [-90, 90]");
-    if (std::fabs(v[2]) > 360.0)
-      reader.fail("longitude " + std::string(reader.token(2)) + " deg is outside [-360, 360]");
-    if (!order.accept(reader, v[0], 0, report)) continue;
-    checkOffWholeSecond(reader, v[0], policy, report);
-    GnssFix f;
-    f.t_s = v[0];
-    f.pos = Geodetic{v[1] * units::kDegToRad, v[2] * units::kDegToRad, v[3]};
-    for (int i = 0; i < 3; ++i) {
-      double s = v[4 + i];
-      if (s < 0.0)
-        reader.fail(std::string(kPosColumns[4 + i]) + " " + std::string(reader.token(4 + i)) +
-                    " m is negative");
-      if (s == 0.0) {
-        const std::string what =
-            std::string(kPosColumns[4 + i]) + " is " + quoteForMessage(reader.token(4 + i));
-        if (policy.zero_std == ReadRule::kError)
-          reader.fail(what + ": a zero standard deviation is not usable");
-        report.note(
-            ReadCondition::kZeroStd, reader.lineNumber(),
-            what + ": replaced by the floor " + fmt::format("{:g}", policy.std_floor_m) + " m");
-        s = policy.std_floor_m;
-      }
-      f.std_ned_m[i] = s;
-    }
-    fixes.push_back(f);
+    if (parsePosLine(reader, policy, order, report, &f)) fixes.push_back(f);
   }
   if (fixes.empty()) throw std::runtime_error(path + ": no GNSS epochs in the file");
   report.records_kept = static_cast<int>(fixes.size());
@@ -123,19 +208,9 @@ std::vector<GnssFixTypeRecord> readGnssFixTypes(const std::string& path,
   std::vector<GnssFixTypeRecord> records;
   records.reserve(reader.physicalLineCount());
   TimeOrderGuard order(policy.duplicate_stamp, policy.backwards_stamp);
+  GnssFixTypeRecord rec;
   while (reader.next()) {
-    ++report.data_lines;
-    reader.requireColumns(3, 3, "GNSS fix type");
-    reader.requireFinite(kFixTypeColumns);
-    GnssFixTypeRecord rec;
-    rec.t_s = reader.value(0);
-    rec.fix_type = reader.integerValue(1, "fix_type");
-    rec.num_sv = reader.integerValue(2, "num_sv");
-    rec.line = reader.lineNumber();
-    if (rec.fix_type < 0) reader.fail("fix_type " + std::string(reader.token(1)) + " is negative");
-    if (rec.num_sv < 0) reader.fail("num_sv " + std::string(reader.token(2)) + " is negative");
-    if (!order.accept(reader, rec.t_s, 0, report)) continue;
-    records.push_back(rec);
+    if (parseFixTypeLine(reader, order, report, &rec)) records.push_back(rec);
   }
   if (records.empty()) throw std::runtime_error(path + ": no epochs in the fix type file");
   report.records_kept = static_cast<int>(records.size());
@@ -149,36 +224,14 @@ void mergeGnssFixTypes(GnssSeries& fixes, const std::vector<GnssFixTypeRecord>& 
   ReadReport local_report;
   ReadReport& report = report_out ? *report_out : local_report;
   if (report.path.empty()) report.path = fixtype_path;
-  const double tol = policy.match_tolerance_s;
-  auto unmatched = [&](int line, const std::string& what) {
-    if (policy.unmatched_fix_type == ReadRule::kError)
-      throw std::runtime_error(
-          fixtype_path + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + what);
-    report.note(ReadCondition::kUnmatchedEpoch, line, what);
-  };
-  // Both sequences are strictly increasing: one merge pass.
-  std::size_t i = 0;  // fixes
-  std::size_t j = 0;  // records
-  while (i < fixes.size() || j < records.size()) {
-    if (j >= records.size()) {
-      unmatched(0, "GNSS epoch " + fmt::format("{:.6f}", fixes[i].t_s) +
-                       " (.pos) has no fix type record");
-      ++i;
-    } else if (i >= fixes.size() || records[j].t_s < fixes[i].t_s - tol) {
-      unmatched(records[j].line,
-                "fix type epoch " + fmt::format("{:.6f}", records[j].t_s) + " has no .pos epoch");
-      ++j;
-    } else if (records[j].t_s > fixes[i].t_s + tol) {
-      unmatched(0, "GNSS epoch " + fmt::format("{:.6f}", fixes[i].t_s) +
-                       " (.pos) has no fix type record");
-      ++i;
-    } else {
-      fixes[i].fix_type = records[j].fix_type;
-      fixes[i].num_sv = records[j].num_sv;
-      ++i;
-      ++j;
-    }
-  }
+  std::size_t j = 0;
+  FixTypeMatcher matcher(fixtype_path, policy, report, [&](GnssFixTypeRecord* rec) {
+    if (j >= records.size()) return false;
+    *rec = records[j++];
+    return true;
+  });
+  for (GnssFix& f : fixes) matcher.match(f);
+  matcher.finish();
 }
 
 GnssSeries readGnss(const std::string& pos_path, const std::string& fixtype_path,
@@ -193,6 +246,74 @@ GnssSeries readGnss(const std::string& pos_path, const std::string& fixtype_path
     if (reports) reports->push_back(ft_report);
   }
   return fixes;
+}
+
+// The readers, order guards, reports and fix-type matcher of one pass.
+struct GnssStreamReader::State {
+  State(const std::string& pos_path, const std::string& ft_path, const GnssReadPolicy& p,
+        std::size_t chunk_bytes)
+      : policy(p),
+        pos(TextTableReader::streaming(pos_path, chunk_bytes)),
+        pos_order(p.duplicate_stamp, p.backwards_stamp),
+        fixtype_order(p.duplicate_stamp, p.backwards_stamp),
+        fixtype_path(ft_path) {
+    beginReport(pos_report, pos_path);
+    if (fixtype_path.empty()) return;
+    beginReport(fixtype_report, fixtype_path);
+    fixtype.emplace(TextTableReader::streaming(fixtype_path, chunk_bytes));
+    matcher.emplace(fixtype_path, policy, fixtype_report,
+                    [this](GnssFixTypeRecord* rec) { return nextRecord(rec); });
+  }
+  bool nextRecord(GnssFixTypeRecord* rec) {
+    while (fixtype->next()) {
+      if (parseFixTypeLine(*fixtype, fixtype_order, fixtype_report, rec)) {
+        ++fixtype_report.records_kept;
+        return true;
+      }
+    }
+    if (fixtype_report.records_kept == 0)
+      throw std::runtime_error(fixtype_path + ": no epochs in the fix type file");
+    return false;
+  }
+
+  const GnssReadPolicy policy;
+  TextTableReader pos;
+  TimeOrderGuard pos_order, fixtype_order;
+  const std::string fixtype_path;
+  std::optional<TextTableReader> fixtype;
+  ReadReport pos_report, fixtype_report;
+  std::optional<FixTypeMatcher> matcher;
+  bool ended = false;
+};
+
+GnssStreamReader::GnssStreamReader(const std::string& pos_path, const std::string& fixtype_path,
+                                   const GnssReadPolicy& policy, std::size_t chunk_bytes) {
+  policy.validate();
+  state_ = std::make_unique<State>(pos_path, fixtype_path, policy, chunk_bytes);
+}
+
+GnssStreamReader::~GnssStreamReader() = default;
+
+bool GnssStreamReader::next(GnssFix* fix) {
+  State& st = *state_;
+  if (st.ended) return false;
+  while (st.pos.next()) {
+    if (!parsePosLine(st.pos, st.policy, st.pos_order, st.pos_report, fix)) continue;
+    ++st.pos_report.records_kept;
+    if (st.matcher) st.matcher->match(*fix);
+    return true;
+  }
+  st.ended = true;
+  if (st.pos_report.records_kept == 0)
+    throw std::runtime_error(st.pos_report.path + ": no GNSS epochs in the file");
+  if (st.matcher) st.matcher->finish();
+  return false;
+}
+
+std::vector<ReadReport> GnssStreamReader::reports() const {
+  std::vector<ReadReport> r{state_->pos_report};
+  if (state_->matcher) r.push_back(state_->fixtype_report);
+  return r;
 }
 
 namespace {

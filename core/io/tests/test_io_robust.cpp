@@ -322,6 +322,62 @@ TEST(IoRobust, GnssFaultsAreCountedUnderRealPolicy) {
       ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("gnss_fixtype.txt: GNSS epoch")));
 }
 
+// GnssStreamReader (one epoch at a time) against readGnss on the faulty slice above: the same
+// fixes, repairs, fix types and reports under the real policy, the same error under the strict.
+TEST(IoRobust, GnssStreamReaderEqualsReadGnss) {
+  const std::string dir = test::makeTempDir("io");
+  REQUIRE_REAL_FILE(realDir() + "gnss.pos");
+  std::vector<std::string> pos = headLines(realDir() + "gnss.pos", 200);
+  std::vector<std::string> ft = headLines(realDir() + "gnss_fixtype.txt", 200);
+  pos[9] = setColumn(pos[9], 5, "0.0000");
+  pos.insert(pos.begin() + 20, pos[19]);
+  ft.erase(ft.begin() + 50);  // a .pos epoch without fix type inside the file
+  ft.resize(190);
+  writeLines(dir + "/gnss.pos", pos);
+  writeLines(dir + "/gnss_fixtype.txt", ft);
+  const std::string p = dir + "/gnss.pos", t = dir + "/gnss_fixtype.txt";
+  for (const std::string& fixtype : {t, std::string()}) {
+    std::vector<ReadReport> want_reports;
+    const GnssSeries want = readGnss(p, fixtype, GnssReadPolicy::real(), &want_reports);
+    GnssStreamReader reader(p, fixtype, GnssReadPolicy::real(), 256);  // chunk boundaries
+    GnssSeries got;
+    for (GnssFix f; reader.next(&f);) got.push_back(f);
+    ASSERT_EQ(got.size(), want.size());
+    for (std::size_t i = 0; i < want.size(); ++i) {
+      EXPECT_EQ(got[i].t_s, want[i].t_s) << i;
+      EXPECT_EQ(got[i].pos.lat_rad, want[i].pos.lat_rad) << i;
+      EXPECT_EQ(got[i].pos.h_m, want[i].pos.h_m) << i;
+      EXPECT_EQ(got[i].std_ned_m, want[i].std_ned_m) << i;
+      EXPECT_EQ(got[i].fix_type, want[i].fix_type) << i;
+      EXPECT_EQ(got[i].num_sv, want[i].num_sv) << i;
+    }
+    const std::vector<ReadReport> got_reports = reader.reports();
+    ASSERT_EQ(got_reports.size(), want_reports.size());
+    for (std::size_t r = 0; r < want_reports.size(); ++r) {
+      EXPECT_EQ(got_reports[r].summary(), want_reports[r].summary()) << r;
+      EXPECT_EQ(got_reports[r].records_kept, want_reports[r].records_kept) << r;
+      EXPECT_EQ(got_reports[r].data_lines, want_reports[r].data_lines) << r;
+    }
+  }
+  EXPECT_EQ(readGnss(p, t, GnssReadPolicy::real())[50].fix_type, 0);
+  GnssReadPolicy strict_ft = GnssReadPolicy::real();
+  strict_ft.unmatched_fix_type = ReadRule::kError;
+  GnssStreamReader strict(p, t, strict_ft);
+  EXPECT_THAT(
+      [&] {
+        for (GnssFix f; strict.next(&f);) {
+        }
+      },
+      ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("gnss_fixtype.txt: GNSS epoch")));
+  GnssStreamReader zero_std(p, t);
+  EXPECT_THAT(
+      [&] {
+        for (GnssFix f; zero_std.next(&f);) {
+        }
+      },
+      ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("gnss.pos:10: std_east is '0.0000'")));
+}
+
 TEST(IoRobust, NavDuplicateRepairedUnderRealPolicy) {
   const std::string dir = test::makeTempDir("io");
   REQUIRE_REAL_FILE(realDir() + "reference.nav");

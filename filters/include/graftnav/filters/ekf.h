@@ -16,6 +16,7 @@
 
 #include "graftnav/nav/mechanization.h"
 #include "graftnav/estimation/nav_solution.h"
+#include "graftnav/estimation/usable_gnss.h"
 #include "graftnav/filters/ins_error_model.h"
 #include "graftnav/filters/solution_sink.h"
 
@@ -126,26 +127,28 @@ using ProgressFn = std::function<void(double fraction_done)>;
 class EkfPass {
  public:
   // Applies the fixes at (or before, within 1 us) the initial time. With `record`, the forward
-  // pass is recorded for the smoother.
+  // pass is recorded for the smoother. The problem must outlive the pass (its fixes are read
+  // one at a time as the samples come).
   EkfPass(const EstimationProblem& problem, const EkfOptions& options, bool record);
   // Processes the next sample (times increasing); samples not after the current time are skipped.
   // `sink` (may be null) receives the output epochs.
   void add(const ImuSample& sample, SolutionSink* sink);
   // Closes the pass: throws std::invalid_argument when no sample came after the initial time;
-  // returns the GNSS bookkeeping (no states) and moves the records into *records when given.
+  // returns the GNSS bookkeeping (no states; the fixes after the last sample read to count the
+  // withheld ones) and moves the records into *records when given.
   NavSolution finish(SmootherRecords* records = nullptr);
 
  private:
-  void applyFix(std::size_t i);
+  // Applies the next usable fix and moves past it.
+  void applyNextFix();
 
   EkfOptions options_;
-  GnssSeries gnss_;  // after withholding the outages
+  UsableGnss gnss_;  // the problem's fixes, one at a time, outages withheld
   Eigen::Vector3d lever_arm_b_m_;
   int gnss_week_ = 0;
   GnssInsEkf filter_;
   NavSolution bookkeeping_;
   double t_cur_ = 0.0;
-  std::size_t next_fix_ = 0;
   std::size_t processed_ = 0;
 };
 

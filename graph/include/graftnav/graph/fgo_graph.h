@@ -8,6 +8,7 @@
 #include <ceres/loss_function.h>
 #include <ceres/problem.h>
 
+#include <deque>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -38,27 +39,47 @@ struct NodeBlocks {
   void set(const NodeValue& x);
 };
 
+// Places the nodes during the graph's first sliding-window pass (one read of the IMU) instead
+// of in a pass of their own.
+struct PlaceNodesDuringPass {};
+
 class FgoGraph {
  public:
   // The problem's samples in memory (problem.imu, which must outlive the graph).
   FgoGraph(const EstimationProblem& problem, const FgoOptions& options);
   // The samples from `imu` (one pass for the layout; problem.imu is not read).
   FgoGraph(const EstimationProblem& problem, const FgoOptions& options, const ImuPassFn& imu);
+  // No node yet: the first window pass feeds its samples to placeSample() and calls
+  // finishPlacing() (runSlidingWindow does); problem.imu is not read.
+  FgoGraph(const EstimationProblem& problem, const FgoOptions& options, PlaceNodesDuringPass);
+
+  // Whether nodes are still being placed, the next sample of the placing pass, its end.
+  bool placing() const { return builder_ != nullptr; }
+  void placeSample(const ImuSample& s);
+  void finishPlacing();
 
   const LocalFrame& frame() const { return frame_; }
-  const std::vector<GraphNode>& nodes() const { return layout_.nodes; }
-  const std::vector<GnssObservation>& fixes() const { return layout_.fixes; }
+  // Nodes and fixes placed so far (all of them once placing() is false), indexed over the
+  // recording; node(k), fix(i) throw std::out_of_range for forgotten ones.
+  size_t nodeCount() const { return layout_.nodeCount(); }
+  const GraphNode& node(size_t k) const { return layout_.node(k); }
+  size_t fixCount() const { return layout_.fixCount(); }
+  const GnssObservation& fix(size_t i) const { return layout_.fix(i); }
   int gnssWithheld() const { return layout_.gnss_withheld; }
   size_t firstSample() const { return layout_.first_sample; }
   size_t sampleCount() const { return layout_.sample_count; }
   // First sample of interval k (node k to k+1), one past its last, and the sample before it
-  // (coning memory; the first sample itself when it is the recording's first).
-  size_t intervalBegin(size_t k) const { return layout_.nodes[k].sample_end; }
+  // (coning memory; the first sample itself when it is the recording's first). The last node's
+  // interval ends with the recording (known when placing is finished).
+  size_t intervalBegin(size_t k) const { return node(k).sample_end; }
   size_t intervalEnd(size_t k) const {
-    return k + 1 < layout_.nodes.size() ? layout_.nodes[k + 1].sample_end : layout_.sample_count;
+    return k + 1 < nodeCount() ? node(k + 1).sample_end : layout_.sample_count;
   }
-  NodeBlocks& blocks(size_t k) { return blocks_[k]; }
-  const NodeBlocks& blocks(size_t k) const { return blocks_[k]; }
+  // Forgets nodes before k (their values, preintegrations and fixes): a sliding window that no
+  // longer needs them keeps its memory flat.
+  void forgetBefore(size_t k);
+  NodeBlocks& blocks(size_t k) { return blocks_[k - layout_.nodes_base]; }
+  const NodeBlocks& blocks(size_t k) const { return blocks_[k - layout_.nodes_base]; }
 
   // (Re)creates the preintegration from node k to k+1 about node k's current bias, from the
   // problem's series (first constructor) or from `samples` (which must hold the interval and
@@ -68,9 +89,11 @@ class FgoGraph {
   // Re-preintegrates the given intervals (ascending) in one pass over `imu`.
   void preintegrateFromPass(const ImuPassFn& imu, const std::vector<size_t>& intervals);
   // Frees preintegration k (a window no longer using it).
-  void releasePreintegration(size_t k) { pre_[k].reset(); }
-  bool hasPreintegration(size_t k) const { return k < pre_.size() && pre_[k] != nullptr; }
-  ImuPreintegration& preintegration(size_t k) { return *pre_[k]; }
+  void releasePreintegration(size_t k) { pre(k).reset(); }
+  bool hasPreintegration(size_t k) const {
+    return k >= layout_.nodes_base && k - layout_.nodes_base < pre_.size() && pre(k) != nullptr;
+  }
+  ImuPreintegration& preintegration(size_t k) { return *pre(k); }
   // True when node k's bias estimate is far (options) from preintegration k's linearization.
   bool biasMovedFar(size_t k) const;
 
@@ -115,7 +138,13 @@ class FgoGraph {
   void setOptions(const FgoOptions& options) { options_ = options; }
 
  private:
-  void setUp(const ImuPassFn& imu);
+  void setUp();
+  // Value, preintegration and gravity slots for the nodes placed since the last call.
+  void addNodeStorage();
+  std::unique_ptr<ImuPreintegration>& pre(size_t k) { return pre_[k - layout_.nodes_base]; }
+  const std::unique_ptr<ImuPreintegration>& pre(size_t k) const {
+    return pre_[k - layout_.nodes_base];
+  }
 
   const EstimationProblem& problem_;
   FgoOptions options_;
@@ -123,10 +152,13 @@ class FgoGraph {
   PreintegrationNoise noise_;
   BiasProcess gyro_process_, accel_process_;
   NodeLayout layout_;
-  const ImuSeries* memory_imu_ = nullptr;  // the first constructor's samples
-  std::vector<NodeBlocks> blocks_;
-  std::vector<std::unique_ptr<ImuPreintegration>> pre_;
-  std::vector<Eigen::Vector3d> gravity_point_;  // where each factor's gravity is linearized
+  std::unique_ptr<NodeLayoutBuilder> builder_;  // while placing
+  const ImuSeries* memory_imu_ = nullptr;       // the first constructor's samples
+  // Per node from layout_.nodes_base on (deques: the addresses Ceres holds stay valid as nodes
+  // are added and forgotten).
+  std::deque<NodeBlocks> blocks_;
+  std::deque<std::unique_ptr<ImuPreintegration>> pre_;  // interval k (none for the last node)
+  std::deque<Eigen::Vector3d> gravity_point_;           // where each factor's gravity is linearized
   std::unique_ptr<ceres::LossFunction> loss_;
   mutable RightQuaternionManifold manifold_;
 };

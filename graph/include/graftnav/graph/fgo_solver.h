@@ -41,8 +41,8 @@ struct FgoReport {
 NavSolution solveBatchFgo(const EstimationProblem& problem, const FgoOptions& options,
                           FgoReport* report = nullptr, const FgoEpochFn& output = {});
 // The same with the samples from passes over `imu` (problem.imu is not read): the graph holds
-// one preintegration per node, not the samples. Passes: the node layout, the window
-// initialization, one per re-preintegration round that has work, and the output.
+// one preintegration per node, not the samples. Passes: the window initialization (which places
+// the nodes), one per re-preintegration round that has work, and the output.
 NavSolution solveBatchFgo(const EstimationProblem& problem, const ImuPassFn& imu,
                           const FgoOptions& options, FgoReport* report = nullptr,
                           const FgoEpochFn& output = {});
@@ -52,8 +52,10 @@ NavSolution solveBatchFgo(const EstimationProblem& problem, const ImuPassFn& imu
 // the window) unless options.window_fixed_lag_output.
 NavSolution solveWindowFgo(const EstimationProblem& problem, const FgoOptions& options,
                            FgoReport* report = nullptr, const FgoEpochFn& output = {});
-// The same with the samples from passes over `imu` (problem.imu is not read): two passes (the
-// node layout, then the window writing its output as it goes), holding the window's samples.
+// The same with the samples from one pass over `imu` (problem.imu is not read): the nodes are
+// placed as the samples come and the window writes its output as it goes, holding the window's
+// samples and nodes (in an outage, those since the last node: the nodes inside it are placed
+// when GNSS returns).
 NavSolution solveWindowFgo(const EstimationProblem& problem, const ImuPassFn& imu,
                            const FgoOptions& options, FgoReport* report = nullptr,
                            const FgoEpochFn& output = {});

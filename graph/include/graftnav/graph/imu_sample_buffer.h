@@ -16,7 +16,14 @@ namespace graftnav {
 
 class ImuSampleBuffer {
  public:
-  void push(const ImuSample& s) { samples_.push_back(s); }
+  // Appends the next sample. When the storage is full and at least an eighth of it holds
+  // dropped samples, those are removed instead of growing it: an outage, whose samples are all
+  // held until GNSS returns, would otherwise double it for the dropped ones it still carries.
+  void push(const ImuSample& s) {
+    if (samples_.size() == samples_.capacity() && head_ > 0 && 8 * head_ >= samples_.size())
+      compact();
+    samples_.push_back(s);
+  }
   // Index (in the recording) of the first sample held and one past the last one read.
   size_t begin() const { return base_ + head_; }
   size_t end() const { return base_ + samples_.size(); }
@@ -33,14 +40,16 @@ class ImuSampleBuffer {
   void dropBefore(size_t i) {
     if (i <= begin()) return;
     head_ = std::min(i, end()) - base_;
-    if (head_ >= kMinCompact && 2 * head_ >= samples_.size()) {
-      samples_.erase(samples_.begin(), samples_.begin() + static_cast<std::ptrdiff_t>(head_));
-      base_ += head_;
-      head_ = 0;
-    }
+    if (head_ >= kMinCompact && 2 * head_ >= samples_.size()) compact();
   }
 
  private:
+  void compact() {
+    samples_.erase(samples_.begin(), samples_.begin() + static_cast<std::ptrdiff_t>(head_));
+    base_ += head_;
+    head_ = 0;
+  }
+
   static constexpr size_t kMinCompact = 4096;
   std::vector<ImuSample> samples_;
   size_t base_ = 0;  // recording index of samples_[0]

@@ -7,11 +7,13 @@
 // [node[k].sample_end, node[k+1].sample_end).
 //
 // The pass holds the sample times since the last node only (a few hundred with GNSS, one outage
-// at most in outages): memory grows with the recording by the node list alone (~100 bytes per
-// node).
+// at most in outages); the node list grows with the recording (~250 bytes per node with the
+// graph's values) unless a sliding window forgets the nodes it has left behind.
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <deque>
+#include <memory>
 #include <vector>
 
 #include "graftnav/estimation/nav_solution.h"
@@ -23,7 +25,7 @@ namespace graftnav {
 struct GraphNode {
   double t_s = 0.0;
   size_t sample_end = 0;     // index of the first IMU sample after the node
-  std::vector<size_t> gnss;  // indices into NodeLayout::fixes
+  std::vector<size_t> gnss;  // indices into NodeLayout::fixes, ascending
 };
 
 struct GnssObservation {
@@ -33,16 +35,51 @@ struct GnssObservation {
   double dt_s = 0.0;            // t_fix - t_node
 };
 
+// The nodes and fixes placed so far, indexed over the whole recording. A sliding window forgets
+// those it no longer needs (forgetBefore), so what it holds does not grow with the recording.
 struct NodeLayout {
-  std::vector<GraphNode> nodes;
-  std::vector<GnssObservation> fixes;  // GNSS used, in the problem's order
-  int gnss_withheld = 0;               // fixes inside outages
-  size_t first_sample = 0;             // first IMU sample after the initial state
-  size_t sample_count = 0;             // IMU samples in the recording
+  std::deque<GraphNode> nodes;        // node nodes_base + i is nodes[i]
+  std::deque<GnssObservation> fixes;  // GNSS used, in time order; fix fixes_base + i is fixes[i]
+  std::size_t nodes_base = 0, fixes_base = 0;
+  int gnss_withheld = 0;         // fixes inside outages (final when complete)
+  std::size_t first_sample = 0;  // first IMU sample after the initial state
+  std::size_t sample_count = 0;  // IMU samples in the recording (when complete)
+  bool complete = false;         // every node placed
+
+  std::size_t nodeCount() const { return nodes_base + nodes.size(); }
+  std::size_t fixCount() const { return fixes_base + fixes.size(); }
+  // Node k / fix i; throw std::out_of_range when forgotten or not placed yet.
+  const GraphNode& node(std::size_t k) const;
+  const GnssObservation& fix(std::size_t i) const;
+  // Forgets the nodes before k (never the newest) and the fixes on them.
+  void forgetBefore(std::size_t k);
 };
 
-// The layout of `problem` (its IMU samples come from `imu`, problem.imu is not read). Throws
-// std::invalid_argument for fewer than 2 samples or an initial state after the last sample.
+// Places the nodes as the samples of one pass come, into a NodeLayout: a node is placed once a
+// later fix lands on a later sample (or, at finish(), at the end of the recording). It holds the
+// sample times since the last node (a few hundred with GNSS, one outage at most in outages).
+class NodeLayoutBuilder {
+ public:
+  // `problem`'s fixes are read in time order, in one pass; problem, frame, options and layout
+  // must outlive the builder.
+  NodeLayoutBuilder(const EstimationProblem& problem, const LocalFrame& frame,
+                    const FgoOptions& options, NodeLayout* layout);
+  ~NodeLayoutBuilder();
+  NodeLayoutBuilder(const NodeLayoutBuilder&) = delete;
+  NodeLayoutBuilder& operator=(const NodeLayoutBuilder&) = delete;
+  // The next sample of the recording.
+  void add(const ImuSample& s);
+  // Places the last nodes; the layout is then complete. Throws std::invalid_argument for fewer
+  // than 2 samples, an initial state after the last sample, or fixes out of time order.
+  void finish();
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The layout of `problem` in one pass over `imu` (problem.imu is not read; its GNSS fixes, in
+// time order, from one pass over them). Throws as NodeLayoutBuilder.
 NodeLayout buildNodeLayout(const EstimationProblem& problem, const LocalFrame& frame,
                            const FgoOptions& options, const ImuPassFn& imu);
 

@@ -5,7 +5,8 @@
 // Used as the "fgo-window" estimator and as the initializer of the batch smoother.
 //
 // The samples come from one pass over the IMU; the pass holds those of the window's intervals
-// only (ImuSampleBuffer), so memory does not grow with the recording but by the graph's node list.
+// only (ImuSampleBuffer) and the graph forgets the nodes behind the window, so memory does not
+// grow with the recording.
 
 #include <deque>
 #include <vector>
@@ -29,10 +30,12 @@ class WindowListener {
   virtual void finished(const ImuSampleBuffer& /*samples*/) {}
 };
 
-// Runs the window over all nodes of `graph` with the samples of one pass over `imu`. Afterwards
-// graph.blocks(k) hold the lagged values. keep_preintegrations: every interval's
-// preintegration stays in the graph (the batch re-uses them); otherwise each is freed when its
-// interval leaves the window. Counts go to `report` when given.
+// Runs the window over all nodes of `graph` with the samples of one pass over `imu`; when the
+// graph is still placing its nodes (PlaceNodesDuringPass), the pass places them as it goes.
+// keep_preintegrations: every interval's preintegration and node stays in the graph (the batch
+// re-uses them; afterwards graph.blocks(k) hold the lagged values); otherwise each node is
+// forgotten (FgoGraph::forgetBefore) once it has left the window and its output is given, so
+// the graph holds the window's nodes only. Counts go to `report` when given.
 void runSlidingWindow(FgoGraph& graph, const ImuPassFn& imu, FgoReport* report,
                       bool keep_preintegrations, WindowListener* listener = nullptr);
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "graftnav/estimation/gnss_source.h"
 #include "graftnav/imu/imu_profile.h"
 #include "graftnav/nav/time_window.h"
 #include "graftnav/nav/types.h"
@@ -32,7 +33,10 @@ struct NavSolution {
 // The inputs shared by all estimators.
 struct EstimationProblem {
   ImuSeries imu;
-  GnssSeries gnss;                  // all epochs; the estimator withholds those in outages
+  GnssSeries gnss;                  // all epochs, in time order; the estimator withholds those
+                                    // in outages
+  GnssOpenFn gnss_stream;           // when set, the fixes come from here instead (gnss is not
+                                    // read): memory not growing with the recording
   std::vector<TimeWindow> outages;  // GNSS withheld inside these
   NavState initial;                 // at (or just before) imu.front().t_s
   Eigen::Vector3d lever_arm_b_m = Eigen::Vector3d::Zero();  // antenna from IMU, body FRD

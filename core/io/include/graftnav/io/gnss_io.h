@@ -4,6 +4,8 @@
 //   gnss_fixtype.txt  `sow fix_type num_sv` (1 single point, 4 RTK fixed, 5 RTK float)
 // Strict by default (errors name path:line and value); GnssReadPolicy::real() for real recordings.
 
+#include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -64,6 +66,31 @@ void mergeGnssFixTypes(GnssSeries& fixes, const std::vector<GnssFixTypeRecord>& 
 // The reports of the two files are appended to *reports when given.
 GnssSeries readGnss(const std::string& pos_path, const std::string& fixtype_path,
                     const GnssReadPolicy& policy = {}, std::vector<ReadReport>* reports = nullptr);
+
+// readGnss one epoch at a time: each file read through a streaming text window, so memory does
+// not grow with the files' length. The same checks, repairs, fixes and reports as readGnss (an
+// error in either file is met when the pass reaches it, so of two errors in the two files the
+// earlier in time is reported, not the .pos file's). One pass; open another reader for more.
+class GnssStreamReader {
+ public:
+  // fixtype_path empty: no fix-type file. Each file is read in chunks of about chunk_bytes
+  // (default 64 KiB: ~900 epochs of .pos; the reader holds up to twice that per file). Throws
+  // std::runtime_error when a file cannot be opened.
+  GnssStreamReader(const std::string& pos_path, const std::string& fixtype_path,
+                   const GnssReadPolicy& policy = {}, std::size_t chunk_bytes = kDefaultChunkBytes);
+  static constexpr std::size_t kDefaultChunkBytes = std::size_t{1} << 16;
+  ~GnssStreamReader();
+  GnssStreamReader(const GnssStreamReader&) = delete;
+  GnssStreamReader& operator=(const GnssStreamReader&) = delete;
+  // The next fix into *fix; false at the end (then the reports are complete). Throws as readGnss.
+  bool next(GnssFix* fix);
+  // The .pos report, then the fix-type report when there is that file (as readGnss's).
+  std::vector<ReadReport> reports() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 // Writers, atomic: time %.6f, lat/lon %.10f deg, height %.4f m, std %.4f m (std up = std_ned_m.z).
 // Throw std::invalid_argument on non-finite values or times not strictly increasing.
