@@ -30,34 +30,58 @@ HaarEnergies haarEnergies(const Eigen::VectorXd& z) {
   return out;
 }
 
+namespace {
+
+// Hands each level of X's Haar transform (haarCoefficients) to visit(Eigen::MatrixXd&&), finest
+// first, holding at most the level being made and the approximation it came from: a level is
+// handed on once the next one exists, as the last level also takes the coarsest approximation
+// and the odd rows left at each level.
+template <class Visit>
+void visitHaarLevels(const Eigen::MatrixXd& X, Visit&& visit) {
+  std::vector<Eigen::RowVectorXd> leftover;  // odd rows left at each level
+  const double inv_sqrt2 = 1.0 / std::sqrt(2.0);
+  Eigen::MatrixXd a, pending;
+  const Eigen::MatrixXd* cur = &X;
+  bool has_pending = false;
+  while (cur->rows() >= 4) {
+    const Eigen::Index m = cur->rows() / 2;
+    if (cur->rows() % 2 != 0) leftover.push_back(cur->row(cur->rows() - 1));
+    Eigen::MatrixXd d(m, cur->cols()), next(m, cur->cols());
+    for (Eigen::Index k = 0; k < m; ++k) {
+      d.row(k) = (cur->row(2 * k) - cur->row(2 * k + 1)) * inv_sqrt2;
+      next.row(k) = (cur->row(2 * k) + cur->row(2 * k + 1)) * inv_sqrt2;
+    }
+    if (has_pending) visit(std::move(pending));
+    pending = std::move(d);
+    has_pending = true;
+    a = std::move(next);
+    cur = &a;
+  }
+  if (!has_pending) {
+    visit(Eigen::MatrixXd(X));
+    return;
+  }
+  Eigen::Index m = pending.rows();
+  pending.conservativeResize(m + cur->rows() + static_cast<Eigen::Index>(leftover.size()),
+                             Eigen::NoChange);
+  pending.middleRows(m, cur->rows()) = *cur;
+  m += cur->rows();
+  for (const Eigen::RowVectorXd& row : leftover) pending.row(m++) = row;
+  visit(std::move(pending));
+}
+
+}  // namespace
+
 std::vector<Eigen::MatrixXd> haarCoefficients(const Eigen::MatrixXd& X) {
   std::vector<Eigen::MatrixXd> out;
-  std::vector<Eigen::RowVectorXd> leftover;  // odd rows left at each level
-  Eigen::MatrixXd a = X;
-  const double inv_sqrt2 = 1.0 / std::sqrt(2.0);
-  while (a.rows() >= 4) {
-    const Eigen::Index m = a.rows() / 2;
-    if (a.rows() % 2 != 0) leftover.push_back(a.row(a.rows() - 1));
-    Eigen::MatrixXd d(m, a.cols()), next(m, a.cols());
-    for (Eigen::Index k = 0; k < m; ++k) {
-      d.row(k) = (a.row(2 * k) - a.row(2 * k + 1)) * inv_sqrt2;
-      next.row(k) = (a.row(2 * k) + a.row(2 * k + 1)) * inv_sqrt2;
-    }
-    out.push_back(std::move(d));
-    a.swap(next);
-  }
-  if (out.empty()) {
-    out.push_back(a);
-    return out;
-  }
-  Eigen::MatrixXd& last = out.back();
-  Eigen::Index m = last.rows();
-  last.conservativeResize(m + a.rows() + static_cast<Eigen::Index>(leftover.size()),
-                          Eigen::NoChange);
-  last.middleRows(m, a.rows()) = a;
-  m += a.rows();
-  for (const Eigen::RowVectorXd& row : leftover) last.row(m++) = row;
+  visitHaarLevels(X, [&](Eigen::MatrixXd&& level) { out.push_back(std::move(level)); });
   return out;
+}
+
+std::vector<Eigen::MatrixXd> haarLevelGrams(const Eigen::MatrixXd& X) {
+  std::vector<Eigen::MatrixXd> grams;
+  visitHaarLevels(X, [&](Eigen::MatrixXd&& D) { grams.push_back(D.transpose() * D); });
+  return grams;
 }
 
 Eigen::MatrixXd haarSynthesis(const std::vector<Eigen::MatrixXd>& levels, Eigen::Index rows) {

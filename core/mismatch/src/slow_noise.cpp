@@ -54,13 +54,12 @@ const std::array<ChannelLevels, kMismatchChannels>& SlowNoiseEstimator::levelGra
       const Eigen::VectorXd rc = noise_.residual().col(c);
       const Eigen::MatrixXd Xy = whitenedColumns(cols.src, &rc, noise_.rowBegin(), len,
                                                  noise_.rho()(c), 1.0 / noise_.sigma()(c));
-      for (const Eigen::MatrixXd& D : haarCoefficients(Xy)) cl.gram.push_back(D.transpose() * D);
+      cl.gram = haarLevelGrams(Xy);
       const int folds = static_cast<int>(noise_.gram().G.size());
       cl.fold_gram.resize(folds);
       for (int f = 0; f < folds; ++f) {
         const int a = foldStart(len, f, folds), b = foldStart(len, f + 1, folds);
-        for (const Eigen::MatrixXd& D : haarCoefficients(Xy.middleRows(a, b - a)))
-          cl.fold_gram[f].push_back(D.transpose() * D);
+        cl.fold_gram[f] = haarLevelGrams(Xy.middleRows(a, b - a));
       }
     }
   }

@@ -26,6 +26,24 @@ TEST(ScaleNoise, HaarLevelsPartitionTheGramMatrix) {
   }
 }
 
+// The per-level normal equations made one level at a time are those of the held levels, to the
+// last bit, for every length (no transform below 4 rows, odd rows left at several levels).
+TEST(ScaleNoise, HaarLevelGramsEqualTheGramsOfTheLevels) {
+  StandardNormalSampler rng(3);
+  for (int n : {1, 3, 4, 5, 7, 17, 1000, 1023}) {
+    Eigen::MatrixXd X(n, 3);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < 3; ++j) X(i, j) = rng.next() + (j == 2 ? 0.01 * i : 0.0);
+    const std::vector<Eigen::MatrixXd> levels = haarCoefficients(X);
+    const std::vector<Eigen::MatrixXd> grams = haarLevelGrams(X);
+    ASSERT_EQ(grams.size(), levels.size()) << "n " << n;
+    for (std::size_t j = 0; j < levels.size(); ++j) {
+      const Eigen::MatrixXd expected = levels[j].transpose() * levels[j];
+      EXPECT_TRUE(grams[j] == expected) << "n " << n << " level " << j;
+    }
+  }
+}
+
 // Synthesis inverts the transform, odd lengths and leftover rows included (1-3 rows: no
 // transform), and a weighted level maps back to the time series it stands for.
 TEST(ScaleNoise, HaarSynthesisInvertsTheCoefficients) {

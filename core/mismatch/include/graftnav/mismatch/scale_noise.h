@@ -39,6 +39,9 @@ HaarEnergies haarEnergies(const Eigen::VectorXd& z);
 // with variance c_j on level j is made white by dividing level j by sqrt(c_j): least squares
 // on the scaled coefficients is generalized least squares (GLS) under that noise.
 std::vector<Eigen::MatrixXd> haarCoefficients(const Eigen::MatrixXd& X);
+// D'D of each level D of haarCoefficients(X), without holding the levels (normal equations per
+// scale).
+std::vector<Eigen::MatrixXd> haarLevelGrams(const Eigen::MatrixXd& X);
 
 // The inverse of haarCoefficients for `rows` rows (the transform is orthonormal, so this is its
 // transpose): X = haarSynthesis(haarCoefficients(X), X.rows()). Maps level-weighted coefficients
