@@ -7,7 +7,8 @@
 # Environment: LENGTHS_MIN (default "15 30 60 120 480"), RUNS (runs per measurement, the median
 # is reported; default 1), ESTIMATORS (default "ekf rts fgo-window fgo"), DIAGNOSE (1: also
 # diagnose, default 1), DIAGNOSE_MAX_MIN (diagnose only lengths up to this many minutes; default
-# 480: diagnose holds every series of the case, ~2.3 GB per 4 h), MAX_SIM_RSS_MB (skip a length
+# 480: past binning diagnose holds the reference record, the bins and the candidate library,
+# ~270 MB per hour), MAX_SIM_RSS_MB (skip a length
 # whose simulation is predicted, linearly from the longest one done, to need more; default 4000:
 # the simulator streams the field IMUs of this case, so the prediction is an upper bound).
 #
