@@ -113,8 +113,9 @@ struct DiagnoseArgs {
 
 // The finder's inputs from the loaded case: records, plausible ranges, and the simulation with
 // its priors (SG#2 from the lab data, or the static-bias simulation without). The records are
-// moved out of the selections, so the case holds each IMU series once; so is the truth (the
-// attitude along the record), read by the finder when the navigation level does not need it.
+// moved out of the selections, so the case holds each IMU series once. The truth (the attitude
+// along the record) is handed over when the finder needs it: read from its file, or copied from
+// the case when the navigation level holds it.
 DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const DiagnoseArgs& args, const RunConfig& rc,
                                   ImuSelection* ref_imu, ImuSelection* tested,
                                   std::vector<std::string>* notes) {
@@ -162,7 +163,9 @@ DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const DiagnoseArgs& args, const
   loadCaseReference(&c, true);
   for (std::size_t k = warned; k < c.warnings.size(); ++k)
     fmt::print(stderr, "warning: {}\n", c.warnings[k]);
-  if (in.reference_is_simulated) in.attitude = c.reference;
+  // The case holds it for the navigation level anyway: the finder takes a copy only while it
+  // builds the regressors.
+  if (in.reference_is_simulated) in.read_attitude = [&c] { return c.reference; };
   return in;
 }
 

@@ -32,6 +32,12 @@ std::string readWholeFile(const std::string& path) {
   return data;
 }
 
+namespace {
+std::size_t newlinesIn(const char* data, std::size_t size) {
+  return static_cast<std::size_t>(std::count(data, data + size, '\n'));
+}
+}  // namespace
+
 std::size_t countPhysicalLines(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw std::runtime_error(path + ": cannot open file (missing or unreadable)");
@@ -39,7 +45,7 @@ std::size_t countPhysicalLines(const std::string& path) {
   std::vector<char> chunk(std::size_t{1} << 20);
   std::size_t got;
   while ((got = std::fread(chunk.data(), 1, chunk.size(), f)) > 0)
-    n += static_cast<std::size_t>(std::count(chunk.data(), chunk.data() + got, '\n'));
+    n += newlinesIn(chunk.data(), got);
   const bool failed = std::ferror(f) != 0;
   std::fclose(f);
   if (failed) throw std::runtime_error(path + ": read error");
@@ -174,15 +180,7 @@ int TextTableReader::integerValue(int column, const char* column_name) const {
 std::size_t TextTableReader::physicalLineCount() const {
   if (chunk_bytes_ > 0)
     throw std::logic_error(path_ + ": physicalLineCount() of a streaming reader");
-  std::size_t n = 1;
-  const char* p = buffer_.data();
-  const char* const e = p + buffer_.size();
-  while ((p = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(e - p)))) !=
-         nullptr) {
-    ++n;
-    ++p;
-  }
-  return n;
+  return 1 + newlinesIn(buffer_.data(), buffer_.size());
 }
 
 TimeOrderGuard::TimeOrderGuard(ReadRule duplicate_rule, ReadRule backwards_rule,
