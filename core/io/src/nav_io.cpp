@@ -32,39 +32,55 @@ void NavReadPolicy::validate() const {
               "NavReadPolicy.backwards_stamp");
 }
 
-NavSeries readNav(const std::string& path, const NavReadPolicy& policy, ReadReport* report_out) {
+NavStreamReader::NavStreamReader(const std::string& path, const NavReadPolicy& policy)
+    : reader_(TextTableReader::streaming(path)),
+      order_(policy.duplicate_stamp, policy.backwards_stamp) {
   policy.validate();
-  ReadReport local_report;
-  ReadReport& report = report_out ? *report_out : local_report;
-  report = ReadReport{};
-  report.path = path;
-  // Streamed: the file's text is not held next to the series (a 200 Hz truth of an hour is
-  // ~90 MB of text).
-  NavSeries nav;
-  nav.reserve(countPhysicalLines(path));
-  TextTableReader reader = TextTableReader::streaming(path);
-  TimeOrderGuard order(policy.duplicate_stamp, policy.backwards_stamp);
-  while (reader.next()) {
-    ++report.data_lines;
-    reader.requireColumns(11, 11, "navigation .nav");
-    reader.requireFinite(kNavColumns);
-    const double* v = reader.values();
-    const int week = reader.integerValue(0, "week");
-    if (week < 0) reader.fail("week " + std::string(reader.token(0)) + " is negative");
+  report_.path = path;
+}
+
+bool NavStreamReader::next(NavState* state) {
+  while (reader_.next()) {
+    ++report_.data_lines;
+    reader_.requireColumns(11, 11, "navigation .nav");
+    reader_.requireFinite(kNavColumns);
+    const double* v = reader_.values();
+    const int week = reader_.integerValue(0, "week");
+    if (week < 0) reader_.fail("week " + std::string(reader_.token(0)) + " is negative");
     if (std::fabs(v[2]) > 90.0)
-      reader.fail("latitude " + std::string(reader.token(2)) + " deg is outside [-90, 90]");
-    if (!order.accept(reader, week * kSecondsPerWeek + v[1], 1, report)) continue;
-    NavState s;
+      reader_.fail("latitude " + std::string(reader_.token(2)) + " deg is outside [-90, 90]");
+    if (!order_.accept(reader_, week * kSecondsPerWeek + v[1], 1, report_)) continue;
+    NavState& s = *state;
     s.gnss_week = week;
     s.t_s = v[1];
     s.pos = Geodetic{v[2] * units::kDegToRad, v[3] * units::kDegToRad, v[4]};
     s.v_n = Eigen::Vector3d(v[5], v[6], v[7]);
     s.q_nb = quatFromEuler(Eigen::Vector3d(v[8], v[9], v[10]) * units::kDegToRad);
-    nav.push_back(s);
+    ++report_.records_kept;
+    return true;
   }
-  if (nav.empty()) throw std::runtime_error(path + ": no navigation epochs in the file");
-  report.records_kept = static_cast<int>(nav.size());
+  if (report_.records_kept == 0)
+    throw std::runtime_error(report_.path + ": no navigation epochs in the file");
+  return false;
+}
+
+NavSeries readNav(const std::string& path, const NavReadPolicy& policy, ReadReport* report_out) {
+  policy.validate();
+  // Streamed: the file's text is not held next to the series (a 200 Hz truth of an hour is
+  // ~90 MB of text).
+  NavSeries nav;
+  nav.reserve(countPhysicalLines(path));
+  NavStreamReader reader(path, policy);
+  for (NavState s; reader.next(&s);) nav.push_back(s);
+  if (report_out) *report_out = reader.report();
   return nav;
+}
+
+NavOpenFn navFileSource(const std::string& path, const NavReadPolicy& policy) {
+  policy.validate();
+  return [path, policy]() -> std::unique_ptr<NavSource> {
+    return std::make_unique<NavStreamReader>(path, policy);
+  };
 }
 
 namespace {

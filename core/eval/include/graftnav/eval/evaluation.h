@@ -5,6 +5,7 @@
 // Everything here is SI (m, rad); reports convert to degrees.
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <limits>
 #include <vector>
 
@@ -59,7 +60,8 @@ struct EvaluationOptions {
 };
 
 struct Evaluation {
-  std::vector<EpochError> epochs;    // solution epochs inside the reference span
+  std::vector<EpochError> epochs;    // the evaluated epochs (empty when streamed: epoch_count)
+  std::size_t epoch_count = 0;       // number of evaluated epochs
   DriftStats overall_rms;            // all evaluated epochs
   DriftStats outage_rms;             // seed: RMS over all epochs inside outages
   DriftStats outage_max_rms;         // peers: RMS over outages of the per-outage maximum

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "graftnav/io/text_table.h"
+#include "graftnav/nav/nav_source.h"
 #include "graftnav/nav/types.h"
 
 namespace graftnav {
@@ -26,6 +27,26 @@ struct NavReadPolicy {
 // conditions whose rule is kError.
 NavSeries readNav(const std::string& path, const NavReadPolicy& policy = {},
                   ReadReport* report = nullptr);
+
+// readNav one epoch at a time, in a chunk of text at a time: memory does not grow with the file.
+// The epochs, the report and the errors equal readNav's (an error is thrown when the line holding
+// it is read, so a caller may have used earlier epochs already); at the end of a file without
+// epochs next() throws as readNav does.
+class NavStreamReader final : public NavSource {
+ public:
+  NavStreamReader(const std::string& path, const NavReadPolicy& policy = {});
+  bool next(NavState* state) override;
+  // Counts so far; complete once next() has returned false.
+  const ReadReport& report() const { return report_; }
+
+ private:
+  TextTableReader reader_;
+  TimeOrderGuard order_;
+  ReadReport report_;
+};
+
+// Passes over a .nav file, each through a new NavStreamReader.
+NavOpenFn navFileSource(const std::string& path, const NavReadPolicy& policy = {});
 
 // Atomic writer: week %d, sow %.9f, lat/lon %.11f deg, height %.6f m, velocity %.6f m/s, roll and
 // pitch %.9f deg, yaw %.9f deg in [0, 360). Throws std::invalid_argument on non-finite values or
