@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
 
 #include "batch_test_util.h"
 #include "graftnav/batch/slurm.h"
@@ -143,6 +144,59 @@ TEST(BatchRuns, ArrayElementsInParallelProcessesThenCollectEqualALocalRun) {
   r = graftnav("batch " + dir + "/m.yaml --out " + dir + "/array --task 2 --chunk 2");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("only 4 tasks"), std::string::npos) << r.output;
+}
+
+TEST(BatchRuns, BadManifestsFailBeforeAnyTaskRuns) {
+  const std::string dir = test::makeTempDir("batch_bad");
+  writeFile(dir + "/m1.yaml", "out: out\ncases: [a]\nestimator: [ekf]\n");
+  RunResult r = graftnav("batch " + dir + "/m1.yaml");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("m1.yaml:3"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("'estimator'"), std::string::npos) << r.output;
+  writeFile(dir + "/m2.yaml", "out: out\ncases: [a]\njobs: many\n");
+  r = graftnav("batch " + dir + "/m2.yaml");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("m2.yaml:3"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("jobs"), std::string::npos) << r.output;
+  writeFile(dir + "/m3.yaml", "out: out\n");
+  r = graftnav("batch " + dir + "/m3.yaml");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("cases"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir + "/out")) << "a task ran";
+}
+
+// The same case under two seed names: the experiment's mean must equal the single run's value,
+// and DIFF of the means the single run's DIFF.
+TEST(BatchRuns, MonteCarloSummaryGroupsSeedsAndAveragesThem) {
+  const std::string dir = test::makeTempDir("batch_mc");
+  fs::create_directory_symlink(sample("tactical"), dir + "/exp_seed1");
+  fs::create_directory_symlink(sample("tactical"), dir + "/exp_seed2");
+  writeEvaluateManifest(dir + "/m.yaml", {"exp_seed1", "exp_seed2"}, "[1]");
+  const RunResult r = graftnav("batch " + dir + "/m.yaml --jobs 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto single = nlohmann::json::parse(
+      readFile(dir + "/out/tasks/evaluate/exp_seed1__ekf__config__seed1/evaluation.json"));
+  std::istringstream f(readFile(dir + "/out/summary_monte_carlo.csv"));
+  std::string line;
+  std::getline(f, line);  // header
+  int rows = 0;
+  while (std::getline(f, line)) {
+    std::vector<std::string> c;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) c.push_back(x);
+    ASSERT_EQ(c.size(), 12u) << line;
+    EXPECT_EQ(c[1], "exp");
+    EXPECT_EQ(c[5], "2");
+    if (c[6] == "ERR_SG2_mean") {
+      EXPECT_NEAR(std::stod(c[7]), single["err"]["SG2"]["horizontal_m"].get<double>(), 1e-5);
+      ++rows;
+    }
+    if (c[6] == "DIFF_2_of_means") {
+      EXPECT_NEAR(std::stod(c[7]), single["diff"]["SG2"]["horizontal_m"].get<double>(), 1e-4);
+      ++rows;
+    }
+  }
+  EXPECT_EQ(rows, 2);
 }
 
 // One manifest with a group of every command: each writes its own rows (statistics and the
