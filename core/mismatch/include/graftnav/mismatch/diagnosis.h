@@ -1,5 +1,5 @@
 #pragma once
-// The mismatch finder (its stages: src/diagnosis_stages.h): given the reference signals x, a
+// The mismatch finder (its stages: src/stages/diagnosis_stages.h): given the reference signals x, a
 // simulation of the tested IMU and the tested IMU's real recording,
 //   1. bin all three on one grid (common_grid.h);
 //   2. estimate the time offset of the real record by cross-correlation (time_offset.h); it is the
