@@ -8,6 +8,7 @@
 
 #include "graftnav/io/atomic_file.h"
 #include "graftnav/mismatch/diagnosis_report.h"
+#include "graftnav/mismatch/term_spec.h"
 #include "graftnav/nav/units.h"
 
 namespace graftnav {
@@ -25,10 +26,18 @@ json numList(const std::vector<double>& v) {
 
 json vec3(const Eigen::Vector3d& v) { return json::array({num(v(0)), num(v(1)), num(v(2))}); }
 
-json rmsJson(const ChannelRms& r) { return json{{"gyro", vec3(r.gyro)}, {"accel", vec3(r.accel)}}; }
+json rmsJson(const ChannelRms& r) {
+  return json{{sensorName(Sensor::gyro), vec3(r.gyro)}, {sensorName(Sensor::accel), vec3(r.accel)}};
+}
+
+json keyTexts(const std::vector<TermKey>& keys) {
+  json a = json::array();
+  for (const TermKey& k : keys) a.push_back(k.text());
+  return a;
+}
 
 json spanJson(const LocatedSpan& s) {
-  return json{{"channel", s.channel},
+  return json{{"channel", mismatchChannelNames()[s.channel]},
               {"t_start", s.t_start},
               {"t_end", s.t_end},
               {"regime", s.regime},
@@ -60,12 +69,9 @@ json effectJson(const Effect& e, json evidence) {
       u[q.key] = numList(q.sigma);
     }
   }
-  return json{{"name", e.name},
-              {"sensor", e.sensor},
-              {"parameters", p},
-              {"uncertainty", u},
-              {"evidence", std::move(evidence)},
-              {"explanation", e.explanation}};
+  return json{
+      {"name", e.name()}, {"sensor", scopeName(e.sensor)},   {"parameters", p},
+      {"uncertainty", u}, {"evidence", std::move(evidence)}, {"explanation", e.explanation}};
 }
 
 std::string fmtVec(const std::vector<double>& v) {
@@ -92,7 +98,7 @@ void addClaimsJson(const DiagnosisResult& r, json* j) {
                                     {"cv_gain", num(a.effect.cv_gain)},
                                     {"name_margin", num(a.name_margin)},
                                     {"method", a.effect.evidence_method}});
-    ja["alternative"] = a.alternative;
+    ja["alternative"] = a.alternative ? a.alternative->name : "";
     (*j)["ambiguous"].push_back(std::move(ja));
   }
   // Fitted, modelled in SG#3, not claimed: outside the sensor class's plausible range.
@@ -105,7 +111,7 @@ void addClaimsJson(const DiagnosisResult& r, json* j) {
                    {"max_abs_value", num(im.value)},
                    {"bound", num(im.bound)},
                    {"sensor_class", im.sensor_class}};
-    ji["probably_absorbing"] = im.absorbing.empty() ? json(nullptr) : json(im.absorbing);
+    ji["probably_absorbing"] = im.absorbing ? json(im.absorbing->text()) : json(nullptr);
     ji["correlation"] = num(im.correlation);
     ji["reason"] = im.reason;
     (*j)["implausible"].push_back(std::move(ji));
@@ -116,8 +122,9 @@ void addClaimsJson(const DiagnosisResult& r, json* j) {
 void addChecksJson(const DiagnosisResult& r, json* j) {
   (*j)["term_correlations"] = json::array();
   for (const TermCorrelation& c : r.term_correlations)
-    (*j)["term_correlations"].push_back(
-        json{{"a", c.term_a}, {"b", c.term_b}, {"canonical_correlation", num(c.canonical)}});
+    (*j)["term_correlations"].push_back(json{{"a", c.term_a.text()},
+                                             {"b", c.term_b.text()},
+                                             {"canonical_correlation", num(c.canonical)}});
   if (r.separation)
     (*j)["separation_needed"] = {
         {"roll_rate_s", num(r.separation->gyro_needed_s(0))},
@@ -135,7 +142,7 @@ void addChecksJson(const DiagnosisResult& r, json* j) {
   (*j)["quantization_checks"] = json::array();
   for (const QuantizationCheck& q : r.quantization_checks)
     (*j)["quantization_checks"].push_back(
-        json{{"sensor", q.sensor},
+        json{{"sensor", sensorName(q.sensor)},
              {"step", vec3(q.step)},
              {"printed_resolution", vec3(q.printed_resolution)},
              {"white_noise_sd_per_sample", vec3(q.white_noise_sd)},
@@ -153,7 +160,7 @@ json detectionLimitsJson(const std::vector<Effect>& detection_limits) {
       if (!q.text.empty()) continue;
       lim[q.key] = q.scalar ? num(q.values[0]) : numList(q.values);
     }
-    json entry{{"name", e.name}, {"sensor", e.sensor}, {"limit", lim}};
+    json entry{{"name", e.name()}, {"sensor", scopeName(e.sensor)}, {"limit", lim}};
     if (!e.explanation.empty()) entry["why"] = e.explanation;
     if (!e.parameters.empty() && !e.parameters.back().text.empty())
       entry["regressor"] = e.parameters.back().text;
@@ -187,7 +194,7 @@ json fitJson(const DiagnosisResult& r, const NavigationComparison* nav) {
   }
   if (r.has_holdout)
     fit["holdout"] = {{"split_t", r.holdout_split_s},
-                      {"terms_first_half", r.holdout_terms},
+                      {"terms_first_half", keyTexts(r.holdout_terms)},
                       {"second_half_rms_before", rmsJson(r.holdout_before)},
                       {"second_half_rms_after", rmsJson(r.holdout_after)}};
   return fit;
@@ -212,21 +219,22 @@ std::string effectsMarkdown(const DiagnosisResult& r) {
   std::string m;
   for (const Effect& e : r.effects) {
     const auto [p, s] = cells(e);
-    m += fmt::format("| {} | {} | {} | {} | {:.1f} | {:.4f} |\n", e.name, e.sensor, p, s,
-                     e.delta_bic, e.cv_gain);
+    m += fmt::format("| {} | {} | {} | {} | {:.1f} | {:.4f} |\n", e.name(), scopeName(e.sensor), p,
+                     s, e.delta_bic, e.cv_gain);
   }
   if (r.effects.empty()) m += "| (none) | | | | | |\n";
   m += "\n";
   for (const Effect& e : r.effects)
-    m += "- **" + e.name + "** (" + e.sensor + "): " + e.explanation + "\n";
+    m += fmt::format("- **{}** ({}): {}\n", e.name(), scopeName(e.sensor), e.explanation);
   if (!r.ambiguous.empty()) {
     m += "\n## Found, shape not settled (modelled in SG#3, not claimed)\n\n"
          "| fitted as | or | sensor | parameters (SI) | 1-sigma | delta_bic | name margin |\n"
          "|---|---|---|---|---|---|---|\n";
     for (const AmbiguousEffect& a : r.ambiguous) {
       const auto [p, s] = cells(a.effect);
-      m += fmt::format("| {} | {} | {} | {} | {} | {:.1f} | {:.1f} |\n", a.effect.name,
-                       a.alternative, a.effect.sensor, p, s, a.effect.delta_bic, a.name_margin);
+      m += fmt::format("| {} | {} | {} | {} | {} | {:.1f} | {:.1f} |\n", a.effect.name(),
+                       a.alternative ? a.alternative->name : "", scopeName(a.effect.sensor), p, s,
+                       a.effect.delta_bic, a.name_margin);
     }
   }
   if (!r.implausible.empty()) {
@@ -235,8 +243,8 @@ std::string effectsMarkdown(const DiagnosisResult& r) {
          "|---|---|---|---|---|---|\n";
     for (const ImplausibleEffect& im : r.implausible) {
       const auto [p, s] = cells(im.effect);
-      m += fmt::format("| {} | {} | {} | {} | {:.1f} | {} |\n", im.effect.name, im.effect.sensor, p,
-                       s, im.effect.delta_bic, im.reason);
+      m += fmt::format("| {} | {} | {} | {} | {:.1f} | {} |\n", im.effect.name(),
+                       scopeName(im.effect.sensor), p, s, im.effect.delta_bic, im.reason);
     }
   }
   return m;
@@ -249,7 +257,7 @@ std::string checksMarkdown(const DiagnosisResult& r) {
         "\n## Correlation between fitted terms (largest canonical correlation of their columns)\n\n"
         "| term | term | correlation |\n|---|---|---|\n";
     for (const TermCorrelation& c : r.term_correlations)
-      m += fmt::format("| {} | {} | {:.3f} |\n", c.term_a, c.term_b, c.canonical);
+      m += fmt::format("| {} | {} | {:.3f} |\n", c.term_a.text(), c.term_b.text(), c.canonical);
   }
   if (!r.quantization_checks.empty()) {
     m += "\n## Value lattice of the tested increments\n\n";
@@ -258,7 +266,7 @@ std::string checksMarkdown(const DiagnosisResult& r) {
   if (!r.in_simulation.empty()) {
     m += "\n## Already in the simulation (measured in the lab, grafted into SG#2; not claimed)\n\n";
     for (const Effect& e : r.in_simulation)
-      m += "- **" + e.name + "** (" + e.sensor + "): " + e.explanation + "\n";
+      m += fmt::format("- **{}** ({}): {}\n", e.name(), scopeName(e.sensor), e.explanation);
   }
   return m;
 }
@@ -282,7 +290,7 @@ std::string fitMarkdown(const DiagnosisResult& r, const NavigationComparison* na
     m += fmt::format("| second half, after | {} | {} |\n", fmt3(r.holdout_after.gyro, d),
                      fmt3(r.holdout_after.accel, 1));
     m += "\nTerms selected on the first half: ";
-    for (const std::string& t : r.holdout_terms) m += t + " ";
+    for (const TermKey& t : r.holdout_terms) m += t.text() + " ";
     m += "\n";
   }
   if (nav) {
@@ -322,7 +330,7 @@ std::string detectionLimitsMarkdown(const std::vector<Effect>& detection_limits)
         for (std::size_t i = 0; i < q.values.size(); ++i)
           lim += fmt::format("{}{:.3g}", i ? " " : "", q.values[i]);
       }
-      m += fmt::format("| {} | {} | {} |\n", e.name, e.sensor, lim);
+      m += fmt::format("| {} | {} | {} |\n", e.name(), scopeName(e.sensor), lim);
     }
   }
   return m;
@@ -348,7 +356,7 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
   for (const auto& [a, b] : r.masked_spans) j["masked_spans"].push_back(json::array({a, b}));
   j["wander"] = json::array();
   for (const WanderCheck& k : r.wander)
-    j["wander"].push_back(json{{"channel", k.channel},
+    j["wander"].push_back(json{{"channel", mismatchChannelNames()[k.channel]},
                                {"fitted_sd", num(k.fitted_sd)},
                                {"expected_sd", num(k.expected_sd)},
                                {"limit", num(k.limit)},
@@ -365,7 +373,7 @@ std::string diagnosisJson(const DiagnosisResult& r, const NavigationComparison* 
       {"slow_noise_inflation", numList(std::vector<double>(r.selection.slow_inflation.data(),
                                                            r.selection.slow_inflation.data() + 6))},
       {"rows", r.selection.rows}};
-  j["constant_bias"] =
+  j[termName(TermKind::constant_bias)] =
       numList(std::vector<double>(r.nuisance_bias.data(), r.nuisance_bias.data() + 6));
   j["linear_drift"] =
       numList(std::vector<double>(r.nuisance_drift.data(), r.nuisance_drift.data() + 6));
@@ -391,13 +399,13 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparis
   m +=
       "\n## Located (residual before modelling)\n\n| channel | t_start | t_end | regime | excess_rms |\n|---|---|---|---|---|\n";
   for (const LocatedSpan& s : r.located)
-    m += fmt::format("| {} | {:.2f} | {:.2f} | {} | {:.4g} |\n", s.channel, s.t_start, s.t_end,
-                     s.regime, s.excess_rms);
+    m += fmt::format("| {} | {:.2f} | {:.2f} | {} | {:.4g} |\n", mismatchChannelNames()[s.channel],
+                     s.t_start, s.t_end, s.regime, s.excess_rms);
   m +=
       "\n## Unexplained (still above noise after modelling)\n\n| channel | t_start | t_end | regime | excess_rms |\n|---|---|---|---|---|\n";
   for (const LocatedSpan& s : r.unexplained)
-    m += fmt::format("| {} | {:.2f} | {:.2f} | {} | {:.4g} |\n", s.channel, s.t_start, s.t_end,
-                     s.regime, s.excess_rms);
+    m += fmt::format("| {} | {:.2f} | {:.2f} | {} | {:.4g} |\n", mismatchChannelNames()[s.channel],
+                     s.t_start, s.t_end, s.regime, s.excess_rms);
   if (r.unexplained.empty()) m += "| (none) | | | | |\n";
   m += detectionLimitsMarkdown(r.detection_limits);
   if (!r.wander.empty()) {
@@ -408,8 +416,9 @@ std::string diagnosisMarkdown(const DiagnosisResult& r, const NavigationComparis
         "white noise the knots pass. Within the limit it is treated as noise.\n\n"
         "| channel | fitted sd | expected sd | limit | verdict |\n|---|---|---|---|---|\n";
     for (const WanderCheck& k : r.wander)
-      m += fmt::format("| {} | {:.4g} | {:.4g} | {:.4g} | {} |\n", k.channel, k.fitted_sd,
-                       k.expected_sd, k.limit, k.within ? "noise" : "beyond the lab figures");
+      m += fmt::format("| {} | {:.4g} | {:.4g} | {:.4g} | {} |\n",
+                       mismatchChannelNames()[k.channel], k.fitted_sd, k.expected_sd, k.limit,
+                       k.within ? "noise" : "beyond the lab figures");
   }
   m += "\n## Selection log\n\n";
   for (const std::string& l : r.selection.log) m += "- " + l + "\n";

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "graftnav/mismatch/diagnosis.h"
+#include "graftnav/mismatch/term_spec.h"
 
 namespace graftnav {
 namespace {
@@ -82,18 +83,22 @@ OneSignedSlope weighOneSignedSlope(const OneSignedSlopeInputs& in) {
   return w;
 }
 
-std::string slopeCauseName(SlopeCause c) {
+TermKind slopeCauseKind(SlopeCause c) {
   switch (c) {
     case SlopeCause::kGain:
-      return "scale_factor";
+      return TermKind::scale_factor;
     case SlopeCause::kCurvature:
-      return "scale_nonlinearity";
+      return TermKind::scale_nonlinearity;
     case SlopeCause::kAsymmetry:
-      return "scale_asymmetry";
+      return TermKind::scale_asymmetry;
     case SlopeCause::kUnsettled:
       break;
   }
-  return "unsettled";
+  throw std::invalid_argument("slopeCauseKind: an unsettled slope names no term");
+}
+
+std::string slopeCauseName(SlopeCause c) {
+  return c == SlopeCause::kUnsettled ? "unsettled" : termName(slopeCauseKind(c));
 }
 
 bool oneSignedInput(double mean, double sd, double min_ratio) {
@@ -103,11 +108,9 @@ bool oneSignedInput(double mean, double sd, double min_ratio) {
 
 namespace {
 
-// `e` under another name, with its sensor and evidence; parameters and explanation left empty.
-Effect renamed(const Effect& e, const std::string& name) {
-  Effect c;
-  c.name = name;
-  c.sensor = e.sensor;
+// `e` as another term, with its sensor and evidence; parameters and explanation left empty.
+Effect renamed(const Effect& e, TermKind kind) {
+  Effect c(termSpec(kind), e.sensor);
   c.delta_bic = e.delta_bic;
   c.cv_gain = e.cv_gain;
   c.evidence_method = e.evidence_method;
@@ -118,7 +121,7 @@ Effect renamed(const Effect& e, const std::string& name) {
 // weighing (lab and field combined), the other axes the lab's.
 Effect curvatureEffect(const Effect& e, int a, const OneSignedSlope& w, double c2_simulated,
                        const LabQuadratic& lab, const std::string& weighed) {
-  Effect c = renamed(e, "scale_nonlinearity");
+  Effect c = renamed(e, TermKind::scale_nonlinearity);
   EffectParameter k2, missing;
   k2.key = "k2";
   missing.key = "k2_missing";
@@ -145,7 +148,7 @@ Effect curvatureEffect(const Effect& e, int a, const OneSignedSlope& w, double c
       "the field's estimates combined, the other axes the lab's (its quadratic where its test "
       "kept one, else its degree-2 estimate); k2_missing: what SG#2 lacks. SG#3 models it as "
       "the field's slope at the mean input (the same column there)",
-      e.sensor == "gyro" ? "gyro" : "accelerometer", weighed, "xyz"[a]);
+      sensorNoun(sensorOf(e.sensor)), weighed, "xyz"[a]);
   return c;
 }
 
@@ -153,7 +156,7 @@ Effect curvatureEffect(const Effect& e, int a, const OneSignedSlope& w, double c
 // mean gain on axis a (no gain change between lab and field there), the other axes undetermined.
 Effect asymmetryEffect(const Effect& e, int a, const OneSignedSlope& w,
                        const std::string& weighed) {
-  Effect c = renamed(e, "scale_asymmetry");
+  Effect c = renamed(e, TermKind::scale_asymmetry);
   EffectParameter kp, kn;
   kp.key = "k_pos";
   kn.key = "k_neg";
@@ -170,7 +173,7 @@ Effect asymmetryEffect(const Effect& e, int a, const OneSignedSlope& w,
       "not determined by this evidence. The lab's quadratic on {} in SG#2 is mostly this "
       "asymmetry as its poses saw it; SG#3 models the field's slope at the mean input (the same "
       "column there)",
-      e.sensor == "gyro" ? "gyro" : "accelerometer", weighed, w.d, w.d_sigma,
+      sensorNoun(sensorOf(e.sensor)), weighed, w.d, w.d_sigma,
       w.d_with_curvature
           ? fmt::format("estimated with the sensor's own curvature on {} left free: k2 = {:.3g} "
                         "+- {:.2g}",
@@ -213,7 +216,7 @@ std::string describeWeighing(int a, double x_mean, double x_sd, const OneSignedS
 void settleOneSignedSlope(Effect e, int a, const OneSignedSlope& w, const OneSignedSlopeInputs& wi,
                           const LabQuadratic& lab, double min_margin, std::string weighed,
                           DiagnosisResult* out, std::vector<Effect>* kept,
-                          std::vector<std::string>* lab_quadratic_not_listed) {
+                          std::vector<Sensor>* lab_quadratic_not_listed) {
   if (w.best == SlopeCause::kUnsettled) {
     // No single cause fits: a gain change beside the lab's curvature and an asymmetry beside a
     // curvature are exact two-parameter fits alike.
@@ -223,9 +226,9 @@ void settleOneSignedSlope(Effect e, int a, const OneSignedSlope& w, const OneSig
                             "curvature fit alike: not settled"
                           : "a gain change beside a curvature fits, and the lab's responses "
                             "needed to weigh an asymmetry are missing: not settled");
-    const std::string alternative =
-        std::isfinite(w.chi2_asymmetry) ? "scale_asymmetry" : "scale_nonlinearity";
-    out->ambiguous.push_back({std::move(e), alternative, 0.0});
+    const TermKind alternative =
+        std::isfinite(w.chi2_asymmetry) ? TermKind::scale_asymmetry : TermKind::scale_nonlinearity;
+    out->ambiguous.push_back({std::move(e), &termSpec(alternative), 0.0});
     return;
   }
   if (w.margin < min_margin) {
@@ -236,14 +239,15 @@ void settleOneSignedSlope(Effect e, int a, const OneSignedSlope& w, const OneSig
       // margin the gain's evidence over it (negative when the other fits better).
       const bool gain_best = w.best == SlopeCause::kGain;
       e.explanation += "; " + weighed;
-      out->ambiguous.push_back({std::move(e), slopeCauseName(gain_best ? w.runner_up : w.best),
+      out->ambiguous.push_back({std::move(e),
+                                &termSpec(slopeCauseKind(gain_best ? w.runner_up : w.best)),
                                 gain_best ? w.margin : -w.margin});
     } else {
       // A curvature against an asymmetry, the gain out of it: listed under the better.
       out->ambiguous.push_back({w.best == SlopeCause::kCurvature
                                     ? curvatureEffect(e, a, w, wi.c2_simulated, lab, weighed)
                                     : asymmetryEffect(e, a, w, weighed),
-                                slopeCauseName(w.runner_up), w.margin});
+                                &termSpec(slopeCauseKind(w.runner_up)), w.margin});
     }
     return;
   }
@@ -258,29 +262,33 @@ void settleOneSignedSlope(Effect e, int a, const OneSignedSlope& w, const OneSig
     return;
   }
   kept->push_back(curvatureEffect(e, a, w, wi.c2_simulated, lab, weighed));
-  if (std::find(lab_quadratic_not_listed->begin(), lab_quadratic_not_listed->end(), e.sensor) ==
+  const Sensor sensor = sensorOf(e.sensor);
+  if (std::find(lab_quadratic_not_listed->begin(), lab_quadratic_not_listed->end(), sensor) ==
       lab_quadratic_not_listed->end())
-    lab_quadratic_not_listed->push_back(e.sensor);
+    lab_quadratic_not_listed->push_back(sensor);
 }
 
 }  // namespace
 
-void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vector3d, 2>& input_mean,
-                        const std::array<Eigen::Vector3d, 2>& input_sd, double min_margin,
-                        DiagnosisResult* out, std::vector<std::string>* lab_quadratic_not_listed) {
+void nameOneSignedGains(const DiagnosisInputs& in, const PerSensor<Eigen::Vector3d>& input_mean,
+                        const PerSensor<Eigen::Vector3d>& input_sd, double min_margin,
+                        DiagnosisResult* out, std::vector<Sensor>* lab_quadratic_not_listed) {
   // Sensors whose curvature the field named itself, read before the loop moves effects out.
   // So are those whose asymmetry it named: a second one would count the fold twice.
-  std::vector<std::string> even_claimed;
+  std::vector<SensorScope> even_claimed;
   for (const Effect& e : out->effects)
-    if (e.name == "scale_nonlinearity" || e.name == "scale_asymmetry")
+    if (e.kind() == TermKind::scale_nonlinearity || e.kind() == TermKind::scale_asymmetry)
       even_claimed.push_back(e.sensor);
   std::vector<Effect> kept;
   for (Effect& e : out->effects) {
-    const int s = e.sensor == "gyro" ? 0 : e.sensor == "accel" ? 1 : -1;
-    const std::optional<LabQuadratic>& lab =
-        in.priors[s == 0 ? Sensor::gyro : Sensor::accel].lab_quadratic;
     // A curvature or an asymmetry the field named itself is already claimed: the gain stays.
-    if (e.name != "scale_factor" || s < 0 || !lab || e.parameters.empty() ||
+    if (e.kind() != TermKind::scale_factor || !isSingleSensor(e.sensor)) {
+      kept.push_back(std::move(e));
+      continue;
+    }
+    const Sensor s = sensorOf(e.sensor);
+    const std::optional<LabQuadratic>& lab = in.priors[s].lab_quadratic;
+    if (!lab || e.parameters.empty() ||
         std::find(even_claimed.begin(), even_claimed.end(), e.sensor) != even_claimed.end()) {
       kept.push_back(std::move(e));
       continue;
@@ -308,10 +316,8 @@ void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vecto
     }
     // The field slope is measured against SG#2's gain, the lab's estimate on the reference
     // signal: their uncertainties are the slope's too (as in the scale factor's gate).
-    const std::optional<Eigen::Matrix3d>& lab_M_sigma =
-        in.priors[s == 0 ? Sensor::gyro : Sensor::accel].lab_M_sigma;
-    const std::optional<double>& ref_scale_sigma =
-        in.priors[s == 0 ? Sensor::gyro : Sensor::accel].reference_scale_sigma;
+    const std::optional<Eigen::Matrix3d>& lab_M_sigma = in.priors[s].lab_M_sigma;
+    const std::optional<double>& ref_scale_sigma = in.priors[s].reference_scale_sigma;
     OneSignedSlopeInputs wi;
     wi.k = k.values[a];
     wi.k_sigma =

@@ -6,6 +6,7 @@
 
 #include <fmt/core.h>
 
+#include "graftnav/mismatch/term_spec.h"
 #include "graftnav/nav/units.h"
 
 namespace graftnav {
@@ -81,9 +82,7 @@ std::string SeparationNeed::text() const {
 }
 
 CandidateTerm linearResponseTerm(const BinnedImu& x) {
-  CandidateTerm t;
-  t.name = "mounting_scale_nonorthogonality";
-  t.sensor = "both";
+  CandidateTerm t(termSpec(TermKind::mounting_scale_nonorthogonality), SensorScope::both);
   t.explanation = "mounting rotation, non-orthogonality and scale factor as one matrix per sensor";
   for (int s = 0; s < 2; ++s) {
     const Eigen::MatrixX3d& in = s == 0 ? x.omega_rad_s : x.f_m_s2;
@@ -97,8 +96,9 @@ CandidateTerm linearResponseTerm(const BinnedImu& x) {
   return t;
 }
 
-bool isLinearResponseTerm(const std::string& name) {
-  return name == "mounting_misalignment" || name == "non_orthogonality" || name == "scale_factor";
+bool isLinearResponseTerm(TermKind kind) {
+  return kind == TermKind::mounting_misalignment || kind == TermKind::non_orthogonality ||
+         kind == TermKind::scale_factor;
 }
 
 }  // namespace graftnav

@@ -15,13 +15,13 @@ namespace {
 
 constexpr int kMaxPrintedDecimals = 12;
 
-Eigen::Vector3d increment(const ImuSample& s, bool gyro) {
-  return gyro ? s.dtheta_rad : s.dvel_m_s;
+Eigen::Vector3d increment(const ImuSample& s, Sensor sensor) {
+  return sensor == Sensor::gyro ? s.dtheta_rad : s.dvel_m_s;
 }
 
-bool allOnLattice(const ImuSeries& imu, bool gyro, int axis, double unit) {
+bool allOnLattice(const ImuSeries& imu, Sensor sensor, int axis, double unit) {
   for (const ImuSample& s : imu) {
-    const double f = increment(s, gyro)(axis) / unit;
+    const double f = increment(s, sensor)(axis) / unit;
     if (std::abs(f - std::round(f)) > 1e-6 * std::max(1.0, std::abs(f) * 1e-9)) return false;
   }
   return true;
@@ -38,13 +38,13 @@ void QuantizationEvidenceOptions::validate() const {
                                 std::to_string(resolvable_sigmas) + " must be > 0");
 }
 
-Eigen::Vector3d printedResolution(const ImuSeries& imu, bool gyro) {
+Eigen::Vector3d printedResolution(const ImuSeries& imu, Sensor sensor) {
   Eigen::Vector3d res = Eigen::Vector3d::Zero();
   if (imu.empty()) return res;
   for (int a = 0; a < 3; ++a) {
     for (int d = 0; d <= kMaxPrintedDecimals; ++d) {
       const double unit = std::pow(10.0, -d);
-      if (allOnLattice(imu, gyro, a, unit)) {
+      if (allOnLattice(imu, sensor, a, unit)) {
         res(a) = unit;
         break;
       }
@@ -53,20 +53,21 @@ Eigen::Vector3d printedResolution(const ImuSeries& imu, bool gyro) {
   return res;
 }
 
-QuantizationCheck checkQuantization(const ImuSeries& real, const ImuSeries& simulated, bool gyro,
-                                    const QuantizationEvidenceOptions& options) {
+QuantizationCheck checkQuantization(const ImuSeries& real, const ImuSeries& simulated,
+                                    Sensor sensor, const QuantizationEvidenceOptions& options) {
   options.validate();
   QuantizationCheck c;
-  c.sensor = gyro ? "gyro" : "accel";
+  c.sensor = sensor;
   c.min_step_over_resolution = options.min_step_over_resolution;
-  c.step = detectQuantizationStep(real, gyro);
-  c.printed_resolution = printedResolution(real, gyro);
+  c.step = detectQuantizationStep(real, sensor);
+  c.printed_resolution = printedResolution(real, sensor);
   // One-second blocks at the record's mean sample interval.
   const double span_s = real.back().t_s - real.front().t_s;
   c.white_noise_sd = blockDifferenceNoiseSd(
-      real, gyro ? SampleQuantity::angle_increment : SampleQuantity::velocity_increment,
+      real,
+      sensor == Sensor::gyro ? SampleQuantity::angle_increment : SampleQuantity::velocity_increment,
       samplesPerSecond(span_s / static_cast<double>(real.size() - 1)));
-  const Eigen::Vector3d sim_step = detectQuantizationStep(simulated, gyro);
+  const Eigen::Vector3d sim_step = detectQuantizationStep(simulated, sensor);
   c.resolvable_share =
       options.resolvable_sigmas * std::sqrt(2.0 / static_cast<double>(real.size()));
   for (int a = 0; a < 3; ++a) {
@@ -99,7 +100,7 @@ std::string QuantizationCheck::summary() const {
           "noise variance (resolvable from {:.3g}; step needed {:.3g}){}",
           step(a), printed_resolution(a), noise_share(a), resolvable_share, detectable_step(a),
           claimed[a] ? ": claimed" : ": not resolvable");
-    s += fmt::format("{}{} {}: {}", s.empty() ? "" : "; ", sensor, axes[a], v);
+    s += fmt::format("{}{} {}: {}", s.empty() ? "" : "; ", sensorName(sensor), axes[a], v);
   }
   return s;
 }

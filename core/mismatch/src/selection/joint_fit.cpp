@@ -91,7 +91,7 @@ JointLayout layoutParameters(const std::vector<CandidateTerm>& terms, const Sele
   for (std::size_t f = 0; f < L.fits.size(); ++f) {
     const int t = L.fits[f]->term < 0 ? 0 : L.fits[f]->term;
     const CandidateTerm& term = terms[t];
-    if (term.fixed) {
+    if (term.fixed()) {
       d->K += termContribution(term, Eigen::VectorXd::Ones(term.columns.size()), n);
       continue;
     }

@@ -1,5 +1,7 @@
 #include "selection_evidence.h"
 
+#include "graftnav/mismatch/term_spec.h"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -79,7 +81,7 @@ AddedInformation SelectionEvidence::addedInformation(const std::vector<int>& bas
   }
   ai.sd = Eigen::VectorXd::Zero(pa);
   for (int t : added) {
-    if (terms_[t].fixed) continue;
+    if (terms_[t].fixed()) continue;
     for (int j = 0; j < noise_.map().count[t]; ++j) {
       const int col = noise_.map().start[t] + j;
       const int i = static_cast<int>(std::find(ai.Sa.begin(), ai.Sa.end(), col) - ai.Sa.begin());
@@ -136,7 +138,7 @@ Eigen::VectorXd SelectionEvidence::detectionLimit(const std::vector<int>& model,
   Eigen::VectorXd limit = Eigen::VectorXd::Constant(k, std::numeric_limits<double>::infinity());
   const std::vector<int> base = models_.baseFor(model, t);
   const std::vector<int> with = models_.withTerm(base, t);
-  if (with == base || terms_[t].fixed || terms_[t].nuisance) return limit;
+  if (with == base || terms_[t].fixed() || terms_[t].nuisance()) return limit;
   std::vector<int> common;
   std::set_intersection(base.begin(), base.end(), with.begin(), with.end(),
                         std::back_inserter(common));
@@ -212,14 +214,14 @@ bool SelectionEvidence::passes(double delta_bic, double cv_gain) const {
 // e.g. both shapes are in the model and each was measured against the other).
 std::pair<double, int> SelectionEvidence::nameMargin(const std::vector<int>& model, int t) const {
   std::pair<double, int> best{std::numeric_limits<double>::infinity(), -1};
-  const std::vector<std::string>& names = terms_[t].shape_alternatives;
-  if (names.empty()) return best;
+  const std::vector<TermKind>& kinds = terms_[t].spec->shape_alternatives;
+  if (kinds.empty()) return best;
   const std::vector<int> without = models_.withoutTerm(model, t);
   for (std::size_t u = 1; u < terms_.size(); ++u) {
     const CandidateTerm& cu = terms_[u];
     const int ui = static_cast<int>(u);
-    if (cu.sensor != terms_[t].sensor || cu.nuisance || cu.fixed || cu.gauge_only ||
-        !cu.part_of.empty() || std::find(names.begin(), names.end(), cu.name) == names.end() ||
+    if (cu.sensor != terms_[t].sensor || cu.nuisance() || cu.fixed() || cu.gauge_only ||
+        cu.part_of.has_value() || std::find(kinds.begin(), kinds.end(), cu.kind()) == kinds.end() ||
         std::find(model.begin(), model.end(), ui) != model.end())
       continue;
     const std::vector<int> alternative = models_.withRequired(without, ui);

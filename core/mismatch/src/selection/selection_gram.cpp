@@ -112,7 +112,7 @@ void modelColumns(const std::vector<int>& model, const std::vector<CandidateTerm
   fixed_cols->clear();
   for (int t : model)
     for (int j = 0; j < map.count[t]; ++j)
-      (terms[t].fixed ? fixed_cols : free_cols)->push_back(map.start[t] + j);
+      (terms[t].fixed() ? fixed_cols : free_cols)->push_back(map.start[t] + j);
 }
 
 // A normal matrix made safely invertible: a relative ridge of 1e-11, and all-zero columns (no
@@ -191,7 +191,7 @@ Eigen::MatrixXd residualOf(const Eigen::MatrixXd& r, const std::vector<Candidate
   for (int t : model) {
     const int k = map.count[t];
     Eigen::VectorXd th = Eigen::VectorXd::Ones(k);
-    if (!terms[t].fixed) {
+    if (!terms[t].fixed()) {
       th = fit.theta.segment(pos, k);
       pos += k;
     }

@@ -1,5 +1,7 @@
 #include "selection_models.h"
 
+#include "graftnav/mismatch/term_spec.h"
+
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -8,11 +10,7 @@ namespace graftnav::selection_detail {
 
 TermModels::TermModels(const std::vector<CandidateTerm>& terms) : terms_(terms) {}
 
-bool TermModels::isSlow(int t) const {
-  const std::string& nm = terms_[t].name;
-  return nm == "bias_instability" || nm == "temperature_bias" || nm == "temperature_scale" ||
-         nm == "gravity_model" || nm == "earth_rotation_omitted";
-}
+bool TermModels::isSlow(int t) const { return terms_[t].slow(); }
 
 // Step 4's gauge. The antisymmetric parts of the two full non-orthogonalities span a rotation
 // common to both triads, which mounting_misalignment spans as well: with all three in a model
@@ -23,9 +21,11 @@ bool TermModels::isSlow(int t) const {
 // accelerometer's symmetric N: the same span and fit, evidence measured per name.
 std::vector<int> TermModels::gaugeFixed(std::vector<int> model,
                                         std::vector<std::string>* log) const {
-  const int ng = indexOf("non_orthogonality:gyro"), na = indexOf("non_orthogonality:accel"),
-            na_sym = indexOf("non_orthogonality:accel:symmetric"),
-            rot = indexOf("mounting_misalignment:both");
+  const int ng = indexOf(termKey(TermKind::non_orthogonality, SensorScope::gyro)),
+            na = indexOf(termKey(TermKind::non_orthogonality, SensorScope::accel)),
+            na_sym = indexOf(
+                termKey(TermKind::non_orthogonality, SensorScope::accel, TermVariant::symmetric)),
+            rot = indexOf(termKey(TermKind::mounting_misalignment, SensorScope::both));
   const auto has = [&](int t) { return std::find(model.begin(), model.end(), t) != model.end(); };
   if (ng < 0 || na < 0 || na_sym < 0 || rot < 0 || !has(ng) || !has(na)) return model;
   model.erase(std::remove(model.begin(), model.end(), na), model.end());
@@ -38,7 +38,7 @@ std::vector<int> TermModels::gaugeFixed(std::vector<int> model,
   return model;
 }
 
-int TermModels::indexOf(const std::string& key) const {
+int TermModels::indexOf(const TermKey& key) const {
   for (std::size_t k = 0; k < terms_.size(); ++k)
     if (terms_[k].key() == key) return static_cast<int>(k);
   return -1;
@@ -47,7 +47,7 @@ int TermModels::indexOf(const std::string& key) const {
 // The model a term is tested against: the current one plus the terms it requires.
 std::vector<int> TermModels::baseFor(const std::vector<int>& model, int t) const {
   std::vector<int> base = model;
-  for (const std::string& req : terms_[t].requires_terms) {
+  for (const TermKey& req : terms_[t].requires_terms) {
     const int k = indexOf(req);
     if (k >= 0) base = withTerm(base, k);
   }
@@ -61,19 +61,19 @@ std::vector<int> TermModels::withRequired(const std::vector<int>& model, int t) 
 
 bool TermModels::requiredByOthers(const std::vector<int>& model, int t) const {
   for (int m : model)
-    for (const std::string& req : terms_[m].requires_terms)
+    for (const TermKey& req : terms_[m].requires_terms)
       if (req == terms_[t].key()) return true;
   return false;
 }
 
 std::vector<int> TermModels::withTerm(std::vector<int> model, int t) const {
-  for (const std::string& ex : terms_[t].excludes)  // with its parts
+  for (const TermKey& ex : terms_[t].excludes)  // with its parts
     model.erase(
         std::remove_if(model.begin(), model.end(),
                        [&](int m) { return terms_[m].key() == ex || terms_[m].part_of == ex; }),
         model.end());
   for (int m : model)  // a term that excludes t keeps t out
-    for (const std::string& ex : terms_[m].excludes)
+    for (const TermKey& ex : terms_[m].excludes)
       if (ex == terms_[t].key()) return model;
   if (std::find(model.begin(), model.end(), t) == model.end()) model.push_back(t);
   std::sort(model.begin(), model.end());
@@ -97,7 +97,7 @@ std::vector<int> TermModels::withoutOrphanParts(std::vector<int> model) const {
   const std::vector<int> in = model;
   model.erase(std::remove_if(model.begin(), model.end(),
                              [&](int m) {
-                               if (terms_[m].part_of.empty()) return false;
+                               if (!terms_[m].part_of.has_value()) return false;
                                return std::none_of(in.begin(), in.end(), [&](int o) {
                                  return terms_[o].key() == terms_[m].part_of;
                                });

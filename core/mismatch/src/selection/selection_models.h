@@ -17,7 +17,7 @@ class TermModels {
   // instability, Earth rotation, gravity): measured against the block-mean slow noise.
   bool isSlow(int t) const;
   // Index of the term with this key, -1 when absent.
-  int indexOf(const std::string& key) const;
+  int indexOf(const TermKey& key) const;
   // The model a term is tested against: the current one plus the terms it requires.
   std::vector<int> baseFor(const std::vector<int>& model, int t) const;
   // The model with t and the terms t requires.

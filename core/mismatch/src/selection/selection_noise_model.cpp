@@ -24,7 +24,7 @@ SelectionNoiseModel::SelectionNoiseModel(const Eigen::MatrixXd& r,
   // Noise model from the largest model: all candidates, one of each exclusive group.
   std::vector<int> full = {0};
   for (std::size_t t = 1; t < terms.size(); ++t) {
-    if (terms[t].fixed || terms[t].gauge_only) continue;
+    if (terms[t].fixed() || terms[t].gauge_only) continue;
     full = models.withRequired(full, static_cast<int>(t));
   }
   Eigen::Matrix<double, 6, 1> w0, zero = Eigen::Matrix<double, 6, 1>::Zero();
@@ -96,7 +96,7 @@ void SelectionNoiseModel::computePriorVariances() {
     for (int j = 0; j < pn; ++j) Gnn(i, j) = G(Sn[i], Sn[j]);
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(regularized(Gnn));
   for (std::size_t t = 1; t < terms_.size(); ++t) {
-    if (terms_[t].fixed) continue;
+    if (terms_[t].fixed()) continue;
     const int k = map_.count[t];
     Eigen::MatrixXd Ctn(k, pn);
     Eigen::VectorXd d(k);

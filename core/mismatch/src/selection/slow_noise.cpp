@@ -144,10 +144,10 @@ SlowNoise SlowNoiseEstimator::blockMeanNoise() const {
     std::optional<Eigen::MatrixXd> own_residual;
     // Per sensor triad (gyro channels 0-2, accel 3-5): the term's whitened columns on each
     // channel as block means, and that channel's residual block means.
-    for (int sensor = 0; sensor < 2; ++sensor) {
+    for (const Sensor sensor : kSensors) {
       std::vector<std::vector<Eigen::VectorXd>> means(3);
       for (int k = 0; k < 3; ++k) {
-        const int c = 3 * sensor + k;
+        const int c = firstChannel(sensor) + k;
         for (const RegressorColumn& col : terms_[t].columns) {
           if (!col.actsOn(c)) continue;
           const Eigen::VectorXd w = noise_.whitened(col.channel[c], c, noise_.rowBegin());
@@ -171,7 +171,7 @@ SlowNoise SlowNoiseEstimator::blockMeanNoise() const {
         X.col(0).setOnes();
         for (std::size_t j = 0; j < means[k].size(); ++j)
           X.col(static_cast<int>(j) + 1) = means[k][j];
-        ys.push_back(blockMeans(own_residual->col(3 * sensor + k)));
+        ys.push_back(blockMeans(own_residual->col(firstChannel(sensor) + k)));
         Xs.push_back(std::move(X));
       }
       if (ys.empty()) continue;

@@ -55,7 +55,7 @@ std::vector<TermCorrelation> termCorrelations(const std::vector<CandidateTerm>& 
     if (tf.term < 0 || tf.term >= static_cast<int>(terms.size()))
       throw std::invalid_argument("termCorrelations: term index " + std::to_string(tf.term) +
                                   " out of range");
-    if (terms[tf.term].fixed) continue;
+    if (terms[tf.term].fixed()) continue;
     idx.push_back(tf.term);
     for (const RegressorColumn& col : terms[tf.term].columns)
       for (const Eigen::VectorXd& v : col.channel) n = std::max(n, static_cast<int>(v.size()));
@@ -78,7 +78,7 @@ std::vector<TermCorrelation> termCorrelations(const std::vector<CandidateTerm>& 
 }
 
 TermCorrelation mostCorrelatedWith(const std::vector<TermCorrelation>& correlations,
-                                   const std::string& key) {
+                                   const TermKey& key) {
   TermCorrelation best;
   for (const TermCorrelation& c : correlations) {
     if (c.term_a != key && c.term_b != key) continue;

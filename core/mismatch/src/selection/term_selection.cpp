@@ -16,6 +16,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "graftnav/mismatch/term_spec.h"
 #include "selection_evidence.h"
 #include "selection_gram.h"
 #include "selection_models.h"
@@ -109,7 +110,7 @@ SelectionResult Selector::result(const std::vector<int>& model) const {
     TermFit tf;
     tf.term = t;
     const int k = noise_.map().count[t];
-    if (terms_[t].fixed) {
+    if (terms_[t].fixed()) {
       tf.theta = Eigen::VectorXd::Ones(k);
       tf.sigma = Eigen::VectorXd::Zero(k);
       tf.covariance = Eigen::MatrixXd::Zero(k, k);
@@ -137,11 +138,11 @@ SelectionResult Selector::result(const std::vector<int>& model) const {
       tf.sigma = tf.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
       pos += k;
     }
-    if (terms_[t].nuisance) {
+    if (terms_[t].nuisance()) {
       res.nuisance = tf;
     } else {
       evidence_.termEvidence(model, t, &tf.delta_bic, &tf.cv_gain);
-      tf.claimed = terms_[t].part_of.empty() && evidence_.passes(tf.delta_bic, tf.cv_gain);
+      tf.claimed = !terms_[t].part_of.has_value() && evidence_.passes(tf.delta_bic, tf.cv_gain);
       if (tf.claimed) {
         const auto [margin, alternative] = evidence_.nameMargin(model, t);
         if (alternative >= 0) {
@@ -156,7 +157,7 @@ SelectionResult Selector::result(const std::vector<int>& model) const {
   }
   for (std::size_t t = 1; t < terms_.size(); ++t) {
     const int ti = static_cast<int>(t);
-    if (std::find(model.begin(), model.end(), ti) != model.end() || terms_[t].fixed ||
+    if (std::find(model.begin(), model.end(), ti) != model.end() || terms_[t].fixed() ||
         terms_[t].gauge_only)
       continue;
     res.limits.push_back({ti, evidence_.detectionLimit(model, ti)});
@@ -171,7 +172,7 @@ void checkInputs(const Eigen::MatrixXd& residual, const std::vector<CandidateTer
   if (residual.cols() != kMismatchChannels)
     throw std::invalid_argument("selectTerms: residual has " + std::to_string(residual.cols()) +
                                 " columns, expected 6");
-  if (terms.empty() || !terms[0].nuisance)
+  if (terms.empty() || !terms[0].nuisance())
     throw std::invalid_argument("selectTerms: term 0 must be the nuisance constant bias");
   if (*row_end < 0) *row_end = static_cast<int>(residual.rows());
   if (row_begin < 0 || *row_end > residual.rows() || *row_end - row_begin < 20)
@@ -181,7 +182,7 @@ void checkInputs(const Eigen::MatrixXd& residual, const std::vector<CandidateTer
     for (const RegressorColumn& c : t.columns)
       for (int ch = 0; ch < kMismatchChannels; ++ch)
         if (c.actsOn(ch) && c.channel[ch].size() != residual.rows())
-          throw std::invalid_argument("selectTerms: term " + t.key() +
+          throw std::invalid_argument("selectTerms: term " + t.key().text() +
                                       " has a regressor of the wrong length");
 }
 
@@ -207,7 +208,7 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual,
       double best_bic = 0.0, best_cv = 0.0;
       std::vector<int> best_trial;
       for (std::size_t t = 1; t < terms.size(); ++t) {
-        if (terms[t].gauge_only || !terms[t].part_of.empty() ||
+        if (terms[t].gauge_only || terms[t].part_of.has_value() ||
             std::find(model.begin(), model.end(), static_cast<int>(t)) != model.end())
           continue;
         const std::vector<int> base_model = sel.models().baseFor(model, static_cast<int>(t));
@@ -215,7 +216,7 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual,
         if (trial == base_model) continue;
         // A term whose required terms are hierarchy (paid_requires) is measured together with
         // them against the model; others (earth/gravity) against the model with them.
-        const std::vector<int>& ref = terms[t].paid_requires ? model : base_model;
+        const std::vector<int>& ref = terms[t].spec->paid_requires ? model : base_model;
         const double dbic = sel.evidence().deltaBic(ref, trial, static_cast<int>(t));
         const double cvg = sel.evidence().cvGain(ref, trial, static_cast<int>(t));
         if (sel.evidence().passes(dbic, cvg) && (best < 0 || dbic > best_bic)) {
@@ -227,8 +228,8 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual,
       }
       if (best < 0) break;
       model = best_trial;
-      log.push_back(fmt::format("add {} (delta_bic {:.1f}, cv_gain {:.4f})", terms[best].key(),
-                                best_bic, best_cv));
+      log.push_back(fmt::format("add {} (delta_bic {:.1f}, cv_gain {:.4f})",
+                                terms[best].key().text(), best_bic, best_cv));
     }
     // Backward elimination.
     bool dropped = false;
@@ -236,7 +237,7 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual,
       int worst = -1;
       double worst_bic = 0.0;
       for (int t : model) {
-        if (terms[t].nuisance || sel.models().requiredByOthers(model, t)) continue;
+        if (terms[t].nuisance() || sel.models().requiredByOthers(model, t)) continue;
         double dbic = 0.0, cvg = 0.0;
         sel.evidence().termEvidence(model, t, &dbic, &cvg);
         if (!sel.evidence().passes(dbic, cvg) && (worst < 0 || dbic < worst_bic)) {
@@ -247,7 +248,8 @@ SelectionResult selectTerms(const Eigen::MatrixXd& residual,
       if (worst < 0) break;
       model = sel.models().withoutTerm(model, worst);
       dropped = true;
-      log.push_back(fmt::format("drop {} (delta_bic {:.1f})", terms[worst].key(), worst_bic));
+      log.push_back(
+          fmt::format("drop {} (delta_bic {:.1f})", terms[worst].key().text(), worst_bic));
     }
     if (!dropped || !visited.insert(model).second) break;
   }

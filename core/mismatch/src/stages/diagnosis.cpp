@@ -1,6 +1,4 @@
-// The mismatch finder (diagnosis.h) as a pipeline of named stages over typed values
-// (diagnosis_stages.h): align time -> grid -> residual -> regressors -> select (with the lab
-// gates and the passes it calls for) -> locate -> claims -> checks -> model and report.
+// The mismatch finder (diagnosis.h): its seven stages (diagnosis_stages.h) in order.
 #include "graftnav/mismatch/diagnosis.h"
 
 #include <algorithm>
@@ -69,28 +67,33 @@ void release(Series* series) {
   Series().swap(*series);
 }
 
-// Selection to report on the binned records (the reference record is the only one it reads);
-// returns SG#3's per-bin contribution. Kept apart from diagnose() so the library, the regressors
-// and the passes are freed before SG#3 is built.
+// Stages 3-7 on the binned records (the reference record is the only one they read); returns
+// SG#3's per-bin contribution. Kept apart from diagnose() so the library, the regressors and the
+// passes are freed before SG#3 is built.
 Eigen::MatrixXd explainAndReport(DiagnosisInputs& in, const DiagnoseOptions& opt,
                                  const TimeAlignment& alignment, const ResidualBins& bins,
                                  const RawRecordChecks& raw, DiagnosisResult* out) {
+  // 3. regressors
   std::vector<Eigen::Matrix3d> C_bn = attitudeOnGrid(in, bins);
   release(&in.attitude);  // now C_bn, per bin
   RegressorState reg = initialRegressors(in, bins, alignment.pivot_s, std::move(C_bn), &out->notes);
+  // 4. select
   const ExplainInputs explain{in, opt, bins, out->masked_bins};
   const SelectionPasses passes = runSelectionPasses(explain, alignment.pivot_s, &reg, &out->notes);
   const Explanation& ex = passes.explanation;
   out->notes.insert(out->notes.end(), ex.notes.begin(), ex.notes.end());
   out->notes.insert(out->notes.end(), passes.repeat_notes.begin(), passes.repeat_notes.end());
   const Vector6d bin_variance = binNoiseVariance(ex.sel);
+  // 5. locate
   const Eigen::Matrix<double, 6, 1> noise_ms = locateBeforeModelling(bins, opt, bin_variance, out);
+  // 6. claims
   out->selection = ex.sel;
   const ClaimInputs claims{in, opt, bins, raw, ex, reg, alignment, passes.pivot_s};
-  std::vector<std::string> lab_quadratic_not_listed = claimEffects(claims, out);
+  std::vector<Sensor> lab_quadratic_not_listed = claimEffects(claims, out);
   const ReferenceInputStats inputs = referenceInputStats(bins, out->masked_bins);
   ownAsymmetryGains(claims, inputs.mean, out);
   claimChecks(claims, inputs, &lab_quadratic_not_listed, out);
+  // 7. model and report (SG#3 itself: diagnose())
   Eigen::MatrixXd sg3_contribution = modelAndReport(claims, noise_ms, bin_variance, out);
   out->in_simulation = labModelledTerms(in, lab_quadratic_not_listed);
   return sg3_contribution;
@@ -110,7 +113,8 @@ DiagnosisResult diagnose(DiagnosisInputs&& in, const DiagnoseOptions& opt_in) {
   DiagnosisResult out;
   out.case_name = in.case_name;
   out.simulation_kind = in.simulation_kind;
-  TimeAlignment alignment = alignTime(in, opt_in, &out);
+  TimeAlignment alignment = alignTime(in, opt_in, &out);  // 1. align time
+  // 2. grid and residual
   out.grid = finderGrid(in, alignment.real(in), alignment.pivot_s, opt_in, &out.notes);
   const DiagnoseOptions opt = optionsOnGrid(in, out.grid, opt_in);
   const ResidualBins bins = binResidual(in, alignment, out.grid, &out);

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "diagnosis_stages.h"
-#include "graftnav/mismatch/term_kind.h"
+#include "graftnav/mismatch/term_spec.h"
 
 namespace graftnav::diagnosis_detail {
 
@@ -41,12 +41,12 @@ struct AsymmetryTerms {
 AsymmetryTerms asymmetryTermsOf(const std::vector<CandidateTerm>& terms, Sensor sensor) {
   AsymmetryTerms at;
   for (std::size_t t = 0; t < terms.size(); ++t) {
-    if (terms[t].sensor != sensorName(sensor)) continue;
-    const TermKind kind = kindOf(terms[t]);
+    if (terms[t].sensor != scopeOf(sensor)) continue;
+    const TermKind kind = terms[t].kind();
     // The plain |x| columns: y - x holds the sensor, not SG#2's quadratic.
-    if (kind == TermKind::scale_asymmetry && terms[t].regressor.empty())
+    if (kind == TermKind::scale_asymmetry && terms[t].variant == TermVariant::none)
       at.asym = static_cast<int>(t);
-    if (kind == TermKind::non_orthogonality && terms[t].regressor.empty())
+    if (kind == TermKind::non_orthogonality && terms[t].variant == TermVariant::none)
       at.nonorth = static_cast<int>(t);
     if (kind == TermKind::scale_factor) at.scale = static_cast<int>(t);
     if (kind == TermKind::scale_nonlinearity) at.curv = static_cast<int>(t);
@@ -74,10 +74,7 @@ std::vector<CandidateTerm> withLabCurvatureKnown(const std::vector<CandidateTerm
         ((quad->c2.array() != 0.0) && quad->c2_tested_per_abs.array().isFinite()).any()))
     return own_terms;
   own_terms = terms;
-  CandidateTerm known;
-  known.name = "lab_curvature_known";
-  known.sensor = sensorName(sensor);
-  known.fixed = true;
+  CandidateTerm known(termSpec(TermKind::lab_curvature_known), scopeOf(sensor));
   known.explanation = "the lab's quadratic less the asymmetry's fold in it";
   RegressorColumn col;
   for (int a = 0; a < 3; ++a) {
@@ -144,12 +141,12 @@ void ownAsymmetryGains(const ClaimInputs& c, const Vector6d& ref_input_mean, Dia
   for (const TermFit& tf : sel.selected)
     if (tf.claimed) claimed_terms.push_back(tf.term);
   for (Effect& e : out->effects) {
-    if (termKindNamed(e.name) != TermKind::scale_asymmetry) continue;
-    const Sensor sensor = sensorNamed(e.sensor);
+    if (e.kind() != TermKind::scale_asymmetry) continue;
+    const Sensor sensor = sensorOf(e.sensor);
     const AsymmetryTerms at = asymmetryTermsOf(terms, sensor);
     std::vector<int> model;
     for (int t : claimed_terms)  // the alternative replacing SG#2's quadratic: its plain columns
-      if (terms[t].regressor != "replaces_lab_quadratic") model.push_back(t);
+      if (terms[t].variant != TermVariant::replaces_lab_quadratic) model.push_back(t);
     for (int t : {at.asym, at.nonorth, at.scale})
       if (t >= 0 && std::find(model.begin(), model.end(), t) == model.end()) model.push_back(t);
     const std::optional<LabQuadratic>& quad = c.in.priors[sensor].lab_quadratic;

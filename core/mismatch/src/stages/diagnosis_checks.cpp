@@ -9,7 +9,6 @@
 #include "diagnosis_stages.h"
 #include "graftnav/mismatch/claim_checks.h"
 #include "graftnav/mismatch/gain_or_curvature.h"
-#include "graftnav/mismatch/term_kind.h"
 
 namespace graftnav::diagnosis_detail {
 
@@ -21,8 +20,8 @@ namespace {
 // reversed). The gate (a) allows 3 sigma of it; the reader is told how many sigma the claim is.
 void noteReferenceScaleShare(const DiagnosisInputs& in, double share_limit, DiagnosisResult* out) {
   for (Effect& e : out->effects) {
-    if (termKindNamed(e.name) != TermKind::scale_factor) continue;
-    const std::optional<double>& ref_sigma = in.priors[sensorNamed(e.sensor)].reference_scale_sigma;
+    if (e.kind() != TermKind::scale_factor) continue;
+    const std::optional<double>& ref_sigma = in.priors[sensorOf(e.sensor)].reference_scale_sigma;
     if (!ref_sigma || !(*ref_sigma > 0.0)) continue;
     const std::vector<double>& k = e.parameters[0].values;
     const double k_max = std::abs(*std::max_element(
@@ -41,11 +40,9 @@ void noteReferenceScaleShare(const DiagnosisInputs& in, double share_limit, Diag
 // (quantization_evidence.h): claimed, or its detection limit.
 void claimQuantization(const QuantizationCheck& q, DiagnosisResult* out) {
   out->quantization_checks.push_back(q);
-  Effect e;
-  e.name = "quantization";
-  e.sensor = q.sensor;
+  Effect e(termSpec(TermKind::quantization), scopeOf(q.sensor));
   EffectParameter p;
-  p.key = "step";
+  p.key = e.spec->parameters[0].key;
   if (q.anyClaimed()) {
     e.evidence_method = "value_lattice";
     for (int a = 0; a < 3; ++a) {
@@ -53,7 +50,7 @@ void claimQuantization(const QuantizationCheck& q, DiagnosisResult* out) {
       p.sigma.push_back(q.claimed[a] ? 1e-6 * q.step(a) : kNaN);
     }
     e.parameters.push_back(p);
-    e.explanation = "the real " + e.sensor +
+    e.explanation = std::string("the real ") + sensorName(q.sensor) +
                     " increments are whole multiples of a step "
                     "coarser than the file's printed resolution, and its noise is resolvable "
                     "against the white noise; the simulation's are not (" +
@@ -76,9 +73,9 @@ RawRecordChecks rawRecordChecks(const DiagnosisInputs& in, const TimeAlignment& 
                                 const DiagnoseOptions& opt) {
   RawRecordChecks raw;
   if (opt.detect_quantization)
-    for (const bool gyro : {true, false})
+    for (const Sensor s : kSensors)
       raw.quantization.push_back(
-          checkQuantization(alignment.real(in), in.simulated, gyro, opt.quantization));
+          checkQuantization(alignment.real(in), in.simulated, s, opt.quantization));
   return raw;
 }
 
@@ -92,14 +89,15 @@ ReferenceInputStats referenceInputStats(const ResidualBins& bins, const std::vec
 }
 
 void claimChecks(const ClaimInputs& c, const ReferenceInputStats& inputs,
-                 std::vector<std::string>* lab_quadratic_not_listed, DiagnosisResult* out) {
+                 std::vector<Sensor>* lab_quadratic_not_listed, DiagnosisResult* out) {
   const DiagnosisInputs& in = c.in;
   noteReferenceScaleShare(in, c.opt.finder.reference_scale_share_limit, out);
   // A gain on an axis whose input keeps one sign may be the lab's unfitted curvature or an
   // asymmetry its poses folded into a quadratic (gain_or_curvature.h): the lab's degree-2
   // coefficient decides the name, or says it cannot.
-  nameOneSignedGains(in, {inputs.mean.head<3>(), inputs.mean.tail<3>()},
-                     {inputs.sd.gyro, inputs.sd.accel}, c.opt.selection.min_name_margin, out,
+  const PerSensor<Eigen::Vector3d> input_mean{{inputs.mean.head<3>(), inputs.mean.tail<3>()}};
+  const PerSensor<Eigen::Vector3d> input_sd{{inputs.sd.gyro, inputs.sd.accel}};
+  nameOneSignedGains(in, input_mean, input_sd, c.opt.selection.min_name_margin, out,
                      lab_quadratic_not_listed);
   const SelectionResult& sel = c.ex.sel;
   out->nuisance_bias = sel.nuisance.theta.head<6>();

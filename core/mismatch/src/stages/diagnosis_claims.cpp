@@ -8,7 +8,6 @@
 #include <string>
 
 #include "diagnosis_stages.h"
-#include "graftnav/mismatch/term_kind.h"
 
 namespace graftnav::diagnosis_detail {
 
@@ -38,7 +37,7 @@ QuadraticVerdict checkAgainstLabQuadratic(const LabQuadratic& lab_q, double gate
         "lab polynomial term c2 [{:.3g} {:.3g} {:.3g}]; the sensor's own k2 [{:.3g} {:.3g} "
         "{:.3g}] is zero within {:g} sigma: modelled in SG#3, not claimed (the simulation's "
         "artefact, not a non-linearity of the sensor)",
-        e->sensor, e->parameters[1].values[0], e->parameters[1].values[1],
+        scopeName(e->sensor), e->parameters[1].values[0], e->parameters[1].values[1],
         e->parameters[1].values[2], lab_q.c2(0), lab_q.c2(1), lab_q.c2(2), own.values[0],
         own.values[1], own.values[2], gate_sigmas));
     return QuadraticVerdict::cancels_lab;
@@ -61,26 +60,26 @@ QuadraticVerdict checkAgainstLabQuadratic(const LabQuadratic& lab_q, double gate
       "polynomial holds (c2 [{:.3g} {:.3g} {:.3g}]) within {:g} sigma of the lab's own c2 "
       "uncertainty; the missing part [{:.3g} {:.3g} {:.3g}] ({:.2f} x its limit) is "
       "calibration error: modelled in SG#3, not claimed",
-      e->sensor, e->parameters[0].values[0], e->parameters[0].values[1], e->parameters[0].values[2],
-      lab_q.c2(0), lab_q.c2(1), lab_q.c2(2), gate_sigmas, miss.values[0], miss.values[1],
-      miss.values[2], worst));
+      scopeName(e->sensor), e->parameters[0].values[0], e->parameters[0].values[1],
+      e->parameters[0].values[2], lab_q.c2(0), lab_q.c2(1), lab_q.c2(2), gate_sigmas,
+      miss.values[0], miss.values[1], miss.values[2], worst));
   return QuadraticVerdict::within_lab;
 }
 
 // Found and modelled in SG#3, but which of two shapes of the same physics (|x| or x^2) is not
 // settled: listed apart from the claims, with the alternative and the margin.
 void listAmbiguous(const ClaimInputs& c, const TermFit& tf, const Effect& e,
-                   std::vector<std::string>* not_listed, DiagnosisResult* out) {
+                   std::vector<Sensor>* not_listed, DiagnosisResult* out) {
   const std::vector<CandidateTerm>& terms = c.ex.terms;
-  const std::string& alternative = terms[tf.shape_alternative].name;
+  const TermSpec* alternative = terms[tf.shape_alternative].spec;
   out->notes.push_back(fmt::format(
       "{} {} (delta_bic {:.1f}): its shape is not settled, its evidence over {} is {:.1f} "
       "where a name needs {:.1f}; modelled in SG#3 as {}, not claimed (listed under "
       "'ambiguous')",
-      e.sensor, e.name, tf.delta_bic, alternative, tf.name_margin, c.opt.selection.min_name_margin,
-      e.name));
-  if (terms[tf.term].regressor == "replaces_lab_quadratic")
-    not_listed->push_back(e.sensor);  // SG#3 takes it out
+      scopeName(e.sensor), e.name(), tf.delta_bic, alternative->name, tf.name_margin,
+      c.opt.selection.min_name_margin, e.name()));
+  if (terms[tf.term].variant == TermVariant::replaces_lab_quadratic)
+    not_listed->push_back(sensorOf(e.sensor));  // SG#3 takes it out
   out->ambiguous.push_back({e, alternative, tf.name_margin});
 }
 
@@ -91,7 +90,7 @@ void listDetectionLimits(const ClaimInputs& c, DiagnosisResult* out) {
   const int n = c.bins.n();
   for (const TermLimit& lim : sel.limits) {
     const CandidateTerm& t = c.ex.terms[lim.term];
-    if (kindOf(t) == TermKind::bias_instability || t.columns.empty()) continue;
+    if (t.kind() == TermKind::bias_instability || t.columns.empty()) continue;
     TermFit tf;
     tf.term = lim.term;
     tf.theta = lim.theta_limit;
@@ -119,14 +118,12 @@ Effect realignmentOffset(const ClaimInputs& c) {
     rss0 += w * (r0.col(ch).array() - r0.col(ch).mean()).square().sum();
     rss1 += w * (r.col(ch).array() - r.col(ch).mean()).square().sum();
   }
-  Effect e;
-  e.name = "time_offset";
-  e.sensor = "both";
+  Effect e(termSpec(TermKind::time_offset), SensorScope::both);
   e.evidence_method = "xcorr_realignment";
   e.delta_bic = (rss0 - rss1) / sel.inflation - std::log(sel.rows / sel.inflation);
   e.cv_gain = rss0 > 0.0 ? (rss0 - rss1) / rss0 : 0.0;
   // Sigma: the lag grid's resolution (the parabola refines it; a conservative bound).
-  e.parameters.push_back(scalarParam("tau_s", c.alignment.realign_s + c.pivot_s,
+  e.parameters.push_back(scalarParam(e.spec->parameters[0].key, c.alignment.realign_s + c.pivot_s,
                                      c.opt.time_offset.bin_s / std::sqrt(12.0)));
   e.explanation =
       "the tested IMU's time tags are offset (late when positive) from the "
@@ -136,42 +133,43 @@ Effect realignmentOffset(const ClaimInputs& c) {
 
 }  // namespace
 
-std::vector<std::string> claimEffects(const ClaimInputs& c, DiagnosisResult* out) {
+std::vector<Sensor> claimEffects(const ClaimInputs& c, DiagnosisResult* out) {
   const DiagnosisInputs& in = c.in;
   const std::vector<CandidateTerm>& terms = c.ex.terms;
-  std::vector<std::string> not_listed;  // labModelledTerms
+  std::vector<Sensor> not_listed;  // labModelledTerms
   bool time_offset_claimed = false;
   for (const TermFit& tf : c.ex.sel.selected) {
     if (!tf.claimed && !tf.name_ambiguous) continue;
-    const TermKind kind = kindOf(terms[tf.term]);
-    Effect e = effectFromTerm(terms[tf.term], tf, c.bins.n());
+    const CandidateTerm& term = terms[tf.term];
+    const TermKind kind = term.kind();
+    Effect e = effectFromTerm(term, tf, c.bins.n());
     if (kind == TermKind::time_offset) {
       e.parameters[0].values[0] += c.alignment.realign_s;
       time_offset_claimed = true;
     }
     if (kind == TermKind::mounting_misalignment && anyLabCalibration(in))
       widenMisalignmentSigma(in, &e, out);
-    if (kind == TermKind::scale_nonlinearity && in.priors[sensorNamed(e.sensor)].lab_quadratic) {
-      const QuadraticVerdict v = checkAgainstLabQuadratic(
-          *in.priors[sensorNamed(e.sensor)].lab_quadratic, c.opt.finder.lab_gate_sigmas, &e, out);
-      if (v == QuadraticVerdict::cancels_lab) not_listed.push_back(e.sensor);
+    if (kind == TermKind::scale_nonlinearity && in.priors[term.triad()].lab_quadratic) {
+      const QuadraticVerdict v = checkAgainstLabQuadratic(*in.priors[term.triad()].lab_quadratic,
+                                                          c.opt.finder.lab_gate_sigmas, &e, out);
+      if (v == QuadraticVerdict::cancels_lab) not_listed.push_back(term.triad());
       if (v != QuadraticVerdict::claimed) continue;
     }
     if (tf.name_ambiguous) {
       listAmbiguous(c, tf, e, &not_listed, out);
       continue;
     }
-    if (kind == TermKind::scale_nonlinearity) not_listed.push_back(e.sensor);
-    if (terms[tf.term].regressor == "replaces_lab_quadratic") {
+    if (kind == TermKind::scale_nonlinearity) not_listed.push_back(term.triad());
+    if (term.variant == TermVariant::replaces_lab_quadratic) {
       // SG#3 takes SG#2's quadratic out: it is not in the simulation any more.
-      not_listed.push_back(e.sensor);
+      not_listed.push_back(term.triad());
       const Eigen::Vector3d c2 =
-          c.in.priors[sensorNamed(e.sensor)].lab_quadratic.value_or(LabQuadratic{}).c2;
+          c.in.priors[term.triad()].lab_quadratic.value_or(LabQuadratic{}).c2;
       out->notes.push_back(fmt::format(
           "{} scale_asymmetry replaces SG#2's lab quadratic c2 [{:.3g} {:.3g} {:.3g}]: the lab's "
           "poses at +-g (rate-table turns of both signs) see an asymmetric gain d |x| as c2 x^2; "
           "SG#3 grafts the asymmetry and takes c2 out",
-          e.sensor, c2(0), c2(1), c2(2)));
+          scopeName(e.sensor), c2(0), c2(1), c2(2)));
     }
     out->effects.push_back(e);
   }

@@ -1,5 +1,5 @@
-// Shared helpers of the finder's stages: effects from fitted terms, masked means and RMS, the
-// lab's rotation uncertainty, and the report's text for limits and lab-modelled terms.
+// Shared helpers of the finder's stages: masked means and RMS, the lab's rotation uncertainty,
+// and the report's text for limits and lab-modelled terms.
 #include <fmt/core.h>
 
 #include <Eigen/QR>
@@ -9,146 +9,9 @@
 #include <string>
 
 #include "diagnosis_stages.h"
-#include "graftnav/mismatch/term_kind.h"
+#include "graftnav/mismatch/term_spec.h"
 
 namespace graftnav::diagnosis_detail {
-
-namespace {
-
-std::vector<double> toVec(const Eigen::VectorXd& v, int a, int n) {
-  std::vector<double> out(n);
-  for (int i = 0; i < n; ++i) out[i] = v(a + i);
-  return out;
-}
-
-EffectParameter vecParam(const std::string& key, const TermFit& tf, int a, int n) {
-  EffectParameter p;
-  p.key = key;
-  p.values = toVec(tf.theta, a, n);
-  p.sigma = toVec(tf.sigma, a, n);
-  return p;
-}
-
-}  // namespace
-
-EffectParameter scalarParam(const std::string& key, double v, double s) {
-  EffectParameter p;
-  p.key = key;
-  p.values = {v};
-  p.sigma = {s};
-  p.scalar = true;
-  return p;
-}
-
-namespace {
-
-// N as a row-major 3 x 3 with zero diagonal; the symmetric variant has one parameter per pair.
-EffectParameter nonOrthogonalityParam(const CandidateTerm& term, const TermFit& tf) {
-  EffectParameter p;
-  p.key = "N";
-  p.values.assign(9, 0.0);
-  p.sigma.assign(9, 0.0);
-  const bool symmetric = term.regressor == "symmetric";  // one parameter per pair, N_ij = N_ji
-  int k = 0;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      if (i == j || (symmetric && j < i)) continue;
-      p.values[i * 3 + j] = tf.theta(k);
-      p.sigma[i * 3 + j] = tf.sigma(k);
-      if (symmetric) {
-        p.values[j * 3 + i] = tf.theta(k);
-        p.sigma[j * 3 + i] = tf.sigma(k);
-      }
-      ++k;
-    }
-  return p;
-}
-
-// Wander of the fitted piecewise-linear bias per axis: its standard deviation over the record.
-EffectParameter biasWanderParam(const CandidateTerm& term, const TermFit& tf, int n_bins) {
-  const int per_axis = static_cast<int>(term.columns.size()) / 3;
-  EffectParameter p;
-  p.key = "sigma";
-  const Eigen::MatrixXd path = termContribution(term, tf.theta, n_bins);
-  for (int a = 0; a < 3; ++a) {
-    const int ch = firstChannel(sensorNamed(term.sensor)) + a;
-    const Eigen::VectorXd v = path.col(ch);
-    p.values.push_back(std::sqrt((v.array() - v.mean()).square().mean()));
-    double var = 0.0;
-    for (int k = 0; k < per_axis; ++k) var += tf.covariance(a * per_axis + k, a * per_axis + k);
-    p.sigma.push_back(std::sqrt(var / std::max(1, per_axis)));
-  }
-  return p;
-}
-
-}  // namespace
-
-Effect effectFromTerm(const CandidateTerm& term, const TermFit& tf, int n_bins) {
-  Effect e;
-  e.name = term.name;
-  e.sensor = term.sensor;
-  e.explanation = term.explanation;
-  e.delta_bic = tf.delta_bic;
-  e.cv_gain = tf.cv_gain;
-  std::vector<EffectParameter>& ps = e.parameters;
-  switch (kindOf(term)) {
-    case TermKind::scale_factor:
-      ps.push_back(vecParam("k", tf, 0, 3));
-      break;
-    case TermKind::non_orthogonality:
-      ps.push_back(nonOrthogonalityParam(term, tf));
-      break;
-    case TermKind::g_sensitivity:
-      ps.push_back(vecParam("G", tf, 0, 9));
-      break;
-    case TermKind::scale_asymmetry: {
-      // The residual's d |x|: gains +d for positive and -d for negative inputs.
-      EffectParameter kp = vecParam("k_pos", tf, 0, 3), kn = kp;
-      kn.key = "k_neg";
-      for (double& v : kn.values) v = -v;
-      ps.push_back(kp);
-      ps.push_back(kn);
-      break;
-    }
-    case TermKind::scale_nonlinearity:
-      ps.push_back(vecParam("k2", tf, 0, 3));
-      break;
-    case TermKind::temperature_bias:
-      ps.push_back(vecParam("per_degC", tf, 0, 3));
-      ps.push_back(scalarParam("t_ref_degC", term.t_ref_degC, 0.0));
-      break;
-    case TermKind::temperature_scale:
-      ps.push_back(vecParam("per_degC", tf, 0, 3));
-      break;
-    case TermKind::time_offset:
-      ps.push_back(scalarParam("tau_s", tf.theta(0), tf.sigma(0)));
-      break;
-    case TermKind::lever_arm:
-      ps.push_back(vecParam("r_m", tf, 0, 3));
-      break;
-    case TermKind::mounting_misalignment:
-      ps.push_back(vecParam("rotation_rad", tf, 0, 3));
-      break;
-    case TermKind::vibration_rectification: {
-      ps.push_back(vecParam("coeff", tf, 0, 3));
-      EffectParameter r;
-      r.key = "regressor";
-      r.text = term.regressor;
-      ps.push_back(r);
-      break;
-    }
-    case TermKind::bias_instability:
-      ps.push_back(biasWanderParam(term, tf, n_bins));
-      ps.push_back(scalarParam("tau_s", term.knot_spacing_s, kNaN));
-      break;
-    case TermKind::gravity_model:
-      ps.push_back(scalarParam("delta_g_m_s2", tf.theta(0), tf.sigma(0)));
-      break;
-    default:
-      break;  // earth_rotation_omitted: no parameters
-  }
-  return e;
-}
 
 // Column means of r over its unmasked rows (zero when all are masked).
 Vector6d meanOf(const Eigen::MatrixXd& r, const std::vector<char>& masked) {
@@ -258,13 +121,12 @@ bool sensorsOwnQuadratic(const LabQuadratic& lab, double gate_sigmas, Effect* e)
 // for the sensors in `not_listed`: a claimed scale_nonlinearity already reports the sensor's own
 // k2 (lab c2 included), and a residual that cancels the lab's c2 says it is not the sensor's.
 std::vector<Effect> labModelledTerms(const DiagnosisInputs& in,
-                                     const std::vector<std::string>& not_listed) {
+                                     const std::vector<Sensor>& not_listed) {
   std::vector<Effect> out;
   for (const Sensor s : kSensors) {
     const std::optional<LabQuadratic>& quad = in.priors[s].lab_quadratic;
-    const std::string sensor = sensorName(s);
     if (!quad || (quad->c2.array() == 0.0).all()) continue;
-    if (std::find(not_listed.begin(), not_listed.end(), sensor) != not_listed.end()) continue;
+    if (std::find(not_listed.begin(), not_listed.end(), s) != not_listed.end()) continue;
     const LabQuadratic& q = *quad;
     EffectParameter k2;
     k2.key = "k2";
@@ -276,17 +138,14 @@ std::vector<Effect> labModelledTerms(const DiagnosisInputs& in,
         axes += fmt::format("{}{} {:.3g} +- {:.2g}", axes.empty() ? "" : ", ", "xyz"[a], q.c2(a),
                             q.c2_sigma(a));
     }
-    Effect e;
-    e.name = "scale_nonlinearity";
-    e.sensor = sensor;
+    Effect e(termSpec(TermKind::scale_nonlinearity), scopeOf(s));
     e.parameters.push_back(k2);
     e.evidence_method = "lab_degree_test";
     e.explanation = fmt::format(
         "the lab calibration's fitting function (seed Eq. 21) took a quadratic on {} ({}): the "
         "tested {} bends, and SG#2 already grafts it, so the field residual does not show it "
         "(a scale asymmetry looks the same on the lab's -g/0/+g poses)",
-        axes.find(',') == std::string::npos ? "one axis" : "these axes", axes,
-        s == Sensor::gyro ? "gyro" : "accelerometer");
+        axes.find(',') == std::string::npos ? "one axis" : "these axes", axes, sensorNoun(s));
     out.push_back(e);
   }
   return out;

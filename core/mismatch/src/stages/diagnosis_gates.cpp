@@ -9,7 +9,7 @@
 #include <string>
 
 #include "diagnosis_stages.h"
-#include "graftnav/mismatch/term_kind.h"
+#include "graftnav/mismatch/term_spec.h"
 #include "graftnav/mismatch/wander.h"
 
 namespace graftnav::diagnosis_detail {
@@ -42,7 +42,7 @@ SelectionResult withCalibrationErrorFitted(const Eigen::MatrixXd& r,
                                            std::vector<std::string>* notes) {
   if (gated.empty() || sel.selected.empty()) return sel;
   std::string gated_names;
-  for (int t : gated) gated_names += (gated_names.empty() ? "" : ", ") + terms[t].key();
+  for (int t : gated) gated_names += (gated_names.empty() ? "" : ", ") + terms[t].key().text();
   for (int pass = 0; pass < max_passes; ++pass) {
     std::vector<int> model;
     for (const TermFit& tf : sel.selected) model.push_back(tf.term);
@@ -63,7 +63,7 @@ SelectionResult withCalibrationErrorFitted(const Eigen::MatrixXd& r,
         notes->push_back(fmt::format(
             "{} passed the selection but not next to the lab calibration error ({}) held in the "
             "fit (delta_bic {:.1f}, cv_gain {:.4f}): not claimed, the lab's own error explains it",
-            terms[tf.term].key(), gated_names, it->delta_bic, it->cv_gain));
+            terms[tf.term].key().text(), gated_names, it->delta_bic, it->cv_gain));
       } else if (claimed) {
         kept.push_back(tf.term);
       }
@@ -89,7 +89,7 @@ SelectionResult withCalibrationErrorFitted(const Eigen::MatrixXd& r,
 const Eigen::VectorXd* columnOn(const std::vector<CandidateTerm>& terms, TermKind kind,
                                 Sensor sensor, int c) {
   for (const CandidateTerm& t : terms) {
-    if (kindOf(t) != kind || t.sensor != sensorName(sensor) || !t.regressor.empty()) continue;
+    if (t.kind() != kind || t.sensor != scopeOf(sensor) || t.variant != TermVariant::none) continue;
     for (const RegressorColumn& col : t.columns)
       if (col.actsOn(c)) return &col.channel[c];
   }
@@ -157,10 +157,10 @@ struct GateContext {
 // sigma^2) (with the reference's scale and the lab quadratic's gain uncertainty for the scale).
 std::optional<HoldBack> gateCalibrationMatrix(const GateContext& g, const TermFit& tf) {
   const CandidateTerm& t = g.terms[tf.term];
-  const TermKind kind = kindOf(t);
+  const TermKind kind = t.kind();
   if (kind != TermKind::scale_factor && kind != TermKind::non_orthogonality) return std::nullopt;
   const bool scale = kind == TermKind::scale_factor;
-  const Sensor sensor = sensorNamed(t.sensor);
+  const Sensor sensor = t.triad();
   const SensorPriors& prior = g.in.priors[sensor];
   const std::optional<Eigen::Matrix3d>& Msig = prior.lab_M_sigma;
   if (!Msig) return std::nullopt;
@@ -176,7 +176,7 @@ std::optional<HoldBack> gateCalibrationMatrix(const GateContext& g, const TermFi
   const std::optional<Eigen::Matrix3d>& other_Msig = g.in.priors[otherSensor(sensor)].lab_M_sigma;
   const bool shared_rotation = std::any_of(
       g.sel.selected.begin(), g.sel.selected.end(),
-      [&](const TermFit& o) { return kindOf(g.terms[o.term]) == TermKind::mounting_misalignment; });
+      [&](const TermFit& o) { return g.terms[o.term].kind() == TermKind::mounting_misalignment; });
   bool beyond = false;
   double worst_ratio = 0.0;  // largest |value| / limit, for the note
   std::size_t worst_k = 0;
@@ -207,7 +207,7 @@ std::optional<HoldBack> gateCalibrationMatrix(const GateContext& g, const TermFi
       "{} {} fitted but within {:g} sigma of the lab calibration's own uncertainty{}{}: not "
       "claimed (calibration error, not missing physics; largest element {}[{}] = {:.3g}, "
       "{:.2f} x its limit)",
-      t.sensor, t.name, g.gate_sigmas,
+      scopeName(t.sensor), t.name(), g.gate_sigmas,
       with_quad ? " (with its quadratic's at the drive's mean input)" : "",
       with_ref ? fmt::format(" and the reference IMU's scale uncertainty ({:.3g} ppm, "
                              "its profile)",
@@ -222,8 +222,8 @@ std::optional<HoldBack> gateCalibrationMatrix(const GateContext& g, const TermFi
 // where the lab kept it) is an even function, like |x|.
 std::optional<HoldBack> gateAsymmetry(const GateContext& g, const TermFit& tf) {
   const CandidateTerm& t = g.terms[tf.term];
-  if (kindOf(t) != TermKind::scale_asymmetry) return std::nullopt;
-  const Sensor sensor = sensorNamed(t.sensor);
+  if (t.kind() != TermKind::scale_asymmetry) return std::nullopt;
+  const Sensor sensor = t.triad();
   if (!g.in.priors[sensor].lab_M_sigma) return std::nullopt;
   const std::optional<LabQuadratic>& quad = g.in.priors[sensor].lab_quadratic;
   const Effect e = effectFromTerm(t, tf, g.grid.count);
@@ -248,7 +248,7 @@ std::optional<HoldBack> gateAsymmetry(const GateContext& g, const TermFit& tf) {
       fmt::format("{} scale_asymmetry fitted but within {:g} sigma of the fit and of the lab "
                   "quadratic's uncertainty as it reads on |x|: not claimed (largest: axis {}, "
                   "d = {:.3g}, {:.2f} x its limit)",
-                  t.sensor, g.gate_sigmas, worst_a, d.values[worst_a], worst_ratio)};
+                  scopeName(t.sensor), g.gate_sigmas, worst_a, d.values[worst_a], worst_ratio)};
 }
 
 // Gate (d): for either sensor a rotation is indistinguishable from the antisymmetric part of its
@@ -256,7 +256,7 @@ std::optional<HoldBack> gateAsymmetry(const GateContext& g, const TermFit& tf) {
 // 3 sigma of the fit and of the less certain sensor's lab rotation uncertainty combined.
 std::optional<HoldBack> gateMisalignment(const GateContext& g, const TermFit& tf) {
   const CandidateTerm& t = g.terms[tf.term];
-  if (!(kindOf(t) == TermKind::mounting_misalignment && anyLabCalibration(g.in)))
+  if (!(t.kind() == TermKind::mounting_misalignment && anyLabCalibration(g.in)))
     return std::nullopt;
   const Effect e = effectFromTerm(t, tf, g.grid.count);
   const EffectParameter& q = e.parameters[0];
@@ -276,8 +276,8 @@ std::optional<HoldBack> gateMisalignment(const GateContext& g, const TermFit& tf
 // realizations of the lab's bias instability and rate random walk give (99.9 % quantile).
 std::optional<HoldBack> gateBiasWander(const GateContext& g, const TermFit& tf) {
   const CandidateTerm& t = g.terms[tf.term];
-  if (kindOf(t) != TermKind::bias_instability) return std::nullopt;
-  const std::optional<LabNoiseFigures>& lab = g.in.priors[sensorNamed(t.sensor)].lab_noise;
+  if (t.kind() != TermKind::bias_instability) return std::nullopt;
+  const std::optional<LabNoiseFigures>& lab = g.in.priors[t.triad()].lab_noise;
   if (!lab) return std::nullopt;
   const Effect e = effectFromTerm(t, tf, g.grid.count);
   const Eigen::Vector3d expected = expectedWanderSd(*lab, g.grid.count * g.grid.bin_s);
@@ -289,7 +289,7 @@ std::optional<HoldBack> gateBiasWander(const GateContext& g, const TermFit& tf) 
       fmt::format("{} bias wander [{:.3g} {:.3g} {:.3g}] is within {} x the wander the lab's bias "
                   "instability and rate random walk predict for two realizations [{:.3g} {:.3g} "
                   "{:.3g}]: not claimed (the graft already carries it)",
-                  t.sensor, e.parameters[0].values[0], e.parameters[0].values[1],
+                  scopeName(t.sensor), e.parameters[0].values[0], e.parameters[0].values[1],
                   e.parameters[0].values[2], kWanderSdQuantile999, expected(0), expected(1),
                   expected(2)),
       false};
@@ -307,8 +307,8 @@ void holdBack(const GateContext& g, const TermFit& tf, const HoldBack& why, Gate
               std::vector<std::string>* notes, std::vector<int>* calibration_gated) {
   std::string by;
   for (const TermFit& o : g.sel.selected)
-    for (const std::string& req : g.terms[o.term].requires_terms)
-      if (req == g.terms[tf.term].key()) by = g.terms[o.term].key();
+    for (const TermKey& req : g.terms[o.term].requires_terms)
+      if (req == g.terms[tf.term].key()) by = g.terms[o.term].key().text();
   if (!by.empty()) {
     pass->keep.push_back(tf.term);
     pass->companions.push_back(tf.term);

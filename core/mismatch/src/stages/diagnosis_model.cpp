@@ -7,7 +7,7 @@
 #include <string>
 
 #include "diagnosis_stages.h"
-#include "graftnav/mismatch/term_kind.h"
+#include "graftnav/mismatch/term_spec.h"
 #include "graftnav/mismatch/wander.h"
 
 namespace graftnav::diagnosis_detail {
@@ -26,7 +26,7 @@ Eigen::MatrixXd wanderWithinLab(const ClaimInputs& c, const Eigen::MatrixXd& aft
                             out->masked_bins, &expected_wander);
   std::string within;
   for (const WanderCheck& k : out->wander)
-    if (k.within) within += (within.empty() ? "" : ", ") + k.channel;
+    if (k.within) within += (within.empty() ? "" : ", ") + mismatchChannelNames()[k.channel];
   if (!within.empty())
     out->notes.push_back(fmt::format(
         "slow bias wander of {} is within {} x what the lab's bias instability and rate random "
@@ -52,7 +52,7 @@ void removeCalibrationGated(const ClaimInputs& c, Eigen::MatrixXd* unexplained_r
   zeroMaskedRows(out->masked_bins, &cal_model);
   *unexplained_residual -= cal_model;
   std::string names;
-  for (int t : calibration_gated) names += (names.empty() ? "" : ", ") + terms[t].key();
+  for (int t : calibration_gated) names += (names.empty() ? "" : ", ") + terms[t].key().text();
   const ChannelRms cal_rms =
       rmsOf(cal_model.rowwise() - cal_model.colwise().mean(), out->masked_bins);
   out->notes.push_back(fmt::format(
@@ -78,7 +78,7 @@ Eigen::MatrixXd sg3Contribution(const ClaimInputs& c, DiagnosisResult* out) {
     sg3_model.rowwise() += offset.transpose();
     // Its uncertainty: each coefficient's times its column's mean (one column per axis, each on
     // its own channel, so unit coefficients give every column's mean at once).
-    const Sensor sensor = sensorNamed(term.sensor);
+    const Sensor sensor = term.triad();
     const int s0 = firstChannel(sensor);
     const Vector6d column_mean =
         meanOf(termContribution(term, Eigen::VectorXd::Ones(tf.theta.size()), n), out->masked_bins);
@@ -89,7 +89,7 @@ Eigen::MatrixXd sg3Contribution(const ClaimInputs& c, DiagnosisResult* out) {
         "SG#3 carries the {} bias change from the simulation's temperature ({:.1f} degC) to the "
         "field's: [{:.3g} {:.3g} {:.3g}] {} (1-sigma [{:.2g} {:.2g} {:.2g}]), per_degC times the "
         "mean temperature difference",
-        term.sensor, term.t_ref_degC, offset(s0), offset(s0 + 1), offset(s0 + 2),
+        scopeName(term.sensor), term.t_ref_degC, offset(s0), offset(s0 + 1), offset(s0 + 2),
         sensor == Sensor::gyro ? "rad/s" : "m/s^2", sigma(0), sigma(1), sigma(2)));
   }
   return sg3_model;
@@ -112,7 +112,7 @@ void holdoutCheck(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& te
   Eigen::MatrixXd pred = Eigen::MatrixXd::Zero(n, kMismatchChannels);
   for (const TermFit& tf : sel.selected) {
     Eigen::MatrixXd c = termContribution(terms[tf.term], tf.theta, n);
-    if (kindOf(terms[tf.term]) == TermKind::bias_instability)
+    if (terms[tf.term].kind() == TermKind::bias_instability)
       for (int i = half; i < n; ++i) c.row(i) = c.row(half - 1);
     pred += c;
     out->holdout_terms.push_back(terms[tf.term].key());

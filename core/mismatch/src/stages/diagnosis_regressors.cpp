@@ -133,10 +133,12 @@ void buildMotionRegressors(const DiagnosisInputs& in, const ResidualBins& bins, 
   ri.even_powers = binEvenPowers(in.reference, grid, -pv);
   const AngularAccelerationBins wdot = angularAccelerationPerBin(in.reference, shifted);
   ri.omega_dot_rad_s2 = wdot.omega_dot_rad_s2;
-  ri.vibration_f_hp_sq = vibrationLevelPerBin(tested_f, shifted, "specific_force_hp_sq");
+  ri.vibration_f_hp_sq =
+      vibrationLevelPerBin(tested_f, shifted, variantName(TermVariant::specific_force_hp_sq));
   ri.g_sensitivity_f_m_s2 =
       reg->at_tested_imu.empty() ? Eigen::MatrixX3d() : binImu(tested_f, grid, -pv).f_m_s2;
-  ri.vibration_w_hp_sq = vibrationLevelPerBin(in.reference, shifted, "angular_rate_hp_sq");
+  ri.vibration_w_hp_sq =
+      vibrationLevelPerBin(in.reference, shifted, variantName(TermVariant::angular_rate_hp_sq));
   if (!first) return;  // the windows do not depend on the pivot
   notes->push_back(fmt::format(
       "lever_arm regressor: angular acceleration from edge rates over {:.1f}/{:.1f}/{:.1f} ms "

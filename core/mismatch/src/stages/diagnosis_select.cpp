@@ -11,7 +11,7 @@
 #include "diagnosis_stages.h"
 #include "graftnav/imu/imu_error_model.h"
 #include "graftnav/mismatch/joint_fit.h"
-#include "graftnav/mismatch/term_kind.h"
+#include "graftnav/mismatch/term_spec.h"
 
 namespace graftnav::diagnosis_detail {
 
@@ -20,7 +20,7 @@ namespace {
 int indexOfTerm(const std::vector<CandidateTerm>& terms, TermKind kind) {
   int idx = -1;
   for (std::size_t t = 0; t < terms.size(); ++t)
-    if (kindOf(terms[t]) == kind) idx = static_cast<int>(t);
+    if (terms[t].kind() == kind) idx = static_cast<int>(t);
   return idx;
 }
 
@@ -43,7 +43,7 @@ void derivativeSecondPass(const ExplainInputs& ex, double pv, RegressorInputs* r
   for (const TermFit& tf : e->sel.selected) {
     if (tf.term == to_idx) {
       has_to = true;
-    } else if (kindOf(e->terms[tf.term]) != TermKind::bias_instability) {
+    } else if (e->terms[tf.term].kind() != TermKind::bias_instability) {
       C += termContribution(e->terms[tf.term], tf.theta, n);
       has_other = true;
     }
@@ -67,7 +67,7 @@ void jointFitTimeOffset(const ExplainInputs& ex, double pv, const ImuSampleMap& 
                         Explanation* e) {
   int to_idx = -1;
   for (const TermFit& tf : e->sel.selected)
-    if (kindOf(e->terms[tf.term]) == TermKind::time_offset) to_idx = tf.term;
+    if (e->terms[tf.term].kind() == TermKind::time_offset) to_idx = tf.term;
   if (to_idx < 0) return;
   const JointFitResult jf =
       jointFitWithTimeOffset(ex.bins.r, ex.in.reference, ex.bins.grid, e->terms, e->sel, to_idx, pv,
@@ -138,7 +138,7 @@ std::optional<Eigen::Vector3d> rotationPivotMoved(const Explanation& e,
                                                   const FinderOptions& fo) {
   const TermFit* rot = nullptr;
   for (const TermFit& tf : e.sel.selected)
-    if (kindOf(e.terms[tf.term]) == TermKind::mounting_misalignment) rot = &tf;
+    if (e.terms[tf.term].kind() == TermKind::mounting_misalignment) rot = &tf;
   if (rot == nullptr || rot->theta.size() != 3) return std::nullopt;
   const Eigen::Vector3d phi = rot->theta;
   if (!phi.allFinite() || 0.5 * phi.squaredNorm() < fo.rotation_second_order_min ||
@@ -162,11 +162,11 @@ std::optional<Eigen::Vector3d> leverArmToMoveForce(const Explanation& e) {
   bool reads_f = false;
   for (const TermFit& tf : e.sel.selected) {
     const CandidateTerm& t = e.terms[tf.term];
-    const TermKind kind = kindOf(t);
+    const TermKind kind = t.kind();
     if (kind == TermKind::lever_arm) lever = &tf;
-    reads_f |=
-        (kind == TermKind::vibration_rectification && t.regressor == "specific_force_hp_sq") ||
-        kind == TermKind::g_sensitivity;
+    reads_f |= (kind == TermKind::vibration_rectification &&
+                t.variant == TermVariant::specific_force_hp_sq) ||
+               kind == TermKind::g_sensitivity;
   }
   if (lever != nullptr && reads_f && lever->theta.size() == 3 && lever->theta.allFinite())
     return Eigen::Vector3d(lever->theta);

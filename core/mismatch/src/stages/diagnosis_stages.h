@@ -1,17 +1,18 @@
 #pragma once
-// The mismatch finder's stages (diagnosis.h), private to the module. diagnose() runs them in
-// order over typed values: each stage reads what the earlier ones returned and returns its own
-// result; the report (DiagnosisResult) is the only thing several stages write, each its part.
+// The mismatch finder's stages, the seven of diagnosis.h, private to the module. diagnose()
+// (diagnosis.cpp) runs them in order over typed values: each stage reads what the earlier ones
+// returned and returns its own result; the report (DiagnosisResult) is the only thing several
+// stages write, each its part.
 //
-//   alignTime     -> TimeAlignment    cross-correlation offset, realignment of large offsets
-//   finderGrid    -> GridSpec         grid inside all three records
-//   binResidual   -> ResidualBins     the three records binned, residual real - simulated, masks
-//   RegressorState                    what the candidate library is built from (at a pivot)
-//   explainAt     -> Explanation      library, selection, second pass, lab gates, joint fit
-//   runSelectionPasses                the passes the first explanation calls for (time pivot,
-//                                     mounting rotation, lever arm)
-//   claimEffects / claimChecks        what the selection claims, and what it cannot
-//   modelAndReport                    SG#3 model, RMS, unexplained spans, held-out check
+//   1. align time        alignTime -> TimeAlignment (cross-correlation offset, realignment)
+//   2. grid and residual finderGrid -> GridSpec, binResidual -> ResidualBins, rawRecordChecks
+//   3. regressors        attitudeOnGrid, initialRegressors -> RegressorState (at a pivot)
+//   4. select            runSelectionPasses -> SelectionPasses: explainAt -> Explanation (library,
+//                        selection, second pass, lab gates, joint fit) and the passes it calls
+//                        for (time pivot, mounting rotation, lever arm)
+//   5. locate            locateBeforeModelling (diagnosis.cpp)
+//   6. claims            claimEffects, ownAsymmetryGains, claimChecks
+//   7. model and report  modelAndReport, labModelledTerms
 
 #include <Eigen/Core>
 #include <limits>
@@ -21,6 +22,8 @@
 #include "graftnav/mismatch/candidate_terms.h"
 #include "graftnav/mismatch/common_grid.h"
 #include "graftnav/mismatch/diagnosis.h"
+#include "graftnav/mismatch/term_effect.h"
+#include "graftnav/mismatch/term_spec.h"
 #include "graftnav/mismatch/term_selection.h"
 #include "graftnav/nav/types.h"
 
@@ -40,14 +43,13 @@ struct TimeAlignment {
 TimeAlignment alignTime(const DiagnosisInputs& in, const DiagnoseOptions& opt,
                         DiagnosisResult* out);
 
-// ---- 2. grid ----
+// ---- 2. grid and residual ----
 GridSpec finderGrid(const DiagnosisInputs& in, const ImuSeries& real, double pivot_s,
                     const DiagnoseOptions& opt, std::vector<std::string>* notes);
 // The options with what depends on the grid and the graft (slow-noise blocks, replay period).
 DiagnoseOptions optionsOnGrid(const DiagnosisInputs& in, const GridSpec& grid,
                               const DiagnoseOptions& opt);
 
-// ---- 3. residual ----
 struct ResidualBins {
   GridSpec grid;
   BinnedImu x, s, y;   // reference, simulated and real on the grid
@@ -67,7 +69,7 @@ struct RawRecordChecks {
 RawRecordChecks rawRecordChecks(const DiagnosisInputs& in, const TimeAlignment& alignment,
                                 const DiagnoseOptions& opt);
 
-// ---- 4. regressors ----
+// ---- 3. regressors ----
 struct RegressorState {
   // What the time offset shifts: the reference as the lab-calibrated tested IMU responds to it,
   // applied sample by sample as the reference is read (empty: the reference itself).
@@ -92,7 +94,7 @@ RegressorState initialRegressors(const DiagnosisInputs& in, const ResidualBins& 
 void buildMotionRegressors(const DiagnosisInputs& in, const ResidualBins& bins, double pv,
                            RegressorState* reg, std::vector<std::string>* notes);
 
-// ---- 5. select, gates ----
+// ---- 4. select ----
 struct Explanation {
   std::vector<CandidateTerm> terms;
   SelectionResult sel;
@@ -122,7 +124,7 @@ SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<Candid
                               const GridSpec& grid, SelectionResult sel,
                               std::vector<std::string>* notes, std::vector<int>* calibration_gated);
 
-// ---- 6. claims ----
+// ---- 6. claims (5, locate: diagnosis.cpp) ----
 struct ClaimInputs {
   const DiagnosisInputs& in;
   const DiagnoseOptions& opt;
@@ -135,7 +137,7 @@ struct ClaimInputs {
 };
 // Effects, ambiguous terms, detection limits, the realignment's offset; returns the sensors
 // whose lab quadratic is not listed as in the simulation (labModelledTerms).
-std::vector<std::string> claimEffects(const ClaimInputs& c, DiagnosisResult* out);
+std::vector<Sensor> claimEffects(const ClaimInputs& c, DiagnosisResult* out);
 // The reference inputs (true rates and specific forces): their means over the unmasked bins (the
 // gains at the drive's mean input) and their RMS about it (the one-signed axes).
 struct ReferenceInputStats {
@@ -148,9 +150,9 @@ void ownAsymmetryGains(const ClaimInputs& c, const Vector6d& ref_input_mean, Dia
 // Reference-scale shares, one-signed gains, nuisance, quantization lattices, correlations and
 // ranges.
 void claimChecks(const ClaimInputs& c, const ReferenceInputStats& inputs,
-                 std::vector<std::string>* lab_quadratic_not_listed, DiagnosisResult* out);
+                 std::vector<Sensor>* lab_quadratic_not_listed, DiagnosisResult* out);
 
-// ---- 7. model, locate, report ----
+// ---- 7. model and report ----
 // Returns SG#3's per-bin contribution to the simulation (n x 6, addBinnedContribution).
 Eigen::MatrixXd modelAndReport(const ClaimInputs& c, const Eigen::Matrix<double, 6, 1>& noise_ms,
                                const Vector6d& bin_variance, DiagnosisResult* out);
@@ -158,8 +160,6 @@ void holdoutCheck(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& te
                   const DiagnoseOptions& opt, DiagnosisResult* out);
 
 // ---- shared helpers (diagnosis_effects.cpp) ----
-Effect effectFromTerm(const CandidateTerm& term, const TermFit& tf, int n_bins);
-EffectParameter scalarParam(const std::string& key, double v, double s);
 Vector6d meanOf(const Eigen::MatrixXd& r, const std::vector<char>& masked);
 ChannelRms rmsOf(const Eigen::MatrixXd& r, const std::vector<char>& masked, int offset = 0);
 void zeroMaskedRows(const std::vector<char>& masked, Eigen::MatrixXd* r);
@@ -173,6 +173,6 @@ double labRotationSigma(const std::optional<Eigen::Matrix3d>& M_sigma, int axis)
 bool sensorsOwnQuadratic(const LabQuadratic& lab, double gate_sigmas, Effect* e);
 std::string limitReason(const CandidateTerm& t, const SelectionResult& sel, double bin_s, int n);
 std::vector<Effect> labModelledTerms(const DiagnosisInputs& in,
-                                     const std::vector<std::string>& not_listed);
+                                     const std::vector<Sensor>& not_listed);
 
 }  // namespace graftnav::diagnosis_detail

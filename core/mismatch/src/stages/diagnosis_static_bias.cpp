@@ -65,13 +65,14 @@ ImuSeries withStaticBias(const ImuSeries& reference, const Eigen::Vector3d& gyro
   return out;
 }
 
-Eigen::Vector3d detectQuantizationStep(const ImuSeries& imu, bool gyro) {
+Eigen::Vector3d detectQuantizationStep(const ImuSeries& imu, Sensor sensor) {
   Eigen::Vector3d step = Eigen::Vector3d::Zero();
   if (imu.size() < 100) return step;
   for (int a = 0; a < 3; ++a) {
     std::vector<double> v;
     v.reserve(imu.size());
-    for (const ImuSample& s : imu) v.push_back(gyro ? s.dtheta_rad(a) : s.dvel_m_s(a));
+    for (const ImuSample& s : imu)
+      v.push_back(sensor == Sensor::gyro ? s.dtheta_rad(a) : s.dvel_m_s(a));
     std::vector<double> u = v;
     std::sort(u.begin(), u.end());
     u.erase(std::unique(u.begin(), u.end()), u.end());

@@ -166,7 +166,7 @@ std::vector<LocatedSpan> locateResidual(const Eigen::MatrixXd& residual, const G
       std::map<std::string, int> votes;
       for (int i = a; i < b; ++i) ++votes[regimes[i]];
       LocatedSpan s;
-      s.channel = mismatchChannelNames()[c];
+      s.channel = c;
       s.t_start = grid.binStart(a);
       s.t_end = grid.binStart(b);
       s.regime = std::max_element(votes.begin(), votes.end(), [](const auto& p, const auto& q) {
@@ -183,9 +183,7 @@ std::vector<LocatedSpan> locateResidual(const Eigen::MatrixXd& residual, const G
   if (static_cast<int>(spans.size()) > options.max_entries) {
     std::vector<std::pair<double, std::size_t>> score;
     for (std::size_t i = 0; i < spans.size(); ++i) {
-      const int c = static_cast<int>(std::find(mismatchChannelNames().begin(),
-                                               mismatchChannelNames().end(), spans[i].channel) -
-                                     mismatchChannelNames().begin());
+      const int c = spans[i].channel;
       score.push_back({spans[i].excess_rms / std::sqrt(std::max(noise(c), 1e-300)), i});
     }
     std::sort(score.rbegin(), score.rend());

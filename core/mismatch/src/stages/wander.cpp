@@ -22,7 +22,7 @@ Eigen::MatrixXd fitWander(const Eigen::MatrixXd& r, const std::vector<CandidateT
   for (int c = 0; c < kMismatchChannels; ++c) {
     std::vector<const Eigen::VectorXd*> cols;
     for (const CandidateTerm& t : terms)
-      if (t.name == "bias_instability")
+      if (t.kind() == TermKind::bias_instability)
         for (const RegressorColumn& col : t.columns)
           if (col.actsOn(c)) cols.push_back(&col.channel[c]);
     if (cols.empty()) continue;
@@ -63,7 +63,7 @@ std::vector<WanderCheck> checkWander(const Eigen::MatrixXd& residual,
     const std::optional<LabNoiseFigures>& lab = c < 3 ? gyro : accel;
     if (!lab || columns(c) == 0) continue;
     WanderCheck k;
-    k.channel = mismatchChannelNames()[c];
+    k.channel = c;
     k.fitted_sd = std::sqrt(w.col(c).squaredNorm() / n);
     // White noise the knots pass: a share columns / n of the per-bin noise variance.
     const double expected = expectedWanderSd(*lab, duration_s)(c % 3);

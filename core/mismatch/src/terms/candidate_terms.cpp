@@ -1,3 +1,5 @@
+// The candidate library's inputs that several terms share (vibration level, angular
+// acceleration) and a term's contribution to the model.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -11,15 +13,6 @@
 #include "graftnav/nav/rotation.h"
 
 namespace graftnav {
-
-void CandidateLibraryOptions::validate() const {
-  if (!(knot_spacing_s > 0.0))
-    throw std::invalid_argument("CandidateLibraryOptions: knot_spacing_s = " +
-                                std::to_string(knot_spacing_s) + " must be > 0");
-  if (max_knots < 2)
-    throw std::invalid_argument(
-        "CandidateLibraryOptions: max_knots = " + std::to_string(max_knots) + " must be >= 2");
-}
 
 Eigen::VectorXd vibrationLevelPerBin(const ImuSeries& imu, const GridSpec& grid,
                                      const std::string& regressor_name, double window_s) {
@@ -117,7 +110,7 @@ AngularAccelerationBins angularAccelerationPerBin(const ImuSeries& imu, const Gr
 Eigen::MatrixXd termContribution(const CandidateTerm& term, const Eigen::VectorXd& theta, int n) {
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, kMismatchChannels);
   for (std::size_t j = 0; j < term.columns.size(); ++j) {
-    const double th = term.fixed ? 1.0 : theta(static_cast<Eigen::Index>(j));
+    const double th = term.fixed() ? 1.0 : theta(static_cast<Eigen::Index>(j));
     for (int c = 0; c < kMismatchChannels; ++c)
       if (term.columns[j].actsOn(c)) out.col(c) += th * term.columns[j].channel[c];
   }
