@@ -53,10 +53,4 @@ void ErrorsCsvWriter::commit() {
   file_->commit();
 }
 
-void writeErrorsCsvFile(const std::string& path, const Evaluation& ev, double min_interval_s) {
-  ErrorsCsvWriter w(path, min_interval_s);
-  for (const EpochError& e : ev.epochs) w.add(e);
-  w.commit();
-}
-
 }  // namespace graftnav

@@ -13,6 +13,7 @@
 
 #include "graftnav/eval/errors_csv.h"
 #include "graftnav/eval/evaluation.h"
+#include "graftnav/eval/evaluation_files.h"
 #include "graftnav/eval/streamed_evaluation.h"
 #include "graftnav/io/nav_io.h"
 #include "graftnav/nav/rotation.h"
@@ -282,7 +283,7 @@ TEST(StreamedEvaluation, ErrorsCsvIsByteIdenticalToTheInMemoryFile) {
   const std::vector<TimeWindow> outages{{1005.0, 1015.0}};
   for (double interval : {0.0, 0.1, 1.0}) {
     const Evaluation a = evaluateSolution(sol, ref, outages);
-    writeErrorsCsvFile(dir + "/a.csv", a, interval);
+    writeErrorsCsv(dir + "/a.csv", a, interval);
     const Evaluation b = evaluateSolutionStreamed(
         sol, [&] { return seriesNavSource(ref); }, outages, {},
         [&]() { return std::make_unique<ErrorsCsvWriter>(dir + "/b.csv", interval); });

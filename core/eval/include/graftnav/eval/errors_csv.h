@@ -5,7 +5,7 @@
 //   nees,outage
 // A NEES without a solution sigma is an empty cell (as in errors.json), outage is the window's
 // index or -1. Written as the epochs come (ErrorsCsvWriter, a StreamedEvaluation sink) or from an
-// in-memory Evaluation; the bytes are the same.
+// in-memory Evaluation (writeErrorsCsv, evaluation_files.h, through the same writer).
 
 #include <memory>
 #include <string>
@@ -33,8 +33,5 @@ class ErrorsCsvWriter final : public EpochErrorSink {
   double min_interval_s_;
   double last_t_s_ = -1e300;
 };
-
-// The rows of an in-memory evaluation (ev.epochs), through ErrorsCsvWriter.
-void writeErrorsCsvFile(const std::string& path, const Evaluation& ev, double min_interval_s);
 
 }  // namespace graftnav
