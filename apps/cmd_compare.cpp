@@ -20,6 +20,7 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -36,6 +37,8 @@
 #include "graftnav/case/run_config.h"
 #include "script_locator.h"
 #include "graftnav/eval/evaluation.h"
+#include "graftnav/eval/streamed_evaluation.h"
+#include "graftnav/io/nav_io.h"
 #include "graftnav/eval/outage_schedule.h"
 #include "graftnav/nav/units.h"
 #include "graftnav/filters/ekf.h"
@@ -96,8 +99,43 @@ void checkEstimatorNames(const std::vector<std::string>& names) {
 struct Row {
   std::string name;
   double seconds = 0.0;
-  Evaluation eval;
+  Evaluation eval;  // statistics only: the epochs are evaluated as a stream
+  // The epochs of the 1 Hz error series: the first row's every >= 1 s, each other row's at or
+  // after each of those times (the last when none is).
+  std::vector<EpochError> series;
   int gnss_rejected = 0;
+};
+
+// Keeps the epochs of a row's 1 Hz error series as they are evaluated (Row::series); `grid`
+// null for the first row, else the first row's series.
+class SeriesSink final : public EpochErrorSink {
+ public:
+  SeriesSink(const std::vector<EpochError>* grid, std::vector<EpochError>* out)
+      : grid_(grid), out_(out) {}
+  void add(const EpochError& e) override {
+    last_ = e;
+    if (!grid_) {
+      if (kept_.empty() || e.t_s + 1e-9 >= next_t_) {
+        next_t_ = e.t_s + 1.0;
+        kept_.push_back(e);
+      }
+      return;
+    }
+    while (kept_.size() < grid_->size() && e.t_s >= (*grid_)[kept_.size()].t_s - 1e-9)
+      kept_.push_back(e);
+  }
+  void commit() override {
+    if (grid_ && last_)
+      while (kept_.size() < grid_->size()) kept_.push_back(*last_);
+    *out_ = std::move(kept_);
+  }
+
+ private:
+  const std::vector<EpochError>* grid_;
+  std::vector<EpochError>* out_;
+  std::vector<EpochError> kept_;
+  std::optional<EpochError> last_;
+  double next_t_ = 0.0;
 };
 
 // One drift statistic as JSON (degrees for angles, null for a non-finite value).
@@ -150,7 +188,8 @@ struct Pair {
 // (apps/case_loader.h), so both commands agree to the digit.
 struct CompareInputs {
   RunConfig cfg;
-  CaseInputs c;
+  CaseInputs c;  // without its reference: read as a stream (reference)
+  CaseReferenceFile reference;
   OutageScheduleConfig schedule;
   EstimationProblem p;
 };
@@ -165,10 +204,14 @@ CompareInputs loadCompareInputs(const CompareArgs& a) {
   }
   CaseLoadOptions lo;
   lo.lenient = a.lenient;
+  lo.load_reference = false;
   in.c = loadCaseInputs(a.case_dir, lo);
+  in.reference = caseReferenceFile(in.c, a.lenient);
+  in.c.reference_name = in.reference.path;
+  in.c.reference_is_truth = in.reference.is_truth;
   const CaseInputs& c = in.c;
   for (const auto& w : c.warnings) fmt::print(stderr, "warning: {}\n", w);
-  if (c.reference.empty())
+  if (in.reference.path.empty())
     throw std::runtime_error(a.case_dir + ": compare needs truth.nav or a reference");
   OutageScheduleConfig& oc = in.schedule;
   oc = a.outage.appliedTo(in.cfg.outages);
@@ -182,11 +225,22 @@ CompareInputs loadCompareInputs(const CompareArgs& a) {
   }
   for (const auto& w : checkGnssCoverage(c.gnss, c.paths().gnssPos(), imu.imu, false))
     fmt::print(stderr, "warning: {}\n", w);
+  // makeProblem reads the reference's first epochs only (the week, the initial state).
+  in.c.reference = readReferenceHead(in.reference, imu.imu.front().t_s - imu.imu.front().dt_s);
   in.p = makeProblem(c, imu, in.cfg, oc, &notes);
+  in.c.reference = {};
   for (const auto& n : notes) fmt::print(stderr, "note: {}\n", n);
   const EstimationProblem& p = in.p;
   requireOutagesInsideData(oc, p.outages, p.imu.front().t_s - p.imu.front().dt_s, p.imu.back().t_s);
-  for (const auto& w : checkReferenceCoverage(c.reference, c.reference_name, p.imu, p.outages))
+  // The reference read once here (its errors stop the run, its coverage is checked from counts);
+  // each estimator's evaluation reads it again as a stream.
+  NavStreamReader reader(in.reference.path, in.reference.policy);
+  ReferenceCoverage coverage(p.outages);
+  NavState state;
+  while (reader.next(&state)) coverage.add(state.t_s);
+  if (!in.reference.is_truth && !reader.report().summary().empty())
+    fmt::print(stderr, "warning: {}\n", reader.report().summary());
+  for (const auto& w : coverage.check(in.reference.path, p.imu))
     fmt::print(stderr, "warning: {}\n", w);
   return in;
 }
@@ -264,17 +318,11 @@ std::string errorSeriesCsv(const std::vector<Row>& rows, Cells& cell) {
   for (const Row& r : rows)
     ser << fmt::format(",{0}_horizontal_m,{0}_vertical_m,{0}_heading_deg", r.name);
   ser << "\n";
-  std::vector<size_t> idx(rows.size(), 0);
-  const std::vector<EpochError>& first = rows.front().eval.epochs;
-  double next_t = first.empty() ? 0.0 : first.front().t_s;
-  for (const EpochError& e0 : first) {
-    if (e0.t_s + 1e-9 < next_t) continue;
-    next_t = e0.t_s + 1.0;
-    ser << fmt::format("{:.3f}", e0.t_s);
+  const std::vector<EpochError>& first = rows.front().series;
+  for (size_t k = 0; k < first.size(); ++k) {
+    ser << fmt::format("{:.3f}", first[k].t_s);
     for (size_t r = 0; r < rows.size(); ++r) {
-      const auto& ep = rows[r].eval.epochs;
-      while (idx[r] + 1 < ep.size() && ep[idx[r]].t_s < e0.t_s - 1e-9) ++idx[r];
-      const EpochError& e = ep[idx[r]];
+      const EpochError& e = rows[r].series.at(k);
       ser << fmt::format(",{},{},{}", cell(e.pos_ned_m.head<2>().norm(), "{:.4f}", ""),
                          cell(std::abs(e.pos_ned_m.z()), "{:.4f}", ""),
                          cell(e.euler_rad.z() * units::kRadToDeg, "{:.5f}", ""));
@@ -330,7 +378,10 @@ void runCompare(const CompareArgs& a) {
     Row r;
     r.name = name;
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    r.eval = evaluateSolution(sol, in.c.reference, p.outages);
+    const std::vector<EpochError>* grid = rows.empty() ? nullptr : &rows.front().series;
+    r.eval = evaluateSolutionStreamed(
+        sol, navFileSource(in.reference.path, in.reference.policy), p.outages, EvaluationOptions{},
+        [&]() { return std::make_unique<SeriesSink>(grid, &r.series); });
     r.gnss_rejected = sol.gnss_rejected;
     fmt::print(stderr, "  {:<20s} {:7.2f} s  outage horiz RMS {:.3f} m, GNSS rejected {}\n", name,
                r.seconds, r.eval.outage_rms.horizontal_m, sol.gnss_rejected);

@@ -22,7 +22,9 @@
 #include "graftnav/case/problem.h"
 #include "graftnav/estimators/estimator_table.h"
 #include "graftnav/io/case_config.h"
+#include "graftnav/eval/errors_csv.h"
 #include "graftnav/eval/evaluation.h"
+#include "graftnav/eval/streamed_evaluation.h"
 #include "graftnav/io/gnss_io.h"
 #include "graftnav/io/imu_io.h"
 #include "graftnav/io/imu_profile_io.h"
@@ -99,6 +101,11 @@ struct NavigateSetup {
   bool stream = false;       // the IMU read in blocks during the run; imu.imu and pr.imu not held
   bool stream_gnss = false;  // the GNSS read epoch by epoch during the run (pr.gnss_stream)
   long gnss_count = 0;       // GNSS epochs in the case
+  // A streamed run's reference: not held (c.reference empty), read again as the run evaluates
+  // (streamed_reference.path empty: none, or the reference is held in c.reference).
+  CaseReferenceFile streamed_reference;
+  ExpectedRates expected_rates;  // from the first passes over the IMU and the reference
+  bool hasReference() const { return !c.reference.empty() || !streamed_reference.path.empty(); }
 };
 
 // Whether the run streams the IMU (read in blocks, the per-epoch files written as they go).
@@ -147,12 +154,14 @@ GnssFix scanStreamedGnss(const NavigateArgs& a, NavigateSetup* s, GnssOpenFn* st
 // errors (physical range, time order, intervals) stop the run here as readImu's would, the
 // --lenient repair report is known, and makeProblem and the input checks get the first and last
 // samples (initial time, span). Memory stays flat; the run reads the file again.
-ImuSeries scanStreamedImu(ImuSelection* sel) {
+ImuSeries scanStreamedImu(ImuSelection* sel, long* count) {
   ImuBlockReader reader(sel->path, sel->read_options);
   ImuSeries block, span;
+  *count = 0;
   while (reader.next(&block)) {
     if (span.empty()) span = {block.front(), block.back()};
     span.back() = block.back();
+    *count += static_cast<long>(block.size());
   }
   sel->read_summary = reader.report().summary();
   return span;
@@ -170,7 +179,13 @@ void selectNavigateImu(const NavigateArgs& a, NavigateSetup* s) {
   s->stream = streamable(a.free_inertial ? "free-inertial" : a.estimator, s->rc, range);
   s->imu = selectImu(s->c, imu_which, profile, a.lenient, !s->stream);
   if (s->stream) {
-    s->imu.imu = scanStreamedImu(&s->imu);
+    long count = 0;
+    s->imu.imu = scanStreamedImu(&s->imu, &count);
+    // The solution has an epoch per IMU sample (with --decimate the rate is left unknown: both
+    // epoch sets are evaluated until the run ends).
+    const double span_s = s->imu.imu.back().t_s - s->imu.imu.front().t_s;
+    if (count > 1 && span_s > 0.0 && s->rc.ekf.output_decimation == 1)
+      s->expected_rates.solution_hz = static_cast<double>(count - 1) / span_s;
   } else {
     restrictToTimeRange(range, &s->c, &s->imu, &s->notes);
   }
@@ -179,6 +194,21 @@ void selectNavigateImu(const NavigateArgs& a, NavigateSetup* s) {
     throw std::runtime_error("no noise parameters for IMU '" + a.imu +
                              "' in case.yaml: pass --profile FILE (configs/imu/*.yaml)");
   }
+}
+
+// A streamed run's reference read once before anything is written, as scanStreamedImu reads the
+// IMU: its errors stop the run here, its repairs are printed, the coverage of the outages is
+// checked from counts, and its rate chooses the evaluation epochs (kAuto) before the run.
+void scanStreamedReference(NavigateSetup* s) {
+  const CaseReferenceFile& f = s->streamed_reference;
+  NavStreamReader reader(f.path, f.policy);
+  ReferenceCoverage coverage(s->pr.outages);
+  NavState state;
+  while (reader.next(&state)) coverage.add(state.t_s);
+  if (!f.is_truth && !reader.report().summary().empty())
+    fmt::print(stderr, "warning: {}\n", reader.report().summary());
+  warnAll(coverage.check(f.path, s->pr.imu), &s->notes);
+  s->expected_rates.reference_hz = coverage.rateHz();
 }
 
 NavigateSetup prepareNavigate(const NavigateArgs& a) {
@@ -194,7 +224,16 @@ NavigateSetup prepareNavigate(const NavigateArgs& a) {
   CaseLoadOptions lo;
   lo.load_gnss = !a.free_inertial && !s.stream_gnss;
   lo.lenient = a.lenient;
+  // A streamed run reads its reference as it evaluates (scanStreamedReference), never whole.
+  const bool stream_reference = streamable(a.free_inertial ? "free-inertial" : a.estimator, s.rc,
+                                           mergeTimeRange(s.rc.time_range, a.time_range));
+  lo.load_reference = !stream_reference;
   s.c = loadCaseInputs(a.case_dir, lo);
+  if (stream_reference) {
+    s.streamed_reference = caseReferenceFile(s.c, a.lenient);
+    s.c.reference_name = s.streamed_reference.path;
+    s.c.reference_is_truth = s.streamed_reference.is_truth;
+  }
   recordConfigFile(s.c.paths().caseYaml());
   std::vector<std::string> warnings = s.c.warnings;
   warnings.insert(warnings.end(), config_warnings.begin(), config_warnings.end());
@@ -219,7 +258,11 @@ NavigateSetup prepareNavigate(const NavigateArgs& a) {
   s.oc = a.outage.appliedTo(s.rc.outages);
   std::optional<OutageScheduleConfig> outages;
   if ((s.rc.outages_given || a.outage.any()) && !a.free_inertial) outages = s.oc;
+  if (!s.streamed_reference.path.empty())  // what makeProblem reads of the reference
+    s.c.reference =
+        readReferenceHead(s.streamed_reference, s.imu.imu.front().t_s - s.imu.imu.front().dt_s);
   s.pr = makeProblem(s.c, s.imu, s.rc, outages, &s.notes);
+  if (!s.streamed_reference.path.empty()) s.c.reference = {};
   if (s.stream_gnss) {  // makeProblem saw the first epoch only; the run reads the files
     s.pr.gnss = {};
     s.c.gnss = {};
@@ -235,8 +278,12 @@ NavigateSetup prepareNavigate(const NavigateArgs& a) {
     const double t0 = s.pr.imu.front().t_s - s.pr.imu.front().dt_s;
     requireOutagesInsideData(*outages, s.pr.outages, t0, s.pr.imu.back().t_s);
   }
-  warnAll(checkReferenceCoverage(s.c.reference, s.c.reference_name, s.pr.imu, s.pr.outages),
-          &s.notes);
+  if (!s.streamed_reference.path.empty()) {
+    scanStreamedReference(&s);
+  } else {
+    warnAll(checkReferenceCoverage(s.c.reference, s.c.reference_name, s.pr.imu, s.pr.outages),
+            &s.notes);
+  }
   if (s.stream) {  // the checks above needed only the span; the run reads the file in blocks
     s.pr.imu = {};
     s.imu.imu = {};
@@ -244,10 +291,13 @@ NavigateSetup prepareNavigate(const NavigateArgs& a) {
   return s;
 }
 
+// Writes errors.csv (from the evaluation held in memory, or the streamed evaluation's file).
+using ErrorsCsvFn = std::function<void(const std::string& path)>;
+
 // errors.json, run_info.json, errors.csv, outage_drift.csv and the console summary.
 void writeEvaluation(const NavigateArgs& a, const NavigateSetup& s, const std::string& estimator,
+                     const Evaluation& ev, const ErrorsCsvFn& write_errors_csv,
                      const NavSolution& sol, double run_time, std::vector<std::string> notes) {
-  const Evaluation ev = evaluateSolution(sol, s.c.reference, s.pr.outages, s.rc.evaluation.options);
   ReportMeta meta;
   meta.estimator = estimator;
   meta.imu = s.imu.label;
@@ -261,7 +311,7 @@ void writeEvaluation(const NavigateArgs& a, const NavigateSetup& s, const std::s
   const auto run_info_warnings = writeRunInfoJson((out / "run_info.json").string(), meta, ev, sol,
                                                   s.pr.outages, notes, run_time);
   warnings.insert(warnings.end(), run_info_warnings.begin(), run_info_warnings.end());
-  writeErrorsCsv((out / "errors.csv").string(), ev, 1.0 / s.rc.evaluation.csv_rate_hz);
+  write_errors_csv((out / "errors.csv").string());
   writeOutageCsv((out / "outage_drift.csv").string(), ev);
   for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
   printEvaluation(ev);
@@ -276,20 +326,19 @@ struct RunFiles {
 // Called on the finished run before its files are committed (a failing check leaves none).
 using BeforeCommitFn = std::function<void(const NavSolution&)>;
 
-// Writes the per-epoch files as the epochs come; also appends them to a NavSolution when given
-// (the evaluation against a reference needs them).
+// Writes the per-epoch files as the epochs come; also hands each epoch to the evaluation against
+// the reference when given.
 class NavFileSink : public SolutionSink {
  public:
-  NavFileSink(const fs::path& out, bool with_imu_errors, NavSolution* keep)
+  NavFileSink(const fs::path& out, bool with_imu_errors, StreamedEvaluation* evaluation)
       : nav_((out / "solution.nav").string()),
         outputs_((out / "imu_errors.txt").string(), (out / "state_std.txt").string(),
-                 with_imu_errors) {
-    if (keep) keep_.emplace(keep);
-  }
+                 with_imu_errors),
+        evaluation_(evaluation) {}
   void add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate& sensors) override {
     nav_.add(state);
     outputs_.add(state, sigma, sensors);
-    if (keep_) keep_->add(state, sigma, sensors);
+    if (evaluation_) evaluation_->add(state, sigma);
   }
   RunFiles commit() {
     RunFiles f;
@@ -302,18 +351,20 @@ class NavFileSink : public SolutionSink {
  private:
   NavWriter nav_;
   SolutionOutputsSink outputs_;
-  std::optional<NavSolutionSink> keep_;
+  StreamedEvaluation* evaluation_;
 };
 
-// Streamed run: the IMU read in blocks, the files written as it goes; the epochs are kept in the
-// returned solution only when `keep`. Byte-identical files to inMemoryRun's.
+// Streamed run: the IMU read in blocks, the files written as it goes, each epoch evaluated against
+// the reference as it comes when `evaluation` is given; the returned solution holds the counts
+// only. Byte-identical files to inMemoryRun's.
 NavSolution streamedRun(const std::string& estimator, const NavigateSetup& s, const fs::path& out,
-                        bool keep, const BeforeCommitFn& before_commit, RunFiles* files) {
+                        StreamedEvaluation* evaluation, const BeforeCommitFn& before_commit,
+                        RunFiles* files) {
   NavSolution sol;
   // An estimator without scale-factor series (the factor graphs) writes no imu_errors.txt, as in
   // memory.
   const bool with_imu_errors = estimatorTable().find(estimator).estimates_scale_factors;
-  NavFileSink sink(out, with_imu_errors, keep ? &sol : nullptr);
+  NavFileSink sink(out, with_imu_errors, evaluation);
   const NavSolution book = estimatorTable().runStreaming(
       estimator, s.pr, imuFileStream(s.imu.path, s.imu.read_options), s.rc, sink);
   sol.estimator = book.estimator;
@@ -335,6 +386,21 @@ NavSolution inMemoryRun(const std::string& estimator, const NavigateSetup& s, co
   files->imu_errors = writeImuErrors((out / "imu_errors.txt").string(), sol);
   files->state_std = writeStateStd((out / "state_std.txt").string(), sol);
   return sol;
+}
+
+// The evaluation of a streamed run against its streamed reference (null otherwise): errors.csv
+// is written as the epochs come and committed with the other evaluation files.
+std::unique_ptr<StreamedEvaluation> streamedEvaluation(const NavigateSetup& s,
+                                                       const std::string& estimator,
+                                                       const fs::path& out) {
+  if (!s.stream || s.streamed_reference.path.empty()) return nullptr;
+  const CaseReferenceFile& f = s.streamed_reference;
+  const std::string csv = (out / "errors.csv").string();
+  const double csv_interval_s = 1.0 / s.rc.evaluation.csv_rate_hz;
+  return std::make_unique<StreamedEvaluation>(
+      std::make_unique<NavStreamReader>(f.path, f.policy), s.pr.outages, s.rc.evaluation.options,
+      estimator, s.expected_rates,
+      [csv, csv_interval_s]() { return std::make_unique<ErrorsCsvWriter>(csv, csv_interval_s); });
 }
 
 void runNavigateOne(const NavigateArgs& a) {
@@ -371,9 +437,10 @@ void runNavigateOne(const NavigateArgs& a) {
   const fs::path out_dir(a.out);
   const double t_run0 = elapsed();
   RunFiles files;
-  const NavSolution sol =
-      s.stream ? streamedRun(estimator, s, out_dir, !s.c.reference.empty(), check, &files)
-               : inMemoryRun(estimator, s, out_dir, progress, check, &files);
+  std::unique_ptr<StreamedEvaluation> evaluation = streamedEvaluation(s, estimator, out_dir);
+  const NavSolution sol = s.stream
+                              ? streamedRun(estimator, s, out_dir, evaluation.get(), check, &files)
+                              : inMemoryRun(estimator, s, out_dir, progress, check, &files);
   const double run_time = elapsed() - t_run0;
 
   fmt::print("{}: {} epochs -> {} ({:.2f} s)\n", estimator, files.epochs,
@@ -384,7 +451,7 @@ void runNavigateOne(const NavigateArgs& a) {
     fmt::print("  GNSS used {}, rejected by the gate {}, withheld in outages {}\n", sol.gnss_used,
                sol.gnss_rejected, sol.gnss_withheld);
   }
-  if (s.c.reference.empty()) {
+  if (!s.hasReference()) {
     for (const auto& w : writeRunInfoJson((out_dir / "run_info.json").string(),
                                           ReportMeta{estimator, s.imu.label, 0, 0.0}, Evaluation{},
                                           sol, s.pr.outages, notes, run_time))
@@ -393,7 +460,20 @@ void runNavigateOne(const NavigateArgs& a) {
         "  no field/truth.nav or reference solution: no errors written (run_info.json only)\n");
     return;
   }
-  writeEvaluation(a, s, estimator, sol, run_time, notes);
+  const double csv_interval_s = 1.0 / s.rc.evaluation.csv_rate_hz;
+  if (evaluation) {
+    const Evaluation ev = evaluation->finish();
+    writeEvaluation(
+        a, s, estimator, ev, [&](const std::string&) { evaluation->commitEpochs(); }, sol, run_time,
+        notes);
+  } else {
+    const Evaluation ev =
+        evaluateSolution(sol, s.c.reference, s.pr.outages, s.rc.evaluation.options);
+    writeEvaluation(
+        a, s, estimator, ev,
+        [&](const std::string& path) { writeErrorsCsv(path, ev, csv_interval_s); }, sol, run_time,
+        notes);
+  }
   if (!a.no_plots) {
     const std::string w = runPythonScript("plot_errors.py", {a.out});
     if (!w.empty()) {

@@ -1,6 +1,7 @@
 // The streamed estimators (IMU read in blocks, solution written as it goes) against the in-memory
 // ones on the bundled sample: solution.nav byte-identical, every other output number equal
-// (ekf, rts, fgo-window, fgo), with the GNSS held or read from its file epoch by epoch.
+// (ekf, rts, fgo-window, fgo), with the GNSS held or read from its file epoch by epoch; the
+// command's evaluation against the streamed truth byte-identical to the in-memory one.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -9,6 +10,10 @@
 #include <sstream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
+#include "graftnav/eval/evaluation.h"
+#include "graftnav/eval/evaluation_files.h"
 #include "graftnav/eval/outage_schedule.h"
 #include "graftnav/filters/ekf.h"
 #include "graftnav/filters/rts_smoother.h"
@@ -252,6 +257,20 @@ TEST(StreamedNavigate, CommandWritesTheInMemorySolution) {
     const NavSolution memory = inMemorySolution(est, problem);
     writeNav(dir + "/memory.nav", memory.states);
     EXPECT_TRUE(slurp(dir + "/memory.nav") == slurp(dir + "/solution.nav")) << est;
+    // The command evaluated the solution against truth.nav as it came (the truth read as a
+    // stream): its files equal the in-memory evaluation's, byte for byte.
+    const Evaluation ev = evaluateSolution(memory, readNav(CasePaths(sampleDir()).truthNav()),
+                                           problem.outages, EvaluationOptions{});
+    const nlohmann::json j = nlohmann::json::parse(slurp(dir + "/errors.json"));
+    const ReportMeta meta{j.at("estimator").get<std::string>(), j.at("imu").get<std::string>(),
+                          j.at("outages").at("count").get<int>(),
+                          j.at("outages").at("length_s").get<double>()};
+    writeErrorsJson(dir + "/memory_errors.json", meta, ev);
+    writeErrorsCsv(dir + "/memory_errors.csv", ev, 1.0 / 10.0);
+    writeOutageCsv(dir + "/memory_outage_drift.csv", ev);
+    EXPECT_TRUE(slurp(dir + "/memory_errors.json") == slurp(dir + "/errors.json")) << est;
+    EXPECT_TRUE(slurp(dir + "/memory_errors.csv") == slurp(dir + "/errors.csv")) << est;
+    EXPECT_TRUE(slurp(dir + "/memory_outage_drift.csv") == slurp(dir + "/outage_drift.csv")) << est;
   }
 }
 

@@ -38,18 +38,39 @@ CaseInputs loadCaseInputs(const std::string& case_dir, const CaseLoadOptions& o)
   return c;
 }
 
-void loadCaseReference(CaseInputs* c, bool lenient) {
-  const CasePaths paths = c->paths();
+CaseReferenceFile caseReferenceFile(const CaseInputs& c, bool lenient) {
+  const CasePaths paths = c.paths();
+  CaseReferenceFile f;
   if (CasePaths::exists(paths.truthNav())) {
-    c->reference = readNav(paths.truthNav());
-    c->reference_name = paths.truthNav();
-    c->reference_is_truth = true;
-  } else if (auto ref = paths.referenceSolution(c->config); ref && CasePaths::exists(*ref)) {
-    ReadReport rep;
-    c->reference = readNav(*ref, lenient ? NavReadPolicy::real() : NavReadPolicy{}, &rep);
-    if (!rep.summary().empty()) c->warnings.push_back(rep.summary());
-    c->reference_name = *ref;
+    f.path = paths.truthNav();
+    f.is_truth = true;
+  } else if (auto ref = paths.referenceSolution(c.config); ref && CasePaths::exists(*ref)) {
+    f.path = *ref;
+    if (lenient) f.policy = NavReadPolicy::real();
   }
+  return f;
+}
+
+NavSeries readReferenceHead(const CaseReferenceFile& f, double t_s) {
+  NavStreamReader reader(f.path, f.policy);
+  NavSeries head;
+  NavState s;
+  int after = 0;
+  while (after < 2 && reader.next(&s)) {
+    head.push_back(s);
+    if (s.t_s > t_s) ++after;
+  }
+  return head;
+}
+
+void loadCaseReference(CaseInputs* c, bool lenient) {
+  const CaseReferenceFile f = caseReferenceFile(*c, lenient);
+  if (f.path.empty()) return;
+  ReadReport rep;
+  c->reference = readNav(f.path, f.policy, &rep);
+  if (!f.is_truth && !rep.summary().empty()) c->warnings.push_back(rep.summary());
+  c->reference_name = f.path;
+  c->reference_is_truth = f.is_truth;
 }
 
 ImuSelection selectImu(const CaseInputs& c, const std::string& which,

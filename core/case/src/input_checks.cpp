@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 namespace graftnav {
 
@@ -82,12 +83,44 @@ std::vector<std::string> checkReferenceCoverage(const NavSeries& ref, const std:
                                                 const ImuSeries& imu,
                                                 const std::vector<TimeWindow>& outages) {
   if (ref.empty() || imu.empty()) return {};
-  const double r0 = ref.front().t_s, r1 = ref.back().t_s;
-  for (const TimeWindow& w : outages) {
-    const bool any = std::any_of(ref.begin(), ref.end(), [&](const NavState& s) {
-      return s.t_s >= w.start_s && s.t_s <= w.end_s;
-    });
-    if (!any)
+  ReferenceCoverage coverage(outages);
+  for (const NavState& s : ref) coverage.add(s.t_s);
+  return coverage.check(path, imu);
+}
+
+ReferenceCoverage::ReferenceCoverage(std::vector<TimeWindow> outages)
+    : outages_(std::move(outages)), by_start_(outages_.size()), covered_(outages_.size(), 0) {
+  for (std::size_t i = 0; i < by_start_.size(); ++i) by_start_[i] = i;
+  std::stable_sort(by_start_.begin(), by_start_.end(), [&](std::size_t a, std::size_t b) {
+    return outages_[a].start_s < outages_[b].start_s;
+  });
+}
+
+void ReferenceCoverage::add(double t_s) {
+  if (count_ == 0) first_t_s_ = t_s;
+  last_t_s_ = t_s;
+  ++count_;
+  // Times come in order: an outage ended before t_s (in start order) stays ended.
+  while (open_ < by_start_.size() && outages_[by_start_[open_]].end_s < t_s) ++open_;
+  for (std::size_t j = open_; j < by_start_.size(); ++j) {
+    const TimeWindow& w = outages_[by_start_[j]];
+    if (w.start_s > t_s) break;
+    if (t_s <= w.end_s) covered_[by_start_[j]] = 1;
+  }
+}
+
+double ReferenceCoverage::rateHz() const {
+  const double span = last_t_s_ - first_t_s_;
+  return count_ > 1 && span > 0.0 ? static_cast<double>(count_ - 1) / span : 0.0;
+}
+
+std::vector<std::string> ReferenceCoverage::check(const std::string& path,
+                                                  const ImuSeries& imu) const {
+  if (count_ == 0 || imu.empty()) return {};
+  const double r0 = first_t_s_, r1 = last_t_s_;
+  for (std::size_t i = 0; i < outages_.size(); ++i) {
+    const TimeWindow& w = outages_[i];
+    if (!covered_[i])
       throw std::runtime_error(fmt::format(
           "{}: no reference epoch inside the outage [{:.3f}, {:.3f}] s (reference span [{:.3f}, {:.3f}] s): its "
           "outage errors cannot be computed",

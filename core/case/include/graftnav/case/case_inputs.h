@@ -8,6 +8,7 @@
 #include "graftnav/case/run_config.h"
 #include "graftnav/io/case_config.h"
 #include "graftnav/io/imu_io.h"
+#include "graftnav/io/nav_io.h"
 
 namespace graftnav {
 
@@ -32,6 +33,18 @@ struct CaseLoadOptions {
 
 // Throws std::runtime_error naming the directory or file when the case is not usable.
 CaseInputs loadCaseInputs(const std::string& case_dir, const CaseLoadOptions& options = {});
+// The case's reference file, not read: truth.nav (strict), else case.yaml's reference solution
+// (the real-data policy when lenient); path empty when the case has none.
+struct CaseReferenceFile {
+  std::string path;
+  bool is_truth = false;
+  NavReadPolicy policy;
+};
+CaseReferenceFile caseReferenceFile(const CaseInputs& c, bool lenient);
+// The first epochs of the reference file, through the second one after t_s (all when fewer):
+// what makeProblem reads of CaseInputs::reference (the week, the initial state interpolated at
+// the IMU's start), so that a run reading the reference as a stream need not hold it.
+NavSeries readReferenceHead(const CaseReferenceFile& f, double t_s);
 // Reads the case's reference solution into c (reference, reference_name, reference_is_truth);
 // nothing when it has none.
 void loadCaseReference(CaseInputs* c, bool lenient);

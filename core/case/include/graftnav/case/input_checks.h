@@ -63,6 +63,28 @@ std::vector<std::string> checkReferenceCoverage(const NavSeries& reference,
                                                 const std::string& reference_path,
                                                 const ImuSeries& imu,
                                                 const std::vector<TimeWindow>& outages);
+// The same from the reference's epochs read one at a time (a streamed reference): add() each
+// epoch's time in order; the check holds the counts and one flag per outage, not the series.
+class ReferenceCoverage {
+ public:
+  explicit ReferenceCoverage(std::vector<TimeWindow> outages);
+  void add(double t_s);
+  long count() const { return count_; }
+  double firstTime() const { return first_t_s_; }
+  double lastTime() const { return last_t_s_; }
+  // (count - 1) / span, as the evaluation's kAuto compares series (0 with fewer than 2 epochs).
+  double rateHz() const;
+  // Throws / warns as the NavSeries form; `imu` needs only its first and last samples.
+  std::vector<std::string> check(const std::string& reference_path, const ImuSeries& imu) const;
+
+ private:
+  std::vector<TimeWindow> outages_;
+  std::vector<std::size_t> by_start_;  // outage indices in start order
+  std::vector<char> covered_;          // per outage: an epoch inside it was seen
+  std::size_t open_ = 0;               // by_start_ position of the first outage not yet ended
+  long count_ = 0;
+  double first_t_s_ = 0.0, last_t_s_ = 0.0;
+};
 
 // Length of the lab static record: an error below options.lab_static_floor_s, a warning below
 // `outage_spacing_s` (the largest start-to-start spacing of the run's outages; 0: none). Returns
