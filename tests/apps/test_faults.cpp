@@ -512,12 +512,12 @@ TEST(Faults, SigkillHalfwayThroughAWriteLeavesNoPartialResult) {
   ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL)
       << "the run ended before the kill";
   EXPECT_FALSE(fs::exists(out + "/solution.nav"));
-  // A streamed run writes solution.nav, imu_errors.txt and state_std.txt side by side: only their
-  // temporary files may be left, never a final name.
+  // A streamed run writes solution.nav, imu_errors.txt, state_std.txt and (against its truth)
+  // errors.csv side by side: only their temporary files may be left, never a final name.
   for (const auto& f : filesIn(out)) {
     const bool tmp = f.rfind(".solution.nav.tmp.", 0) == 0 ||
                      f.rfind(".imu_errors.txt.tmp.", 0) == 0 ||
-                     f.rfind(".state_std.txt.tmp.", 0) == 0;
+                     f.rfind(".state_std.txt.tmp.", 0) == 0 || f.rfind(".errors.csv.tmp.", 0) == 0;
     EXPECT_TRUE(tmp) << f;
   }
 }

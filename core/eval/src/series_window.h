@@ -33,6 +33,7 @@ class SeriesWindow {
   const NavState& first() const { return first_; }  // kept when trimmed away
   const NavState& last() const { return last_; }    // kept when trimmed away
   bool empty() const { return count() == 0; }
+  std::size_t held() const { return entries_.size(); }  // epochs in memory
   // Forgets the epochs before `index`.
   void trimBefore(std::size_t index);
 

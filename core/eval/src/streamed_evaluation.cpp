@@ -119,7 +119,10 @@ void StreamedEvaluation::Impl::trim() {
   if (at_solution) need_ref = std::min(need_ref, ref_at.index());
   if (at_reference) {
     need_ref = std::min(need_ref, next_ref);
-    need_sol = std::min(sol_at.index(), k);
+    // k (the sigma bracket) moves only when the solution has sigmas; once the reference has
+    // ended and every epoch of it is evaluated, no solution epoch is needed any more.
+    need_sol = with_sigma == 1 ? std::min(sol_at.index(), k) : sol_at.index();
+    if (ref.ended() && next_ref >= ref.count()) need_sol = sol.count();
   }
   ref.trimBefore(need_ref);
   sol.trimBefore(need_sol);
@@ -175,6 +178,8 @@ StreamedEvaluation::~StreamedEvaluation() = default;
 int StreamedEvaluation::epochSets() const {
   return (impl_->at_solution ? 1 : 0) + (impl_->at_reference ? 1 : 0);
 }
+
+std::size_t StreamedEvaluation::heldEpochs() const { return impl_->ref.held() + impl_->sol.held(); }
 
 void StreamedEvaluation::add(const NavState& state, const PvaSigma* sigma) {
   Impl& m = *impl_;

@@ -4,6 +4,7 @@
 // and without sigma, every choice of evaluation epochs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -316,6 +317,28 @@ TEST(StreamedEvaluation, ReadsTheReferenceFileAsReadNavDoes) {
   const Evaluation b = evaluateSolutionStreamed(sol, navFileSource(path), outages);
   expectSame(a.outage_rms, b.outage_rms, "from the file");
   EXPECT_TRUE(same(a.nees_mean, b.nees_mean));
+}
+
+// Memory: the join holds a window of a few epochs of each series, with or without solution
+// sigmas, under kAuto's two epoch sets, and also once the reference has ended before the solution.
+TEST(StreamedEvaluation, HoldsAWindowNotTheSeries) {
+  for (const bool sigma : {true, false}) {
+    for (const double ref_end : {1300.0, 1100.0}) {
+      const NavSeries ref = series(1000.0, ref_end, 200.0, 0.0);
+      const NavSolution sol = solution(1000.0, 1300.0, 200.0, sigma);
+      StreamedEvaluation se(seriesNavSource(ref), {{1050.0, 1110.0}}, EvaluationOptions{},
+                            sol.estimator);
+      ASSERT_EQ(se.epochSets(), 2);
+      std::size_t held = 0;
+      for (std::size_t i = 0; i < sol.states.size(); ++i) {
+        se.add(sol.states[i], sigma ? &sol.sigma[i] : nullptr);
+        held = std::max(held, se.heldEpochs());
+      }
+      EXPECT_LT(held, 200u) << "sigma " << sigma << ", reference to " << ref_end << " s, "
+                            << sol.states.size() << " solution epochs";
+      EXPECT_GT(se.finish().epoch_count, 0u);
+    }
+  }
 }
 
 }  // namespace

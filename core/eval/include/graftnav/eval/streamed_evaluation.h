@@ -69,6 +69,8 @@ class StreamedEvaluation {
 
   // How many epoch sets are being evaluated (1, or 2 while kAuto is undecided).
   int epochSets() const;
+  // Epochs of the two series held now (the join's window): bounded whatever their length.
+  std::size_t heldEpochs() const;
 
  private:
   struct Impl;
