@@ -4,13 +4,10 @@
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
-#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <mutex>
-#include <thread>
 
 #include "batch_db.h"
 #include "graftnav/io/atomic_file.h"
@@ -20,6 +17,7 @@
 #include "batch_task.h"
 #include "commands.h"
 #include "graftnav/nav/units.h"
+#include "graftnav/parallel/worker_pool.h"
 #include "graftnav/sg/sg_statistics.h"
 #include "sg_evaluate.h"
 
@@ -136,42 +134,30 @@ RunCounts runTasks(const BatchManifest& m, const std::vector<BatchTask>& tasks, 
       todo.push_back(&tasks[i]);
     }
   }
-  const int threads = std::max(
-      1, std::min<int>(static_cast<int>(todo.size()),
-                       jobs > 0 ? jobs : static_cast<int>(std::thread::hardware_concurrency())));
+  const int threads = workerCount(todo.size(), jobs);
   fmt::print(stderr, "batch: tasks {}..{} of {}: {} finished before, {} to run on {} threads\n",
              first, last - 1, tasks.size(), n.skipped, todo.size(), threads);
-  std::atomic<std::size_t> next{0};
-  std::atomic<int> done{0}, failed{0};
-  std::mutex print_mutex;
+  std::vector<std::string> errors(todo.size());
   const auto t0 = std::chrono::steady_clock::now();
-  auto worker = [&]() {
-    for (std::size_t i = next++; i < todo.size(); i = next++) {
-      const BatchTask& t = *todo[i];
-      std::string error;
-      try {
-        const BatchRunRecord r = runTask(m, t);
-        if (!r.ok) error = r.error;
-      } catch (const std::exception& e) {  // the record itself could not be written
-        error = std::string("no record written: ") + e.what();
-      }
-      if (!error.empty()) ++failed;
-      ++done;
-      std::lock_guard<std::mutex> lock(print_mutex);
-      const double el =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      fmt::print(stderr, "[{}/{}] {:.0f} s  task {} {} {}: {}\n", done.load(), todo.size(), el,
-                 t.index, t.id, t.name, error.empty() ? "ok" : "FAILED (" + error + ")");
+  auto run = [&](std::size_t i) {
+    try {
+      const BatchRunRecord r = runTask(m, *todo[i]);
+      if (!r.ok) errors[i] = r.error;
+    } catch (const std::exception& e) {  // the record itself could not be written
+      errors[i] = std::string("no record written: ") + e.what();
     }
   };
-  std::vector<std::thread> pool;
-  for (int k = 0; k < threads; ++k) pool.emplace_back(worker);
-  for (auto& th : pool) th.join();
-  n.ran = done.load();
-  n.failed = failed.load();
+  auto report = [&](std::size_t i, std::size_t done) {
+    const BatchTask& t = *todo[i];
+    if (!errors[i].empty()) ++n.failed;
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    fmt::print(stderr, "[{}/{}] {:.0f} s  task {} {} {}: {}\n", done, todo.size(), el, t.index,
+               t.id, t.name, errors[i].empty() ? "ok" : "FAILED (" + errors[i] + ")");
+  };
+  parallelFor(todo.size(), threads, run, report);
+  n.ran = static_cast<int>(todo.size());
   return n;
 }
-
 // Merges the task databases into <out>/results.sqlite and writes the summaries from it.
 CollectCounts collectAndSummarize(const BatchManifest& m, const std::vector<BatchTask>& tasks) {
   fs::create_directories(m.out_dir);
