@@ -3,8 +3,8 @@
 // graftnav calibrate --multi-position IMU.txt --out OUT_DIR (multi-position, graftnav IMU file)
 //
 // Writes OUT_DIR/calibration.yaml (see calibration_io.h), OUT_DIR/report.md, CSV tables and, when
-// python3 + matplotlib are available, PNG plots made by scripts/plot_allan.py and
-// scripts/plot_calibration.py.
+// python3 + matplotlib are available, PNG plots made by scripts/runtime/plot_allan.py and
+// scripts/runtime/plot_calibration.py.
 #include <fmt/core.h>
 #include <fmt/format.h>
 #include <unistd.h>

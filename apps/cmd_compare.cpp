@@ -3,7 +3,7 @@
 // Runs several estimators on one case and writes a side-by-side table of their outage errors
 // (seed: RMS over outage epochs; peers: RMS of per-outage maxima) and of their differences from
 // each other (the filter-versus-smoother cross-check), as Markdown and CSV, plus a 1 Hz error
-// series for scripts/plot_compare.py.
+// series for scripts/runtime/plot_compare.py.
 //
 // Estimators: every name of the shared table (apps/estimators.h: ekf, rts, fgo, fgo-window, ...)
 // plus the graph variants fgo-noearth and fgo-window-noearth (Earth rotation off in the
@@ -402,7 +402,7 @@ void registerCompare(CLI::App& app) {
   addDeprecatedOption(cmd, "--config", "--run-config", &a->config);
   cmd->add_option("--profile", a->profile, "IMU profile YAML (default: from case.yaml)")
       ->check(CLI::ExistingFile);
-  cmd->add_flag("--no-plots", a->no_plots, "do not call scripts/plot_compare.py");
+  cmd->add_flag("--no-plots", a->no_plots, "do not call scripts/runtime/plot_compare.py");
   cmd->add_flag("--lenient", a->lenient, "real-data read policies (repair/warn instead of error)");
   cmd->callback([a]() { runCompare(*a); });
 }

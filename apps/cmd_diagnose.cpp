@@ -299,7 +299,7 @@ void registerDiagnose(CLI::App& app) {
                   "also navigate SG#2, SG#3 and REAL with this estimator (ekf|rts|fgo)");
   cmd->add_option("--options", args->config, "diagnose options file (see configs/diagnose.yaml)");
   addDeprecatedOption(cmd, "--config", "--options", &args->config);
-  cmd->add_flag("--no-plots", args->no_plots, "do not run scripts/plot_diagnosis.py");
+  cmd->add_flag("--no-plots", args->no_plots, "do not run scripts/runtime/plot_diagnosis.py");
   cmd->add_option("--run-config", args->run_config,
                   "run config of the estimator (configs/navigate.yaml: ekf:, outages:, ...)");
   cmd->add_option("--tested-profile", args->tested_profile,

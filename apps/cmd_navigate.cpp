@@ -448,7 +448,7 @@ void registerNavigate(CLI::App& app) {
   cmd->add_option("--decimate", a->decimate, "write every N-th IMU epoch (default 1)")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--lenient", a->lenient, "real-data read policies (repair/warn instead of error)");
-  cmd->add_flag("--no-plots", a->no_plots, "do not call scripts/plot_errors.py");
+  cmd->add_flag("--no-plots", a->no_plots, "do not call scripts/runtime/plot_errors.py");
   cmd->callback([a]() { runNavigate(*a); });
 }
 

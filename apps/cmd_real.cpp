@@ -327,7 +327,7 @@ void runReal(const RealArgs& a) {
       a.out);
   if (a.latency_scan && !a.no_plots) {
     const std::string w = runPythonScript(
-        "real_plots.py", {"latency", a.out, (fs::path(a.out) / "latency.png").string()});
+        "plot_real.py", {"latency", a.out, (fs::path(a.out) / "latency.png").string()});
     if (!w.empty()) fmt::print(stderr, "warning: {}\n", w);
   }
 }
@@ -350,7 +350,7 @@ void registerReal(CLI::App& app) {
   cmd->add_option("--estimator", a->estimators, "comma list of estimators (default ekf,rts,fgo)")
       ->delimiter(',');
   addDeprecatedOption(cmd, "--estimators", "--estimator", &a->estimators);
-  cmd->add_flag("--no-plots", a->no_plots, "do not call scripts/real_plots.py");
+  cmd->add_flag("--no-plots", a->no_plots, "do not call scripts/runtime/plot_real.py");
   cmd->add_flag("--latency-scan", a->latency_scan,
                 "estimate the GNSS time-tag latency per fix type");
   cmd->add_option("--latency-grid", a->latency_grid,

@@ -7,7 +7,7 @@
 
 namespace graftnav::app {
 
-const char* graftnavVersion();  // project VERSION (generated, scripts/cmake/graftnav_version.cmake)
+const char* graftnavVersion();    // project VERSION (generated, cmake/graftnav_version.cmake)
 const char* graftnavGitCommit();  // short commit, "-dirty" with local changes, or "unknown"
 std::string versionLine();        // "graftnav 0.1.0 (commit abc123...)"
 

@@ -1,7 +1,7 @@
 #pragma once
 // Writing the evaluation of a navigation run: errors.json (the result contract), run_info.json
 // (everything else worth keeping: NEES band, GNSS counts), errors.csv (per-epoch errors),
-// outage_drift.csv (per-outage maxima), and the plots through scripts/plot_errors.py.
+// outage_drift.csv (per-outage maxima), and the plots through scripts/runtime/plot_errors.py.
 
 #include <string>
 #include <vector>

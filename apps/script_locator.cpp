@@ -6,16 +6,19 @@
 namespace graftnav::app {
 namespace fs = std::filesystem;
 
-std::string findScript(const std::string& name) {
-  if (const char* env = std::getenv("GRAFTNAV_SCRIPTS_DIR")) return (fs::path(env) / name).string();
+std::vector<std::string> scriptDirs() {
+  if (const char* env = std::getenv("GRAFTNAV_SCRIPTS_DIR")) return {env};
   std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  for (const fs::path& c :
-       {exe.parent_path() / ".." / "scripts" / name,
-        exe.parent_path() / ".." / ".." / "scripts" / name, fs::path("scripts") / name}) {
-    if (fs::exists(c)) return fs::weakly_canonical(c).string();
-  }
-  return (fs::path("scripts") / name).string();
+  const fs::path bin = fs::read_symlink("/proc/self/exe", ec).parent_path();
+  return {(bin / ".." / kInstalledScriptsDir).lexically_normal().string(),
+          (bin / kInstalledScriptsDir).lexically_normal().string()};
+}
+
+std::string findScript(const std::string& name) {
+  const std::vector<std::string> dirs = scriptDirs();
+  for (const std::string& d : dirs)
+    if (fs::exists(fs::path(d) / name)) return (fs::path(d) / name).string();
+  return {};
 }
 
 namespace {
@@ -42,7 +45,12 @@ const std::string& pythonWithMatplotlib() {
 
 std::string runPythonScript(const std::string& name, const std::vector<std::string>& args) {
   const std::string script = findScript(name);
-  if (!fs::exists(script)) return "plot script not found: " + script;
+  if (script.empty()) {
+    std::string tried;
+    for (const auto& d : scriptDirs()) tried += (tried.empty() ? "" : ", ") + d;
+    return "plot script " + name + " not found in " + tried +
+           " (set GRAFTNAV_SCRIPTS_DIR to the folder holding it)";
+  }
   const std::string& py = pythonWithMatplotlib();
   if (py.empty())
     return "python3 with matplotlib not available (apt-get install python3-matplotlib): no plots";

@@ -10,8 +10,8 @@ PACKAGES=(build-essential cmake ninja-build ccache pkg-config
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   python3 python3-matplotlib dpkg-dev
   libsqlite3-dev sqlite3 munge slurm-wlm
-  time  # time: /usr/bin/time -v for scripts/bench_memory.sh
-  clang-format-14 universal-ctags)  # scripts/check_format.sh, scripts/check_sizes.sh
+  time  # time: /usr/bin/time -v for scripts/dev/bench_memory.sh
+  clang-format-14 universal-ctags)  # scripts/dev/check_format.sh, scripts/dev/check_sizes.sh
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -2,7 +2,7 @@
 // Xsens DOT against an Inertial Labs MRU-P, no lab data), pinned: a change of what is claimed, of
 // the time offset, of the combined mounting / scale / non-orthogonality fit or of the held-out
 // residual improvement fails here and is then a deliberate, reviewed change (docs/mismatch.md,
-// "Current state"; docs/results/ written by scripts/real_diagnose_tables.py).
+// "Current state"; docs/results/ written by scripts/experiments/real_diagnose_tables.py).
 #include <gtest/gtest.h>
 
 #include <cstdlib>

@@ -1,5 +1,5 @@
 // `graftnav import kf-gins` then `graftnav navigate` on a KF-GINS-style set-up made from the
-// bundled MEMS sample (written by `graftnav simulate`, scripts/make_sample.sh): the tested IMU's
+// bundled MEMS sample (written by `graftnav simulate`, scripts/dev/make_sample.sh): the tested IMU's
 // file, the GNSS file with two 60 s stretches deleted (how a KF-GINS user makes outages), and a
 // kf-gins.yaml with the sample's noise in KF-GINS units. The imported run's outage horizontal
 // error must be within 2 % of the same estimator set up by hand on the original case (explicit

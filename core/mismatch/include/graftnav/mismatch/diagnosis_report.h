@@ -1,6 +1,6 @@
 #pragma once
 // What `graftnav diagnose` writes: diagnosis.json in the shape the finder specifies (plus extra
-// keys), a Markdown report, and residual.csv for the plots (scripts/plot_diagnosis.py).
+// keys), a Markdown report, and residual.csv for the plots (scripts/runtime/plot_diagnosis.py).
 //
 // diagnosis.json: {"case", "located": [{channel, t_start, t_end, regime, excess_rms}],
 //   "effects": [{name, sensor, parameters, uncertainty, evidence: {delta_bic, cv_gain}, explanation}],
