@@ -212,8 +212,8 @@ void printSummary(const std::string& case_name, const DiagnosisResult& res) {
         p += fmt::format("{}{:.4g}+-{:.2g}", i ? " " : "", q.values[i], q.sigma[i]);
       p += "] ";
     }
-    fmt::print("  {} ({}): {}delta_bic {:.1f} cv_gain {:.4f}\n", e.name, e.sensor, p, e.delta_bic,
-               e.cv_gain);
+    fmt::print("  {} ({}): {}delta_bic {:.1f} cv_gain {:.4f}\n", e.name(), scopeName(e.sensor), p,
+               e.delta_bic, e.cv_gain);
   }
   const auto line = [](const char* name, const ChannelRms& r) {
     fmt::print("  {:<28} gyro [{:.4f} {:.4f} {:.4f}] deg/s  accel [{:.4f} {:.4f} {:.4f}] m/s^2\n",

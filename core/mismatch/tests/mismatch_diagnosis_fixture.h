@@ -14,6 +14,7 @@
 #include "graftnav/sim/imu_simulator.h"
 #include "graftnav/mismatch/diagnosis.h"
 #include "graftnav/mismatch/diagnosis_report.h"
+#include "graftnav/mismatch/term_spec.h"
 #include "graftnav/nav/rotation.h"
 #include "synthetic_imu.h"
 
@@ -123,16 +124,16 @@ inline bool hasNote(const DiagnosisResult& r, const std::string& a, const std::s
   });
 }
 
-// The names of r's claimed effects.
-inline std::set<std::string> effectNames(const DiagnosisResult& r) {
-  std::set<std::string> names;
-  for (const Effect& e : r.effects) names.insert(e.name);
-  return names;
+// The kinds of r's claimed effects.
+inline std::set<TermKind> effectKinds(const DiagnosisResult& r) {
+  std::set<TermKind> kinds;
+  for (const Effect& e : r.effects) kinds.insert(e.kind());
+  return kinds;
 }
 
-inline const Effect* findEffect(const DiagnosisResult& r, const std::string& name) {
+inline const Effect* findEffect(const DiagnosisResult& r, TermKind kind) {
   for (const Effect& e : r.effects)
-    if (e.name == name) return &e;
+    if (e.kind() == kind) return &e;
   return nullptr;
 }
 

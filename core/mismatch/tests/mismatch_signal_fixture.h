@@ -13,6 +13,7 @@
 #include "graftnav/mismatch/candidate_terms.h"
 #include "graftnav/mismatch/common_grid.h"
 #include "graftnav/mismatch/term_selection.h"
+#include "graftnav/mismatch/term_spec.h"
 #include "graftnav/mismatch/time_offset.h"
 #include "graftnav/nav/rotation.h"
 #include "synthetic_imu.h"
@@ -111,7 +112,7 @@ inline Eigen::MatrixXd ar1Noise(int n, double rho, uint64_t seed) {
   return e;
 }
 
-inline int findTerm(const std::vector<CandidateTerm>& terms, const std::string& key) {
+inline int findTerm(const std::vector<CandidateTerm>& terms, const TermKey& key) {
   for (std::size_t t = 0; t < terms.size(); ++t)
     if (terms[t].key() == key) return static_cast<int>(t);
   return -1;
@@ -123,10 +124,7 @@ inline std::vector<double> G9() {
 
 // The nuisance constant per channel over n bins, as the library's first term.
 inline CandidateTerm constantNuisance(int n) {
-  CandidateTerm t;
-  t.name = "constant_bias";
-  t.sensor = "both";
-  t.nuisance = true;
+  CandidateTerm t(termSpec(TermKind::constant_bias), SensorScope::both);
   for (int c = 0; c < 6; ++c) {
     RegressorColumn col;
     col.channel[c] = Eigen::VectorXd::Ones(n);

@@ -1,4 +1,4 @@
-// The joint time-offset fit's residual blocks (ChunkCost, core/mismatch/src/joint_fit_cost.h):
+// The joint time-offset fit's residual blocks (ChunkCost, core/mismatch/src/selection/joint_fit_cost.h):
 // the analytic Jacobian in theta and in tau against central differences of the block's own
 // residuals, on the chunk at the record's start (whose first row keeps the stationary variance)
 // and on one inside the record (whose first row whitens against the bin before it).
@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "../src/joint_fit_cost.h"
+#include "../src/selection/joint_fit_cost.h"
 #include "graftnav/mismatch/common_grid.h"
 #include "synthetic_imu.h"
 #include "test_support.h"

@@ -10,6 +10,7 @@
 #include "graftnav/mismatch/claim_checks.h"
 #include "graftnav/mismatch/linear_response.h"
 #include "graftnav/mismatch/quantization_evidence.h"
+#include "graftnav/mismatch/term_spec.h"
 
 namespace graftnav {
 namespace {
@@ -34,26 +35,27 @@ ImuSeries noisyIncrements(double sd_rad, double lattice, int n = 20000, unsigned
 }
 
 TEST(MismatchClaims, PrintedResolutionIsTheCoarsestPowerOfTenEveryValueSitsOn) {
-  EXPECT_NEAR(printedResolution(noisyIncrements(3e-6, 1e-9), true)(0), 1e-9, 1e-21);
-  EXPECT_NEAR(printedResolution(noisyIncrements(3e-6, 1e-7), true)(1), 1e-7, 1e-19);
-  EXPECT_EQ(printedResolution(noisyIncrements(3e-6, 0.0), true)(2), 0.0);
+  EXPECT_NEAR(printedResolution(noisyIncrements(3e-6, 1e-9), Sensor::gyro)(0), 1e-9, 1e-21);
+  EXPECT_NEAR(printedResolution(noisyIncrements(3e-6, 1e-7), Sensor::gyro)(1), 1e-7, 1e-19);
+  EXPECT_EQ(printedResolution(noisyIncrements(3e-6, 0.0), Sensor::gyro)(2), 0.0);
 }
 
 TEST(MismatchClaims, ALatticeAtThePrintedResolutionIsTheTextFormatNotTheSensor) {
   const ImuSeries sim = noisyIncrements(3e-6, 0.0, 20000, 5);
   // Fixed decimals at 1e-9: a lattice, but the text's own, and its noise is 1e-8 of the white's.
-  const QuantizationCheck text = checkQuantization(noisyIncrements(3e-6, 1e-9), sim, true);
+  const QuantizationCheck text = checkQuantization(noisyIncrements(3e-6, 1e-9), sim, Sensor::gyro);
   EXPECT_NEAR(text.step(0), 1e-9, 1e-15);
   EXPECT_NEAR(text.printed_resolution(0), 1e-9, 1e-21);
   EXPECT_FALSE(text.anyClaimed()) << text.summary();
   // A 4e-6 step (not a power of ten) with q^2/12 = 15 % of the white noise: claimed.
-  const QuantizationCheck coarse = checkQuantization(noisyIncrements(3e-6, 4e-6), sim, true);
+  const QuantizationCheck coarse =
+      checkQuantization(noisyIncrements(3e-6, 4e-6), sim, Sensor::gyro);
   EXPECT_NEAR(coarse.step(0), 4e-6, 1e-12);
   EXPECT_TRUE(coarse.claimed[0] && coarse.claimed[1] && coarse.claimed[2]) << coarse.summary();
   EXPECT_GT(coarse.noise_share(0), coarse.resolvable_share);
   // A 2e-7 step under 3e-5 of white noise: beyond the printing but not resolvable, and the
   // step it would need is stated.
-  const QuantizationCheck fine = checkQuantization(noisyIncrements(3e-5, 2e-7), sim, true);
+  const QuantizationCheck fine = checkQuantization(noisyIncrements(3e-5, 2e-7), sim, Sensor::gyro);
   EXPECT_NEAR(fine.step(0), 2e-7, 1e-13);
   EXPECT_FALSE(fine.anyClaimed()) << fine.summary();
   EXPECT_GT(fine.detectable_step(0), fine.step(0));
@@ -61,9 +63,7 @@ TEST(MismatchClaims, ALatticeAtThePrintedResolutionIsTheTextFormatNotTheSensor) 
 
 TEST(MismatchClaims, AFittedValueOutsideTheClassRangeIsFound) {
   const PlausibleRanges consumer = plausibleRangesForClass("consumer_mems");
-  Effect e;
-  e.name = "scale_factor";
-  e.sensor = "accel";
+  Effect e(termSpec(TermKind::scale_factor), SensorScope::accel);
   EffectParameter k;
   k.key = "k";
   k.values = {0.007, 0.18, -0.012};
@@ -79,9 +79,7 @@ TEST(MismatchClaims, AFittedValueOutsideTheClassRangeIsFound) {
   // The same 1 % is beyond a navigation-grade sensor's range.
   EXPECT_TRUE(outsidePlausibleRange(e, plausibleRangesForClass("navigation")).has_value());
   // The combined effect bounds only its diagonal (the scale part): a 4-deg rotation is fine.
-  Effect lin;
-  lin.name = "mounting_scale_nonorthogonality";
-  lin.sensor = "both";
+  Effect lin(termSpec(TermKind::mounting_scale_nonorthogonality), SensorScope::both);
   EffectParameter E;
   E.key = "E_gyro";
   E.values = {0.001, 0.07, 0.0, -0.07, 0.002, 0.0, 0.0, 0.0, 0.001};

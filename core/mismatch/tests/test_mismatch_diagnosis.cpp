@@ -30,18 +30,19 @@ TEST(MismatchDiagnosis, FindsTimeOffsetLeverArmAndGSensitivityOnly) {
   extra.g_sensitivity.G(2, 1) = 3e-4;
   const Pair p = makePair(extra, 3);
   const DiagnosisResult r = diagnose(p.in);
-  const std::set<std::string> names = effectNames(r);
-  EXPECT_EQ(names, (std::set<std::string>{"time_offset", "lever_arm", "g_sensitivity"}))
+  const std::set<TermKind> kinds = effectKinds(r);
+  EXPECT_EQ(kinds, (std::set<TermKind>{TermKind::time_offset, TermKind::lever_arm,
+                                       TermKind::g_sensitivity}))
       << diagnosisMarkdown(r);
-  const Effect* to = findEffect(r, "time_offset");
+  const Effect* to = findEffect(r, TermKind::time_offset);
   ASSERT_NE(to, nullptr);
   EXPECT_NEAR(to->parameters[0].values[0], 0.018, 3.0 * to->parameters[0].sigma[0] + 5e-4);
-  const Effect* la = findEffect(r, "lever_arm");
+  const Effect* la = findEffect(r, TermKind::lever_arm);
   ASSERT_NE(la, nullptr);
   for (int a = 0; a < 3; ++a)
     EXPECT_NEAR(la->parameters[0].values[a], extra.lever_arm.r_m(a),
                 std::max(3.0 * la->parameters[0].sigma[a], 0.2 * std::abs(extra.lever_arm.r_m(a))));
-  const Effect* gs = findEffect(r, "g_sensitivity");
+  const Effect* gs = findEffect(r, TermKind::g_sensitivity);
   ASSERT_NE(gs, nullptr);
   for (int k = 0; k < 9; ++k)
     EXPECT_NEAR(gs->parameters[0].values[k], extra.g_sensitivity.G(k / 3, k % 3),
@@ -71,9 +72,10 @@ TEST(MismatchDiagnosis, GSensitivityReadsTheSpecificForceAtTheTestedImu) {
   const DiagnosisInputs in =
       graftedInputs(sampleMotion(m, 100.0, 150.0), real, quiet, 47, "reference + white noise");
   const DiagnosisResult r = diagnose(in);
-  const std::set<std::string> names = effectNames(r);
-  EXPECT_EQ(names, (std::set<std::string>{"lever_arm", "g_sensitivity"})) << diagnosisMarkdown(r);
-  const Effect* gs = findEffect(r, "g_sensitivity");
+  const std::set<TermKind> kinds = effectKinds(r);
+  EXPECT_EQ(kinds, (std::set<TermKind>{TermKind::lever_arm, TermKind::g_sensitivity}))
+      << diagnosisMarkdown(r);
+  const Effect* gs = findEffect(r, TermKind::g_sensitivity);
   ASSERT_NE(gs, nullptr);
   for (int k = 0; k < 9; ++k)
     EXPECT_NEAR(gs->parameters[0].values[k], real.g_sensitivity.G(k / 3, k % 3),
@@ -107,10 +109,10 @@ TEST(MismatchDiagnosis, LargeTimeOffsetIsRealignedAndReported) {
   extra.lever_arm.r_m << 0.5, -0.3, 0.2;
   const Pair p = makePair(extra, 3);
   const DiagnosisResult r = diagnose(p.in);
-  const Effect* to = findEffect(r, "time_offset");
+  const Effect* to = findEffect(r, TermKind::time_offset);
   ASSERT_NE(to, nullptr) << diagnosisMarkdown(r);
   EXPECT_NEAR(to->parameters[0].values[0], 1.3, 3.0 * to->parameters[0].sigma[0] + 1e-3);
-  const Effect* la = findEffect(r, "lever_arm");
+  const Effect* la = findEffect(r, TermKind::lever_arm);
   ASSERT_NE(la, nullptr) << diagnosisMarkdown(r);
   for (int a = 0; a < 3; ++a)
     EXPECT_NEAR(la->parameters[0].values[a], extra.lever_arm.r_m(a),
@@ -140,9 +142,10 @@ TEST(MismatchDiagnosis, BinsOverlappingASamplingGapAreLeftOut) {
   EXPECT_LE(r.masked_spans[0].first, 5060.0);
   EXPECT_GE(r.masked_spans[0].second, 5061.5);
   EXPECT_LT(r.masked_spans[0].second - r.masked_spans[0].first, 1.8);
-  const std::set<std::string> names = effectNames(r);
-  EXPECT_EQ(names, (std::set<std::string>{"time_offset", "lever_arm"})) << diagnosisMarkdown(r);
-  const Effect* la = findEffect(r, "lever_arm");
+  const std::set<TermKind> kinds = effectKinds(r);
+  EXPECT_EQ(kinds, (std::set<TermKind>{TermKind::time_offset, TermKind::lever_arm}))
+      << diagnosisMarkdown(r);
+  const Effect* la = findEffect(r, TermKind::lever_arm);
   ASSERT_NE(la, nullptr);
   for (int a = 0; a < 3; ++a)
     EXPECT_NEAR(la->parameters[0].values[a], extra.lever_arm.r_m(a),
@@ -177,7 +180,7 @@ TEST(MismatchDiagnosis, WanderWithinTheLabNoiseFiguresIsNotUnexplained) {
   Pair p = makePair(extra, 21);
   auto accelSpans = [](const DiagnosisResult& r) {
     int k = 0;
-    for (const LocatedSpan& s : r.unexplained) k += s.channel.rfind("accel", 0) == 0;
+    for (const LocatedSpan& s : r.unexplained) k += s.channel >= firstChannel(Sensor::accel);
     return k;
   };
   const DiagnosisResult without = diagnose(p.in);
@@ -202,21 +205,22 @@ TEST(MismatchDiagnosis, WanderWithinTheLabNoiseFiguresIsNotUnexplained) {
   int outside = 0;
   for (const WanderCheck& k : beyond.wander) outside += !k.within;
   EXPECT_GT(outside, 0) << diagnosisMarkdown(beyond);
-  const Effect* bi = findEffect(beyond, "bias_instability");
-  EXPECT_TRUE(accelSpans(beyond) > 0 || (bi && bi->sensor == "accel")) << diagnosisMarkdown(beyond);
+  const Effect* bi = findEffect(beyond, TermKind::bias_instability);
+  EXPECT_TRUE(accelSpans(beyond) > 0 || (bi && bi->sensor == SensorScope::accel))
+      << diagnosisMarkdown(beyond);
 }
 
 TEST(MismatchDiagnosis, QuantizationFoundFromTheValueLattice) {
   ImuErrorModel extra;
   extra.accel.quantization.step.setConstant(2e-3);  // m/s per increment
   const Pair p = makePair(extra, 4);
-  const Eigen::Vector3d q = detectQuantizationStep(p.in.real, false);
+  const Eigen::Vector3d q = detectQuantizationStep(p.in.real, Sensor::accel);
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(q(a), 2e-3, 1e-9);
-  EXPECT_EQ(detectQuantizationStep(p.in.real, true), Eigen::Vector3d::Zero());
+  EXPECT_EQ(detectQuantizationStep(p.in.real, Sensor::gyro), Eigen::Vector3d::Zero());
   const DiagnosisResult r = diagnose(p.in);
-  const Effect* e = findEffect(r, "quantization");
+  const Effect* e = findEffect(r, TermKind::quantization);
   ASSERT_NE(e, nullptr);
-  EXPECT_EQ(e->sensor, "accel");
+  EXPECT_EQ(e->sensor, SensorScope::accel);
 }
 
 // A field that runs colder than the lab: the simulation's bias is the lab's, at 25 degC, and the
@@ -245,9 +249,9 @@ TEST(MismatchDiagnosis, TemperatureBiasIsGraftedWithItsOffsetFromTheSimulationsT
   DiagnoseOptions opt;
   opt.slow_block_s = 0.0;
   const DiagnosisResult r = diagnose(in, opt);
-  const Effect* e = findEffect(r, "temperature_bias");
+  const Effect* e = findEffect(r, TermKind::temperature_bias);
   ASSERT_NE(e, nullptr) << diagnosisJson(r);
-  ASSERT_EQ(e->sensor, "gyro");
+  ASSERT_EQ(e->sensor, SensorScope::gyro);
   const EffectParameter* k = nullptr;
   const EffectParameter* t_ref = nullptr;
   for (const EffectParameter& p : e->parameters) {

@@ -33,8 +33,8 @@ TEST(MismatchDiagnosis, ScaleNonlinearityReportsTheSensorsOwnQuadratic) {
   lab.c2 << 0.0, 0.0, c2;
   lab.c2_sigma << 0.0, 0.0, c2 / 50.0;
   auto k2Of = [](const DiagnosisResult& r, const std::string& key) -> const EffectParameter* {
-    const Effect* e = findEffect(r, "scale_nonlinearity");
-    if (!e || e->sensor != "gyro") return nullptr;
+    const Effect* e = findEffect(r, TermKind::scale_nonlinearity);
+    if (!e || e->sensor != SensorScope::gyro) return nullptr;
     for (const EffectParameter& q : e->parameters)
       if (q.key == key) return &q;
     return nullptr;
@@ -84,8 +84,8 @@ TEST(MismatchDiagnosis, ScaleNonlinearityReportsTheSensorsOwnQuadratic) {
   // The sensor's bend is what SG#2 grafts: reported as already in the simulation.
   ASSERT_EQ(within_lab.in_simulation.size(), 1u) << diagnosisMarkdown(within_lab);
   const Effect& lab_term = within_lab.in_simulation[0];
-  EXPECT_EQ(lab_term.name, "scale_nonlinearity");
-  EXPECT_EQ(lab_term.sensor, "gyro");
+  EXPECT_EQ(lab_term.kind(), TermKind::scale_nonlinearity);
+  EXPECT_EQ(lab_term.sensor, SensorScope::gyro);
   ASSERT_EQ(lab_term.parameters.size(), 1u);
   EXPECT_EQ(lab_term.parameters[0].values[2], c2);
   EXPECT_EQ(lab_term.parameters[0].sigma[2], c2 / 2.0);
@@ -116,9 +116,9 @@ TEST(MismatchDiagnosis, MisalignmentWithinTheLabRotationUncertaintyIsNotClaimed)
     Pair p = makePair(extra, 11);
     const DiagnosisResult without_lab = diagnose(p.in);
     // Ungated, the rotation shows: as a mounting rotation or (what it is) an accel cross-axis term.
-    const Effect* n_accel = findEffect(without_lab, "non_orthogonality");
-    ASSERT_TRUE(findEffect(without_lab, "mounting_misalignment") != nullptr ||
-                (n_accel != nullptr && n_accel->sensor == "accel"))
+    const Effect* n_accel = findEffect(without_lab, TermKind::non_orthogonality);
+    ASSERT_TRUE(findEffect(without_lab, TermKind::mounting_misalignment) != nullptr ||
+                (n_accel != nullptr && n_accel->sensor == SensorScope::accel))
         << "the case must show a rotation when nothing gates it\n"
         << diagnosisMarkdown(without_lab);
     p.in.priors[Sensor::gyro].lab_M_sigma = lab_gyro_sigma;
@@ -133,7 +133,7 @@ TEST(MismatchDiagnosis, MisalignmentWithinTheLabRotationUncertaintyIsNotClaimed)
     p.in.priors[Sensor::gyro].lab_M_sigma = lab_gyro_sigma;
     p.in.priors[Sensor::accel].lab_M_sigma = lab_accel_sigma;
     const DiagnosisResult r = diagnose(p.in);
-    const Effect* mm = findEffect(r, "mounting_misalignment");
+    const Effect* mm = findEffect(r, TermKind::mounting_misalignment);
     ASSERT_NE(mm, nullptr) << diagnosisMarkdown(r);
     EXPECT_NEAR(mm->parameters[0].values[2], 1e-2,
                 std::max(3.0 * mm->parameters[0].sigma[2], 2e-3));
@@ -149,7 +149,7 @@ TEST(MismatchDiagnosis, RotationOfSeveralDegreesIsNotSplitIntoScaleAndCrossAxisT
   extra.mounting_misalignment.rotation_rad << -0.056, 0.022, 0.080;  // 5.6 deg
   Pair p = makePair(extra, 14);
   const DiagnosisResult r = diagnose(p.in);
-  const Effect* mm = findEffect(r, "mounting_misalignment");
+  const Effect* mm = findEffect(r, TermKind::mounting_misalignment);
   ASSERT_NE(mm, nullptr) << diagnosisMarkdown(r);
   for (int a = 0; a < 3; ++a)
     EXPECT_NEAR(mm->parameters[0].values[a], extra.mounting_misalignment.rotation_rad(a),
@@ -208,9 +208,9 @@ TEST(MismatchDiagnosis, ClaimedTermIsFittedNextToTheGatedCalibrationError) {
       Eigen::Matrix3d::Constant(2e-3);  // 3 sigma = 6e-3: k is within
   in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-4);
   const DiagnosisResult r = diagnose(in);
-  const Effect* g = findEffect(r, "g_sensitivity");
+  const Effect* g = findEffect(r, TermKind::g_sensitivity);
   ASSERT_NE(g, nullptr) << diagnosisMarkdown(r);
-  EXPECT_EQ(findEffect(r, "scale_factor"), nullptr) << diagnosisMarkdown(r);
+  EXPECT_EQ(findEffect(r, TermKind::scale_factor), nullptr) << diagnosisMarkdown(r);
   for (int k : {1 * 3 + 0, 2 * 3 + 1, 0}) {  // G_yx (zero), G_zy, G_xx
     const double want = truth.g_sensitivity.G(k / 3, k % 3);
     const double got = g->parameters[0].values[k], sd = g->parameters[0].sigma[k];
@@ -237,7 +237,7 @@ TEST(MismatchDiagnosis, ScaleWithinTheReferenceImusOwnUncertaintyIsNotClaimed) {
     p.in.priors[Sensor::gyro].reference_scale_sigma = ref_sigma;
     const DiagnosisResult r = diagnose(p.in);
     for (const Effect& e : r.effects)
-      if (e.name == "scale_factor" && e.sensor == "gyro") return e.explanation;
+      if (e.kind() == TermKind::scale_factor && e.sensor == SensorScope::gyro) return e.explanation;
     return std::nullopt;
   };
   const std::string kRefShare = "the reference's own gain error";
@@ -281,7 +281,8 @@ TEST(MismatchDiagnosis, ScaleWithinTheLabQuadraticsUncertaintyAtTheMeanInputIsNo
     in.priors[Sensor::accel].lab_quadratic = q;
     const DiagnosisResult r = diagnose(in);
     for (const Effect& e : r.effects)
-      if ((e.name == "scale_factor" || e.name == "scale_nonlinearity") && e.sensor == "accel")
+      if ((e.kind() == TermKind::scale_factor || e.kind() == TermKind::scale_nonlinearity) &&
+          e.sensor == SensorScope::accel)
         return true;
     return false;
   };
@@ -332,9 +333,9 @@ TEST(MismatchDiagnosis, TimeOffsetShiftsTheLabCalibratedResponse) {
   // left was not traced); shifting the bare reference it is 50 us off (6.4 sigma).
   const DiagnosisResult r = run(true);
   ASSERT_EQ(r.effects.size(), 1u) << diagnosisMarkdown(r);
-  EXPECT_EQ(r.effects[0].name, "time_offset");
+  EXPECT_EQ(r.effects[0].kind(), TermKind::time_offset);
   const DiagnosisResult bare = run(false);
-  const Effect* to = findEffect(bare, "time_offset");
+  const Effect* to = findEffect(bare, TermKind::time_offset);
   ASSERT_NE(to, nullptr);
   const double err = std::abs(r.effects[0].parameters[0].values[0] - tau);
   const double err_bare = std::abs(to->parameters[0].values[0] - tau);
@@ -361,7 +362,7 @@ TEST(MismatchDiagnosis, TimeOffsetShiftsTheLabQuadratic) {
   in.priors[Sensor::accel].lab_quadratic = q;
   const DiagnosisResult r = diagnose(in);
   ASSERT_EQ(r.effects.size(), 1u) << diagnosisMarkdown(r);
-  EXPECT_EQ(r.effects[0].name, "time_offset");
+  EXPECT_EQ(r.effects[0].kind(), TermKind::time_offset);
   EXPECT_LT(std::abs(r.effects[0].parameters[0].values[0] - tau),
             3.0 * r.effects[0].parameters[0].sigma[0]);
 }

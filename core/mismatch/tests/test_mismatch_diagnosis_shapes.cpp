@@ -42,7 +42,7 @@ TEST(MismatchDiagnosis, ScaleAsymmetryReportsTheSensorsOwnGainsPerSign) {
   lab.c2_sigma << 0.0, 0.0, c2 / 50.0;
   p.in.priors[Sensor::gyro].lab_quadratic = lab;
   const DiagnosisResult r = diagnose(p.in);
-  const Effect* sa = findEffect(r, "scale_asymmetry");
+  const Effect* sa = findEffect(r, TermKind::scale_asymmetry);
   ASSERT_NE(sa, nullptr) << diagnosisMarkdown(r);
   ASSERT_GE(sa->parameters.size(), 4u);
   EXPECT_EQ(sa->parameters[0].key, "k_pos");
@@ -51,7 +51,7 @@ TEST(MismatchDiagnosis, ScaleAsymmetryReportsTheSensorsOwnGainsPerSign) {
   const double d = sa->parameters[0].values[2] - sa->parameters[1].values[2];
   const double sd = std::hypot(sa->parameters[0].sigma[2], sa->parameters[1].sigma[2]);
   EXPECT_NEAR(d, 0.04, 3.0 * sd) << diagnosisMarkdown(r);
-  EXPECT_EQ(findEffect(r, "scale_nonlinearity"), nullptr) << diagnosisMarkdown(r);
+  EXPECT_EQ(findEffect(r, TermKind::scale_nonlinearity), nullptr) << diagnosisMarkdown(r);
 }
 
 // The gains per sign are reported relative to the simulation's linear gain: a tested gyro with a
@@ -70,7 +70,7 @@ TEST(MismatchDiagnosis, ScaleAsymmetryGainsAreRelativeToTheSimulationsGain) {
   const DiagnosisInputs in = graftedInputs(sampleMotion(m, 100.0, 150.0), real, sg2, 41,
                                            "reference + the lab's scale factor (as SG#2)");
   const DiagnosisResult r = diagnose(in);
-  const Effect* sa = findEffect(r, "scale_asymmetry");
+  const Effect* sa = findEffect(r, TermKind::scale_asymmetry);
   ASSERT_NE(sa, nullptr) << diagnosisMarkdown(r);
   ASSERT_GE(sa->parameters.size(), 2u);
   const EffectParameter& kp = sa->parameters[0];
@@ -97,8 +97,8 @@ TEST(MismatchDiagnosis, ScaleAsymmetryGainsAreRelativeToTheSimulationsGain) {
   off.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(5e-4);
   off.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   const DiagnosisResult r_off = diagnose(off);
-  EXPECT_EQ(findEffect(r_off, "scale_factor"), nullptr) << diagnosisMarkdown(r_off);
-  const Effect* sa_off = findEffect(r_off, "scale_asymmetry");
+  EXPECT_EQ(findEffect(r_off, TermKind::scale_factor), nullptr) << diagnosisMarkdown(r_off);
+  const Effect* sa_off = findEffect(r_off, TermKind::scale_asymmetry);
   ASSERT_NE(sa_off, nullptr) << diagnosisMarkdown(r_off);
   EXPECT_GT(sa_off->parameters[0].values[2] + sa_off->parameters[1].values[2], 1e-3)
       << "the mean of the gains per sign holds the lab's error (2 x 1e-3 expected)";
@@ -124,7 +124,7 @@ TEST(MismatchDiagnosis, AsymmetryGateWeighsTheLabQuadraticNotItsGain) {
   in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(d);
   in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   const DiagnosisResult loose_gain = diagnose(in);
-  const Effect* sa = findEffect(loose_gain, "scale_asymmetry");
+  const Effect* sa = findEffect(loose_gain, TermKind::scale_asymmetry);
   ASSERT_NE(sa, nullptr) << diagnosisMarkdown(loose_gain);
   EXPECT_NEAR(sa->parameters[0].values[2] - sa->parameters[1].values[2], 2.0 * d,
               3.0 * std::hypot(sa->parameters[0].sigma[2], sa->parameters[1].sigma[2]));
@@ -135,7 +135,8 @@ TEST(MismatchDiagnosis, AsymmetryGateWeighsTheLabQuadraticNotItsGain) {
   lab.c2_sigma << 0.0, 0.0, 0.1;
   in.priors[Sensor::gyro].lab_quadratic = lab;
   const DiagnosisResult loose_c2 = diagnose(in);
-  EXPECT_EQ(findEffect(loose_c2, "scale_asymmetry"), nullptr) << diagnosisMarkdown(loose_c2);
+  EXPECT_EQ(findEffect(loose_c2, TermKind::scale_asymmetry), nullptr)
+      << diagnosisMarkdown(loose_c2);
   EXPECT_TRUE(hasNote(loose_c2, "gyro scale_asymmetry fitted but within 3 sigma", "lab quadratic"))
       << diagnosisMarkdown(loose_c2);
 }
@@ -178,9 +179,9 @@ TEST(MismatchDiagnosis, AccelAsymmetryReplacesTheLabQuadraticItWasSeenAs) {
     return diagnose(in);
   };
   const DiagnosisResult plain = run(false), folded = run(true);
-  EXPECT_EQ(findEffect(folded, "scale_nonlinearity"), nullptr) << diagnosisMarkdown(folded);
-  const Effect* sa = findEffect(folded, "scale_asymmetry");
-  const Effect* sa_plain = findEffect(plain, "scale_asymmetry");
+  EXPECT_EQ(findEffect(folded, TermKind::scale_nonlinearity), nullptr) << diagnosisMarkdown(folded);
+  const Effect* sa = findEffect(folded, TermKind::scale_asymmetry);
+  const Effect* sa_plain = findEffect(plain, TermKind::scale_asymmetry);
   ASSERT_NE(sa, nullptr) << diagnosisMarkdown(folded);
   ASSERT_NE(sa_plain, nullptr) << diagnosisMarkdown(plain);
   ASSERT_GE(sa->parameters.size(), 4u);
@@ -195,7 +196,7 @@ TEST(MismatchDiagnosis, AccelAsymmetryReplacesTheLabQuadraticItWasSeenAs) {
         << diagnosisMarkdown(folded);
   }
   // SG#3 takes the lab's quadratic out: it is no longer listed as in the simulation.
-  for (const Effect& e : folded.in_simulation) EXPECT_NE(e.sensor, "accel");
+  for (const Effect& e : folded.in_simulation) EXPECT_NE(e.sensor, SensorScope::accel);
 }
 
 // The gains per sign are measured on tested minus reference, which holds the sensor's own
@@ -228,14 +229,14 @@ TEST(MismatchDiagnosis, GainsPerSignAreMeasuredBesideTheCurvatureTheLabMeasured)
   in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   in.priors[Sensor::accel].lab_quadratic = lab;
   const DiagnosisResult r = diagnose(in);
-  const Effect* sa = findEffect(r, "scale_asymmetry");
+  const Effect* sa = findEffect(r, TermKind::scale_asymmetry);
   ASSERT_NE(sa, nullptr) << diagnosisMarkdown(r);
   EXPECT_NEAR(sa->parameters[0].values[0], d, 3.0 * sa->parameters[0].sigma[0])
       << diagnosisMarkdown(r);
   EXPECT_NEAR(sa->parameters[1].values[0], -d, 3.0 * sa->parameters[1].sigma[0]);
   EXPECT_LT(sa->parameters[0].sigma[0], 0.1 * d) << "x is determined";
   // The field does not claim the curvature here (MEMS noise): the lab's is what holds it.
-  EXPECT_EQ(findEffect(r, "scale_nonlinearity"), nullptr) << diagnosisMarkdown(r);
+  EXPECT_EQ(findEffect(r, TermKind::scale_nonlinearity), nullptr) << diagnosisMarkdown(r);
 }
 
 // An accelerometer z curvature that the lab's degree test dropped (as on random_26_05) is, in
@@ -264,25 +265,25 @@ TEST(MismatchDiagnosis, OneSignedGainIsNamedByTheLabsCurvatureEstimate) {
     return diagnose(in);
   };
   const DiagnosisResult bent = run(true, 0.9 * k2, 2e-5);
-  const Effect* nl = findEffect(bent, "scale_nonlinearity");
+  const Effect* nl = findEffect(bent, TermKind::scale_nonlinearity);
   ASSERT_NE(nl, nullptr) << diagnosisMarkdown(bent);
-  EXPECT_EQ(nl->sensor, "accel");
-  EXPECT_EQ(findEffect(bent, "scale_factor"), nullptr) << diagnosisMarkdown(bent);
+  EXPECT_EQ(nl->sensor, SensorScope::accel);
+  EXPECT_EQ(findEffect(bent, TermKind::scale_factor), nullptr) << diagnosisMarkdown(bent);
   EXPECT_NEAR(nl->parameters[0].values[2], k2, 3.0 * nl->parameters[0].sigma[2])
       << diagnosisMarkdown(bent);
   EXPECT_LT(nl->parameters[0].sigma[2], 0.2 * std::abs(k2));
 
   const DiagnosisResult gain = run(false, 1e-6, 2e-5);
-  const Effect* sf = findEffect(gain, "scale_factor");
+  const Effect* sf = findEffect(gain, TermKind::scale_factor);
   ASSERT_NE(sf, nullptr) << diagnosisMarkdown(gain);
   EXPECT_NEAR(sf->parameters[0].values[2], -2.0 * g * k2, 3.0 * sf->parameters[0].sigma[2]);
-  EXPECT_EQ(findEffect(gain, "scale_nonlinearity"), nullptr) << diagnosisMarkdown(gain);
+  EXPECT_EQ(findEffect(gain, TermKind::scale_nonlinearity), nullptr) << diagnosisMarkdown(gain);
 
   const DiagnosisResult coarse = run(true, 0.9 * k2, 3e-4);
-  EXPECT_EQ(findEffect(coarse, "scale_factor"), nullptr) << diagnosisMarkdown(coarse);
-  EXPECT_EQ(findEffect(coarse, "scale_nonlinearity"), nullptr) << diagnosisMarkdown(coarse);
+  EXPECT_EQ(findEffect(coarse, TermKind::scale_factor), nullptr) << diagnosisMarkdown(coarse);
+  EXPECT_EQ(findEffect(coarse, TermKind::scale_nonlinearity), nullptr) << diagnosisMarkdown(coarse);
   ASSERT_EQ(coarse.ambiguous.size(), 1u) << diagnosisMarkdown(coarse);
-  EXPECT_EQ(coarse.ambiguous[0].alternative, "scale_nonlinearity");
+  EXPECT_EQ(coarse.ambiguous[0].alternative, &termSpec(TermKind::scale_nonlinearity));
 }
 
 // A one-sided accelerometer z asymmetry the lab folded into the quadratic it kept (as on
@@ -327,10 +328,10 @@ TEST(MismatchDiagnosis, OneSignedGainIsWeighedAgainstAnAsymmetryTheLabFolded) {
     return diagnose(in);
   };
   const DiagnosisResult folded = run(true);
-  EXPECT_EQ(findEffect(folded, "scale_factor"), nullptr) << diagnosisMarkdown(folded);
-  const Effect* sa = findEffect(folded, "scale_asymmetry");
+  EXPECT_EQ(findEffect(folded, TermKind::scale_factor), nullptr) << diagnosisMarkdown(folded);
+  const Effect* sa = findEffect(folded, TermKind::scale_asymmetry);
   ASSERT_NE(sa, nullptr) << diagnosisMarkdown(folded);
-  EXPECT_EQ(sa->sensor, "accel");
+  EXPECT_EQ(sa->sensor, SensorScope::accel);
   // Gains per sign about the lab's mean gain: +-d on z, d = a / 2.
   EXPECT_NEAR(sa->parameters[0].values[2], -3e-3, 3.0 * sa->parameters[0].sigma[2])
       << diagnosisMarkdown(folded);
@@ -338,11 +339,11 @@ TEST(MismatchDiagnosis, OneSignedGainIsWeighedAgainstAnAsymmetryTheLabFolded) {
   EXPECT_LT(sa->parameters[0].sigma[2], 0.3 * 3e-3);
 
   const DiagnosisResult gain = run(false);
-  EXPECT_EQ(findEffect(gain, "scale_factor"), nullptr) << diagnosisMarkdown(gain);
-  EXPECT_EQ(findEffect(gain, "scale_asymmetry"), nullptr) << diagnosisMarkdown(gain);
+  EXPECT_EQ(findEffect(gain, TermKind::scale_factor), nullptr) << diagnosisMarkdown(gain);
+  EXPECT_EQ(findEffect(gain, TermKind::scale_asymmetry), nullptr) << diagnosisMarkdown(gain);
   ASSERT_EQ(gain.ambiguous.size(), 1u) << diagnosisMarkdown(gain);
-  EXPECT_EQ(gain.ambiguous[0].effect.name, "scale_factor");
-  EXPECT_EQ(gain.ambiguous[0].alternative, "scale_asymmetry");
+  EXPECT_EQ(gain.ambiguous[0].effect.kind(), TermKind::scale_factor);
+  EXPECT_EQ(gain.ambiguous[0].alternative, &termSpec(TermKind::scale_asymmetry));
   EXPECT_NEAR(gain.ambiguous[0].effect.parameters[0].values[2], 3e-3,
               3.0 * gain.ambiguous[0].effect.parameters[0].sigma[2]);
 }
@@ -366,29 +367,30 @@ TEST(MismatchDiagnosis, EvenShapeIsNamedOnlyWithEvidenceOverTheOther) {
   int ambiguous = 0;
   for (int seed : {5, 6, 7}) {
     const DiagnosisResult near = run(0.0015, 0.0, seed);
-    EXPECT_EQ(findEffect(near, "scale_nonlinearity"), nullptr) << diagnosisMarkdown(near);
+    EXPECT_EQ(findEffect(near, TermKind::scale_nonlinearity), nullptr) << diagnosisMarkdown(near);
     EXPECT_LT(near.rms_after.gyro(2), 0.99 * near.rms_before.gyro(2)) << "modelled in SG#3";
-    if (findEffect(near, "scale_asymmetry") != nullptr) continue;
+    if (findEffect(near, TermKind::scale_asymmetry) != nullptr) continue;
     ASSERT_EQ(near.ambiguous.size(), 1u) << diagnosisMarkdown(near);
     const AmbiguousEffect& a = near.ambiguous[0];
     ++ambiguous;
-    EXPECT_EQ(a.effect.sensor, "gyro");
+    EXPECT_EQ(a.effect.sensor, SensorScope::gyro);
     EXPECT_LT(a.name_margin, SelectionOptions{}.min_name_margin);
-    const double for_abs = a.effect.name == "scale_asymmetry" ? a.name_margin : -a.name_margin;
+    const double for_abs =
+        a.effect.kind() == TermKind::scale_asymmetry ? a.name_margin : -a.name_margin;
     EXPECT_GT(for_abs, 0.0) << "seed " << seed << "\n" << diagnosisMarkdown(near);
     const nlohmann::json j = nlohmann::json::parse(diagnosisJson(near));
     ASSERT_EQ(j["ambiguous"].size(), 1u);
-    EXPECT_EQ(j["ambiguous"][0]["alternative"], a.alternative);
+    EXPECT_EQ(j["ambiguous"][0]["alternative"], a.alternative->name);
     EXPECT_TRUE(j["ambiguous"][0]["evidence"].contains("name_margin"));
   }
   EXPECT_GE(ambiguous, 1) << "0.0015 is meant to sit where the shape is not settled";
   // Each shape named when it fits clearly better.
   const DiagnosisResult asym = run(0.002, 0.0, 5), quad = run(0.0, 0.005, 5);
-  EXPECT_NE(findEffect(asym, "scale_asymmetry"), nullptr) << diagnosisMarkdown(asym);
-  EXPECT_EQ(findEffect(asym, "scale_nonlinearity"), nullptr) << diagnosisMarkdown(asym);
+  EXPECT_NE(findEffect(asym, TermKind::scale_asymmetry), nullptr) << diagnosisMarkdown(asym);
+  EXPECT_EQ(findEffect(asym, TermKind::scale_nonlinearity), nullptr) << diagnosisMarkdown(asym);
   EXPECT_TRUE(asym.ambiguous.empty()) << diagnosisMarkdown(asym);
-  EXPECT_NE(findEffect(quad, "scale_nonlinearity"), nullptr) << diagnosisMarkdown(quad);
-  EXPECT_EQ(findEffect(quad, "scale_asymmetry"), nullptr) << diagnosisMarkdown(quad);
+  EXPECT_NE(findEffect(quad, TermKind::scale_nonlinearity), nullptr) << diagnosisMarkdown(quad);
+  EXPECT_EQ(findEffect(quad, TermKind::scale_asymmetry), nullptr) << diagnosisMarkdown(quad);
   EXPECT_TRUE(quad.ambiguous.empty()) << diagnosisMarkdown(quad);
 }
 

@@ -92,8 +92,8 @@ TEST(MismatchDiagnosis, VibrationLevelIsTakenAtTheTestedImu) {
   in.real = applyErrors(car.sample(0.0, r), truth, 91);
   in.simulated = applyErrors(in.reference, noise, 92);
   const DiagnosisResult d = diagnose(in);
-  const Effect* vib = findEffect(d, "vibration_rectification");
-  ASSERT_NE(findEffect(d, "lever_arm"), nullptr) << diagnosisMarkdown(d);
+  const Effect* vib = findEffect(d, TermKind::vibration_rectification);
+  ASSERT_NE(findEffect(d, TermKind::lever_arm), nullptr) << diagnosisMarkdown(d);
   ASSERT_NE(vib, nullptr) << diagnosisMarkdown(d);
   for (int a = 0; a < 3; ++a) {
     const double err = std::abs(vib->parameters[0].values[a] - coeff(a));
@@ -121,9 +121,9 @@ TEST(MismatchDiagnosis, AsymmetryUnderVibrationIsMeasuredOnTheSamples) {
   in.priors[Sensor::gyro].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   in.priors[Sensor::accel].lab_M_sigma = Eigen::Matrix3d::Constant(1e-6);
   const DiagnosisResult r = diagnose(in);
-  EXPECT_EQ(findEffect(r, "scale_nonlinearity"), nullptr) << diagnosisMarkdown(r);
-  EXPECT_EQ(findEffect(r, "vibration_rectification"), nullptr) << diagnosisMarkdown(r);
-  const Effect* sa = findEffect(r, "scale_asymmetry");
+  EXPECT_EQ(findEffect(r, TermKind::scale_nonlinearity), nullptr) << diagnosisMarkdown(r);
+  EXPECT_EQ(findEffect(r, TermKind::vibration_rectification), nullptr) << diagnosisMarkdown(r);
+  const Effect* sa = findEffect(r, TermKind::scale_asymmetry);
   ASSERT_NE(sa, nullptr) << diagnosisMarkdown(r);
   for (int a = 0; a < 2; ++a) {
     const double d = sa->parameters[0].values[a] - sa->parameters[1].values[a];
@@ -149,9 +149,9 @@ TEST(MismatchDiagnosis, LeverArmUnderVibrationWithATimeOffset) {
   in.real = applyErrors(car.sample(tau, r_m), tested, 42);
   in.simulated = simulateFromReferenceAndStaticBias(in.reference, in.real).simulated;
   const DiagnosisResult res = diagnose(in);
-  const Effect* la = findEffect(res, "lever_arm");
+  const Effect* la = findEffect(res, TermKind::lever_arm);
   ASSERT_NE(la, nullptr) << diagnosisMarkdown(res);
-  ASSERT_NE(findEffect(res, "time_offset"), nullptr) << diagnosisMarkdown(res);
+  ASSERT_NE(findEffect(res, TermKind::time_offset), nullptr) << diagnosisMarkdown(res);
   for (int a = 0; a < 3; ++a)
     EXPECT_NEAR(la->parameters[0].values[a], r_m(a), 3.0 * la->parameters[0].sigma[a])
         << "axis " << a << "\n"
@@ -177,9 +177,9 @@ TEST(MismatchDiagnosis, SlowRegressorNextToATimeOffsetKeepsItsGlsFit) {
     lab.rate_random_walk.setConstant(1e-3);
     p.in.priors[Sensor::accel].lab_noise = lab;
     const DiagnosisResult r = diagnose(p.in);
-    ASSERT_NE(findEffect(r, "time_offset"), nullptr) << diagnosisMarkdown(r);
-    const Effect* vr = findEffect(r, "vibration_rectification");
-    if (vr == nullptr || vr->sensor != "accel") continue;
+    ASSERT_NE(findEffect(r, TermKind::time_offset), nullptr) << diagnosisMarkdown(r);
+    const Effect* vr = findEffect(r, TermKind::vibration_rectification);
+    if (vr == nullptr || vr->sensor != SensorScope::accel) continue;
     ++found;
     for (int a = 0; a < 3; ++a) {
       const double z =
@@ -219,7 +219,7 @@ TEST(MismatchDiagnosis, LeverArmPassesThroughTheLabCalibratedQuadratic) {
       x.priors[Sensor::accel].lab_quadratic =
           LabQuadratic{quadratic.accel.scale_nonlinearity.k2, Eigen::Vector3d::Zero()};
     const DiagnosisResult res = diagnose(x);
-    const Effect* la = findEffect(res, "lever_arm");
+    const Effect* la = findEffect(res, TermKind::lever_arm);
     EXPECT_NE(la, nullptr) << diagnosisMarkdown(res);
     double worst = 0.0;
     for (int a = 0; la && a < 3; ++a)

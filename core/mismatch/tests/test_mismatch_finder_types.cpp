@@ -7,25 +7,32 @@
 #include "graftnav/mismatch/finder_options.h"
 #include "graftnav/mismatch/sensor.h"
 #include "graftnav/mismatch/term_kind.h"
+#include "graftnav/mismatch/term_spec.h"
 
 namespace graftnav {
 namespace {
 
-TEST(MismatchSensor, NamesRoundTripAndBothIsNoSingleSensor) {
-  for (const Sensor s : kSensors) EXPECT_EQ(sensorNamed(sensorName(s)), s);
+TEST(MismatchSensor, NamesAndTheScopeOfBoth) {
+  EXPECT_STREQ(sensorName(Sensor::gyro), "gyro");
+  EXPECT_STREQ(sensorName(Sensor::accel), "accel");
+  EXPECT_STREQ(scopeName(SensorScope::both), "both");
+  for (const Sensor s : kSensors) {
+    EXPECT_EQ(sensorOf(scopeOf(s)), s);
+    EXPECT_STREQ(scopeName(scopeOf(s)), sensorName(s));
+  }
   EXPECT_EQ(firstChannel(Sensor::gyro), 0);
   EXPECT_EQ(firstChannel(Sensor::accel), 3);
   EXPECT_EQ(otherSensor(Sensor::gyro), Sensor::accel);
-  EXPECT_THROW(sensorNamed("both"), std::invalid_argument);
+  EXPECT_THROW(sensorOf(SensorScope::both), std::invalid_argument);
   PerSensor<int> v;
   v[Sensor::accel] = 7;
   EXPECT_EQ(v[Sensor::gyro], 0);
   EXPECT_EQ(v[Sensor::accel], 7);
 }
 
-TEST(MismatchTermKind, EveryLibraryTermHasItsKind) {
-  // Every candidate the library builds from a minimal input is a kind of its own (the fixed
-  // helper parts aside), so no finder decision falls through to TermKind::other.
+TEST(MismatchTermKind, EveryLibraryTermIsABuiltInRow) {
+  // Every term the library builds from a minimal input is a row of the built-in registry, on a
+  // scope its row allows, and its key names it as diagnosis.json does.
   RegressorInputs ri;
   const int n = 200;
   ri.reference.grid.bin_s = 0.05;
@@ -37,13 +44,20 @@ TEST(MismatchTermKind, EveryLibraryTermHasItsKind) {
   ri.time_offset_column = Eigen::MatrixXd::Random(n, kMismatchChannels);
   const std::vector<CandidateTerm> terms = buildCandidateLibrary(ri);
   ASSERT_GT(terms.size(), 5u);
-  EXPECT_EQ(kindOf(terms[0]), TermKind::constant_bias);
-  for (const CandidateTerm& t : terms)
-    if (!t.fixed) {
-      EXPECT_NE(kindOf(t), TermKind::other) << t.key();
-    }
-  EXPECT_EQ(termKindNamed("scale_factor"), TermKind::scale_factor);
-  EXPECT_EQ(termKindNamed("no_such_term"), TermKind::other);
+  EXPECT_EQ(terms[0].kind(), TermKind::constant_bias);
+  EXPECT_TRUE(terms[0].nuisance());
+  for (const CandidateTerm& t : terms) {
+    ASSERT_NE(t.spec, nullptr);
+    EXPECT_EQ(t.spec, &termSpec(t.kind())) << t.key().text();
+    const TermSensors rows = t.spec->sensors;
+    if (rows == TermSensors::each_triad)
+      EXPECT_TRUE(isSingleSensor(t.sensor)) << t.key().text();
+    else
+      EXPECT_EQ(index(t.sensor), static_cast<std::size_t>(rows) - 1) << t.key().text();
+  }
+  EXPECT_EQ(termKey(TermKind::scale_factor, SensorScope::gyro).text(), "scale_factor:gyro");
+  EXPECT_EQ(termKey(TermKind::non_orthogonality, SensorScope::accel, TermVariant::symmetric).text(),
+            "non_orthogonality:accel:symmetric");
 }
 
 TEST(MismatchFinderOptions, DefaultsValidAndEachBadValueNamed) {

@@ -82,9 +82,9 @@ Fits fitPair(const ImuSeries& reference, const ImuErrorModel& model, uint64_t se
   std::vector<int> idx;
   int to_term = -1;
   for (std::size_t t = 0; t < terms.size(); ++t) {
-    const std::string k = terms[t].key();
-    if (k == "time_offset:both") to_term = static_cast<int>(t);
-    if (k == "time_offset:both" || k == "lever_arm:accel" || k == "g_sensitivity:gyro")
+    const TermKind k = terms[t].kind();
+    if (k == TermKind::time_offset) to_term = static_cast<int>(t);
+    if (k == TermKind::time_offset || k == TermKind::lever_arm || k == TermKind::g_sensitivity)
       idx.push_back(static_cast<int>(t));
   }
   EXPECT_EQ(idx.size(), 3u);
@@ -92,11 +92,11 @@ Fits fitPair(const ImuSeries& reference, const ImuErrorModel& model, uint64_t se
   f.linear = fitTerms(r, terms, idx);
   f.joint = jointFitWithTimeOffset(r, reference, grid, terms, f.linear, to_term);
   for (std::size_t k = 0; k < f.linear.selected.size(); ++k) {
-    const std::string key = terms[f.linear.selected[k].term].key();
+    const TermKind kind = terms[f.linear.selected[k].term].kind();
     const int p = static_cast<int>(k);
-    if (key == "time_offset:both") f.to = p;
-    if (key == "lever_arm:accel") f.la = p;
-    if (key == "g_sensitivity:gyro") f.gs = p;
+    if (kind == TermKind::time_offset) f.to = p;
+    if (kind == TermKind::lever_arm) f.la = p;
+    if (kind == TermKind::g_sensitivity) f.gs = p;
   }
   return f;
 }

@@ -11,6 +11,7 @@
 #include "graftnav/mismatch/candidate_terms.h"
 #include "graftnav/mismatch/common_grid.h"
 #include "graftnav/mismatch/term_selection.h"
+#include "graftnav/mismatch/term_spec.h"
 #include "graftnav/mismatch/time_offset.h"
 #include "graftnav/nav/rotation.h"
 #include "synthetic_imu.h"
@@ -35,7 +36,7 @@ TEST(MismatchSelection, RejectsTermsOnColouredNoise) {
     const SelectionResult sel = selectTerms(ar1Noise(n, rho, seed), terms);
     if (!sel.selected.empty()) {
       ++records_with_claims;
-      claimed += terms[sel.selected[0].term].key() + " ";
+      claimed += terms[sel.selected[0].term].key().text() + " ";
     }
   }
   RecordProperty("records_with_claims", records_with_claims);
@@ -49,14 +50,15 @@ TEST(MismatchSelection, DetectionLimitSeparatesFoundFromMissed) {
   const RegressorInputs in = syntheticInputs(m, 200.0, 0.0);
   const std::vector<CandidateTerm> terms = buildCandidateLibrary(in);
   const int n = in.reference.size();
-  for (const std::string key : {"scale_factor:gyro", "lever_arm:accel"}) {
+  for (const TermKey& key : {termKey(TermKind::scale_factor, SensorScope::gyro),
+                             termKey(TermKind::lever_arm, SensorScope::accel)}) {
     const int t = findTerm(terms, key);
-    ASSERT_GE(t, 0) << key;
+    ASSERT_GE(t, 0) << key.text();
     const SelectionResult noise_only = selectTerms(ar1Noise(n, 0.3, 500), terms);
     double limit = 0.0;
     for (const TermLimit& l : noise_only.limits)
       if (l.term == t) limit = l.theta_limit(2);
-    ASSERT_TRUE(std::isfinite(limit) && limit > 0.0) << key;
+    ASSERT_TRUE(std::isfinite(limit) && limit > 0.0) << key.text();
     for (const double factor : {2.5, 0.3}) {
       Eigen::VectorXd theta =
           Eigen::VectorXd::Zero(static_cast<Eigen::Index>(terms[t].columns.size()));
@@ -68,9 +70,9 @@ TEST(MismatchSelection, DetectionLimitSeparatesFoundFromMissed) {
           found += tf.term == t && tf.claimed;
       }
       if (factor > 1.0) {
-        EXPECT_GE(found, 18) << key << " at " << factor << " x its limit " << limit;
+        EXPECT_GE(found, 18) << key.text() << " at " << factor << " x its limit " << limit;
       } else {
-        EXPECT_LE(found, 2) << key << " at " << factor << " x its limit " << limit;
+        EXPECT_LE(found, 2) << key.text() << " at " << factor << " x its limit " << limit;
       }
     }
   }
@@ -89,10 +91,12 @@ TEST(MismatchSelection, MutuallyExclusiveTermsOfEqualEvidenceDoNotCycle) {
   std::vector<CandidateTerm> terms(3);
   terms[0] = constantNuisance(n);
   for (int k = 1; k <= 2; ++k) {
-    terms[k].name = "vibration_rectification";
-    terms[k].sensor = "gyro";
-    terms[k].regressor = k == 1 ? "a" : "b";
-    terms[k].excludes = {std::string("vibration_rectification:gyro:") + (k == 1 ? "b" : "a")};
+    const TermVariant level[2] = {TermVariant::specific_force_hp_sq,
+                                  TermVariant::angular_rate_hp_sq};
+    terms[k] =
+        CandidateTerm(termSpec(TermKind::vibration_rectification), SensorScope::gyro, level[k - 1]);
+    terms[k].excludes = {
+        termKey(TermKind::vibration_rectification, SensorScope::gyro, level[2 - k])};
     RegressorColumn col;
     col.channel[0] = k == 1 ? a : b;
     terms[k].columns.push_back(col);
@@ -123,8 +127,8 @@ TEST(MismatchSelection, GSensitivityNextToMisalignmentOnCarMotion) {
   const RegressorInputs in = syntheticInputs(m, 900.0, 0.0);
   const std::vector<CandidateTerm> terms = buildCandidateLibrary(in);
   const int n = in.reference.size();
-  const int g = findTerm(terms, "g_sensitivity:gyro");
-  const int mis = findTerm(terms, "mounting_misalignment:both");
+  const int g = findTerm(terms, termKey(TermKind::g_sensitivity, SensorScope::gyro));
+  const int mis = findTerm(terms, termKey(TermKind::mounting_misalignment, SensorScope::both));
   ASSERT_GE(g, 0);
   ASSERT_GE(mis, 0);
   const Eigen::VectorXd G = Eigen::Map<const Eigen::VectorXd>(G9().data(), 9) * 0.14;
@@ -144,7 +148,7 @@ TEST(MismatchSelection, GSensitivityNextToMisalignmentOnCarMotion) {
               << "seed " << seed << " G " << j;
       } else if (tf.term != mis) {
         ++other;
-        log += terms[tf.term].key() + " ";
+        log += terms[tf.term].key().text() + " ";
       }
     }
   }
@@ -162,9 +166,9 @@ TEST(MismatchSelection, RotationNextToBothNonOrthogonalitiesKeepsItsName) {
   const RegressorInputs in = syntheticInputs(m, 600.0, 0.0);
   const std::vector<CandidateTerm> terms = buildCandidateLibrary(in);
   const int n = in.reference.size();
-  const int mis = findTerm(terms, "mounting_misalignment:both");
-  const int ng = findTerm(terms, "non_orthogonality:gyro");
-  const int na = findTerm(terms, "non_orthogonality:accel");
+  const int mis = findTerm(terms, termKey(TermKind::mounting_misalignment, SensorScope::both));
+  const int ng = findTerm(terms, termKey(TermKind::non_orthogonality, SensorScope::gyro));
+  const int na = findTerm(terms, termKey(TermKind::non_orthogonality, SensorScope::accel));
   ASSERT_GE(mis, 0);
   ASSERT_GE(ng, 0);
   ASSERT_GE(na, 0);
@@ -180,14 +184,16 @@ TEST(MismatchSelection, RotationNextToBothNonOrthogonalitiesKeepsItsName) {
   const TermFit* acc = nullptr;
   for (const TermFit& tf : sel.selected) {
     if (tf.term == mis) rot = &tf;
-    if (terms[tf.term].name == "non_orthogonality" && terms[tf.term].sensor == "accel") acc = &tf;
+    if (terms[tf.term].kind() == TermKind::non_orthogonality &&
+        terms[tf.term].sensor == SensorScope::accel)
+      acc = &tf;
   }
   ASSERT_NE(rot, nullptr) << ::testing::PrintToString(sel.log);
   EXPECT_TRUE(rot->claimed);
   for (int a = 0; a < 3; ++a)
     EXPECT_NEAR(rot->theta(a), phi(a), 3.5 * rot->sigma(a)) << "axis " << a;
   ASSERT_NE(acc, nullptr) << ::testing::PrintToString(sel.log);
-  EXPECT_EQ(terms[acc->term].regressor, "symmetric");
+  EXPECT_EQ(terms[acc->term].variant, TermVariant::symmetric);
   const double sym[3] = {Na(0), Na(1), Na(3)};  // pairs 01, 02, 12
   for (int k = 0; k < 3; ++k)
     EXPECT_NEAR(acc->theta(k), sym[k], 3.5 * acc->sigma(k)) << "pair " << k;

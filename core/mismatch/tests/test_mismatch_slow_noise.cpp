@@ -11,6 +11,7 @@
 #include "graftnav/mismatch/candidate_terms.h"
 #include "graftnav/mismatch/common_grid.h"
 #include "graftnav/mismatch/term_selection.h"
+#include "graftnav/mismatch/term_spec.h"
 #include "graftnav/mismatch/time_offset.h"
 #include "graftnav/nav/rotation.h"
 #include "synthetic_imu.h"
@@ -90,9 +91,10 @@ TEST(MismatchSelection, SlowBiasWanderIsNotClaimedAsTemperature) {
     addGaussMarkovWander(&r, sd, in.reference.grid.bin_s, 1200.0, seed + 1000);
     const SelectionResult sel = selectTerms(r, terms, opt);
     for (const TermFit& tf : sel.selected)
-      if (tf.claimed && terms[tf.term].name.rfind("temperature", 0) == 0) {
+      if (tf.claimed && (terms[tf.term].kind() == TermKind::temperature_bias ||
+                         terms[tf.term].kind() == TermKind::temperature_scale)) {
         ++claimed_temperature;
-        log += terms[tf.term].key() + " ";
+        log += terms[tf.term].key().text() + " ";
       }
   }
   EXPECT_LE(claimed_temperature, 1) << log;
@@ -109,7 +111,7 @@ struct SlowDrive {
   int t = -1;
 };
 
-SlowDrive slowDrive(const std::string& term_key) {
+SlowDrive slowDrive(const TermKey& term_key) {
   SlowDrive d;
   d.in = syntheticInputs(slowDriveMotion(), 900.0, 0.0);
   d.terms = buildCandidateLibrary(d.in);
@@ -125,7 +127,7 @@ SlowDrive slowDrive(const std::string& term_key) {
 // RMS (its errors are ~5x larger and its sigma does not know the wander). The accelerometer scale factor's f_x / f_y columns follow the drive's acceleration
 // pattern, here with minutes-long parts.
 TEST(MismatchSelection, FastTermSigmaIsCalibratedUnderBiasWander) {
-  const SlowDrive sd = slowDrive("scale_factor:accel");
+  const SlowDrive sd = slowDrive(termKey(TermKind::scale_factor, SensorScope::accel));
   ASSERT_GE(sd.t, 0);
   const std::vector<CandidateTerm>& terms = sd.terms;
   const int n = sd.n, t = sd.t;
@@ -164,8 +166,7 @@ TEST(MismatchSelection, SandwichCoversTheRandomWalkAcrossHaarLevels) {
         u(i) += std::exp(-0.5 * std::pow((k - i) / 400.0, 2)) * e(k);
     u /= std::sqrt((u.array() - u.mean()).square().mean());
   }
-  terms[1].name = "scale_factor";
-  terms[1].sensor = "accel";
+  terms[1] = CandidateTerm(termSpec(TermKind::scale_factor), SensorScope::accel);
   RegressorColumn col;
   col.channel[3] = u;
   terms[1].columns.push_back(col);
@@ -215,7 +216,7 @@ TEST(MismatchSelection, AtLeastTheVariancesKeepsTheLargerVarianceAndTheCorrelati
 // [0.5, 1.6] (0.87). With the block-mean factor alone (60-s blocks taken as independent) it was 2.27:
 // the wander's projection onto the warm-up lives beyond one block (block_random_walk.h).
 TEST(MismatchSelection, SlowTermSigmaCoversTheBiasWander) {
-  const SlowDrive sd = slowDrive("temperature_bias:accel");
+  const SlowDrive sd = slowDrive(termKey(TermKind::temperature_bias, SensorScope::accel));
   ASSERT_GE(sd.t, 0);
   const std::vector<CandidateTerm>& terms = sd.terms;
   const int n = sd.n, t = sd.t;
@@ -237,7 +238,7 @@ TEST(MismatchSelection, SlowTermSigmaCoversTheBiasWander) {
 // walk over the whole record it overstates the noise on the warm-up a little (0.80, same
 // records).
 TEST(MismatchSelection, SlowTermSigmaWithTheLabRecordReplayed) {
-  const SlowDrive sd = slowDrive("temperature_bias:accel");
+  const SlowDrive sd = slowDrive(termKey(TermKind::temperature_bias, SensorScope::accel));
   ASSERT_GE(sd.t, 0);
   const std::vector<CandidateTerm>& terms = sd.terms;
   const int n = sd.n, t = sd.t;
@@ -275,7 +276,7 @@ TEST(MismatchSelection, SlowTermSigmaWithTheLabRecordReplayed) {
 // each fold's rows Haar-weighted like the fit, it is claimed in 10 of 10 records (6 of 10 with the
 // AR(1) metric); on the wander alone nothing is.
 TEST(MismatchSelection, CrossValidationInTheGlsMetricUnderBiasWander) {
-  const SlowDrive sd = slowDrive("scale_factor:accel");
+  const SlowDrive sd = slowDrive(termKey(TermKind::scale_factor, SensorScope::accel));
   ASSERT_GE(sd.t, 0);
   const std::vector<CandidateTerm>& terms = sd.terms;
   const int n = sd.n, t = sd.t;
@@ -301,7 +302,7 @@ TEST(MismatchSelection, CrossValidationInTheGlsMetricUnderBiasWander) {
     for (const TermFit& tf : null.selected)
       if (tf.claimed) {
         ++null_claims;
-        log += terms[tf.term].key() + " ";
+        log += terms[tf.term].key().text() + " ";
       }
   }
   EXPECT_GE(found, 9) << "limit " << limit;
@@ -319,8 +320,8 @@ TEST(MismatchSelection, ClaimedTemperatureDoesNotInflateOtherTerms) {
   const int n = in.reference.size();
   SelectionOptions opt;
   opt.slow_block_bins = static_cast<int>(60.0 / in.reference.grid.bin_s);
-  const int g = findTerm(terms, "g_sensitivity:gyro"),
-            tb = findTerm(terms, "temperature_bias:gyro");
+  const int g = findTerm(terms, termKey(TermKind::g_sensitivity, SensorScope::gyro)),
+            tb = findTerm(terms, termKey(TermKind::temperature_bias, SensorScope::gyro));
   ASSERT_GE(g, 0);
   ASSERT_GE(tb, 0);
   Eigen::VectorXd G = Eigen::Map<const Eigen::VectorXd>(G9().data(), 9) * 0.25;

@@ -23,7 +23,7 @@ namespace {
 using namespace mismatch_test;  // the shared fixtures of mismatch_signal_fixture.h
 
 struct Injection {
-  std::string key;
+  TermKey key;
   std::vector<double> theta;
   double noise_scale = 1.0;  // relative to the MEMS-like AR(1) noise of ar1Noise
 };
@@ -36,31 +36,31 @@ TEST_P(MismatchTermRecovery, RecoversInjectedParametersWithinStatedUncertainty) 
   const RegressorInputs in = syntheticInputs(m, 300.0, 0.0);
   const std::vector<CandidateTerm> terms = buildCandidateLibrary(in);
   const int t = findTerm(terms, inj.key);
-  ASSERT_GE(t, 0) << inj.key;
+  ASSERT_GE(t, 0) << inj.key.text();
   const int n = in.reference.size();
   Eigen::VectorXd theta = Eigen::Map<const Eigen::VectorXd>(inj.theta.data(), inj.theta.size());
-  if (terms[t].fixed) theta = Eigen::VectorXd::Ones(terms[t].columns.size());
-  ASSERT_EQ(theta.size(), static_cast<Eigen::Index>(terms[t].columns.size())) << inj.key;
+  if (terms[t].fixed()) theta = Eigen::VectorXd::Ones(terms[t].columns.size());
+  ASSERT_EQ(theta.size(), static_cast<Eigen::Index>(terms[t].columns.size())) << inj.key.text();
   Eigen::MatrixXd r = termContribution(terms[t], theta, n) + inj.noise_scale * ar1Noise(n, 0.6, 11);
   r.col(0).array() += 1e-3;  // turn-on bias: the nuisance
   r.col(5).array() -= 0.05;
 
   // The fit holds t and the terms t requires (e.g. the linear term next to a quadratic).
   const SelectionResult fit = fitTerms(r, terms, {t});
-  ASSERT_EQ(fit.selected.size(), 1u + terms[t].requires_terms.size()) << inj.key;
+  ASSERT_EQ(fit.selected.size(), 1u + terms[t].requires_terms.size()) << inj.key.text();
   const auto it = std::find_if(fit.selected.begin(), fit.selected.end(),
                                [&](const TermFit& f) { return f.term == t; });
-  ASSERT_NE(it, fit.selected.end()) << inj.key;
+  ASSERT_NE(it, fit.selected.end()) << inj.key.text();
   const TermFit& tf = *it;
   for (const TermFit& f : fit.selected) {
     if (f.term != t) {
       EXPECT_NE(std::find(terms[t].requires_terms.begin(), terms[t].requires_terms.end(),
                           terms[f.term].key()),
                 terms[t].requires_terms.end())
-          << terms[f.term].key();
+          << terms[f.term].key().text();
     }
   }
-  if (!terms[t].fixed) {
+  if (!terms[t].fixed()) {
     const Eigen::VectorXd err = tf.theta - theta;
     // Parameters without signal (e.g. k_pos of an axis whose input is never positive) come back
     // as 0 with infinite sigma; the rest must be consistent with their covariance.
@@ -75,11 +75,12 @@ TEST_P(MismatchTermRecovery, RecoversInjectedParametersWithinStatedUncertainty) 
       for (std::size_t b = 0; b < obs.size(); ++b) P(a, b) = tf.covariance(obs[a], obs[b]);
     }
     const double chi2 = e.dot(P.ldlt().solve(e));
-    EXPECT_LT(chi2, chiSquareQuantile(0.999, static_cast<double>(e.size()))) << inj.key;
-    for (int j : obs) EXPECT_LT(std::abs(err(j)), 3.5 * tf.sigma(j)) << inj.key << " param " << j;
+    EXPECT_LT(chi2, chiSquareQuantile(0.999, static_cast<double>(e.size()))) << inj.key.text();
+    for (int j : obs)
+      EXPECT_LT(std::abs(err(j)), 3.5 * tf.sigma(j)) << inj.key.text() << " param " << j;
   }
-  EXPECT_GT(tf.delta_bic, 10.0) << inj.key;
-  EXPECT_GT(tf.cv_gain, 0.0) << inj.key;
+  EXPECT_GT(tf.delta_bic, 10.0) << inj.key.text();
+  EXPECT_GT(tf.cv_gain, 0.0) << inj.key.text();
 
   // Selection from the whole library claims this term and at most one other.
   const SelectionResult sel = selectTerms(r, terms);
@@ -89,36 +90,45 @@ TEST_P(MismatchTermRecovery, RecoversInjectedParametersWithinStatedUncertainty) 
     found |= s.term == t && s.claimed;
     claimed += s.claimed ? 1 : 0;
   }
-  EXPECT_TRUE(found) << inj.key;
-  EXPECT_LE(claimed, 2u) << inj.key;
+  EXPECT_TRUE(found) << inj.key.text();
+  EXPECT_LE(claimed, 2u) << inj.key.text();
 }
 
 INSTANTIATE_TEST_SUITE_P(
     AllTerms, MismatchTermRecovery,
     ::testing::Values(
-        Injection{"scale_factor:gyro", {3e-3, -2e-3, 1e-2}},
-        Injection{"scale_factor:accel", {5e-3, -4e-3, 2e-2}},
-        Injection{"non_orthogonality:gyro", {2e-2, -1e-2, 5e-3, 3e-3, -4e-3, 2e-3}},
-        Injection{"non_orthogonality:accel", {3e-3, -2e-3, 4e-3, 3e-3, -2e-3, 2e-3}},
-        Injection{"g_sensitivity:gyro", G9()},
-        Injection{"scale_asymmetry:gyro", {3e-2, -2e-2, 2e-2}},
-        Injection{"scale_asymmetry:accel", {2e-2, 1e-2, -1e-2}},
-        Injection{"scale_nonlinearity:gyro", {0.5, -0.5, 0.1}},
-        Injection{"scale_nonlinearity:accel", {2e-3, -2e-3, 1e-3}},
-        Injection{"temperature_bias:gyro", {1e-4, -2e-4, 1e-4}},
-        Injection{"temperature_bias:accel", {2e-3, -1e-3, 3e-3}},
-        Injection{"temperature_scale:gyro", {1e-3, -1e-3, 5e-4}},
-        Injection{"temperature_scale:accel", {5e-4, -5e-4, 5e-4}},
-        Injection{"time_offset:both", {0.012}}, Injection{"lever_arm:accel", {0.4, -0.3, 0.2}},
-        Injection{"mounting_misalignment:both", {0.01, -0.01, 0.02}},
-        Injection{"vibration_rectification:accel:specific_force_hp_sq", {0.02, -0.03, 0.02}},
-        Injection{"vibration_rectification:gyro:specific_force_hp_sq", {2e-3, -2e-3, 3e-3}},
-        Injection{"vibration_rectification:gyro:angular_rate_hp_sq", {0.5, 0.3, -0.4}},
-        Injection{"earth_rotation_omitted:gyro", {}, 0.01},
+        Injection{termKey(TermKind::scale_factor, SensorScope::gyro), {3e-3, -2e-3, 1e-2}},
+        Injection{termKey(TermKind::scale_factor, SensorScope::accel), {5e-3, -4e-3, 2e-2}},
+        Injection{termKey(TermKind::non_orthogonality, SensorScope::gyro),
+                  {2e-2, -1e-2, 5e-3, 3e-3, -4e-3, 2e-3}},
+        Injection{termKey(TermKind::non_orthogonality, SensorScope::accel),
+                  {3e-3, -2e-3, 4e-3, 3e-3, -2e-3, 2e-3}},
+        Injection{termKey(TermKind::g_sensitivity, SensorScope::gyro), G9()},
+        Injection{termKey(TermKind::scale_asymmetry, SensorScope::gyro), {3e-2, -2e-2, 2e-2}},
+        Injection{termKey(TermKind::scale_asymmetry, SensorScope::accel), {2e-2, 1e-2, -1e-2}},
+        Injection{termKey(TermKind::scale_nonlinearity, SensorScope::gyro), {0.5, -0.5, 0.1}},
+        Injection{termKey(TermKind::scale_nonlinearity, SensorScope::accel), {2e-3, -2e-3, 1e-3}},
+        Injection{termKey(TermKind::temperature_bias, SensorScope::gyro), {1e-4, -2e-4, 1e-4}},
+        Injection{termKey(TermKind::temperature_bias, SensorScope::accel), {2e-3, -1e-3, 3e-3}},
+        Injection{termKey(TermKind::temperature_scale, SensorScope::gyro), {1e-3, -1e-3, 5e-4}},
+        Injection{termKey(TermKind::temperature_scale, SensorScope::accel), {5e-4, -5e-4, 5e-4}},
+        Injection{termKey(TermKind::time_offset, SensorScope::both), {0.012}},
+        Injection{termKey(TermKind::lever_arm, SensorScope::accel), {0.4, -0.3, 0.2}},
+        Injection{termKey(TermKind::mounting_misalignment, SensorScope::both), {0.01, -0.01, 0.02}},
+        Injection{termKey(TermKind::vibration_rectification, SensorScope::accel,
+                          TermVariant::specific_force_hp_sq),
+                  {0.02, -0.03, 0.02}},
+        Injection{termKey(TermKind::vibration_rectification, SensorScope::gyro,
+                          TermVariant::specific_force_hp_sq),
+                  {2e-3, -2e-3, 3e-3}},
+        Injection{termKey(TermKind::vibration_rectification, SensorScope::gyro,
+                          TermVariant::angular_rate_hp_sq),
+                  {0.5, 0.3, -0.4}},
+        Injection{termKey(TermKind::earth_rotation_omitted, SensorScope::gyro), {}, 0.01},
         // Tested against a wandering accel bias (requires_terms): needs a quieter (tactical) IMU.
-        Injection{"gravity_model:accel", {0.05}, 0.1}),
+        Injection{termKey(TermKind::gravity_model, SensorScope::accel), {0.05}, 0.1}),
     [](const ::testing::TestParamInfo<Injection>& param_info) {
-      std::string s = param_info.param.key;
+      std::string s = param_info.param.key.text();
       for (char& c : s)
         if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
       return s;
@@ -133,8 +143,8 @@ TEST(MismatchSelection, QuadraticIsMeasuredBeyondItsLinearTerm) {
   const RegressorInputs in = syntheticInputs(m, 300.0, 0.0);
   const std::vector<CandidateTerm> terms = buildCandidateLibrary(in);
   const int n = in.reference.size();
-  const int t_nl = findTerm(terms, "scale_nonlinearity:accel");
-  const int t_sf = findTerm(terms, "scale_factor:accel");
+  const int t_nl = findTerm(terms, termKey(TermKind::scale_nonlinearity, SensorScope::accel));
+  const int t_sf = findTerm(terms, termKey(TermKind::scale_factor, SensorScope::accel));
   ASSERT_GE(t_nl, 0);
   ASSERT_GE(t_sf, 0);
   const Eigen::Vector3d k(0.0, 0.0, 3e-2);
@@ -177,11 +187,12 @@ TEST(MismatchRotation, LinearizedAtItsPivot) {
   const Eigen::Vector3d phi0(-0.056, 0.022, 0.080);  // 5.6 deg (a real recording's size)
   in.mounting_rotation_pivot_rad = phi0;
   const std::vector<CandidateTerm> terms = buildCandidateLibrary(in);
-  const int t_rot = findTerm(terms, "mounting_misalignment:both");
-  const int t_rem = findTerm(terms, "mounting_rotation_remainder:both");
+  const int t_rot = findTerm(terms, termKey(TermKind::mounting_misalignment, SensorScope::both));
+  const int t_rem =
+      findTerm(terms, termKey(TermKind::mounting_rotation_remainder, SensorScope::both));
   ASSERT_GE(t_rot, 0);
   ASSERT_GE(t_rem, 0);
-  EXPECT_TRUE(terms[t_rem].fixed);
+  EXPECT_TRUE(terms[t_rem].fixed());
   EXPECT_EQ(terms[t_rem].part_of, terms[t_rot].key());
   ASSERT_EQ(terms[t_rot].requires_terms.size(), 1u);
   const int n = in.reference.size();
@@ -217,8 +228,8 @@ TEST(MismatchRotation, LinearizedAtItsPivot) {
   // The first-order columns (pivot 0) miss by about |phi|^2 / 2 of the signal.
   in.mounting_rotation_pivot_rad.setZero();
   const std::vector<CandidateTerm> flat = buildCandidateLibrary(in);
-  const int t_flat = findTerm(flat, "mounting_misalignment:both");
-  EXPECT_EQ(findTerm(flat, "mounting_rotation_remainder:both"), -1);
+  const int t_flat = findTerm(flat, termKey(TermKind::mounting_misalignment, SensorScope::both));
+  EXPECT_EQ(findTerm(flat, termKey(TermKind::mounting_rotation_remainder, SensorScope::both)), -1);
   const double err_flat =
       (termContribution(flat[t_flat], phi0 + dphi, n) - exact(phi0 + dphi)).cwiseAbs().maxCoeff();
   EXPECT_GT(err_flat, 50.0 * err_pivot);

@@ -4,43 +4,21 @@
 //
 // Every term is linear in its parameters: r ~= sum_j theta_j u_j(t), where each regressor u_j is
 // built from the reference signals x (the true inputs: omega, f), their derivatives, temperature,
-// a vibration level or the attitude. A term's names and parameter keys are those of
-// diagnosis.json (docs/outputs.md) and of ImuErrorModel (imu_error_terms.h). First-order forms:
-//
-//  bias_instability        r_i = b_i(t), piecewise linear in time with knots every knot_s
-//                          (the first knot is spanned by the nuisance constant)
-//  scale_factor            r_i = k_i x_i
-//  non_orthogonality       r_i = sum_{j != i} N_ij x_j
-//  g_sensitivity (gyro)    r_i = sum_j G_ij f_j
-//  scale_asymmetry         r_i = k_pos_i max(x_i, 0) + k_neg_i min(x_i, 0)  (spans scale_factor,
-//                          so it replaces it: the gains reported are the whole gains per sign)
-//  scale_nonlinearity      r_i = k2_i x_i^2
-//  temperature_bias        r_i = p_i (T - T_ref)      (T of the tested IMU, T_ref its mean; or
-//                          T - T_sim when the simulation carries its own temperature history)
-//  temperature_scale       r_i = s_i (T - T_ref) x_i
-//  time_offset (both)      r = tau u(t), u = -dx/dt or the chord (x(t - tau0) - x(t)) / tau0
-//  lever_arm (accel)       r = omega_dot x r_m + omega x (omega x r_m)
-//  mounting_misalignment   r_gyro = omega x phi, r_accel = f x phi  (C_tb = I - [phi x])
-//  scale_asymmetry, replacing the lab quadratic (regressor "replaces_lab_quadratic"; only when
-//                          SG#2 grafts a lab c2 on the sensor): r_i = d_i |x_i| plus the fixed
-//                          part lab_quadratic_replaced, -c2_i x_i^2. The lab's +-g poses (the
-//                          rate table's +-turns) see an asymmetric gain d |x| as c2 x^2 with
-//                          c2 ~ d / g, so SG#2 carries a quadratic the sensor does not have; on the
-//                          field's small inputs the plain |x| column took up -c2 x^2 and the lab's
-//                          c2 was then claimed as the sensor's non-linearity (CRN random_14_26).
-//                          The two asymmetry terms exclude each other.
-//  vibration_rectification r_i = c_i v(t), v the VibrationRegressor level of the reference
-//  earth_rotation_omitted  r_gyro = C_bn omega_ie_n, coefficient fixed at 1 (no free parameter)
-//  gravity_model (accel)   r = -C_bn [0, 0, 1] dg   (dg = true minus simulated gravity, m/s^2)
-// A constant bias per channel (optionally a linear drift too) is always in the model (turn-on
-// bias differs between lab and field); it is a nuisance, not a claimed effect.
+// a vibration level or the attitude. What each term is (its regressor, sensors, parameters with
+// units, plausible ranges) is its row in term_spec.h (src/terms/term_specs.cpp), and docs/mismatch.md
+// shows those rows as a table; its builder (src/terms/) holds the physics of its columns. A
+// constant bias per channel (optionally a linear drift too) is always in the model (turn-on bias
+// differs between lab and field); it is a nuisance, not a claimed effect.
 
 #include <Eigen/Core>
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "graftnav/mismatch/common_grid.h"
+#include "graftnav/mismatch/sensor.h"
+#include "graftnav/mismatch/term_kind.h"
 
 namespace graftnav {
 
@@ -52,48 +30,47 @@ struct RegressorColumn {
   bool actsOn(int c) const { return channel[c].size() > 0; }
 };
 
+// One term of the library: a TermSpec (term_spec.h) on a sensor scope, with its columns.
 struct CandidateTerm {
-  std::string name;         // diagnosis.json effect name ("constant_bias" for the nuisance)
-  std::string sensor;       // "gyro" | "accel" | "both"
-  std::string regressor;    // vibration_rectification: regressor name; the accelerometer's
-                            // symmetric non_orthogonality: "symmetric"; else empty
+  CandidateTerm() = default;
+  // With the spec's required terms on the same scope (TermSpec::requires_kinds).
+  CandidateTerm(const TermSpec& spec, SensorScope sensor, TermVariant variant = TermVariant::none);
+  const TermSpec* spec = nullptr;
+  SensorScope sensor = SensorScope::both;
+  // vibration_rectification: the vibration level; the accelerometer's symmetric
+  // non_orthogonality; the asymmetry replacing the lab quadratic; else none.
+  TermVariant variant = TermVariant::none;
   std::string explanation;  // plain-language physics
   std::vector<RegressorColumn> columns;
-  bool nuisance = false;  // always in the model, never claimed
-  bool fixed = false;     // coefficients fixed at 1 (earth_rotation_omitted)
   // Never selected on its own: only the selection's gauge step puts it in a final model (the
   // symmetric accelerometer non_orthogonality; term_selection.h, step 4).
   bool gauge_only = false;
-  std::vector<std::string> excludes;  // keys of terms this one replaces when added
-  // Names of other terms of the same sensor whose regressors are another shape of the same
-  // physics on this data (scale_asymmetry's |x| and scale_nonlinearity's x^2): a selected term
-  // is named only when it beats the best of them (term_selection.h, step 5).
-  std::vector<std::string> shape_alternatives;
-  // Keys of terms that must be in the model when this one is tested (its evidence is measured
-  // against the model with them) and that stay in it while this one does (a companion that fails
-  // its own test is fitted but not claimed): the near-constant earth/gravity regressors must beat
-  // a wandering bias before they are believed, and a quadratic is measured beyond the linear
-  // term of its sensor (scale_nonlinearity requires scale_factor).
-  std::vector<std::string> requires_terms;
-  // How a forward step measures this term when its required terms are not in the model yet:
-  // false, against the model with them (the earth/gravity terms must beat a wander that is
-  // there anyway); true, together with them against the model (hierarchy: a quadratic enters
-  // with its linear term and pays for both).
-  bool paid_requires = false;
-  // Key of the term this fixed one completes (mounting_rotation_remainder: the rotation's
-  // remainder at its pivot): in a model only with that term, never selected or claimed alone.
-  std::string part_of;
+  std::vector<TermKey> excludes;  // terms this one replaces when added
+  // Terms that must be in the model when this one is tested (its evidence is measured against
+  // the model with them) and that stay in it while this one does (a companion that fails its own
+  // test is fitted but not claimed): the spec's requires_kinds, and a fixed part the term cannot
+  // do without (mounting_rotation_remainder, lab_quadratic_replaced).
+  std::vector<TermKey> requires_terms;
+  // The term this fixed part completes (mounting_rotation_remainder: the rotation's remainder at
+  // its pivot): in a model only with that term, never selected or claimed alone.
+  std::optional<TermKey> part_of;
   double knot_spacing_s = 0.0;  // bias_instability only
   double t_ref_degC = 0.0;      // temperature terms only
   // The term's record mean is a physical offset from the simulation, not a part of the constant
   // bias it cannot be told from: temperature_bias regressed on the tested minus the simulation's
   // temperature is per_degC (T - T_sim), whose mean is the bias change between the temperature
   // behind the simulation's bias (the lab's) and the field's. SG#3 grafts such a term in full;
-  // every other term only as its variation (diagnosis.cpp, step 6).
+  // every other term only as its variation (stages/diagnosis_model.cpp).
   bool mean_is_physical = false;
-  std::string key() const {
-    return name + ":" + sensor + (regressor.empty() ? "" : ":" + regressor);
-  }
+
+  TermKind kind() const;
+  const char* name() const;  // diagnosis.json's effect name
+  bool nuisance() const;     // always in the model, never claimed
+  bool fixed() const;        // coefficients fixed at 1 (earth_rotation_omitted, the parts)
+  bool slow() const;         // TermSpec::slow
+  TermKey key() const { return {spec, sensor, variant}; }
+  // The sensor of a single-triad term (throws for a term on both).
+  Sensor triad() const { return sensorOf(sensor); }
 };
 
 // What the regressors are built from, all on one grid.
@@ -137,6 +114,9 @@ struct RegressorInputs {
   Eigen::Vector3d omega_ie_n = Eigen::Vector3d::Zero();  // Earth rate in n (rad/s)
 };
 
+// The built-in term specs (term_spec.h).
+const std::vector<const TermSpec*>& builtInTermSpecs();
+
 struct CandidateLibraryOptions {
   double knot_spacing_s = 60.0;  // bias_instability knot spacing (s)
   int max_knots = 20;            // the spacing grows for long records to keep at most this many
@@ -144,10 +124,15 @@ struct CandidateLibraryOptions {
   // Add a linear drift per channel to the nuisance. Off by default: a drift absorbs most of a
   // temperature warm-up and costs the temperature terms their power.
   bool linear_drift_nuisance = false;
+  // The term specs the library is built from (term_spec.h), the nuisance first: the built-in
+  // rows, or those plus rows added outside them.
+  std::vector<const TermSpec*> terms = builtInTermSpecs();
   void validate() const;
 };
 
-// Term 0 is the nuisance (constant bias per channel [+ linear drift], 6 [12] columns); the rest are the candidates whose inputs exist.
+// Term 0 is the nuisance (constant bias per channel [+ linear drift], 6 [12] columns); the rest
+// are the candidates whose inputs exist, built by the builders of options.terms in their groups'
+// order (term_spec.h LibraryGroup).
 std::vector<CandidateTerm> buildCandidateLibrary(const RegressorInputs& inputs,
                                                  const CandidateLibraryOptions& options = {});
 

@@ -1,17 +1,22 @@
 #pragma once
-// The mismatch finder (its stages: src/diagnosis_stages.h): given the reference signals x, a
-// simulation of the tested IMU and the tested IMU's real recording,
-//   1. bin all three on one grid (common_grid.h);
-//   2. estimate the time offset of the real record by cross-correlation (time_offset.h); it is the
-//      pivot of the time_offset regressor, so the offset is then fitted jointly with the rest;
-//   3. residual r = real - simulated per channel; locate where it departs from noise (locate.h);
-//   4. explain it with the candidate terms (candidate_terms.h, term_selection.h) plus the
-//      quantization lattice of the raw tested samples;
-//   5. model: SG#3 = simulation + the selected terms (each channel's record mean of the model left
-//      out: it is confounded with the constant bias, which is not grafted); residual RMS
-//      before/after on the whole record
-//      and on the second half with a model fitted on the first half only;
-//   6. whatever the model leaves above noise is listed as unexplained, with where it lives.
+// The mismatch finder: given the reference signals x, a simulation of the tested IMU and the
+// tested IMU's real recording, diagnose() runs seven stages (src/stages/diagnosis_stages.h,
+// docs/mismatch.md "Method", in the same order and numbering):
+//   1. align time: the real record's time offset by cross-correlation (time_offset.h), taken out
+//      of its tags when large; the pivot of the time_offset regressor;
+//   2. grid and residual: all three records binned on one grid (common_grid.h), the residual
+//      r = real - simulated per channel, bins over sampling gaps masked; the raw records' value
+//      lattices;
+//   3. regressors: what the candidate terms are built from (candidate_terms.h), at the pivot;
+//   4. select: the candidate library (term_spec.h), the selection (term_selection.h), the lab
+//      gates and the joint fit of the time offset (joint_fit.h), and the passes they call for;
+//   5. locate: where the residual departs from noise (locate.h);
+//   6. claims: effects, ambiguous names, detection limits, and the checks on them (claim_checks.h,
+//      gain_or_curvature.h, quantization_evidence.h);
+//   7. model and report: SG#3 = simulation + the claimed terms (each channel's record mean of the
+//      model left out: it is confounded with the constant bias, which is not grafted), residual
+//      RMS before/after on the whole record and on the second half with a model fitted on the
+//      first half only, and what the model leaves above noise, listed as unexplained.
 
 #include <Eigen/Core>
 #include <cmath>
@@ -29,8 +34,9 @@
 #include "graftnav/mismatch/locate.h"
 #include "graftnav/mismatch/quantization_evidence.h"
 #include "graftnav/mismatch/sensor.h"
-#include "graftnav/mismatch/term_correlation.h"
 #include "graftnav/imu/plausible_ranges.h"
+#include "graftnav/mismatch/term_correlation.h"
+#include "graftnav/mismatch/term_kind.h"
 #include "graftnav/mismatch/term_selection.h"
 #include "graftnav/mismatch/time_offset.h"
 #include "graftnav/mismatch/wander.h"
@@ -168,13 +174,17 @@ struct EffectParameter {
 };
 
 struct Effect {
-  std::string name;    // effect name as diagnosis.json writes it
-  std::string sensor;  // gyro | accel | both
+  Effect() = default;
+  Effect(const TermSpec& term, SensorScope scope) : spec(&term), sensor(scope) {}
+  const TermSpec* spec = nullptr;  // the term it names (term_spec.h): its name and parameters
+  SensorScope sensor = SensorScope::both;
   std::vector<EffectParameter> parameters;
   double delta_bic = 0.0;
   double cv_gain = 0.0;
   std::string explanation;
   std::string evidence_method = "bic+blocked_cv";  // or "value_lattice"
+  TermKind kind() const;
+  const char* name() const;  // as diagnosis.json writes it ("" without a spec)
 };
 
 // A selected term whose shape the data do not settle (term_selection.h, step 5): modelled in SG#3
@@ -184,7 +194,7 @@ struct Effect {
 // one, by less than the margin: the term stays as forward selection chose it).
 struct AmbiguousEffect {
   Effect effect;
-  std::string alternative;
+  const TermSpec* alternative = nullptr;
   double name_margin = 0.0;
 };
 
@@ -197,7 +207,7 @@ struct ImplausibleEffect {
   double value = 0.0;     // its largest |element|
   double bound = 0.0;     // the class's bound for it
   std::string sensor_class;
-  std::string absorbing;
+  std::optional<TermKey> absorbing;
   double correlation = 0.0;
   std::string reason;  // the sentence the report shows
 };
@@ -244,7 +254,7 @@ struct DiagnosisResult {
   ChannelRms rms_after;   // residual minus constant, drift and selected terms
   bool has_holdout = false;
   ChannelRms holdout_before, holdout_after;  // second half, model fitted on the first half
-  std::vector<std::string> holdout_terms;    // terms selected on the first half
+  std::vector<TermKey> holdout_terms;        // terms selected on the first half
   double holdout_split_s = 0.0;
   Vector6d nuisance_bias = Vector6d::Zero();   // constant real - simulated per channel (SI)
   Vector6d nuisance_drift = Vector6d::Zero();  // linear drift over the record, end minus start (SI)
@@ -289,7 +299,7 @@ ImuSeries withStaticBias(const ImuSeries& reference, const Eigen::Vector3d& gyro
 
 // Step of a value lattice of the raw increments (rad or m/s per sample) per axis; 0 where the
 // values are not on a lattice (fewer than half of them repeat, or they miss the lattice).
-Eigen::Vector3d detectQuantizationStep(const ImuSeries& imu, bool gyro);
+Eigen::Vector3d detectQuantizationStep(const ImuSeries& imu, Sensor sensor);
 
 // SG#3: the simulation plus a per-bin contribution (n x 6, SI rates) on `grid`, added to every
 // sample as rate x dt from the bin that holds the sample's middle (clamped at the grid's ends).

@@ -47,6 +47,9 @@
 #include <string>
 #include <vector>
 
+#include "graftnav/mismatch/sensor.h"
+#include "graftnav/mismatch/term_kind.h"
+
 namespace graftnav {
 
 struct DiagnosisInputs;
@@ -88,7 +91,10 @@ struct OneSignedSlope {
 // Throws std::invalid_argument for non-finite inputs, sigmas <= 0 or x_mean == 0.
 OneSignedSlope weighOneSignedSlope(const OneSignedSlopeInputs& in);
 
-// The effect name of a cause ("scale_factor", "scale_nonlinearity", "scale_asymmetry").
+// The term of a cause (scale_factor, scale_nonlinearity, scale_asymmetry); throws
+// std::invalid_argument for kUnsettled.
+TermKind slopeCauseKind(SlopeCause c);
+// Its name, "unsettled" for kUnsettled.
 std::string slopeCauseName(SlopeCause c);
 
 // An axis whose input keeps one sign: |mean| >= min_ratio x its standard deviation.
@@ -108,10 +114,9 @@ bool oneSignedInput(double mean, double sd, double min_ratio = 5.0);
 // stays listed as in the simulation: an ambiguous effect is not a claim). SG#3 is not changed: in
 // the field they are the same column to first order. Not weighed when that sensor's
 // scale_nonlinearity or scale_asymmetry is claimed already (the field named its even response
-// itself). input_mean /
-// input_sd: per sensor (0 gyro, 1 accel) and axis, over the grid's unmasked bins.
-void nameOneSignedGains(const DiagnosisInputs& in, const std::array<Eigen::Vector3d, 2>& input_mean,
-                        const std::array<Eigen::Vector3d, 2>& input_sd, double min_margin,
-                        DiagnosisResult* out, std::vector<std::string>* lab_quadratic_not_listed);
+// itself). input_mean / input_sd: per sensor and axis, over the grid's unmasked bins.
+void nameOneSignedGains(const DiagnosisInputs& in, const PerSensor<Eigen::Vector3d>& input_mean,
+                        const PerSensor<Eigen::Vector3d>& input_sd, double min_margin,
+                        DiagnosisResult* out, std::vector<Sensor>* lab_quadratic_not_listed);
 
 }  // namespace graftnav

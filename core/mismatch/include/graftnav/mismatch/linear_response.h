@@ -63,8 +63,8 @@ SeparationNeed separationNeed(const BinnedImu& reference, const SelectionResult&
 // E_s(i, j) on channel i of sensor s, column x_s,j).
 CandidateTerm linearResponseTerm(const BinnedImu& reference);
 
-// Whether a term name belongs to the linear response (mounting_misalignment,
+// Whether a term kind belongs to the linear response (mounting_misalignment,
 // non_orthogonality, scale_factor).
-bool isLinearResponseTerm(const std::string& term_name);
+bool isLinearResponseTerm(TermKind kind);
 
 }  // namespace graftnav

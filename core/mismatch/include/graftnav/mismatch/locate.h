@@ -48,7 +48,7 @@ struct LocateOptions {
 };
 
 struct LocatedSpan {
-  std::string channel;   // gyro_x .. accel_z
+  int channel = 0;       // residual column, 0..5 (gyro x .. accel z; mismatchChannelNames)
   double t_start = 0.0;  // s (record time tags)
   double t_end = 0.0;
   std::string regime;       // most frequent regime label over the span

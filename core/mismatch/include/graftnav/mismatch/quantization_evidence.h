@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "graftnav/mismatch/sensor.h"
 #include "graftnav/nav/types.h"
 
 namespace graftnav {
@@ -32,7 +33,7 @@ struct QuantizationEvidenceOptions {
 
 // Per axis of one sensor of the tested record.
 struct QuantizationCheck {
-  std::string sensor;                                            // gyro | accel
+  Sensor sensor = Sensor::gyro;
   Eigen::Vector3d step = Eigen::Vector3d::Zero();                // lattice step (0: none)
   Eigen::Vector3d printed_resolution = Eigen::Vector3d::Zero();  // 10^-d (0: not fixed decimals)
   Eigen::Vector3d white_noise_sd = Eigen::Vector3d::Zero();      // per sample (rad, m/s)
@@ -49,12 +50,12 @@ struct QuantizationCheck {
 
 // The coarsest 10^-d (d = 0..12) of which every increment of the axis is a whole multiple
 // (relative tolerance 1e-6 of the printed unit), 0 when there is none.
-Eigen::Vector3d printedResolution(const ImuSeries& imu, bool gyro);
+Eigen::Vector3d printedResolution(const ImuSeries& imu, Sensor sensor);
 
 // The verdict for one sensor: `real` is the tested record, `simulated` the simulation (a lattice
 // both share is not missing from the simulation). Throws std::invalid_argument with fewer than
 // 3 samples.
-QuantizationCheck checkQuantization(const ImuSeries& real, const ImuSeries& simulated, bool gyro,
-                                    const QuantizationEvidenceOptions& options = {});
+QuantizationCheck checkQuantization(const ImuSeries& real, const ImuSeries& simulated,
+                                    Sensor sensor, const QuantizationEvidenceOptions& options = {});
 
 }  // namespace graftnav

@@ -1,27 +1,35 @@
 #pragma once
-// The two sensor triads of an IMU as a type, and a value per triad. The finder's channels are
-// [gyro x, y, z, accel x, y, z]: a sensor's first channel is 3 * index(sensor).
+// The two sensor triads of an IMU as a type, what a term acts on (one triad or both), and a value
+// per triad. The finder's channels are [gyro x, y, z, accel x, y, z]: a sensor's first channel is
+// 3 * index(sensor). Files and diagnosis.json name them through sensorName / scopeName only.
 
 #include <array>
 #include <cstddef>
-#include <string>
 
 namespace graftnav {
 
 enum class Sensor { gyro = 0, accel = 1 };
 
+// What a candidate term or an effect acts on: one triad, or both (time offset, mounting rotation).
+enum class SensorScope { gyro = 0, accel = 1, both = 2 };
+
 inline constexpr std::array<Sensor, 2> kSensors{Sensor::gyro, Sensor::accel};
 
 constexpr std::size_t index(Sensor s) { return static_cast<std::size_t>(s); }
+constexpr std::size_t index(SensorScope s) { return static_cast<std::size_t>(s); }
 // First channel of the sensor in a 6-channel residual (0 or 3).
 constexpr int firstChannel(Sensor s) { return 3 * static_cast<int>(s); }
 constexpr Sensor otherSensor(Sensor s) { return s == Sensor::gyro ? Sensor::accel : Sensor::gyro; }
+constexpr SensorScope scopeOf(Sensor s) { return static_cast<SensorScope>(s); }
+constexpr bool isSingleSensor(SensorScope s) { return s != SensorScope::both; }
+// The triad of a single-sensor scope; throws std::invalid_argument for SensorScope::both.
+Sensor sensorOf(SensorScope s);
 
-// The name used in diagnosis.json and in CandidateTerm::sensor ("gyro", "accel").
+// The name table: "gyro", "accel" (and "both" for a scope), as diagnosis.json writes them.
 const char* sensorName(Sensor s);
-// The sensor of a single-sensor name; throws std::invalid_argument naming it for any other
-// ("both", unknown).
-Sensor sensorNamed(const std::string& name);
+const char* scopeName(SensorScope s);
+// The triad in prose: "gyro", "accelerometer".
+const char* sensorNoun(Sensor s);
 
 // One value per sensor triad, indexed by Sensor.
 template <class T>

@@ -6,7 +6,6 @@
 // term's columns is a combination of the other's, so the data cannot say which term carries it;
 // above ~0.95 the split between them rests on a few per cent of their signal.
 
-#include <string>
 #include <vector>
 
 #include "graftnav/mismatch/candidate_terms.h"
@@ -15,8 +14,8 @@
 namespace graftnav {
 
 struct TermCorrelation {
-  std::string term_a, term_b;  // CandidateTerm::key()
-  double canonical = 0.0;      // largest canonical correlation, in [0, 1]
+  TermKey term_a, term_b;
+  double canonical = 0.0;  // largest canonical correlation, in [0, 1]
 };
 
 // Every pair of the fitted terms of `selection` (fixed terms left out). `masked` has one entry per
@@ -25,9 +24,9 @@ std::vector<TermCorrelation> termCorrelations(const std::vector<CandidateTerm>& 
                                               const SelectionResult& selection,
                                               const std::vector<char>& masked);
 
-// The largest canonical correlation of `key` with any other term in `correlations` (0 and an
-// empty name when there is none).
+// The largest canonical correlation of `key` with any other term in `correlations` (0 and
+// term_b without a spec when there is none).
 TermCorrelation mostCorrelatedWith(const std::vector<TermCorrelation>& correlations,
-                                   const std::string& key);
+                                   const TermKey& key);
 
 }  // namespace graftnav

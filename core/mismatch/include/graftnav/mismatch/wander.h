@@ -34,7 +34,7 @@ inline constexpr double kWanderSdQuantile999 = 2.63;
 // Slow bias wander of one channel of the modelled residual (piecewise-linear bias at the
 // bias_instability term's knots, fitted with a constant) against the lab's noise figures.
 struct WanderCheck {
-  std::string channel;       // gyro_x .. accel_z
+  int channel = 0;           // residual column, 0..5 (mismatchChannelNames)
   double fitted_sd = 0.0;    // SI, about the record mean
   double expected_sd = 0.0;  // expectedWanderSd plus the white noise the knots pass
   double limit = 0.0;        // kWanderSdQuantile999 x expected_sd
