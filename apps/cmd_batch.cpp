@@ -1,221 +1,125 @@
-// graftnav batch MANIFEST.yaml: the manifest's tasks (cases x estimators x outage schedules x
-// seeds), run locally in parallel or as a Slurm array, resumable, results in SQLite and summaries
-// written from it. docs/batch.md describes the workflow and the database.
+// graftnav batch MANIFEST.yaml: the manifest's task groups (every analysis command over cases x
+// estimators x option values x outage schedules x seeds), run locally or as Slurm arrays,
+// resumable, results in SQLite, summaries and fleet reports written from it (core/batch,
+// docs/batch.md).
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
-#include <chrono>
 #include <filesystem>
-#include <fstream>
+#include <map>
 #include <memory>
 
-#include "batch_db.h"
-#include "graftnav/io/atomic_file.h"
-#include "batch_manifest.h"
-#include "batch_slurm.h"
-#include "batch_summary.h"
-#include "batch_task.h"
 #include "commands.h"
-#include "graftnav/nav/units.h"
-#include "graftnav/parallel/worker_pool.h"
-#include "graftnav/sg/sg_statistics.h"
-#include "sg_evaluate.h"
+#include "graftnav/batch/batch_run.h"
+#include "graftnav/batch/slurm.h"
+#include "script_locator.h"
 
 namespace graftnav::app {
 namespace {
 namespace fs = std::filesystem;
 
 struct BatchCli {
-  std::string manifest, out;
+  std::string manifest, out, command;
   int jobs = -1;
-  bool list = false, force = false, collect = false, slurm = false, submit = false;
+  bool list = false, force = false, collect = false, report = false, slurm = false, submit = false;
   int task = -1;
   SlurmOptions slurm_options;
 };
 
-std::string taskDatabasePath(const BatchTask& t) {
-  return (fs::path(t.out_dir) / "task.sqlite").string();
+std::string selfExe() { return fs::read_symlink("/proc/self/exe").string(); }
+void log(const std::string& line) { fmt::print(stderr, "{}\n", line); }
+
+std::vector<std::size_t> indicesOf(const std::vector<BatchTask>& tasks, const std::string& cmd) {
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < tasks.size(); ++i)
+    if (cmd.empty() || cmd == batchCommandName(tasks[i].command)) out.push_back(i);
+  return out;
 }
 
-// The report's numbers in the database's units (m, deg; DIFF as a fraction).
-BatchRunRecord recordOf(const SgEvaluationReport& report) {
-  BatchRunRecord rec;
-  rec.ok = true;
-  rec.outage_count = static_cast<int>(report.outages.size());
-  rec.reference = report.reference;
-  const auto& names = driftStatNames();
-  auto reportUnits = [](std::array<double, 5> a) {
-    for (int i = 2; i < 5; ++i) a[i] *= units::kRadToDeg;
-    return a;
-  };
-  for (const auto& s : report.solutions) {
-    const auto err = reportUnits(asArray(s.err_rms));  // SG: mean over realizations
-    const auto max_rms = reportUnits(asArray(s.err_max_rms));
-    const auto overall = reportUnits(asArray(s.evaluation.overall_rms));
-    const auto diff = s.label == "REAL" ? std::nullopt : report.diff(s.label);
-    for (std::size_t i = 0; i < names.size(); ++i) {
-      BatchStatisticRow row{s.label, names[i], err[i], max_rms[i], overall[i], std::nullopt};
-      if (diff && std::isfinite(asArray(*diff)[i])) row.diff = asArray(*diff)[i];
-      rec.statistics.push_back(row);
-    }
-    for (std::size_t k = 0; k < s.evaluation.outages.size(); ++k) {
-      const auto& o = s.evaluation.outages[k];
-      const auto m = reportUnits(asArray(o.max));
-      rec.outages.push_back({s.label, static_cast<int>(k), o.window.start_s, o.window.end_s,
-                             o.epochs, m[0], m[1], m[2], m[3], m[4]});
-    }
-  }
-  return rec;
+void plotReports(const std::string& out_dir) {
+  const std::string w = runPythonScript("plot_batch.py", {out_dir});
+  if (!w.empty()) fmt::print(stderr, "warning: {}\n", w);
 }
 
-// Temporary files a killed run of this task left in its folder (hidden ".<name>.tmp.*", the
-// atomic writers' pattern). The folder belongs to this task only, so they are the task's own.
-void removeStaleTemporaries(const BatchTask& t) {
-  if (!fs::is_directory(t.out_dir)) return;
-  for (const auto& e : fs::directory_iterator(t.out_dir)) {
-    const std::string n = e.path().filename().string();
-    if (n.size() > 1 && n[0] == '.' && n.find(".tmp.") != std::string::npos) fs::remove(e.path());
-  }
-}
-
-// Runs one task in-process and records it (ok or failed) in its task database.
-BatchRunRecord runTask(const BatchManifest& m, const BatchTask& t) {
-  BatchRunRecord rec;
-  const auto t0 = std::chrono::steady_clock::now();
-  removeStaleTemporaries(t);
-  std::string log_text;
-  try {
-    SgEvaluateOptions o;
-    o.case_dir = t.case_dir;
-    o.out_dir = t.out_dir;
-    o.estimator = t.estimator;
-    o.config_path = m.config;
-    o.seed = t.seed;
-    o.plots = m.plots;
-    o.write_grafted_imu = false;
-    o.jobs = 1;
-    if (t.schedule) {
-      o.outage_length_s = t.schedule->length_s;
-      o.outage_period_s = t.schedule->period_s;
-      o.outage_start_s = t.schedule->start_s;
-    }
-    fs::create_directories(t.out_dir);
-    rec = recordOf(runSgEvaluation(o, [&](const std::string& s) { log_text += s + "\n"; }));
-    const BatchPredictive p = readPredictive((fs::path(t.out_dir) / "evaluation.json").string());
-    rec.realizations = p.realizations;
-    rec.predictive = p.rows;
-  } catch (const std::exception& e) {
-    rec = BatchRunRecord{};
-    rec.error = e.what();
-    log_text += std::string("error: ") + e.what() + "\n";
-  }
-  rec.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  fs::create_directories(t.out_dir);
-  // The task's log, written once through the atomic writer like every other result.
-  writeFileAtomically((fs::path(t.out_dir) / "log.txt").string(), log_text);
-  writeTaskDatabase(taskDatabasePath(t), t, rec);
-  return rec;
-}
-
-struct RunCounts {
-  int ran = 0, skipped = 0, failed = 0;
-};
-
-// Runs tasks[first, last) on `jobs` threads, skipping those already finished with their id
-// unless force. A failed task is recorded and the others go on.
-RunCounts runTasks(const BatchManifest& m, const std::vector<BatchTask>& tasks, std::size_t first,
-                   std::size_t last, int jobs, bool force) {
-  std::vector<const BatchTask*> todo;
-  RunCounts n;
-  for (std::size_t i = first; i < last; ++i) {
-    if (!force && taskDatabaseStatus(taskDatabasePath(tasks[i]), tasks[i].id) == TaskStatus::kOk) {
-      ++n.skipped;
-    } else {
-      todo.push_back(&tasks[i]);
-    }
-  }
-  const int threads = workerCount(todo.size(), jobs);
-  fmt::print(stderr, "batch: tasks {}..{} of {}: {} finished before, {} to run on {} threads\n",
-             first, last - 1, tasks.size(), n.skipped, todo.size(), threads);
-  std::vector<std::string> errors(todo.size());
-  const auto t0 = std::chrono::steady_clock::now();
-  auto run = [&](std::size_t i) {
-    try {
-      const BatchRunRecord r = runTask(m, *todo[i]);
-      if (!r.ok) errors[i] = r.error;
-    } catch (const std::exception& e) {  // the record itself could not be written
-      errors[i] = std::string("no record written: ") + e.what();
-    }
-  };
-  auto report = [&](std::size_t i, std::size_t done) {
-    const BatchTask& t = *todo[i];
-    if (!errors[i].empty()) ++n.failed;
-    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    fmt::print(stderr, "[{}/{}] {:.0f} s  task {} {} {}: {}\n", done, todo.size(), el, t.index,
-               t.id, t.name, errors[i].empty() ? "ok" : "FAILED (" + errors[i] + ")");
-  };
-  parallelFor(todo.size(), threads, run, report);
-  n.ran = static_cast<int>(todo.size());
-  return n;
-}
-// Merges the task databases into <out>/results.sqlite and writes the summaries from it.
-CollectCounts collectAndSummarize(const BatchManifest& m, const std::vector<BatchTask>& tasks) {
-  fs::create_directories(m.out_dir);
-  const std::string db = (fs::path(m.out_dir) / "results.sqlite").string();
-  const CollectCounts c = collectTaskDatabases(db, tasks);
-  writeBatchSummaries(m.out_dir, readSummaryRows(db));
+// Collects, writes the summaries and reports, and fails when a task failed or has no record.
+void collectAndReport(const BatchManifest& m, const std::vector<BatchTask>& tasks) {
+  const CollectCounts c = collectBatch(m, tasks);
+  plotReports(m.out_dir);
   fmt::print(
-      "batch: {} tasks, {} ok, {} failed, {} missing; results: {}, summary: {}/summary.md and "
-      "summary.csv\n",
-      tasks.size(), c.ok, c.failed, c.missing, db, m.out_dir);
-  return c;
-}
-
-void throwIfIncomplete(const CollectCounts& c, std::size_t total) {
-  if (c.failed + c.missing > 0) {
+      "batch: {} tasks, {} ok, {} failed, {} missing; results: {}/results.sqlite, summary: "
+      "summary.md and summary.csv, fleet report: report.md\n",
+      tasks.size(), c.ok, c.failed, c.missing, m.out_dir);
+  if (c.failed + c.missing > 0)
     throw std::runtime_error(
-        fmt::format("{} of {} batch tasks failed and {} have no record (see the summary)", c.failed,
-                    total, c.missing));
-  }
+        fmt::format("{} of {} batch tasks failed and {} have no record (see {}/report.md)",
+                    c.failed, tasks.size(), c.missing, m.out_dir));
 }
 
 void listTasks(const std::vector<BatchTask>& tasks) {
-  fmt::print("index\tid\tstatus\tname\n");
+  fmt::print("index\tid\tstatus\tcommand\tfolder\n");
   for (const auto& t : tasks) {
     const auto s = taskDatabaseStatus(taskDatabasePath(t), t.id);
     const char* word = s == TaskStatus::kOk       ? "done"
                        : s == TaskStatus::kFailed ? "failed"
                                                   : "pending";
-    fmt::print("{}\t{}\t{}\t{}\n", t.index, t.id, word, t.name);
+    fmt::print("{}\t{}\t{}\t{}\t{}\n", t.index, t.id, word, batchCommandName(t.command),
+               t.folder());
   }
 }
 
+// One array per command, its --mem from the largest finished task of that command.
 void writeSlurm(const BatchCli& cli, const BatchManifest& m, const std::vector<BatchTask>& tasks) {
+  std::map<std::string, SlurmArraySpec> specs;
+  std::map<std::string, std::optional<double>> largest;
+  std::vector<std::string> order;
+  for (const auto& t : tasks) {
+    const std::string c = batchCommandName(t.command);
+    if (!specs.count(c)) order.push_back(c);
+    specs[c].command = c;
+    ++specs[c].task_count;
+    const auto rss = taskPeakRssMb(taskDatabasePath(t));
+    if (rss && !(largest[c] >= *rss)) largest[c] = rss;
+  }
+  std::vector<SlurmArraySpec> arrays;
+  for (const auto& c : order) {
+    const auto mb = proposedMemMb(largest[c], cli.slurm_options.cpus);
+    if (mb) specs[c].mem = fmt::format("{}M", *mb);
+    fmt::print("batch: {} {} tasks: --mem {}\n", specs[c].task_count, c,
+               !cli.slurm_options.mem.empty() ? cli.slurm_options.mem + " (given)"
+               : mb ? fmt::format("{}M proposed (largest finished {} task: {:.0f} MB peak RSS, "
+                                  "x1.5, x{} per element)",
+                                  *mb, c, *largest[c], cli.slurm_options.cpus)
+                    : std::string("not set (no finished task to measure: the cluster's default)"));
+    arrays.push_back(specs[c]);
+  }
   const SlurmScripts s =
-      writeSlurmScripts(m.out_dir, fs::read_symlink("/proc/self/exe").string(), cli.manifest,
-                        static_cast<int>(tasks.size()), cli.slurm_options);
-  fmt::print(
-      "batch: {} tasks in {} array elements of {}; scripts: {} and {}; submit with: bash {}\n",
-      tasks.size(), s.array_size, cli.slurm_options.chunk, s.array_script, s.collect_script,
-      shellQuote(s.submit_script));
+      writeSlurmScripts(m.out_dir, selfExe(), cli.manifest, arrays, cli.slurm_options);
+  fmt::print("batch: {} array script(s) and {} in {}; submit with: bash {}\n", s.arrays.size(),
+             fs::path(s.collect_script).filename().string(), s.dir, shellQuote(s.submit_script));
   if (!cli.submit) return;
-  const auto [array_id, collect_id] = submitSlurmScripts(s);
-  fmt::print("batch: submitted array job {} and collect job {} (after the array); results in {}\n",
-             array_id, collect_id, m.out_dir);
+  const auto [array_ids, collect_id] = submitSlurmScripts(s);
+  std::string ids;
+  for (const auto& id : array_ids) ids += (ids.empty() ? "" : ", ") + id;
+  fmt::print("batch: submitted array job{} {} and collect job {} (after {}); results in {}\n",
+             array_ids.size() > 1 ? "s" : "", ids, collect_id, array_ids.size() > 1 ? "them" : "it",
+             m.out_dir);
 }
 
-// Runs array element cli.task: tasks [task * chunk, (task + 1) * chunk), only those hashed.
+// Array element cli.task: tasks [task * chunk, (task + 1) * chunk) of --command (or of all),
+// only those hashed.
 void runElement(const BatchCli& cli, const BatchManifest& m, int jobs) {
   cli.slurm_options.validate();
+  std::vector<BatchTask> tasks = expandBatchTaskList(m);
+  const std::vector<std::size_t> mine = indicesOf(tasks, cli.command);
   const std::size_t first = static_cast<std::size_t>(cli.task) * cli.slurm_options.chunk;
-  const std::size_t last = first + cli.slurm_options.chunk;
-  const std::vector<BatchTask> tasks = expandBatchTasks(m, first, last);
-  if (first >= tasks.size()) {
-    throw std::invalid_argument(
-        fmt::format("--task {} with --chunk {}: the manifest has only {} tasks", cli.task,
-                    cli.slurm_options.chunk, tasks.size()));
-  }
-  const RunCounts n = runTasks(m, tasks, first, std::min(tasks.size(), last), jobs, cli.force);
+  if (first >= mine.size())
+    throw std::invalid_argument(fmt::format(
+        "--task {} with --chunk {}: the manifest has only {} {}tasks", cli.task,
+        cli.slurm_options.chunk, mine.size(), cli.command.empty() ? "" : cli.command + " "));
+  const std::vector<std::size_t> which(
+      mine.begin() + first, mine.begin() + std::min(mine.size(), first + cli.slurm_options.chunk));
+  assignTaskIds(m, which, &tasks);
+  const BatchRunCounts n = runBatchTasks(m, tasks, which, selfExe(), jobs, cli.force, log);
   fmt::print("batch: element {}: {} ran, {} skipped (finished before), {} failed\n", cli.task,
              n.ran, n.skipped, n.failed);
   if (n.failed > 0)
@@ -224,57 +128,72 @@ void runElement(const BatchCli& cli, const BatchManifest& m, int jobs) {
 
 void runBatch(const BatchCli& cli) {
   BatchManifest m = loadBatchManifest(cli.manifest);
-  if (!cli.out.empty()) m.out_dir = cli.out;
+  if (!cli.out.empty()) m.out_dir = fs::absolute(cli.out).lexically_normal().string();
+  if (!cli.command.empty() && !parseBatchCommand(cli.command))
+    throw std::invalid_argument("--command: unknown command '" + cli.command + "'");
   const int jobs = cli.jobs >= 0 ? cli.jobs : m.jobs;
+  if (cli.report) {
+    writeBatchReports(m.out_dir);
+    plotReports(m.out_dir);
+    return fmt::print("batch: summaries and fleet report written from {}/results.sqlite\n",
+                      m.out_dir);
+  }
   if (cli.task >= 0) return runElement(cli, m, jobs);
-  if (cli.slurm) return writeSlurm(cli, m, expandBatchTasks(m, 0, 0));  // the count is enough
+  if (cli.slurm) return writeSlurm(cli, m, expandBatchTaskList(m));
   const std::vector<BatchTask> tasks = expandBatchTasks(m);
   if (cli.list) return listTasks(tasks);
-  if (cli.collect) return throwIfIncomplete(collectAndSummarize(m, tasks), tasks.size());
-  const RunCounts n = runTasks(m, tasks, 0, tasks.size(), jobs, cli.force);
+  if (cli.collect) return collectAndReport(m, tasks);
+  const BatchRunCounts n =
+      runBatchTasks(m, tasks, indicesOf(tasks, ""), selfExe(), jobs, cli.force, log);
   fmt::print("batch: {} ran, {} skipped (finished before), {} failed\n", n.ran, n.skipped,
              n.failed);
-  throwIfIncomplete(collectAndSummarize(m, tasks), tasks.size());
+  collectAndReport(m, tasks);
 }
 
 }  // namespace
 
 void registerBatch(CLI::App& app) {
   auto cli = std::make_shared<BatchCli>();
-  CLI::App* cmd = app.add_subcommand("batch",
-                                     "Run the tasks of a manifest (cases x estimators x outage "
-                                     "schedules x seeds) locally or on Slurm; "
-                                     "resumable; results in SQLite and summary tables");
+  CLI::App* cmd = app.add_subcommand(
+      "batch",
+      "Run a manifest's task groups (navigate, compare, real, real-sg, evaluate, diagnose over "
+      "cases, estimators, options, schedules, seeds) locally or on Slurm; resumable; results in "
+      "SQLite, summaries and fleet reports");
   cmd->add_option("manifest", cli->manifest, "batch manifest YAML")
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("--jobs", cli->jobs, "tasks in parallel (overrides the manifest; 0 = all cores)");
   cmd->add_option("--out", cli->out, "output folder (overrides the manifest's 'out')");
   cmd->add_flag("--force", cli->force, "rerun tasks that finished before");
-  auto* list =
-      cmd->add_flag("--list", cli->list, "print the tasks (index, id, status, name) and exit");
+  auto* list = cmd->add_flag("--list", cli->list, "print the tasks (index, id, status, folder)");
   auto* task = cmd->add_option("--task", cli->task,
                                "run array element I only (tasks I*chunk .. I*chunk+chunk-1)")
                    ->check(CLI::NonNegativeNumber);
+  auto* command = cmd->add_option("--command", cli->command,
+                                  "with --task: count the elements over this command's tasks");
   cmd->add_option("--chunk", cli->slurm_options.chunk, "tasks per array element (default 1)")
       ->check(CLI::PositiveNumber);
   auto* collect = cmd->add_flag("--collect", cli->collect,
-                                "merge the task results into results.sqlite and summaries");
-  auto* slurm =
-      cmd->add_flag("--slurm", cli->slurm, "write an sbatch array script and a collect job script");
+                                "merge the task results into results.sqlite, summaries, report");
+  auto* report = cmd->add_flag("--report", cli->report,
+                               "write the summaries and fleet report again from results.sqlite");
+  auto* slurm = cmd->add_flag("--slurm", cli->slurm,
+                              "write an sbatch array per command and a collect job script");
   auto* submit = cmd->add_flag("--submit", cli->submit,
-                               "with --slurm: submit both (the collect job after the array)");
+                               "with --slurm: submit them (the collect job after the arrays)");
   cmd->add_option("--partition", cli->slurm_options.partition, "with --slurm: partition");
   cmd->add_option("--time", cli->slurm_options.time, "with --slurm: time limit per array element");
   cmd->add_option("--mem", cli->slurm_options.mem,
-                  "with --slurm: memory per array element (e.g. 4G)");
-  cmd->add_option("--cpus", cli->slurm_options.cpus,
-                  "with --slurm: cpus per array element (default 1)")
+                  "with --slurm: memory per array element (e.g. 4G; default: proposed from the "
+                  "largest finished task of each command)");
+  cmd->add_option("--cpus", cli->slurm_options.cpus, "with --slurm: cpus per element (default 1)")
       ->check(CLI::PositiveNumber);
   submit->needs(slurm);
-  list->excludes(task, collect, slurm);
-  task->excludes(collect, slurm);
-  collect->excludes(slurm);
+  command->needs(task);
+  list->excludes(task, collect, slurm, report);
+  task->excludes(collect, slurm, report);
+  collect->excludes(slurm, report);
+  slurm->excludes(report);
   cmd->callback([cli]() { runBatch(*cli); });
 }
 

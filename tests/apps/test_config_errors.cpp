@@ -1,4 +1,4 @@
-// A bad value in a run config or a batch manifest names the file, the line and the dotted key
+// A bad value in a run config names the file, the line and the dotted key
 // (the one YAML field helper, graftnav/io/yaml_fields.h).
 #include <gtest/gtest.h>
 
@@ -7,7 +7,6 @@
 #include <sstream>
 #include <string>
 
-#include "batch_manifest.h"
 #include "test_support.h"
 
 namespace graftnav {
@@ -26,20 +25,6 @@ TEST(RunConfigErrors, BadValueNamesFileLineAndKey) {
   EXPECT_NE(out.str().find("run.yaml:4:"), std::string::npos) << out.str();
   EXPECT_NE(out.str().find("'grafting.realizations'"), std::string::npos) << out.str();
   EXPECT_NE(out.str().find("'many'"), std::string::npos) << out.str();
-}
-
-TEST(BatchManifestErrors, BadValueNamesFileLineAndKey) {
-  const std::string path = test::makeTempDir("manifest_bad_value") + "/m.yaml";
-  std::ofstream(path) << "out: out\ncases: [a]\nestimators: [ekf]\nseeds: [1, -2]\n";
-  try {
-    app::loadBatchManifest(path);
-    FAIL() << "a negative seed was accepted";
-  } catch (const std::runtime_error& e) {
-    const std::string m = e.what();
-    EXPECT_NE(m.find(path + ":4:"), std::string::npos) << m;
-    EXPECT_NE(m.find("'seeds'"), std::string::npos) << m;
-    EXPECT_NE(m.find("'-2'"), std::string::npos) << m;
-  }
 }
 
 }  // namespace

@@ -127,47 +127,6 @@ TEST(Evaluate, MismatchedRateIsAClearError) {
   EXPECT_NE(r.output.find("ref_imu.txt"), std::string::npos) << r.output;
 }
 
-TEST(Batch, AFailedCaseIsReportedAndDoesNotStopTheOthers) {
-  const std::string dir = test::makeTempDir("batch");
-  std::ofstream(dir + "/manifest.yaml") << "out: out\n"
-                                        << "config: " << sampleConfig() << "\n"
-                                        << "cases: [" << sample("tactical") << ", no_such_case]\n"
-                                        << "estimators: [ekf]\n";
-  const RunResult r = run("batch " + dir + "/manifest.yaml --jobs 2");
-  EXPECT_NE(r.exit_code, 0);  // one run failed
-  std::ifstream f(dir + "/out/summary.csv");
-  std::string header, line;
-  std::getline(f, header);
-  int ok = 0, failed = 0;
-  while (std::getline(f, line)) {
-    if (line.find(",ok,") != std::string::npos) ++ok;
-    if (line.find(",failed,") != std::string::npos &&
-        line.find("no_such_case") != std::string::npos)
-      ++failed;
-  }
-  EXPECT_EQ(ok, 1);
-  EXPECT_EQ(failed, 1);
-  EXPECT_NE(header.find("DIFF_SG2_horizontal_frac"), std::string::npos) << header;
-}
-
-TEST(Batch, BadManifestNamesFileLineAndKey) {
-  const std::string dir = test::makeTempDir("batch_bad");
-  std::ofstream(dir + "/m1.yaml") << "out: out\ncases: [a]\nestimator: [ekf]\n";
-  RunResult r = run("batch " + dir + "/m1.yaml");
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.output.find("m1.yaml:3"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("'estimator'"), std::string::npos) << r.output;
-  std::ofstream(dir + "/m2.yaml") << "out: out\ncases: [a]\njobs: many\n";
-  r = run("batch " + dir + "/m2.yaml");
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.output.find("m2.yaml:3"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("jobs"), std::string::npos) << r.output;
-  std::ofstream(dir + "/m3.yaml") << "out: out\n";
-  r = run("batch " + dir + "/m3.yaml");
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.output.find("cases"), std::string::npos) << r.output;
-}
-
 // A diagnose config's switch that is not true or false names the file, line, key and value.
 TEST(Diagnose, BadConfigSwitchNamesFileLineKeyAndValue) {
   const std::string dir = test::makeTempDir("diag_bad_cfg");
@@ -178,43 +137,6 @@ TEST(Diagnose, BadConfigSwitchNamesFileLineKeyAndValue) {
   EXPECT_NE(r.output.find("cfg.yaml:2"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("'random_walk_sandwich'"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("'maybe'"), std::string::npos) << r.output;
-}
-
-TEST(Batch, MonteCarloSummaryGroupsSeedsAndAveragesThem) {
-  // The same case under two seed names: the group mean must equal the single-run value, the
-  // spread must be zero and DIFF of the means must equal the single-run DIFF.
-  const std::string dir = test::makeTempDir("batch_mc");
-  fs::create_directory_symlink(sample("tactical"), dir + "/exp_seed1");
-  fs::create_directory_symlink(sample("tactical"), dir + "/exp_seed2");
-  std::ofstream(dir + "/manifest.yaml") << "out: out\n"
-                                        << "config: " << sampleConfig() << "\n"
-                                        << "cases: [exp_seed1, exp_seed2]\n"
-                                        << "estimators: [ekf]\n";
-  const RunResult r = run("batch " + dir + "/manifest.yaml --jobs 2");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  const auto single = readJson(dir + "/out/tasks/exp_seed1__ekf__config__seed1/evaluation.json");
-  std::ifstream f(dir + "/out/summary_monte_carlo.csv");
-  ASSERT_TRUE(f.good());
-  std::string line;
-  std::getline(f, line);  // header
-  int rows = 0;
-  while (std::getline(f, line)) {
-    std::vector<std::string> c;
-    std::stringstream ss(line);
-    for (std::string x; std::getline(ss, x, ',');) c.push_back(x);
-    ASSERT_EQ(c.size(), 10u) << line;
-    EXPECT_EQ(c[0], "exp");
-    EXPECT_EQ(c[3], "2");
-    if (c[4] == "ERR_SG2_mean") {
-      EXPECT_NEAR(std::stod(c[5]), single["err"]["SG2"]["horizontal_m"].get<double>(), 1e-5);
-      ++rows;
-    }
-    if (c[4] == "DIFF_2_of_means") {
-      EXPECT_NEAR(std::stod(c[5]), single["diff"]["SG2"]["horizontal_m"].get<double>(), 1e-4);
-      ++rows;
-    }
-  }
-  EXPECT_EQ(rows, 2);
 }
 
 }  // namespace

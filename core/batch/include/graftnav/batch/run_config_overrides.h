@@ -1,0 +1,33 @@
+#pragma once
+// The run config a task runs with: the group's run config with the task's option values and outage
+// schedule written over it at their dotted keys ("fgo.window_nodes"), as YAML text that the task's
+// command reads with --run-config. The manifest's option values are checked here too, before any
+// task runs.
+
+#include <string>
+#include <vector>
+
+namespace graftnav {
+
+struct RunConfigOverride {
+  std::string key;         // dotted path
+  std::string value_yaml;  // the value as YAML text ("0.999", "[4, 5]")
+};
+
+// The base file (empty path: an empty config) with every override set, creating the sections it
+// needs, emitted as YAML. Throws std::runtime_error naming the file when it cannot be read or a
+// key runs through a value that is not a map.
+std::string composeRunConfig(const std::string& base_path,
+                             const std::vector<RunConfigOverride>& overrides);
+
+// Throws std::runtime_error with the reason when `value_yaml` is not a valid value of `key` in a
+// run config (an unknown section or key, a value of the wrong type or out of range), judged on the
+// base file with that one value set.
+void checkRunConfigOption(const std::string& base_path, const std::string& key,
+                          const std::string& value_yaml);
+
+// Whether the file lists explicit outage windows (outages.windows), which a schedule cannot
+// replace.
+bool runConfigListsOutageWindows(const std::string& base_path);
+
+}  // namespace graftnav

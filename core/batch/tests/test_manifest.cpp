@@ -1,0 +1,260 @@
+// The manifest: groups of every command, the expansion order, task ids, and every class of bad
+// manifest refused with its file and line before any task runs.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <set>
+
+#include "batch_test_util.h"
+#include "graftnav/batch/manifest.h"
+#include "graftnav/batch/tasks.h"
+
+namespace graftnav {
+namespace {
+namespace fs = std::filesystem;
+using batch_test::sample;
+using batch_test::tinyRunConfig;
+using batch_test::writeFile;
+
+// A folder with two case folders (copies of nothing: ids only read their bytes) and a manifest.
+std::string setUp(const std::string& tag, const std::string& manifest) {
+  const std::string dir = test::makeTempDir(tag);
+  for (const char* c : {"drive_a", "drive_b", "other"}) {
+    fs::create_directories(dir + "/cases/" + c);
+    writeFile(dir + "/cases/" + c + "/case.yaml", std::string("name: ") + c + "\n");
+  }
+  fs::copy_file(tinyRunConfig(), dir + "/run.yaml");
+  writeFile(dir + "/profile.yaml", "name: p\n");
+  writeFile(dir + "/m.yaml", manifest);
+  return dir;
+}
+
+const char* kGroups = R"(out: out
+groups:
+  - command: navigate
+    cases: [cases/drive_*]
+    estimators: [ekf, rts]
+    run_config: run.yaml
+    options:
+      ekf.gate_probability: [0.99, 0.999]
+  - command: evaluate
+    cases: [cases/drive_a]
+    seeds: [1, 2]
+    outage_schedules:
+      - {length_s: 30, period_s: 100, start_s: 60}
+  - command: compare
+    name: cmp
+    cases: [cases/drive_b]
+    estimators: [ekf, rts, fgo]
+    flags: {profile: profile.yaml, lenient: true}
+)";
+
+std::vector<std::string> folders(const std::vector<BatchTask>& tasks) {
+  std::vector<std::string> out;
+  for (const auto& t : tasks) out.push_back(t.folder());
+  return out;
+}
+
+TEST(BatchManifest, GroupsExpandInAFixedOrderWithStableIds) {
+  const std::string dir = setUp("manifest_order", kGroups);
+  const BatchManifest m = loadBatchManifest(dir + "/m.yaml");
+  ASSERT_EQ(m.groups.size(), 3u);
+  const auto tasks = expandBatchTasks(m);
+  const std::vector<std::string> want{"navigate/drive_a__ekf__config__ekf.gate_probability=0.99",
+                                      "navigate/drive_a__ekf__config__ekf.gate_probability=0.999",
+                                      "navigate/drive_a__rts__config__ekf.gate_probability=0.99",
+                                      "navigate/drive_a__rts__config__ekf.gate_probability=0.999",
+                                      "navigate/drive_b__ekf__config__ekf.gate_probability=0.99",
+                                      "navigate/drive_b__ekf__config__ekf.gate_probability=0.999",
+                                      "navigate/drive_b__rts__config__ekf.gate_probability=0.99",
+                                      "navigate/drive_b__rts__config__ekf.gate_probability=0.999",
+                                      "evaluate/drive_a__ekf__30s-every-100s-from-60s__seed1",
+                                      "evaluate/drive_a__ekf__30s-every-100s-from-60s__seed2",
+                                      "cmp/drive_b__ekf+rts+fgo__config"};
+  EXPECT_EQ(folders(tasks), want);
+  std::set<std::string> ids;
+  for (const auto& t : tasks) {
+    EXPECT_EQ(t.id.size(), 16u);
+    ids.insert(t.id);
+    EXPECT_EQ(t.index, &t - &tasks[0]);
+  }
+  EXPECT_EQ(ids.size(), tasks.size());
+  EXPECT_EQ(tasks[1].options_json, R"({"ekf.gate_probability":0.999})");
+  EXPECT_EQ(tasks[10].estimators, (std::vector<std::string>{"ekf", "rts", "fgo"}));
+  EXPECT_FALSE(tasks[0].seed);
+  EXPECT_EQ(*tasks[9].seed, 2u);
+
+  // Stable: the same manifest loaded again, and the same cases under another folder.
+  EXPECT_EQ(expandBatchTasks(loadBatchManifest(dir + "/m.yaml"))[3].id, tasks[3].id);
+  const std::string copy = test::makeTempDir("manifest_order_copy");
+  fs::copy(dir, copy, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  const auto moved = expandBatchTasks(loadBatchManifest(copy + "/m.yaml"));
+  for (std::size_t i = 0; i < tasks.size(); ++i) EXPECT_EQ(moved[i].id, tasks[i].id) << i;
+
+  // Hashing only some tasks gives them the same ids.
+  std::vector<BatchTask> some = expandBatchTaskList(m);
+  assignTaskIds(m, {2, 9}, &some);
+  EXPECT_EQ(some[2].id, tasks[2].id);
+  EXPECT_EQ(some[9].id, tasks[9].id);
+  EXPECT_TRUE(some[3].id.empty());
+}
+
+TEST(BatchManifest, AnIdChangesWhenExactlyOneOptionValueChanges) {
+  const std::string dir = setUp("manifest_one_value", kGroups);
+  const auto before = expandBatchTasks(loadBatchManifest(dir + "/m.yaml"));
+  std::string edited = kGroups;
+  edited.replace(edited.find("[0.99, 0.999]"), 13, "[0.99, 0.995]");
+  writeFile(dir + "/m.yaml", edited);
+  const auto after = expandBatchTasks(loadBatchManifest(dir + "/m.yaml"));
+  ASSERT_EQ(after.size(), before.size());
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    const bool changed_value = i < 8 && i % 2 == 1;  // the 0.999 tasks of the navigate group
+    if (changed_value)
+      EXPECT_NE(after[i].id, before[i].id) << i;
+    else
+      EXPECT_EQ(after[i].id, before[i].id) << i;
+  }
+  // A profile's bytes count: editing it changes the compare task's id only.
+  writeFile(dir + "/profile.yaml", "name: p2\n");
+  const auto profile = expandBatchTasks(loadBatchManifest(dir + "/m.yaml"));
+  for (std::size_t i = 0; i + 1 < after.size(); ++i) EXPECT_EQ(profile[i].id, after[i].id) << i;
+  EXPECT_NE(profile.back().id, after.back().id);
+}
+
+TEST(BatchManifest, TheEarlierLayoutIsOneEvaluateGroup) {
+  const std::string dir = setUp("manifest_legacy",
+                                "out: out\nconfig: run.yaml\nseeds: [3, 4]\ncases: [cases/other]\n"
+                                "estimators: [ekf, fgo]\n");
+  const BatchManifest m = loadBatchManifest(dir + "/m.yaml");
+  ASSERT_EQ(m.groups.size(), 1u);
+  EXPECT_EQ(m.groups[0].command, BatchCommand::kEvaluate);
+  const auto tasks = expandBatchTasks(m);
+  ASSERT_EQ(tasks.size(), 4u);
+  EXPECT_EQ(tasks[0].folder(), "evaluate/other__ekf__config__seed3");
+  const auto argv = taskCommandLine(m, tasks[0], "/bin/graftnav");
+  const std::vector<std::string> want{"/bin/graftnav",
+                                      "evaluate",
+                                      fs::absolute(dir + "/cases/other").lexically_normal(),
+                                      "--out",
+                                      tasks[0].out_dir,
+                                      "--estimator",
+                                      "ekf",
+                                      "--run-config",
+                                      fs::absolute(dir + "/run.yaml").lexically_normal(),
+                                      "--seed",
+                                      "3",
+                                      "--jobs",
+                                      "1",
+                                      "--no-plots"};
+  EXPECT_EQ(argv, want);
+}
+
+TEST(BatchManifest, OptionsAndSchedulesGoIntoTheTasksRunConfig) {
+  const std::string dir = setUp("manifest_run_config", R"(out: out
+groups:
+  - command: real
+    cases: [cases/other]
+    run_config: run.yaml
+    outage_schedules: [{length_s: 20, period_s: 50, start_s: 10}]
+    options: {fgo.window_nodes: [5], gnss.checkpoint_fix_types: [[0, 4]]}
+    flags: {imu: tested, latency-grid: [0, 0.2]}
+)");
+  const BatchManifest m = loadBatchManifest(dir + "/m.yaml");
+  const auto tasks = expandBatchTasks(m);
+  ASSERT_EQ(tasks.size(), 1u);
+  writeTaskRunConfig(m, tasks[0]);
+  const std::string rc = taskRunConfigPath(m, tasks[0]);
+  EXPECT_EQ(rc, tasks[0].out_dir + "/run_config.yaml");
+  const YAML::Node n = YAML::LoadFile(rc);
+  EXPECT_EQ(n["fgo"]["window_nodes"].as<int>(), 5);
+  EXPECT_EQ(n["gnss"]["checkpoint_fix_types"][1].as<int>(), 4);
+  EXPECT_EQ(n["outages"]["length_s"].as<double>(), 20.0);
+  EXPECT_EQ(n["outages"]["period_s"].as<double>(), 50.0);
+  EXPECT_EQ(n["grafting"]["realizations"].as<int>(), 1);  // the group's own key kept
+  const auto argv = taskCommandLine(m, tasks[0], "g");
+  const std::string line = [&] {
+    std::string s;
+    for (const auto& a : argv) s += a + " ";
+    return s;
+  }();
+  EXPECT_NE(line.find("--imu tested --latency-grid 0,0.2"), std::string::npos) << line;
+  EXPECT_NE(line.find("--run-config " + rc), std::string::npos) << line;
+  EXPECT_EQ(tasks[0].name,
+            "other__ekf__20s-every-50s-from-10s__fgo.window_nodes=5__gnss."
+            "checkpoint_fix_types=_0__4_");
+}
+
+// Loads the manifest and returns the error (empty when it loads and expands).
+std::string errorOf(const std::string& dir, const std::string& manifest) {
+  writeFile(dir + "/m.yaml", manifest);
+  try {
+    expandBatchTasks(loadBatchManifest(dir + "/m.yaml"));
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+void expectRefused(const std::string& error, const std::string& file_line,
+                   const std::string& what) {
+  EXPECT_NE(error.find(file_line), std::string::npos) << error;
+  EXPECT_NE(error.find(what), std::string::npos) << error;
+}
+
+TEST(BatchManifest, EveryClassOfBadManifestIsRefusedWithFileAndLine) {
+  const std::string dir = setUp("manifest_bad", "out: out\n");
+  const std::string m = dir + "/m.yaml";
+  const std::string head = "out: out\ngroups:\n";
+  expectRefused(errorOf(dir, head + "  - command: navigat\n    cases: [cases/other]\n"), m + ":3",
+                "unknown command 'navigat'");
+  expectRefused(errorOf(dir, head + "  - command: navigate\n    cases: [cases/other]\n"
+                                    "    options: {ekff.gate_probability: [0.9]}\n"),
+                m + ":5", "ekff");
+  expectRefused(errorOf(dir, head + "  - command: compare\n    cases: [cases/other]\n"
+                                    "    flags:\n      latency-scan: true\n"),
+                m + ":6", "`compare` takes no flag 'latency-scan'");
+  expectRefused(errorOf(dir, head + "  - command: navigate\n    cases: [cases/drive_a]\n"
+                                    "  - command: navigate\n    cases: [cases/nothing_*]\n"),
+                m + ":6", "the glob");
+  expectRefused(errorOf(dir, head + "  - command: navigate\n    cases: [cases/drive_a]\n"
+                                    "  - command: navigate\n    cases: [cases/drive_*]\n"),
+                m + ":5", "and the group at line 3 would both write tasks/navigate/drive_a__ekf");
+  // And the others: a flag file that is not there, seeds on a command without, a missing
+  // required flag, an unknown group key, a run config required.
+  expectRefused(errorOf(dir, head + "  - command: navigate\n    cases: [cases/other]\n"
+                                    "    flags: {profile: nothere.yaml}\n"),
+                m + ":5", "not found");
+  expectRefused(errorOf(dir, head + "  - command: navigate\n    cases: [cases/other]\n"
+                                    "    seeds: [1, 2]\n"),
+                m + ":5", "takes no grafting seed");
+  expectRefused(errorOf(dir, head + "  - command: real-sg\n    cases: [cases/other]\n"
+                                    "    run_config: run.yaml\n"),
+                m + ":3", "needs the flag 'ref-profile'");
+  expectRefused(errorOf(dir, head + "  - command: real\n    cases: [cases/other]\n"), m + ":3",
+                "needs a run config");
+  expectRefused(errorOf(dir, head + "  - command: navigate\n    cases: [cases/other]\n"
+                                    "    estimator: [ekf]\n"),
+                m + ":5", "unknown key 'estimator'");
+  // Two values that name one folder, and a name repeated.
+  expectRefused(errorOf(dir, head + "  - command: navigate\n    cases: [cases/other]\n"
+                                    "    options: {ekf.gate_probability: [0.9, 0.9]}\n"),
+                m + ":5", "lists '0.9' twice");
+}
+
+TEST(BatchManifest, ABadValueNamesFileLineAndKey) {
+  const std::string path = test::makeTempDir("manifest_bad_value") + "/m.yaml";
+  writeFile(path, "out: out\ncases: [a]\nestimators: [ekf]\nseeds: [1, -2]\n");
+  try {
+    loadBatchManifest(path);
+    FAIL() << "a negative seed was accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(path + ":4:"), std::string::npos) << m;
+    EXPECT_NE(m.find("'seeds'"), std::string::npos) << m;
+    EXPECT_NE(m.find("'-2'"), std::string::npos) << m;
+  }
+}
+
+}  // namespace
+}  // namespace graftnav
