@@ -24,14 +24,14 @@ FgoScaleFn toScaleSink(SolutionSink& sink) {
 }  // namespace
 
 void addGraphEstimators(EstimatorRegistry* registry) {
-  EstimatorEntry batch{
-      "fgo", "factor-graph batch smoother (Ceres, SuiteSparse), docs/fgo.md",
-      [](const EstimationProblem& p, const EstimatorOptions& o, const ProgressFn&) {
-        return solveBatchFgo(p, o.fgo);
-      },
-      [](const EstimationProblem& p, const ImuPassFn& imu, const EstimatorOptions& o,
-         SolutionSink& sink) { return solveBatchFgo(p, imu, o.fgo, nullptr, toSink(sink), toScaleSink(sink));
-      }};
+  EstimatorEntry batch{"fgo", "factor-graph batch smoother (Ceres, SuiteSparse), docs/fgo.md",
+                       [](const EstimationProblem& p, const EstimatorOptions& o,
+                          const ProgressFn&) { return solveBatchFgo(p, o.fgo); },
+                       [](const EstimationProblem& p, const ImuPassFn& imu,
+                          const EstimatorOptions& o, SolutionSink& sink) {
+                         return solveBatchFgo(p, imu, o.fgo, nullptr, toSink(sink),
+                                              toScaleSink(sink));
+                       }};
   batch.estimates_scale_factors = false;
   registry->add(std::move(batch));
   EstimatorEntry window{
@@ -40,7 +40,8 @@ void addGraphEstimators(EstimatorRegistry* registry) {
         return solveWindowFgo(p, o.fgo);
       },
       [](const EstimationProblem& p, const ImuPassFn& imu, const EstimatorOptions& o,
-         SolutionSink& sink) { return solveWindowFgo(p, imu, o.fgo, nullptr, toSink(sink), toScaleSink(sink));
+         SolutionSink& sink) {
+        return solveWindowFgo(p, imu, o.fgo, nullptr, toSink(sink), toScaleSink(sink));
       }};
   window.estimates_scale_factors = false;
   registry->add(std::move(window));

@@ -27,7 +27,7 @@ bin="$(realpath "${pos[1]:-$repo/build/graftnav}")"
 case_dir="$out/case"
 mkdir -p "$out/runs"
 [ -f "$case_dir/field/odometer.txt" ] ||
-  "$bin" simulate --config "$repo/configs/sim/land_drive_25min.yaml" --out "$case_dir" > "$out/simulate.log" 2>&1
+  "$bin" simulate --sim-config "$repo/configs/sim/land_drive_25min.yaml" --out "$case_dir" > "$out/simulate.log" 2>&1
 for est in ekf rts fgo fgo-window; do
   for mode in free aided; do
     cfg="$repo/configs/aiding/land_drive.yaml"
