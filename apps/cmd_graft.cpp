@@ -1,5 +1,6 @@
 // graftnav graft CASE_DIR [--out DIR] [--seed N] [--no-cross-axis]
-// Lab calibration of the tested IMU, then IMU_SG#1 and IMU_SG#2 grafted onto the reference IMU.
+// Lab calibration of the tested IMU, then SG#1 and SG#2 grafted onto the reference IMU
+// (IMU_SG1.txt, IMU_SG2.txt).
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
@@ -11,6 +12,7 @@
 #include "graftnav/calibration/calibration_io.h"
 #include "graftnav/calibration/lab_calibration.h"
 #include "graftnav/calibration/lab_data.h"
+#include "graftnav/case/input_checks.h"
 #include "graftnav/io/case_config.h"
 #include "graftnav/sg/graft_case.h"
 #include "graftnav/io/imu_io.h"
@@ -26,7 +28,7 @@ void registerGraft(CLI::App& app) {
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
-      "graft", "Write IMU_SG#1 (basic errors) and IMU_SG#2 (full errors) for a case");
+      "graft", "Write IMU_SG1.txt (SG#1, basic errors) and IMU_SG2.txt (SG#2, full errors)");
   cmd->add_option("case_dir", args->case_dir, "case directory")
       ->required()
       ->check(CLI::ExistingDirectory);
@@ -46,6 +48,7 @@ void registerGraft(CLI::App& app) {
 
     fmt::print(stderr, "graft: calibrating the tested IMU from {}/lab\n", args->case_dir);
     const LabData lab = loadLabData(args->case_dir);
+    if (lab.has_static) checkLabStaticRecord(lab.staticRecordSeconds(), lab.static_file, 0.0);
     const LabCalibrationReport report = calibrateLab(lab);
     for (const auto& n : report.notes) fmt::print(stderr, "note: {}\n", n);
     writeCalibrationYaml(out + "/calibration.yaml", report.result);
