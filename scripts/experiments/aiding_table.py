@@ -84,11 +84,12 @@ def markdown(table, command, full):
              "|---|---|---|---|---|---|---|---|"]
     for r in table:
         sc, z = scale_cell(r)
-        lines.append("| %s | %.3f | %.3f | %.3f | <= %.1f | %s | %s | %s |" % (
+        lines.append("| %s | %.3f | %.3f | %.4f | <= %.1f | %s | %s | %s |" % (
             r["est"], r["free"], r["aided"], r["ratio"], r["required"],
             "yes" if r["met"] else "**no**", sc, z))
     if full:
-        lines += ["", "| estimator | wall time without aiding (s) | with aiding (s) |", "|---|---|---|"]
+        lines += ["", "Wall times on a shared 2-core machine (other jobs running: compare, not benchmark).", "",
+                  "| estimator | wall time without aiding (s) | with aiding (s) |", "|---|---|---|"]
         for r in table:
             lines.append("| %s | %s | %s |" % (r["est"], r["t_free"], r["t_aided"]))
     return "\n".join(lines) + "\n"

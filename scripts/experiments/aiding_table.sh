@@ -41,4 +41,4 @@ for est in ekf rts fgo fgo-window; do
   done
 done
 /usr/bin/python3 "$repo/scripts/experiments/aiding_table.py" "$out" \
-  --command "scripts/experiments/aiding_table.sh OUT" ${table:+--out "$table"} ${inject:+--inject "$inject"}
+  --command "scripts/experiments/aiding_table.sh${inject:+ --inject $inject}${table:+ --table $table} OUT" ${table:+--out "$table"} ${inject:+--inject "$inject"}
