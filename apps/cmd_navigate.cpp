@@ -272,7 +272,8 @@ NavigateSetup prepareNavigate(const NavigateArgs& a) {
   }
   for (const auto& n : s.notes)
     if (n.find("alignment") != std::string::npos || n.find("lever") != std::string::npos ||
-        n.find("GNSS selection") != std::string::npos || n.find("time range") != std::string::npos)
+        n.find("GNSS selection") != std::string::npos ||
+        n.find("time range") != std::string::npos || n.find("odometer") != std::string::npos)
       fmt::print(stderr, "note: {}\n", n);
   if (outages) {
     const double t0 = s.pr.imu.front().t_s - s.pr.imu.front().dt_s;
@@ -333,13 +334,19 @@ class NavFileSink : public SolutionSink {
   NavFileSink(const fs::path& out, bool with_imu_errors, StreamedEvaluation* evaluation)
       : nav_((out / "solution.nav").string()),
         outputs_((out / "imu_errors.txt").string(), (out / "state_std.txt").string(),
-                 with_imu_errors),
+                 with_imu_errors, (out / "odometer_scale.txt").string()),
         evaluation_(evaluation) {}
   void add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate& sensors) override {
     nav_.add(state);
     outputs_.add(state, sigma, sensors);
     if (evaluation_) evaluation_->add(state, sigma);
   }
+  void addOdometerScale(const OdometerScaleEstimate& estimate) override {
+    outputs_.addOdometerScale(estimate);
+    last_scale_ = estimate;
+  }
+  // The last odometer scale estimate (run_info.json), when the run estimated one.
+  const std::optional<OdometerScaleEstimate>& lastOdometerScale() const { return last_scale_; }
   RunFiles commit() {
     RunFiles f;
     nav_.commit();
@@ -352,6 +359,7 @@ class NavFileSink : public SolutionSink {
   NavWriter nav_;
   SolutionOutputsSink outputs_;
   StreamedEvaluation* evaluation_;
+  std::optional<OdometerScaleEstimate> last_scale_;
 };
 
 // Streamed run: the IMU read in blocks, the files written as it goes, each epoch evaluated against
@@ -371,6 +379,12 @@ NavSolution streamedRun(const std::string& estimator, const NavigateSetup& s, co
   sol.gnss_used = book.gnss_used;
   sol.gnss_rejected = book.gnss_rejected;
   sol.gnss_withheld = book.gnss_withheld;
+  sol.vehicle_used = book.vehicle_used;
+  sol.vehicle_rejected = book.vehicle_rejected;
+  if (const auto& scale = sink.lastOdometerScale()) {
+    sol.odometer_scale = {scale->scale};
+    sol.odometer_scale_std = {scale->std};
+  }
   before_commit(sol);
   *files = sink.commit();
   return sol;
@@ -385,6 +399,7 @@ NavSolution inMemoryRun(const std::string& estimator, const NavigateSetup& s, co
   files->epochs = sol.states.size();
   files->imu_errors = writeImuErrors((out / "imu_errors.txt").string(), sol);
   files->state_std = writeStateStd((out / "state_std.txt").string(), sol);
+  writeOdometerScale((out / "odometer_scale.txt").string(), sol);
   return sol;
 }
 
