@@ -1,39 +1,42 @@
 #!/usr/bin/env bash
-# Peak memory and wall time of `graftnav navigate` (ekf, rts, fgo-window, fgo) and `graftnav
-# diagnose` against the length of a generated 200 Hz recording (docs/BENCHMARKS.md, "Memory
-# against recording length"). A benchmark, not a test: it takes minutes.
+# Peak memory and CPU of `graftnav navigate` (each estimator), `compare`, `real`, `evaluate` and
+# `diagnose` against the length of a generated 200 Hz recording with its 200 Hz truth.nav and a
+# 1-h lab static record (docs/BENCHMARKS.md, "Memory against recording length"). A benchmark,
+# not a test: it takes minutes to hours.
 #
 # Usage: scripts/dev/bench_memory.sh OUT_DIR [GRAFTNAV]      (GRAFTNAV default: build/graftnav)
-# Environment: LENGTHS_MIN (default "15 30 60 120 480"), RUNS (runs per measurement, the median
-# is reported; default 1), ESTIMATORS (default "ekf rts fgo-window fgo"), DIAGNOSE (1: also
-# diagnose, default 1), DIAGNOSE_MAX_MIN (diagnose only lengths up to this many minutes; default
-# 480: past binning diagnose holds the reference record, the bins and the candidate library,
-# ~270 MB per hour), MAX_SIM_RSS_MB (skip a length
-# whose simulation is predicted, linearly from the longest one done, to need more; default 4000:
-# the simulator streams the field IMUs of this case, so the prediction is an upper bound).
+# Environment: LENGTHS_MIN (default "15 60 480"), RUNS (runs per measurement, the median is
+# reported; default 1), ESTIMATORS (default "ekf rts fgo-window fgo"), COMMANDS (default
+# "navigate compare real evaluate diagnose"), CASES (folder of the simulated cases, default
+# OUT_DIR/cases: another binary's run can share them), <COMMAND>_MAX_MIN (run that command only
+# up to this many minutes; defaults: COMPARE 480, REAL 480, EVALUATE 480, DIAGNOSE 480),
+# MAX_SIM_RSS_MB (skip a length whose simulation is predicted, linearly from the longest one
+# done, to need more; default 4000), DOC (a Markdown file whose "Memory against recording
+# length" table is replaced by the measured one).
 #
 # Each length is a motion-script drive (60 s at rest, then 100 s straights and 90-degree turns at
 # 10 m/s) simulated with the POS1100-like tested IMU of mems_57min.yaml, 1 Hz GNSS, truth at
-# 10 Hz and a short lab session. `navigate` runs on a copy of the case without truth.nav (the
-# initial state from case.yaml, no errors computed: the solution alone, as the peers' runs), with
-# 60 s outages every 180 s. Peak RSS, CPU time (user + system) and wall time come from
-# /usr/bin/time -v; on a shared machine the CPU time is the one to compare. Writes
-# OUT_DIR/memory.tsv and OUT_DIR/memory.md (the table for docs/BENCHMARKS.md).
+# 200 Hz and a lab session with a 1-h static record. Every command runs on the whole case, its
+# truth.nav beside it: navigate --imu tested with each estimator; compare with ekf; real with
+# ekf (a run config with the same outages, written to OUT_DIR/real_run.yaml); evaluate with K = 20
+# realizations per strategy on 2 workers (EKF); diagnose. Outages of 60 s every 180 s. Peak RSS,
+# CPU time (user + system) and wall time come from /usr/bin/time -v; on a shared machine the CPU
+# time is the one to compare. Writes OUT_DIR/memory.tsv and OUT_DIR/memory.md.
 set -euo pipefail
-[ $# -ge 1 ] || { sed -n '2,18p' "$0"; exit 2; }
+[ $# -ge 1 ] || { sed -n '2,26p' "$0"; exit 2; }
 out="$1"
 repo="$(cd "$(dirname "$0")/../.." && pwd)"
 here="$(cd "$(dirname "$0")" && pwd)"
 bin="$(realpath "${2:-$repo/build/graftnav}")"
-lengths="${LENGTHS_MIN:-15 30 60 120 480}"
+lengths="${LENGTHS_MIN:-15 60 480}"
 runs="${RUNS:-1}"
 estimators="${ESTIMATORS:-ekf rts fgo-window fgo}"
-diagnose="${DIAGNOSE:-1}"
+commands="${COMMANDS:-navigate compare real evaluate diagnose}"
 max_sim_mb="${MAX_SIM_RSS_MB:-4000}"
-diagnose_max_min="${DIAGNOSE_MAX_MIN:-480}"
+cases="${CASES:-$out/cases}"
 [ -x "$bin" ] || { echo "bench_memory.sh: no executable $bin" >&2; exit 1; }
 [ -x /usr/bin/time ] || { echo "bench_memory.sh: needs /usr/bin/time (package time)" >&2; exit 1; }
-mkdir -p "$out/cases" "$out/runs"
+mkdir -p "$cases" "$out/runs"
 tsv="$out/memory.tsv"
 printf "length_min\tsamples\twhat\tpeak_rss_MB\tcpu_s\twall_s\n" > "$tsv"
 
@@ -61,9 +64,19 @@ measure() {
     "$(printf "%s\n" "${cpu[@]}" | sort -g | sed -n "${mid}p")" "$(printf "%s\n" "${wall[@]}" | sort -g | sed -n "${mid}p")"
 }
 
+# row LENGTH WHAT RUN_NAME ARGS...: measures `graftnav ARGS` and appends its row.
+row() {
+  local L="$1" what="$2" name="$3"; shift 3
+  read -r rss cpu wall < <(measure "$what $L min" "$out/runs/$name.log" -- "$bin" "$@")
+  printf "%s\t%s\t%s\t%s\t%s\t%s\n" "$L" "$samples" "$what" "$rss" "$cpu" "$wall" >> "$tsv"
+  echo "$L min $what: $rss MB, CPU $cpu s, wall $wall s" >&2
+}
+
+printf "outages:\n  length_s: 60\n  period_s: 180\n" > "$out/real_run.yaml"
+
 sim_mb_per_min=0
 for L in $lengths; do
-  case_dir="$out/cases/bench_${L}min"
+  case_dir="$cases/bench_${L}min"
   if [ ! -f "$case_dir/field/tested_imu.txt" ]; then
     predicted=$(awk -v a="$sim_mb_per_min" -v l="$L" 'BEGIN {printf "%d", a * l}')
     if [ "$predicted" -gt "$max_sim_mb" ]; then
@@ -71,9 +84,9 @@ for L in $lengths; do
       printf "%s\t-\tsimulate (skipped, predicted %s MB)\t-\t-\t-\n" "$L" "$predicted" >> "$tsv"
       continue
     fi
-    sim_config "$L" "$out/cases/bench_${L}min.yaml"
+    sim_config "$L" "$cases/bench_${L}min.yaml"
     read -r rss cpu wall < <(runs=1 measure simulate "$out/runs/sim_${L}.log" -- \
-        "$bin" simulate --sim-config "$out/cases/bench_${L}min.yaml" --out "$case_dir")
+        "$bin" simulate --sim-config "$cases/bench_${L}min.yaml" --out "$case_dir")
     echo "$rss $cpu $wall" > "$case_dir.sim"
     sim_mb_per_min=$(awk -v r="$rss" -v l="$L" -v a="$sim_mb_per_min" 'BEGIN {x = r / l; print (x > a ? x : a)}')
     printf "%s\t-\tsimulate\t%s\t%s\t%s\n" "$L" "$rss" "$cpu" "$wall" >> "$tsv"
@@ -83,28 +96,37 @@ for L in $lengths; do
     sim_mb_per_min=$(awk -v r="$rss" -v l="$L" -v a="$sim_mb_per_min" 'BEGIN {x = r / l; print (x > a ? x : a)}')
     printf "%s\t-\tsimulate\t%s\t%s\t%s\n" "$L" "$rss" "$cpu" "$wall" >> "$tsv"
   fi
-  nav_case="$case_dir.nav"  # the case without truth.nav
-  mkdir -p "$nav_case/field"
-  cp "$case_dir/case.yaml" "$nav_case/"
-  for f in gnss.pos gnss_fixtype.txt tested_imu.txt; do
-    [ -e "$case_dir/field/$f" ] && ln -sf "$(realpath "$case_dir/field/$f")" "$nav_case/field/$f"
-  done
   samples=$(wc -l < "$case_dir/field/tested_imu.txt")
-  for est in $estimators; do
-    read -r rss cpu wall < <(measure "navigate $est $L min" "$out/runs/${est}_${L}.log" -- \
-        "$bin" navigate "$nav_case" --imu tested --estimator "$est" --outage-length 60 \
-        --outage-period 180 --out "$out/runs/${est}_${L}" --no-plots)
-    printf "%s\t%s\tnavigate --estimator %s\t%s\t%s\t%s\n" "$L" "$samples" "$est" "$rss" "$cpu" "$wall" >> "$tsv"
-    echo "$L min $est: $rss MB, CPU $cpu s, wall $wall s" >&2
+  outages=(--outage-length 60 --outage-period 180)
+  for cmd in $commands; do
+    max_var="$(echo "$cmd" | tr a-z A-Z)_MAX_MIN"
+    if [ "$cmd" != navigate ] && [ "$L" -gt "${!max_var:-480}" ]; then
+      printf "%s\t%s\t%s (skipped, above %s=%s)\t-\t-\t-\n" "$L" "$samples" "$cmd" "$max_var" "${!max_var}" >> "$tsv"
+      continue
+    fi
+    case "$cmd" in
+      navigate)
+        for est in $estimators; do
+          row "$L" "navigate --estimator $est" "${est}_${L}" navigate "$case_dir" --imu tested \
+              --estimator "$est" "${outages[@]}" --out "$out/runs/${est}_${L}" --no-plots
+        done ;;
+      compare)
+        row "$L" "compare --estimator ekf" "compare_${L}" compare "$case_dir" --imu tested \
+            --estimator ekf "${outages[@]}" --out "$out/runs/compare_${L}" --no-plots ;;
+      real)
+        row "$L" "real --estimator ekf" "real_${L}" real "$case_dir" --imu tested --estimator ekf \
+            --run-config "$out/real_run.yaml" --out "$out/runs/real_${L}" --no-plots ;;
+      evaluate)
+        row "$L" "evaluate (K = 20, 2 workers)" "evaluate_${L}" evaluate "$case_dir" "${outages[@]}" \
+            --jobs 2 --out "$out/runs/evaluate_${L}" --no-plots ;;
+      diagnose)
+        row "$L" "diagnose" "diagnose_${L}" diagnose "$case_dir" --out "$out/runs/diagnose_${L}" --no-plots ;;
+      *) echo "bench_memory.sh: unknown command $cmd" >&2; exit 2 ;;
+    esac
   done
-  if [ "$diagnose" = 1 ] && [ "$L" -gt "$diagnose_max_min" ]; then
-    printf "%s\t%s\tdiagnose (skipped, above DIAGNOSE_MAX_MIN=%s)\t-\t-\t-\n" "$L" "$samples" "$diagnose_max_min" >> "$tsv"
-  elif [ "$diagnose" = 1 ]; then
-    read -r rss cpu wall < <(measure "diagnose $L min" "$out/runs/diagnose_${L}.log" -- \
-        "$bin" diagnose "$case_dir" --out "$out/runs/diagnose_${L}" --no-plots)
-    printf "%s\t%s\tdiagnose\t%s\t%s\t%s\n" "$L" "$samples" "$rss" "$cpu" "$wall" >> "$tsv"
-    echo "$L min diagnose: $rss MB, CPU $cpu s, wall $wall s" >&2
-  fi
 done
 
 python3 "$here/bench_memory_table.py" "$tsv" "$out/memory.md"
+if [ -n "${DOC:-}" ]; then
+  python3 "$here/bench_memory_table.py" --doc "$DOC" "$out/memory.md"
+fi

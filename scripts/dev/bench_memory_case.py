@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """The motion-script simulation config of a bench_memory.sh case: MINUTES of driving (static start,
-cruise legs with turns, stop), 200 Hz, the POS830 reference and POS1100 tested profiles.
+cruise legs with turns, stop), 200 Hz IMUs and truth, the POS830 reference and POS1100 tested
+profiles, a 1-h lab static record.
 
 Usage: bench_memory_case.py MINUTES CONFIGS_IMU_DIR > sim.yaml
 """
@@ -18,7 +19,7 @@ print(f"""name: bench_{minutes}min
 seed: 36
 gnss_week: 2100
 imu_rate_hz: 200
-truth_rate_hz: 10
+truth_rate_hz: 200
 trajectory:
   script:
     start_time_s: 100000
@@ -40,7 +41,7 @@ gnss:
   noise_std_neu_m: [0.02, 0.02, 0.04]
   lever_arm_m: [0.1, -0.2, -1.2]
 lab:
-  static_duration_s: 600
+  static_duration_s: 3600
   six_position_duration_s: 30
   rate_table_deg_s: [30, 90]
   tilt_duration_s: 30
