@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "run_config.h"
+#include "graftnav/case/run_config.h"
 
 namespace graftnav::app {
 

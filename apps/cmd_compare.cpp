@@ -25,13 +25,15 @@
 #include <vector>
 
 #include "commands.h"
-#include "case_loader.h"
+#include "graftnav/case/case_inputs.h"
+#include "graftnav/case/problem.h"
 #include "cli_vocabulary.h"
-#include "estimators.h"
-#include "provenance.h"
+#include "graftnav/estimators/estimator_table.h"
+#include "graftnav/io/provenance.h"
 #include "graftnav/io/atomic_file.h"
-#include "input_checks.h"
-#include "run_config.h"
+#include "graftnav/case/input_checks.h"
+#include "graftnav/case/outage_overrides.h"
+#include "graftnav/case/run_config.h"
 #include "script_locator.h"
 #include "graftnav/eval/evaluation.h"
 #include "graftnav/eval/outage_schedule.h"
@@ -47,7 +49,7 @@ struct CompareArgs {
   std::string case_dir, out, imu = kDefaultImu;
   std::string estimators = "ekf,rts,fgo";
   std::string config, profile;
-  double outage_length_s = 60.0, outage_period_s = 180.0, outage_start_s = 300.0;
+  OutageOverrides outage;  // over the run config's outages: (default 60 s every 180 s from 300 s)
   bool no_outages = false;
   bool lenient = false;
   bool no_plots = false;
@@ -74,16 +76,16 @@ NavSolution runNamed(const std::string& name, const EstimationProblem& p, const 
       throw std::invalid_argument("compare: '" + name +
                                   "': -noearth applies to fgo and fgo-window");
     }
-    NavSolution sol = runEstimator(base, p, c);
+    NavSolution sol = estimatorTable().run(base, p, c);
     sol.estimator = name;
     return sol;
   }
-  return runEstimator(name, p, cfg);
+  return estimatorTable().run(name, p, cfg);
 }
 
 // Every name must be in the table (or a -noearth variant of fgo / fgo-window), before any run.
 void checkEstimatorNames(const std::vector<std::string>& names) {
-  std::vector<std::string> known = estimatorNames();
+  std::vector<std::string> known = estimatorTable().names();
   known.push_back("fgo-noearth");
   known.push_back("fgo-window-noearth");
   for (const auto& n : names)
@@ -149,6 +151,7 @@ struct Pair {
 struct CompareInputs {
   RunConfig cfg;
   CaseInputs c;
+  OutageScheduleConfig schedule;
   EstimationProblem p;
 };
 
@@ -167,12 +170,8 @@ CompareInputs loadCompareInputs(const CompareArgs& a) {
   for (const auto& w : c.warnings) fmt::print(stderr, "warning: {}\n", w);
   if (c.reference.empty())
     throw std::runtime_error(a.case_dir + ": compare needs truth.nav or a reference");
-  OutageScheduleConfig oc = in.cfg.outages;
-  if (!in.cfg.outages_given) {
-    oc.length_s = a.outage_length_s;
-    oc.period_s = a.outage_period_s;
-    oc.start_s = a.outage_start_s;
-  }
+  OutageScheduleConfig& oc = in.schedule;
+  oc = a.outage.appliedTo(in.cfg.outages);
   oc.enabled = oc.enabled && !a.no_outages;
   std::vector<std::string> notes;
   const ImuSelection imu = selectImu(c, a.imu, a.profile, a.lenient);
@@ -200,8 +199,8 @@ std::string compareMarkdown(const CompareArgs& a, const CompareInputs& in,
   md << fmt::format(
       "# Estimator comparison: {}\n\nIMU: {} ({}), {} outages of {:.0f} s every "
       "{:.0f} s from {:.0f} s; errors against the {}.\n\n",
-      a.case_dir, a.imu, p.imu_profile.name, p.outages.size(), a.outage_length_s, a.outage_period_s,
-      a.outage_start_s, in.c.reference_name);
+      a.case_dir, a.imu, p.imu_profile.name, p.outages.size(), in.schedule.length_s,
+      in.schedule.period_s, in.schedule.start_s, in.c.reference_name);
   md << "## Outage errors, RMS over outage epochs (seed Tables 2-3)\n\n"
         "| estimator | horiz. (m) | vert. (m) | roll (deg) | pitch (deg) | heading (deg) | "
         "run (s) | GNSS rejected |\n|---|---|---|---|---|---|---|---|\n";
@@ -312,7 +311,7 @@ nlohmann::json compareJson(const CompareArgs& a, const EstimationProblem& p,
 }
 
 void runCompare(const CompareArgs& a) {
-  if (!a.no_outages) validateOutageOptions(a.outage_length_s, a.outage_period_s, a.outage_start_s);
+  if (!a.no_outages) a.outage.validate();
   const CompareInputs in = loadCompareInputs(a);
   const EstimationProblem& p = in.p;
   const std::vector<std::string> names = splitList(a.estimators);
@@ -320,7 +319,7 @@ void runCompare(const CompareArgs& a) {
   checkEstimatorNames(names);
   std::filesystem::create_directories(a.out);
   fmt::print(stderr, "compare: {} IMU samples, {} GNSS fixes, {} outages of {:.0f} s\n",
-             p.imu.size(), p.gnss.size(), p.outages.size(), a.outage_length_s);
+             p.imu.size(), p.gnss.size(), p.outages.size(), in.schedule.length_s);
 
   std::vector<Row> rows;
   std::vector<NavSolution> sols;
@@ -387,17 +386,17 @@ void registerCompare(CLI::App& app) {
   addDeprecatedOption(cmd, "--estimators", "--estimator", &a->estimators);
   cmd->add_option("--imu", a->imu, "ref | tested | FILE (an IMU text file, tested IMU's profile)")
       ->capture_default_str();
-  cmd->add_option("--outage-length", a->outage_length_s, "outage length (s)")
-      ->capture_default_str();
-  cmd->add_option("--outage-period", a->outage_period_s, "start-to-start spacing (s)")
-      ->capture_default_str();
-  cmd->add_option("--outage-start", a->outage_start_s,
-                  "first outage start after the first IMU epoch (s)")
-      ->capture_default_str();
+  cmd->add_option("--outage-length", a->outage.length_s,
+                  "outage length (s; default: the run config's, else 60)");
+  cmd->add_option("--outage-period", a->outage.period_s,
+                  "start-to-start spacing (s; default: the run config's, else 180)");
+  cmd->add_option("--outage-start", a->outage.start_s,
+                  "first outage start after the first IMU epoch (s; default: the run config's, "
+                  "else 300)");
   cmd->add_flag("--no-outages", a->no_outages, "use every GNSS fix");
   cmd->add_option("--run-config", a->config,
-                  "run config YAML (ekf:, fgo:, outages: sections; outages: "
-                  "there overrides the outage flags)")
+                  "run config YAML (ekf:, fgo:, outages: sections; the outage flags override "
+                  "its outages:)")
       ->check(CLI::ExistingFile);
   addDeprecatedOption(cmd, "--config", "--run-config", &a->config);
   cmd->add_option("--profile", a->profile, "IMU profile YAML (default: from case.yaml)")

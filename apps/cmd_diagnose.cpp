@@ -14,14 +14,17 @@
 #include <memory>
 #include <string>
 
-#include "case_loader.h"
+#include "graftnav/case/case_inputs.h"
+#include "graftnav/case/problem.h"
 #include "cli_vocabulary.h"
 #include "commands.h"
 #include "script_locator.h"
-#include "estimators.h"
+#include "graftnav/estimators/estimator_table.h"
 #include "graftnav/eval/evaluation.h"
 #include "graftnav/sg/sg_statistics.h"
-#include "run_config.h"
+#include "graftnav/case/outage_overrides.h"
+#include "graftnav/case/reference_solution.h"
+#include "graftnav/case/run_config.h"
 #include "graftnav/calibration/lab_data.h"
 #include "graftnav/io/case_config.h"
 #include "graftnav/io/atomic_file.h"
@@ -43,23 +46,15 @@ namespace {
 // IMU). Throws std::runtime_error when the case cannot be navigated.
 NavigationComparison navigateComparison(const CaseInputs& c, const ImuSelection& tested,
                                         const std::string& estimator, const RunConfig& rc,
-                                        const std::optional<OutageScheduleConfig>& outages_cli,
-                                        const ImuSeries& sg2, const ImuSeries& sg3,
-                                        std::vector<std::string>* notes) {
+                                        const OutageOverrides& outages, const ImuSeries& sg2,
+                                        const ImuSeries& sg3, std::vector<std::string>* notes) {
   if (c.gnss.empty()) throw std::runtime_error(c.paths().gnssPos() + " not found or empty");
-  OutageScheduleConfig oc = rc.outages_given ? rc.outages : OutageScheduleConfig{};
-  if (outages_cli) oc = *outages_cli;
-  NavSeries sol_ref = c.reference;
-  if (sol_ref.empty()) {
-    const ImuSelection ref = selectImu(c, "ref", "", true);
-    if (!ref.profile_given)
-      throw std::runtime_error(c.paths().caseYaml() +
-                               ": no truth or reference solution, and reference_imu has no noise "
-                               "parameters to smooth SOL_REF");
-    std::vector<std::string> n;
-    sol_ref = runEstimator("rts", makeProblem(c, ref, rc, std::nullopt, &n), rc).states;
-    notes->push_back("SOL_REF: RTS-smoothed reference IMU with all GNSS");
-  }
+  const OutageScheduleConfig oc = outages.appliedTo(rc.outages);
+  const NavSeries sol_ref =
+      resolveReferenceSolution(
+          c, [&c] { return selectImu(c, "ref", "", true); }, rc, estimatorTable())
+          .states;
+  if (c.reference.empty()) notes->push_back("SOL_REF: RTS-smoothed reference IMU with all GNSS");
   if (!tested.profile_given)
     notes->push_back(
         "tested_imu has no noise parameters in case.yaml: the estimator's defaults are used");
@@ -72,7 +67,7 @@ NavigationComparison navigateComparison(const CaseInputs& c, const ImuSelection&
     s.imu = *series[k];
     std::vector<std::string> n;
     const EstimationProblem p = makeProblem(c, s, rc, oc, &n);
-    const NavSolution sol = runEstimator(estimator, p, rc);
+    const NavSolution sol = estimatorTable().run(estimator, p, rc);
     ev[k] = evaluateSolution(sol, sol_ref, p.outages, rc.evaluation.options);
     if (k == 2) {
       nav.outage_count = static_cast<int>(p.outages.size());
@@ -107,7 +102,7 @@ NavigationComparison navigateComparison(const CaseInputs& c, const ImuSelection&
 
 struct DiagnoseArgs {
   std::string case_dir, out, estimator, config, run_config, tested_profile;
-  std::optional<double> outage_length_s, outage_period_s, outage_start_s;
+  OutageOverrides outage;
   bool no_plots = false;
 };
 
@@ -167,16 +162,6 @@ DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const DiagnoseArgs& args, const
   // builds the regressors.
   if (in.reference_is_simulated) in.read_attitude = [&c] { return c.reference; };
   return in;
-}
-
-// The outage schedule given on the command line (none: the run config's).
-std::optional<OutageScheduleConfig> outagesFromArgs(const DiagnoseArgs& args) {
-  if (!(args.outage_length_s || args.outage_period_s || args.outage_start_s)) return std::nullopt;
-  OutageScheduleConfig oc;
-  if (args.outage_length_s) oc.length_s = *args.outage_length_s;
-  if (args.outage_period_s) oc.period_s = *args.outage_period_s;
-  if (args.outage_start_s) oc.start_s = *args.outage_start_s;
-  return oc;
 }
 
 // outages.csv and the DIFF lines of the navigation level.
@@ -265,8 +250,8 @@ void runDiagnose(const DiagnoseArgs& args) {
       fmt::print(stderr, "diagnose: navigating SG#2, SG#3 and REAL with {}\n", args.estimator);
       tested = selectImu(c, "tested", "", true);  // REAL, navigated as the tested IMU
       const ImuSeries sg2 = remake_simulated(selectImu(c, "ref", "", true).imu);
-      nav = navigateComparison(c, tested, args.estimator, rc, outagesFromArgs(args), sg2, res.sg3,
-                               &res.notes);
+      nav =
+          navigateComparison(c, tested, args.estimator, rc, args.outage, sg2, res.sg3, &res.notes);
     } catch (const std::exception& e) {
       res.notes.push_back(std::string("navigation level skipped: ") + e.what());
       fmt::print(stderr, "warning: navigation level skipped: {}\n", e.what());
@@ -306,9 +291,9 @@ void registerDiagnose(CLI::App& app) {
                   "IMU profile of the tested IMU (configs/imu/*.yaml): its plausible_ranges "
                   "replace those of case.yaml's tested_imu (default: the grade's class)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--outage-length", args->outage_length_s, "outage length (s), with --estimator");
-  cmd->add_option("--outage-period", args->outage_period_s, "outage start-to-start period (s)");
-  cmd->add_option("--outage-start", args->outage_start_s,
+  cmd->add_option("--outage-length", args->outage.length_s, "outage length (s), with --estimator");
+  cmd->add_option("--outage-period", args->outage.period_s, "outage start-to-start period (s)");
+  cmd->add_option("--outage-start", args->outage.start_s,
                   "first outage start after the first epoch (s)");
   cmd->callback([args]() { runDiagnose(*args); });
 }

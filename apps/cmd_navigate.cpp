@@ -18,8 +18,9 @@
 #include <vector>
 
 #include "commands.h"
-#include "case_loader.h"
-#include "estimators.h"
+#include "graftnav/case/case_inputs.h"
+#include "graftnav/case/problem.h"
+#include "graftnav/estimators/estimator_table.h"
 #include "graftnav/io/case_config.h"
 #include "graftnav/eval/evaluation.h"
 #include "graftnav/io/gnss_io.h"
@@ -28,13 +29,15 @@
 #include "graftnav/nav/nav_interp.h"
 #include "graftnav/io/nav_io.h"
 #include "graftnav/nav/rotation.h"
-#include "graftnav/filters/alignment.h"
+#include "graftnav/estimation/alignment.h"
 #include "cli_vocabulary.h"
-#include "input_checks.h"
-#include "provenance.h"
-#include "solution_outputs.h"
-#include "report_io.h"
-#include "run_config.h"
+#include "graftnav/case/input_checks.h"
+#include "graftnav/case/outage_overrides.h"
+#include "graftnav/io/provenance.h"
+#include "graftnav/case/file_streams.h"
+#include "graftnav/case/solution_files.h"
+#include "graftnav/eval/evaluation_files.h"
+#include "graftnav/case/run_config.h"
 #include "script_locator.h"
 
 namespace graftnav::app {
@@ -44,7 +47,7 @@ namespace fs = std::filesystem;
 
 struct NavigateArgs {
   std::string case_dir, out, imu = kDefaultImu, profile, estimator = "ekf", config;
-  std::optional<double> outage_length, outage_period, outage_start;
+  OutageOverrides outage;
   bool free_inertial = false, lenient = false, no_plots = false;
   int decimate = 1;
   TimeRangeConfig time_range;
@@ -103,7 +106,7 @@ struct NavigateSetup {
 // data alignment (rc.alignment.mode other than "given"), or a --start/--end time range
 // (restrictToTimeRange cuts the series in memory).
 bool streamable(const std::string& estimator, const RunConfig& rc, const TimeRangeConfig& range) {
-  return canStream(estimator) && rc.alignment.mode == "given" && range.empty();
+  return estimatorTable().canStream(estimator) && rc.alignment.mode == "given" && range.empty();
 }
 
 // Whether a streamed run also reads the GNSS epoch by epoch: unless the run config selects GNSS
@@ -179,12 +182,9 @@ void selectNavigateImu(const NavigateArgs& a, NavigateSetup* s) {
 }
 
 NavigateSetup prepareNavigate(const NavigateArgs& a) {
-  validateOutageOptions(a.outage_length, a.outage_period, a.outage_start);
-  if (!a.free_inertial) {
-    const auto names = estimatorNames();
-    if (std::find(names.begin(), names.end(), a.estimator) == names.end())
-      throw std::runtime_error("--estimator '" + a.estimator + "': unknown estimator");
-  }
+  a.outage.validate();
+  if (!a.free_inertial && !estimatorTable().contains(a.estimator))
+    throw std::runtime_error("--estimator '" + a.estimator + "': unknown estimator");
   NavigateSetup s;
   // The run config first: whether the GNSS is held depends on it.
   std::vector<std::string> config_warnings;
@@ -216,13 +216,9 @@ NavigateSetup prepareNavigate(const NavigateArgs& a) {
   }
 
   // Outages: config section, overridden by the command line; none for a free-inertial run.
-  const bool cli_outage = a.outage_length || a.outage_period || a.outage_start;
-  s.oc = s.rc.outages;
-  if (a.outage_length) s.oc.length_s = *a.outage_length;
-  if (a.outage_period) s.oc.period_s = *a.outage_period;
-  if (a.outage_start) s.oc.start_s = *a.outage_start;
+  s.oc = a.outage.appliedTo(s.rc.outages);
   std::optional<OutageScheduleConfig> outages;
-  if ((s.rc.outages_given || cli_outage) && !a.free_inertial) outages = s.oc;
+  if ((s.rc.outages_given || a.outage.any()) && !a.free_inertial) outages = s.oc;
   s.pr = makeProblem(s.c, s.imu, s.rc, outages, &s.notes);
   if (s.stream_gnss) {  // makeProblem saw the first epoch only; the run reads the files
     s.pr.gnss = {};
@@ -314,10 +310,11 @@ class NavFileSink : public SolutionSink {
 NavSolution streamedRun(const std::string& estimator, const NavigateSetup& s, const fs::path& out,
                         bool keep, const BeforeCommitFn& before_commit, RunFiles* files) {
   NavSolution sol;
-  // The factor graphs give no scale-factor series: no imu_errors.txt, as in memory.
-  const bool with_imu_errors = estimator != "fgo" && estimator != "fgo-window";
+  // An estimator without scale-factor series (the factor graphs) writes no imu_errors.txt, as in
+  // memory.
+  const bool with_imu_errors = estimatorTable().find(estimator).estimates_scale_factors;
   NavFileSink sink(out, with_imu_errors, keep ? &sol : nullptr);
-  const NavSolution book = runEstimatorStreaming(
+  const NavSolution book = estimatorTable().runStreaming(
       estimator, s.pr, imuFileStream(s.imu.path, s.imu.read_options), s.rc, sink);
   sol.estimator = book.estimator;
   sol.gnss_used = book.gnss_used;
@@ -331,7 +328,7 @@ NavSolution streamedRun(const std::string& estimator, const NavigateSetup& s, co
 NavSolution inMemoryRun(const std::string& estimator, const NavigateSetup& s, const fs::path& out,
                         const ProgressFn& progress, const BeforeCommitFn& before_commit,
                         RunFiles* files) {
-  NavSolution sol = runEstimator(estimator, s.pr, s.rc, progress);
+  NavSolution sol = estimatorTable().run(estimator, s.pr, s.rc, progress);
   before_commit(sol);
   writeNav((out / "solution.nav").string(), sol.states);
   files->epochs = sol.states.size();
@@ -411,9 +408,8 @@ void runNavigateOne(const NavigateArgs& a) {
 void runNavigate(const NavigateArgs& a) {
   const std::vector<std::string> estimators =
       a.free_inertial ? std::vector<std::string>{"free-inertial"} : splitEstimatorList(a.estimator);
-  const auto names = estimatorNames();
   for (const auto& e : estimators)
-    if (e != "free-inertial" && std::find(names.begin(), names.end(), e) == names.end())
+    if (!estimatorTable().contains(e))
       throw std::runtime_error("--estimator '" + e + "': unknown estimator");
   for (const auto& e : estimators) {
     NavigateArgs one = a;
@@ -434,12 +430,12 @@ void registerNavigate(CLI::App& app) {
   cmd->add_option("--out", a->out, "output directory")->required();
   cmd->add_option("--imu", a->imu, "ref | tested | path of an IMU file (default ref)");
   cmd->add_option("--profile", a->profile, "IMU profile YAML (default: from case.yaml)");
-  std::string names;
-  for (const auto& n : estimatorNames()) names += (names.empty() ? "" : ", ") + n;
-  cmd->add_option("--estimator", a->estimator, "comma list of " + names + " (default ekf)");
-  cmd->add_option("--outage-length", a->outage_length, "GNSS outage length (s)");
-  cmd->add_option("--outage-period", a->outage_period, "outage start-to-start period (s)");
-  cmd->add_option("--outage-start", a->outage_start, "first outage start after the data start (s)");
+  cmd->add_option("--estimator", a->estimator,
+                  "comma list of " + estimatorTable().namesText() + " (default ekf)");
+  cmd->add_option("--outage-length", a->outage.length_s, "GNSS outage length (s)");
+  cmd->add_option("--outage-period", a->outage.period_s, "outage start-to-start period (s)");
+  cmd->add_option("--outage-start", a->outage.start_s,
+                  "first outage start after the data start (s)");
   cmd->add_option("--run-config", a->config,
                   "run config YAML (configs/navigate.yaml; default CASE/run.yaml)");
   addDeprecatedOption(cmd, "--config", "--run-config", &a->config);

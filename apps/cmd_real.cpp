@@ -16,10 +16,11 @@
 #include <string>
 #include <vector>
 
-#include "case_loader.h"
+#include "graftnav/case/case_inputs.h"
+#include "graftnav/case/problem.h"
 #include "cli_vocabulary.h"
 #include "commands.h"
-#include "estimators.h"
+#include "graftnav/estimators/estimator_table.h"
 #include "graftnav/calibration/static_detector.h"
 #include "graftnav/nav/earth.h"
 #include "graftnav/eval/evaluation.h"
@@ -29,10 +30,10 @@
 #include "graftnav/io/atomic_file.h"
 #include "graftnav/io/nav_io.h"
 #include "graftnav/nav/rotation.h"
-#include "graftnav/filters/alignment.h"
-#include "provenance.h"
+#include "graftnav/estimation/alignment.h"
+#include "graftnav/io/provenance.h"
 #include "real_case.h"
-#include "run_config.h"
+#include "graftnav/case/run_config.h"
 #include "script_locator.h"
 
 namespace graftnav::app {
@@ -140,7 +141,7 @@ std::vector<RunRow> runEstimators(const RealArgs& a, const CaseInputs& c, const 
     r.label = est;
     const auto t0 = std::chrono::steady_clock::now();
     try {
-      r.sol = runEstimator(est, pr, rc);
+      r.sol = estimatorTable().run(est, pr, rc);
       for (const auto& st : r.sol.states)
         if (!st.v_n.allFinite() || !std::isfinite(st.pos.lat_rad))
           throw std::runtime_error("non-finite state at t=" + std::to_string(st.t_s));
@@ -225,7 +226,7 @@ std::string latencyScanMd(const RealArgs& a, const CaseInputs& c, const RunConfi
   EstimationProblem pt = pr;
   pt.gnss = sel.kept;
   pt.outages.clear();
-  const NavSolution track = runEstimator("rts", pt, rc);
+  const NavSolution track = estimatorTable().run("rts", pt, rc);
   writeNav((fs::path(a.out) / "latency_track_rts_fix1.nav").string(), track.states);
   md +=
       "\nGNSS time-tag latency (tau > 0: the fix is the position tau seconds BEFORE its stamp); "
@@ -276,7 +277,7 @@ std::string latencyGridMd(const RealArgs& a, const CaseInputs& c, const RunConfi
     const EstimationProblem pl = problemReal(c, imu, rl, rl.outages, false);
     const GnssSeries cps = gnssOfFixTypes(c.gnss, rl.gnss.checkpoint_fix_types, rl.gnss.selection);
     for (const auto& est : a.latency_estimators) {
-      const NavSolution s = runEstimator(est, pl, rl);
+      const NavSolution s = estimatorTable().run(est, pl, rl);
       const CheckpointEvaluation cp =
           evaluateAtCheckpoints(s.states, cps, pl.outages, pl.lever_arm_b_m);
       const auto ev = evalRef(s, c.reference, pl.outages, rl);

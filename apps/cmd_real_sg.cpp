@@ -17,7 +17,8 @@
 
 #include "cli_vocabulary.h"
 #include "commands.h"
-#include "estimators.h"
+#include "graftnav/case/reference_solution.h"
+#include "graftnav/estimators/estimator_table.h"
 #include "graftnav/io/atomic_file.h"
 #include "graftnav/io/nav_io.h"
 #include "graftnav/nav/rotation.h"
@@ -85,7 +86,7 @@ SgNavigator realNavigator(const CaseInputs& c, const RunConfig& rc, const ImuSel
     } else {
       pr = problemReal(c, tested, rc, schedule, false, &nav.notes);
     }
-    nav.solution = runEstimator(estimator, pr, rc);
+    nav.solution = estimatorTable().run(estimator, pr, rc);
     nav.outages = pr.outages;
     return nav;
   };
@@ -126,8 +127,15 @@ void runRealSg(const RealSgArgs& a) {
                                       std::move(in));
   fmt::print(stderr, "{}", md);
 
+  // SOL_REF: the reference IMU smoothed with all GNSS, from its initial state's epoch as every
+  // navigation of the recording (the case's reference.nav comes from another system).
   fmt::print(stderr, "SOL_REF: reference IMU, rts, no outages\n");
-  const NavSolution sol_ref = runEstimator("rts", problemReal(c, ref, rc, std::nullopt, true), rc);
+  ReferenceSolutionOptions ro;
+  ro.use_case_reference = false;
+  ro.start_at_initial_state = true;
+  const ReferenceSolution sol_ref = resolveReferenceSolution(
+      c, [&ref] { return ref; }, rc, estimatorTable(), ro);
+  for (const auto& n : sol_ref.notes) fmt::print(stderr, "  note: {}\n", n);
   fs::create_directories(a.out);
   writeNav((fs::path(a.out) / "sol_ref.nav").string(), sol_ref.states);
   const auto log = [](const std::string& m) { fmt::print(stderr, "{}\n", m); };

@@ -8,7 +8,7 @@
 #endif
 
 #include "commands.h"
-#include "provenance.h"
+#include "graftnav/io/provenance.h"
 
 namespace {
 
@@ -29,8 +29,8 @@ int main(int argc, char** argv) {
   returnFreedMemoryToTheSystem();
   CLI::App app{"graftnav: IMU evaluation by signal grafting (Niu et al., Sensors 2016)"};
   app.require_subcommand(1);
-  graftnav::app::setCommandLine(argc, argv);
-  app.set_version_flag("--version", graftnav::app::versionLine());
+  graftnav::setCommandLine(argc, argv);
+  app.set_version_flag("--version", graftnav::versionLine());
   graftnav::app::registerSimulate(app);
   graftnav::app::registerGraft(app);
   graftnav::app::registerEvaluate(app);

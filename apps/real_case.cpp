@@ -2,7 +2,6 @@
 
 #include <fmt/core.h>
 
-#include <algorithm>
 #include <cmath>
 
 #include "graftnav/nav/rotation.h"
@@ -51,27 +50,7 @@ EstimationProblem problemReal(const CaseInputs& c, const ImuSelection& imu, cons
                               std::vector<std::string>* notes_out) {
   std::vector<std::string> notes;
   EstimationProblem pr = makeProblem(c, imu, rc, outages, &notes);
-  // Start the IMU series at the initial state's epoch (after an alignment): every estimator then
-  // starts from the same state at the same sample (the graph integrates from the first sample).
-  const double t_init = pr.initial.t_s;
-  std::size_t k0 = 0;
-  while (k0 < pr.imu.size() && pr.imu[k0].t_s - pr.imu[k0].dt_s < t_init - 1e-6) ++k0;
-  if (k0 > 0 && k0 < pr.imu.size()) {
-    pr.imu.erase(pr.imu.begin(), pr.imu.begin() + static_cast<std::ptrdiff_t>(k0));
-    notes.push_back(
-        fmt::format("IMU series starts at the initial state epoch t={:.3f} ({} earlier samples "
-                    "used only by the alignment)",
-                    t_init, k0));
-  }
-  // GNSS epochs before the start are not navigation inputs (the EKF skips them; the graph would
-  // anchor nodes where no IMU data connects them).
-  const auto first_gnss = std::find_if(pr.gnss.begin(), pr.gnss.end(),
-                                       [&](const GnssFix& f) { return f.t_s > t_init + 1e-6; });
-  if (first_gnss != pr.gnss.begin()) {
-    notes.push_back(fmt::format("{} GNSS epochs before the initial state epoch not used",
-                                std::distance(pr.gnss.begin(), first_gnss)));
-    pr.gnss.erase(pr.gnss.begin(), first_gnss);
-  }
+  startAtInitialState(&pr, &notes);
   if (verbose) {
     for (const auto& n : notes) fmt::print(stderr, "  note: {}\n", n);
     if (rc.alignment.mode == "static" && c.config.initial_state) {

@@ -5,8 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "case_loader.h"
-#include "run_config.h"
+#include "graftnav/case/case_inputs.h"
+#include "graftnav/case/problem.h"
+#include "graftnav/case/run_config.h"
 
 namespace graftnav::app {
 
@@ -19,9 +20,8 @@ CaseInputs loadReal(const std::string& dir);
 // One IMU of the case ("ref", "tested" or a file) with the profile file; prints the reader's conditions.
 ImuSelection loadImuReal(const CaseInputs& c, const std::string& which, const std::string& profile);
 
-// makeProblem, then the IMU series and the GNSS start at the initial state's epoch (after an
-// alignment): every estimator then starts from the same state at the same sample (the graph
-// integrates from the first sample). verbose: the notes and the alignment's heading are printed.
+// makeProblem, then startAtInitialState (graftnav/case/problem.h): every estimator starts from
+// the same state at the same sample. verbose: the notes and the alignment's heading are printed.
 // The notes are appended to *notes when given.
 EstimationProblem problemReal(const CaseInputs& c, const ImuSelection& imu, const RunConfig& rc,
                               const std::optional<OutageScheduleConfig>& outages, bool verbose,

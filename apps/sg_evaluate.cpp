@@ -8,15 +8,18 @@
 #include <stdexcept>
 #include <utility>
 
-#include "case_loader.h"
-#include "estimators.h"
-#include "input_checks.h"
+#include "graftnav/case/case_inputs.h"
+#include "graftnav/case/input_checks.h"
+#include "graftnav/case/outage_overrides.h"
+#include "graftnav/case/problem.h"
+#include "graftnav/case/reference_solution.h"
+#include "graftnav/estimators/estimator_table.h"
 #include "graftnav/calibration/calibration_io.h"
 #include "graftnav/calibration/lab_calibration.h"
 #include "graftnav/calibration/lab_data.h"
 #include "graftnav/io/imu_io.h"
 #include "graftnav/sg/evaluate_pipeline.h"
-#include "report_io.h"
+#include "graftnav/sg/sg_report_files.h"
 #include "script_locator.h"
 
 namespace graftnav::app {
@@ -24,14 +27,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The outage schedule: the run config's, with the command-line values over it.
-OutageScheduleConfig outageSchedule(const SgEvaluateOptions& o, const RunConfig& rc) {
-  OutageScheduleConfig oc = rc.outages;
-  if (o.outage_length_s) oc.length_s = *o.outage_length_s;
-  if (o.outage_period_s) oc.period_s = *o.outage_period_s;
-  if (o.outage_start_s) oc.start_s = *o.outage_start_s;
-  return oc;
+OutageOverrides outageOverrides(const SgEvaluateOptions& o) {
+  return {o.outage_length_s, o.outage_period_s, o.outage_start_s};
 }
+
+double imuBegin(const ImuSeries& imu) { return imu.front().t_s - imu.front().dt_s; }
 
 SgEvaluationOptions pipelineOptions(const SgEvaluateOptions& o, const RunConfig& rc) {
   SgEvaluationOptions p;
@@ -47,19 +47,13 @@ SgEvaluationOptions pipelineOptions(const SgEvaluateOptions& o, const RunConfig&
 SolutionReference solutionReference(const SgEvaluateOptions& o, const CaseInputs& c,
                                     const ImuSelection& ref, const RunConfig& rc, const LogFn& log,
                                     const std::string& tag) {
-  if (o.sol_ref == "auto" && !c.reference.empty()) {
-    return {c.reference, c.reference_is_truth
-                             ? "truth (" + c.reference_name + ")"
-                             : "external reference solution (" + c.reference_name + ")"};
-  }
-  if (!ref.profile_given)
-    throw std::runtime_error(c.paths().caseYaml() +
-                             ": reference_imu needs noise parameters to smooth SOL_REF");
-  log(fmt::format("[{}] smoothing SOL_REF (rts) from the reference IMU and all GNSS", tag));
-  std::vector<std::string> n;
-  const EstimationProblem pr = makeProblem(c, ref, rc, std::nullopt, &n);
-  return {runEstimator("rts", pr, rc).states,
-          "RTS-smoothed reference IMU with all GNSS (SOL_REF of the seed)"};
+  ReferenceSolutionOptions ro;
+  ro.use_case_reference = o.sol_ref == "auto";
+  if (!ro.use_case_reference || c.reference.empty())
+    log(fmt::format("[{}] smoothing SOL_REF (rts) from the reference IMU and all GNSS", tag));
+  ReferenceSolution r = resolveReferenceSolution(
+      c, [&ref] { return ref; }, rc, estimatorTable(), ro);
+  return {std::move(r.states), r.description};
 }
 
 // The case's navigator: makeProblem with the tested IMU's profile, then the chosen estimator.
@@ -76,7 +70,7 @@ SgNavigator caseNavigator(const CaseInputs& c, const RunConfig& rc,
     } else {
       pr = makeProblem(c, *real, rc, schedule, &nav.notes);
     }
-    nav.solution = runEstimator(estimator, pr, rc);
+    nav.solution = estimatorTable().run(estimator, pr, rc);
     nav.outages = pr.outages;
     return nav;
   };
@@ -109,18 +103,47 @@ SgEvaluationInputs pipelineInputs(const SgEvaluateOptions& o, const CaseInputs& 
 
 }  // namespace
 
+std::vector<std::string> checkEvaluationInputs(const SgEvaluateOptions& o) {
+  std::vector<std::string> w;
+  const auto add = [&](std::vector<std::string> more) {
+    w.insert(w.end(), more.begin(), more.end());
+  };
+  if (!estimatorTable().contains(o.estimator))
+    throw std::runtime_error("--estimator '" + o.estimator +
+                             "': unknown (known: " + estimatorTable().namesText() + ")");
+  outageOverrides(o).validate();
+  const CaseInputs c = loadCaseInputs(o.case_dir);
+  RunConfig rc;
+  if (!o.config_path.empty()) rc = loadRunConfig(o.config_path, nullptr);
+  const OutageScheduleConfig oc = outageOverrides(o).appliedTo(rc.outages);
+  const ImuSelection ref = selectImu(c, "ref");
+  if (CasePaths::exists(c.paths().testedImu()))
+    selectImu(c, "tested");  // range checks of the tested file
+  add(checkGnssCoverage(c.gnss, c.paths().gnssPos(), ref.imu, false));
+  const double t0 = imuBegin(ref.imu), t1 = ref.imu.back().t_s;
+  std::vector<TimeWindow> windows;
+  try {
+    windows = buildOutageWindows(oc, t0, t1);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(std::string("outage schedule: ") + e.what());
+  }
+  requireOutagesInsideData(oc, windows, t0, t1);
+  add(checkReferenceCoverage(c.reference, c.reference_name, ref.imu, windows));
+  const std::string static_path = c.paths().labStatic();
+  if (CasePaths::exists(static_path)) {
+    ImuReadOptions ro;
+    ro.nominal_rate_hz = c.config.testedImuRateHz();
+    ro.policy = ImuReadPolicy::
+        real();  // only the span and the range checks; loadLabData applies its own rules
+    const ImuSeries st = readImu(static_path, ro);
+    add(checkLabStaticRecord(st.back().t_s - imuBegin(st), static_path, outageSpacing(windows)));
+  }
+  return w;
+}
+
 void writeSgOutputs(const std::string& out_dir, const SgEvaluationReport& rep, bool plots,
                     const LogFn& log) {
-  const fs::path out(out_dir);
-  for (const auto& s : rep.solutions) {
-    writeErrorsCsv((out / ("errors_" + s.label + ".csv")).string(), s.evaluation,
-                   1.0 / rep.csv_rate_hz);
-  }
-  writeEvaluationJson((out / "evaluation.json").string(), rep);
-  writeTablesMarkdown((out / "tables.md").string(), rep);
-  writeEvaluationCsv((out / "evaluation.csv").string(), rep);
-  writePredictiveCsv((out / "predictive.csv").string(), rep);
-  writePerOutageCsv((out / "outage_drift.csv").string(), rep);
+  writeSgEvaluationFiles(out_dir, rep);
   if (plots) {
     const std::string w = runPythonScript("plot_sg.py", {out_dir});
     if (!w.empty()) log("warning: " + w);
@@ -143,7 +166,7 @@ SgEvaluationReport runSgEvaluation(const SgEvaluateOptions& o, const LogFn& log_
   po.validate();
   log(fmt::format("[{}] calibrating the tested IMU from lab/", tag));
   const LabCalibrationReport lab = calibrateLab(loadLabData(o.case_dir));
-  SgEvaluationInputs in = pipelineInputs(o, c, ref, outageSchedule(o, rc), lab);
+  SgEvaluationInputs in = pipelineInputs(o, c, ref, outageOverrides(o).appliedTo(rc.outages), lab);
   std::optional<ImuSelection> real;
   if (CasePaths::exists(c.paths().testedImu())) {
     real = selectImu(c, "tested");

@@ -10,8 +10,9 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
-#include "sg_report.h"
+#include "graftnav/sg/sg_report_files.h"
 
 namespace graftnav::app {
 
@@ -34,12 +35,14 @@ struct SgEvaluateOptions {
 
 using LogFn = std::function<void(const std::string&)>;
 
+// Every check of graftnav/case/input_checks.h for this evaluation, run before anything is
+// written: estimator name, outage options, the case's files (IMU range checks in the reader),
+// GNSS coverage, outages inside the data and the reference, the lab static record. Returns the
+// warnings; throws on the first error.
+std::vector<std::string> checkEvaluationInputs(const SgEvaluateOptions& options);
+
 // Throws std::runtime_error naming the file or key for a bad case (missing lab file, mismatched
 // rates, no reference, no outage inside the data, ...) before writing any result. Writes
-// The console summary of `evaluate` and `real-sg`: ERR with intervals, REAL's percentile and
-// verdict, DIFF and the reading sentences (cmd_evaluate.cpp).
-void printEvaluationSummary(const SgEvaluationReport& report);
-
 // evaluation.json, tables.md, evaluation.csv, predictive.csv, outage_drift.csv,
 // errors_<LABEL>.csv and plots into out_dir.
 SgEvaluationReport runSgEvaluation(const SgEvaluateOptions& options, const LogFn& log = {});

@@ -33,7 +33,7 @@ set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # The headers and the CMake package need the dependencies' headers and CMake files.
 set(CPACK_DEBIAN_PACKAGE_DEPENDS
-  "libeigen3-dev, libceres-dev, libgeographiclib-dev, libyaml-cpp-dev, libfmt-dev")
+  "libeigen3-dev, libceres-dev, libgeographiclib-dev, libyaml-cpp-dev, libfmt-dev, nlohmann-json3-dev")
 # The commands write their plots with the installed scripts through python3 and matplotlib;
 # without them every number is still written and each command warns that it made no plot.
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3, python3-matplotlib")

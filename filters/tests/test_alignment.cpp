@@ -1,7 +1,9 @@
+// The initial alignment of core/estimation (alignment.h), on the EKF test scenarios of
+// tests/support.
 #include <gtest/gtest.h>
 
 #include "ekf_scenario.h"
-#include "graftnav/filters/alignment.h"
+#include "graftnav/estimation/alignment.h"
 
 namespace graftnav {
 namespace {

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <functional>
+#include <string>
 
 #include "graftnav/nav/earth.h"
 #include "graftnav/sim/trajectory.h"
@@ -26,7 +28,10 @@ std::string makeTempDir(const std::string& tag) {
   if (info) name += std::string("_") + info->test_suite_name() + "_" + info->name();
   for (char& c : name)
     if (c == '/') c = '_';
-  const auto dir = std::filesystem::temp_directory_path() / "graftnav_tests" / name;
+  // One folder per source tree: test runs of two checkouts at once (worktrees, CI jobs) must not
+  // share a test's folder.
+  const std::string tree = std::to_string(std::hash<std::string>{}(sourceDir()) % 1000000007u);
+  const auto dir = std::filesystem::temp_directory_path() / ("graftnav_tests_" + tree) / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();

@@ -10,14 +10,12 @@
 
 #include "graftnav/batch/task_id.h"
 #include "graftnav/io/atomic_file.h"
+#include "graftnav/io/provenance.h"
 
 namespace graftnav {
 namespace fs = std::filesystem;
 
-#ifndef GRAFTNAV_VERSION
-#error "GRAFTNAV_VERSION must be defined by the build (core/CMakeLists.txt)"
-#endif
-const char* batchSoftwareVersion() { return GRAFTNAV_VERSION; }
+const char* batchSoftwareVersion() { return graftnavVersion(); }  // graftnav/version.h
 
 namespace {
 

@@ -163,7 +163,8 @@ std::string runConfigYaml(const PeerSetup& s, const std::vector<TimeWindow>& out
   }
   out << YAML::EndMap;
   return "# Run config written by `graftnav import " + peerFormatName(s.format) + "` from " +
-         s.config_path + "\n# (apps/run_config.h; see notes.md for what was converted)\n" +
+         s.config_path +
+         "\n# (every key: configs/navigate.yaml; see notes.md for what was converted)\n" +
          out.c_str() + "\n";
 }
 

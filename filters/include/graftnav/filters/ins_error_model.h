@@ -25,6 +25,7 @@
 #include <Eigen/Core>
 #include <array>
 
+#include "graftnav/estimation/imu_error_estimate.h"
 #include "graftnav/imu/imu_profile.h"
 #include "graftnav/nav/types.h"
 
@@ -43,14 +44,6 @@ constexpr int kAccelScale = 18;
 
 using ErrorState = Eigen::Matrix<double, ekf::kStateDim, 1>;
 using ErrorCov = Eigen::Matrix<double, ekf::kStateDim, ekf::kStateDim>;
-
-// Current estimates of the IMU errors (the filter's "nominal" sensor model).
-struct ImuErrorEstimate {
-  Eigen::Vector3d gyro_bias_rad_s = Eigen::Vector3d::Zero();
-  Eigen::Vector3d accel_bias_m_s2 = Eigen::Vector3d::Zero();
-  Eigen::Vector3d gyro_scale = Eigen::Vector3d::Zero();
-  Eigen::Vector3d accel_scale = Eigen::Vector3d::Zero();
-};
 
 // Raw increments corrected by the estimates: (raw - b dt) / (1 + s).
 ImuSample correctImuSample(const ImuSample& raw, const ImuErrorEstimate& e);

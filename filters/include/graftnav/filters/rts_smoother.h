@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "graftnav/filters/ekf.h"
-#include "graftnav/filters/solution_sink.h"
+#include "graftnav/estimation/solution_sink.h"
 #include "graftnav/nav/mechanization.h"
 
 namespace graftnav {

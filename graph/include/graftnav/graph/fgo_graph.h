@@ -15,7 +15,7 @@
 
 #include "graftnav/estimation/nav_solution.h"
 #include "graftnav/graph/bias_factor.h"
-#include "graftnav/graph/fgo_options.h"
+#include "graftnav/estimation/fgo_options.h"
 #include "graftnav/graph/gnss_position_factor.h"
 #include "graftnav/graph/imu_preintegration.h"
 #include "graftnav/graph/imu_sample_buffer.h"

@@ -8,7 +8,7 @@
 
 #include "graftnav/estimation/nav_solution.h"
 #include "graftnav/graph/fgo_graph.h"
-#include "graftnav/graph/fgo_options.h"
+#include "graftnav/estimation/fgo_options.h"
 
 namespace graftnav {
 

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "graftnav/estimation/nav_solution.h"
-#include "graftnav/graph/fgo_options.h"
+#include "graftnav/estimation/fgo_options.h"
 #include "graftnav/graph/local_frame.h"
 
 namespace graftnav {

@@ -50,4 +50,7 @@ struct EstimationProblem {
 using ImuBlockFn = std::function<void(const ImuSeries& block)>;
 using ImuPassFn = std::function<void(const ImuBlockFn& block)>;
 
+// Called by a long run with the fraction done (0..1), for progress lines.
+using ProgressFn = std::function<void(double fraction_done)>;
+
 }  // namespace graftnav

@@ -19,6 +19,8 @@ namespace graftnav::yaml_fields {
 struct Context {
   std::string path;                              // file, for messages
   std::vector<std::string>* warnings = nullptr;  // unknown keys go here (may be null)
+  // The unknown keys themselves, dotted ("ekf.gate"), for a caller that refuses them (may be null).
+  std::vector<std::string>* unknown_keys = nullptr;
 };
 
 inline std::string where(const Context& ctx, const YAML::Node& node) {
@@ -209,19 +211,22 @@ inline std::optional<double> optionalDouble(const Context& ctx, const YAML::Node
   return asDouble(ctx, n, join(prefix, key));
 }
 
-// Adds "path:line: unknown key 'prefix.key' ignored" for every key of map not in known.
+// Adds "path:line: unknown key 'prefix.key' ignored" for every key of map not in known (and the
+// dotted key to ctx.unknown_keys).
 // `known` is a braced list of names or any container of strings.
 template <typename Known = std::initializer_list<const char*>>
 void warnUnknownKeys(const Context& ctx, const YAML::Node& map, const std::string& prefix,
                      const Known& known) {
-  if (!map.IsMap() || !ctx.warnings) return;
+  if (!map.IsMap() || (!ctx.warnings && !ctx.unknown_keys)) return;
   for (const auto& kv : map) {
     const std::string k = kv.first.Scalar();
     bool found = false;
     for (const auto& kn : known) found = found || k == kn;
-    if (!found)
+    if (found) continue;
+    if (ctx.warnings)
       ctx.warnings->push_back(where(ctx, kv.first) + ": unknown key '" + join(prefix, k) +
                               "' ignored");
+    if (ctx.unknown_keys) ctx.unknown_keys->push_back(join(prefix, k));
   }
 }
 

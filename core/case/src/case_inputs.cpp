@@ -1,0 +1,126 @@
+#include "graftnav/case/case_inputs.h"
+
+#include <fmt/core.h>
+
+#include <filesystem>
+#include <stdexcept>
+
+#include "graftnav/io/gnss_io.h"
+#include "graftnav/io/imu_io.h"
+#include "graftnav/io/imu_profile_io.h"
+#include "graftnav/io/nav_io.h"
+
+namespace graftnav {
+
+CaseInputs loadCaseInputs(const std::string& case_dir, const CaseLoadOptions& o) {
+  if (!std::filesystem::is_directory(case_dir)) {
+    throw std::runtime_error("case directory '" + case_dir + "' does not exist");
+  }
+  CaseInputs c;
+  c.dir = case_dir;
+  const CasePaths paths(case_dir);
+  if (!CasePaths::exists(paths.caseYaml())) {
+    throw std::runtime_error("'" + case_dir + "' is not a case directory: no case.yaml");
+  }
+  c.config = loadCaseConfig(paths.caseYaml(), &c.warnings);
+  if (o.load_gnss) {
+    if (!CasePaths::exists(paths.gnssPos())) {
+      throw std::runtime_error("GNSS file '" + paths.gnssPos() + "' not found");
+    }
+    const std::string ft = CasePaths::exists(paths.gnssFixType()) ? paths.gnssFixType() : "";
+    std::vector<ReadReport> reports;
+    c.gnss = readGnss(paths.gnssPos(), ft, o.lenient ? GnssReadPolicy::real() : GnssReadPolicy{},
+                      &reports);
+    for (const auto& r : reports)
+      if (!r.summary().empty()) c.warnings.push_back(r.summary());
+  }
+  if (o.load_reference) loadCaseReference(&c, o.lenient);
+  return c;
+}
+
+void loadCaseReference(CaseInputs* c, bool lenient) {
+  const CasePaths paths = c->paths();
+  if (CasePaths::exists(paths.truthNav())) {
+    c->reference = readNav(paths.truthNav());
+    c->reference_name = paths.truthNav();
+    c->reference_is_truth = true;
+  } else if (auto ref = paths.referenceSolution(c->config); ref && CasePaths::exists(*ref)) {
+    ReadReport rep;
+    c->reference = readNav(*ref, lenient ? NavReadPolicy::real() : NavReadPolicy{}, &rep);
+    if (!rep.summary().empty()) c->warnings.push_back(rep.summary());
+    c->reference_name = *ref;
+  }
+}
+
+ImuSelection selectImu(const CaseInputs& c, const std::string& which,
+                       const std::string& profile_file, bool lenient, bool read_samples) {
+  const CasePaths paths = c.paths();
+  const CaseConfig& cfg = c.config;
+  ImuSelection s;
+  double rate_hz = cfg.testedImuRateHz();
+  std::optional<ImuProfile> profile = cfg.tested_imu;
+  s.profile_given = cfg.tested_imu_noise_given;
+  if (which == "ref") {
+    s.path = paths.refImu();
+    rate_hz = cfg.imu_rate_hz;
+    profile = cfg.reference_imu;
+    s.profile_given = cfg.reference_imu_noise_given;
+  } else if (which == "tested") {
+    s.path = paths.testedImu();
+  } else {
+    s.path = which;
+  }
+  if (!profile_file.empty()) {
+    std::vector<std::string> pw;
+    profile = loadImuProfile(profile_file, &pw);
+    s.profile_given = true;
+  }
+  if (profile) s.profile = *profile;
+  if (!CasePaths::exists(s.path)) throw std::runtime_error("IMU file '" + s.path + "' not found");
+  ImuReadOptions& ro = s.read_options;
+  ro.nominal_rate_hz = rate_hz;
+  if (lenient) ro.policy = ImuReadPolicy::real();
+  if (read_samples) {
+    ReadReport rep;
+    s.imu = readImu(s.path, ro, &rep);
+    s.read_summary = rep.summary();
+    if (s.imu.empty()) throw std::runtime_error("IMU file '" + s.path + "' holds no sample");
+  }
+  s.label = profile && !profile->name.empty() ? profile->name : which;
+  return s;
+}
+
+void restrictToTimeRange(const TimeRangeConfig& range, CaseInputs* c, ImuSelection* imu,
+                         std::vector<std::string>* notes) {
+  if (range.empty()) return;
+  const double t0 = range.start_s.value_or(-1e300), t1 = range.end_s.value_or(1e300);
+  ImuSeries kept;
+  for (const auto& s : imu->imu)
+    if (s.t_s - s.dt_s >= t0 - 1e-6 && s.t_s <= t1) kept.push_back(s);
+  if (kept.empty()) {
+    throw std::runtime_error(
+        fmt::format("time range [{}, {}] holds no sample of '{}' ({:.3f} .. {:.3f})", t0, t1,
+                    imu->path, imu->imu.front().t_s, imu->imu.back().t_s));
+  }
+  GnssSeries gnss;
+  for (const auto& f : c->gnss)
+    if (f.t_s >= t0 && f.t_s <= t1) gnss.push_back(f);
+  notes->push_back(
+      fmt::format("time range {:.3f} .. {:.3f}: {} of {} IMU samples, {} of {} GNSS epochs",
+                  kept.front().t_s - kept.front().dt_s, kept.back().t_s, kept.size(),
+                  imu->imu.size(), gnss.size(), c->gnss.size()));
+  imu->imu = std::move(kept);
+  c->gnss = std::move(gnss);
+}
+
+ImuSelection graftedSelection(ImuSeries imu, const ImuProfile& tested_profile,
+                              const ImuReadOptions& read_options) {
+  ImuSelection sel;
+  sel.imu = std::move(imu);
+  sel.profile = tested_profile;
+  sel.profile_given = true;
+  sel.read_options = read_options;
+  return sel;
+}
+
+}  // namespace graftnav

@@ -1,0 +1,133 @@
+#include "graftnav/case/solution_files.h"
+
+#include <fmt/core.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "graftnav/io/atomic_file.h"
+#include "graftnav/nav/units.h"
+
+namespace graftnav {
+namespace {
+
+constexpr double kMilliGalPerMPerSec2 = 1e5;
+constexpr double kPpmPerFraction = 1e6;
+
+void appendRow(std::string* out, const std::string& path, double t_s, const double* v, int n) {
+  *out += fmt::format("{:.4f}", t_s);
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(v[i])) {
+      throw std::runtime_error(
+          fmt::format("{}: non-finite value in column {} at t={:.4f}", path, i + 2, t_s));
+    }
+    *out += fmt::format(" {:.9g}", v[i]);
+  }
+  *out += '\n';
+}
+
+constexpr const char* kImuErrorsHeader =
+    "# time_s gyro_bias_x_deg_h gyro_bias_y_deg_h gyro_bias_z_deg_h accel_bias_x_mGal accel_bias_y_mGal "
+    "accel_bias_z_mGal gyro_scale_x_ppm gyro_scale_y_ppm gyro_scale_z_ppm accel_scale_x_ppm "
+    "accel_scale_y_ppm accel_scale_z_ppm\n";
+constexpr const char* kStateStdHeader =
+    "# time_s pos_std_n_m pos_std_e_m pos_std_d_m vel_std_n_m_s vel_std_e_m_s vel_std_d_m_s "
+    "att_std_n_deg att_std_e_deg att_std_d_deg\n";
+
+// One row of each file (shared by the in-memory writers and the streamed sink).
+void appendImuErrorsRow(std::string* out, const std::string& path, double t_s,
+                        const ImuErrorEstimate& e) {
+  double v[12];
+  for (int i = 0; i < 3; ++i) {
+    v[i] = e.gyro_bias_rad_s[i] / units::kDegPerHourToRadPerSec;
+    v[3 + i] = e.accel_bias_m_s2[i] * kMilliGalPerMPerSec2;
+    v[6 + i] = e.gyro_scale[i] * kPpmPerFraction;
+    v[9 + i] = e.accel_scale[i] * kPpmPerFraction;
+  }
+  appendRow(out, path, t_s, v, 12);
+}
+
+void appendStateStdRow(std::string* out, const std::string& path, double t_s,
+                       const PvaSigma& sigma) {
+  double v[9];
+  for (int i = 0; i < 9; ++i) v[i] = i < 6 ? sigma[i] : sigma[i] * units::kRadToDeg;
+  appendRow(out, path, t_s, v, 9);
+}
+
+}  // namespace
+
+bool writeImuErrors(const std::string& path, const NavSolution& sol) {
+  const size_t n = sol.states.size();
+  if (n == 0 || sol.gyro_bias_rad_s.size() != n || sol.accel_bias_m_s2.size() != n ||
+      sol.gyro_scale.size() != n || sol.accel_scale.size() != n) {
+    return false;
+  }
+  std::string out = kImuErrorsHeader;
+  for (size_t k = 0; k < n; ++k) {
+    ImuErrorEstimate e;
+    e.gyro_bias_rad_s = sol.gyro_bias_rad_s[k];
+    e.accel_bias_m_s2 = sol.accel_bias_m_s2[k];
+    e.gyro_scale = sol.gyro_scale[k];
+    e.accel_scale = sol.accel_scale[k];
+    appendImuErrorsRow(&out, path, sol.states[k].t_s, e);
+  }
+  writeFileAtomically(path, out);
+  return true;
+}
+
+bool writeStateStd(const std::string& path, const NavSolution& sol) {
+  const size_t n = sol.states.size();
+  if (n == 0 || sol.sigma.size() != n) return false;
+  for (const auto& s : sol.sigma)
+    if (!s.allFinite()) return false;  // an estimator without covariance fills NaN
+  std::string out = kStateStdHeader;
+  for (size_t k = 0; k < n; ++k) appendStateStdRow(&out, path, sol.states[k].t_s, sol.sigma[k]);
+  writeFileAtomically(path, out);
+  return true;
+}
+
+SolutionOutputsSink::SolutionOutputsSink(const std::string& imu_errors_path,
+                                         const std::string& state_std_path, bool with_imu_errors) {
+  if (with_imu_errors) imu_errors_.file = std::make_unique<AtomicFile>(imu_errors_path);
+  imu_errors_.buffer = kImuErrorsHeader;
+  state_std_.file = std::make_unique<AtomicFile>(state_std_path);
+  state_std_.buffer = kStateStdHeader;
+}
+
+void SolutionOutputsSink::File::flush(bool force) {
+  if (!file || (!force && buffer.size() < (1u << 20))) return;
+  file->write(buffer);
+  buffer.clear();
+}
+
+void SolutionOutputsSink::add(const NavState& state, const PvaSigma* sigma,
+                              const ImuErrorEstimate& sensors) {
+  ++epochs_;
+  if (imu_errors_.file) {
+    appendImuErrorsRow(&imu_errors_.buffer, imu_errors_.file->path(), state.t_s, sensors);
+    imu_errors_.flush(false);
+  }
+  if (!state_std_.file) return;
+  if (!sigma || !sigma->allFinite()) {  // as writeStateStd: no file (the destructor removes it)
+    state_std_.file.reset();
+    state_std_.buffer.clear();
+    return;
+  }
+  appendStateStdRow(&state_std_.buffer, state_std_.file->path(), state.t_s, *sigma);
+  state_std_.flush(false);
+}
+
+void SolutionOutputsSink::commit(bool* imu_errors, bool* state_std) {
+  *imu_errors = epochs_ > 0 && imu_errors_.file;
+  *state_std = epochs_ > 0 && state_std_.file;
+  if (*imu_errors) {
+    imu_errors_.flush(true);
+    imu_errors_.file->commit();
+  }
+  if (*state_std) {
+    state_std_.flush(true);
+    state_std_.file->commit();
+  }
+}
+
+}  // namespace graftnav
