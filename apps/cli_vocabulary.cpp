@@ -5,9 +5,18 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "graftnav/case/case_inputs.h"
+
 namespace graftnav::app {
 
 namespace fs = std::filesystem;
+
+std::string imuChoice(const std::string& given, const std::string& case_dir) {
+  std::string note;
+  const std::string which = chooseImu(given, CasePaths(case_dir), &note);
+  if (!note.empty()) fmt::print(stderr, "note: {}\n", note);
+  return which;
+}
 
 std::vector<std::string> splitEstimatorList(const std::string& list) {
   std::vector<std::string> out;

@@ -13,8 +13,9 @@
 
 namespace graftnav::app {
 
-// Default of --imu on every command that navigates one IMU of a case.
-inline constexpr const char* kDefaultImu = "ref";
+// --imu on every command that navigates one IMU of a case: the given choice, else the case's
+// reference IMU, else its only IMU (chooseImu of graftnav/case/case_inputs.h), said on stderr.
+std::string imuChoice(const std::string& given, const std::string& case_dir);
 
 // "ekf, rts" -> {"ekf", "rts"}; throws std::invalid_argument for an empty list or entry.
 std::vector<std::string> splitEstimatorList(const std::string& list);

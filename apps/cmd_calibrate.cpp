@@ -23,6 +23,7 @@
 #include "graftnav/calibration/calibration_io.h"
 #include "graftnav/calibration/lab_calibration.h"
 #include "graftnav/calibration/multi_position.h"
+#include "graftnav/case/input_checks.h"
 #include "graftnav/io/atomic_file.h"
 #include "graftnav/io/imu_io.h"
 #include "graftnav/nav/units.h"
@@ -209,6 +210,9 @@ void runLab(const CalibArgs& a) {
   LabDataOptions lo;
   lo.gravity_override_m_s2 = a.gravity;
   const LabData data = loadLabData(a.case_dir, lo);
+  for (const auto& w : data.warnings) fmt::print(stderr, "warning: {}\n", w);
+  // The floor `evaluate` applies: a shorter record gives no usable basic error signal or Allan.
+  if (data.has_static) checkLabStaticRecord(data.staticRecordSeconds(), data.static_file, 0.0);
   LabCalibrationOptions co;
   co.poly.max_degree = a.max_degree;
   const LabCalibrationReport rep = calibrateLab(data, co);

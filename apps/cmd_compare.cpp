@@ -46,7 +46,7 @@ namespace graftnav::app {
 namespace {
 
 struct CompareArgs {
-  std::string case_dir, out, imu = kDefaultImu;
+  std::string case_dir, out, imu;
   std::string estimators = "ekf,rts,fgo";
   std::string config, profile;
   OutageOverrides outage;  // over the run config's outages: (default 60 s every 180 s from 300 s)
@@ -384,8 +384,10 @@ void registerCompare(CLI::App& app) {
                   "comma list of the estimator table's names, plus fgo-noearth, fgo-window-noearth")
       ->capture_default_str();
   addDeprecatedOption(cmd, "--estimators", "--estimator", &a->estimators);
-  cmd->add_option("--imu", a->imu, "ref | tested | FILE (an IMU text file, tested IMU's profile)")
-      ->capture_default_str();
+  cmd->add_option(
+      "--imu", a->imu,
+      "ref | tested | FILE (an IMU text file, tested IMU's profile; default: ref, else the "
+      "case's only IMU)");
   cmd->add_option("--outage-length", a->outage.length_s,
                   "outage length (s; default: the run config's, else 60)");
   cmd->add_option("--outage-period", a->outage.period_s,
@@ -403,7 +405,10 @@ void registerCompare(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_flag("--no-plots", a->no_plots, "do not call scripts/runtime/plot_compare.py");
   cmd->add_flag("--lenient", a->lenient, "real-data read policies (repair/warn instead of error)");
-  cmd->callback([a]() { runCompare(*a); });
+  cmd->callback([a]() {
+    a->imu = imuChoice(a->imu, a->case_dir);
+    runCompare(*a);
+  });
 }
 
 }  // namespace graftnav::app

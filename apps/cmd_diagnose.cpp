@@ -22,6 +22,7 @@
 #include "graftnav/estimators/estimator_table.h"
 #include "graftnav/eval/evaluation.h"
 #include "graftnav/sg/sg_statistics.h"
+#include "graftnav/case/input_checks.h"
 #include "graftnav/case/outage_overrides.h"
 #include "graftnav/case/reference_solution.h"
 #include "graftnav/case/run_config.h"
@@ -138,7 +139,9 @@ DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const DiagnoseArgs& args, const
       ref_scale_std[Sensor::accel] = cfg.reference_imu->accel_scale_std;
     }
     const std::string case_dir = args.case_dir;
-    simulateFromLab(loadLabData(case_dir), rc.grafting.start_offset_s, ref_scale_std, &in,
+    LabData lab = loadLabData(case_dir);
+    if (lab.has_static) checkLabStaticRecord(lab.staticRecordSeconds(), lab.static_file, 0.0);
+    simulateFromLab(lab, rc.grafting.start_offset_s, ref_scale_std, &in,
                     [case_dir] { return loadLabData(case_dir); });
   } else {
     std::vector<std::string> warnings;

@@ -11,6 +11,7 @@
 #include "graftnav/calibration/calibration_io.h"
 #include "graftnav/calibration/lab_calibration.h"
 #include "graftnav/calibration/lab_data.h"
+#include "graftnav/case/input_checks.h"
 #include "graftnav/io/case_config.h"
 #include "graftnav/sg/graft_case.h"
 #include "graftnav/io/imu_io.h"
@@ -46,6 +47,7 @@ void registerGraft(CLI::App& app) {
 
     fmt::print(stderr, "graft: calibrating the tested IMU from {}/lab\n", args->case_dir);
     const LabData lab = loadLabData(args->case_dir);
+    if (lab.has_static) checkLabStaticRecord(lab.staticRecordSeconds(), lab.static_file, 0.0);
     const LabCalibrationReport report = calibrateLab(lab);
     for (const auto& n : report.notes) fmt::print(stderr, "note: {}\n", n);
     writeCalibrationYaml(out + "/calibration.yaml", report.result);

@@ -46,7 +46,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct NavigateArgs {
-  std::string case_dir, out, imu = kDefaultImu, profile, estimator = "ekf", config;
+  std::string case_dir, out, imu, profile, estimator = "ekf", config;
   OutageOverrides outage;
   bool free_inertial = false, lenient = false, no_plots = false;
   int decimate = 1;
@@ -428,7 +428,8 @@ void registerNavigate(CLI::App& app) {
       "navigate", "GNSS/INS navigation of a case (EKF, RTS, ... or free inertial) and its errors");
   cmd->add_option("case_dir", a->case_dir, "case directory (case.yaml, field/...)")->required();
   cmd->add_option("--out", a->out, "output directory")->required();
-  cmd->add_option("--imu", a->imu, "ref | tested | path of an IMU file (default ref)");
+  cmd->add_option("--imu", a->imu,
+                  "ref | tested | path of an IMU file (default: ref, else the case's only IMU)");
   cmd->add_option("--profile", a->profile, "IMU profile YAML (default: from case.yaml)");
   cmd->add_option("--estimator", a->estimator,
                   "comma list of " + estimatorTable().namesText() + " (default ekf)");
@@ -445,7 +446,10 @@ void registerNavigate(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--lenient", a->lenient, "real-data read policies (repair/warn instead of error)");
   cmd->add_flag("--no-plots", a->no_plots, "do not call scripts/runtime/plot_errors.py");
-  cmd->callback([a]() { runNavigate(*a); });
+  cmd->callback([a]() {
+    a->imu = imuChoice(a->imu, a->case_dir);
+    runNavigate(*a);
+  });
 }
 
 }  // namespace graftnav::app

@@ -43,7 +43,7 @@ namespace fs = std::filesystem;
 constexpr double kR2D = 57.29577951308232;
 
 struct RealArgs {
-  std::string case_dir, out, config, profile, imu = kDefaultImu;
+  std::string case_dir, out, config, profile, imu;
   std::vector<std::string> estimators{"ekf", "rts", "fgo"};
   bool latency_scan = false;
   std::vector<double> latency_grid;
@@ -346,7 +346,7 @@ void registerReal(CLI::App& app) {
                   "run config YAML (outages:, gnss:, ekf:, fgo:); required")
       ->check(CLI::ExistingFile);
   addDeprecatedOption(cmd, "--config", "--run-config", &a->config);
-  cmd->add_option("--imu", a->imu, "ref | tested | FILE (default ref)");
+  cmd->add_option("--imu", a->imu, "ref | tested | FILE (default: ref, else the case's only IMU)");
   cmd->add_option("--profile", a->profile, "IMU profile YAML")->check(CLI::ExistingFile);
   cmd->add_option("--estimator", a->estimators, "comma list of estimators (default ekf,rts,fgo)")
       ->delimiter(',');
@@ -365,6 +365,7 @@ void registerReal(CLI::App& app) {
       ->delimiter(',');
   cmd->callback([a]() {
     requireValue(a->config, "--run-config");
+    a->imu = imuChoice(a->imu, a->case_dir);
     runReal(*a);
   });
 }

@@ -96,12 +96,12 @@ void loadSixPosition(const CasePaths& paths, const LabConfig& lab, const LabData
 LabData loadLabData(const std::string& case_dir, const LabDataOptions& opt) {
   namespace fs = std::filesystem;
   const CasePaths paths(case_dir);
-  const CaseConfig cfg = loadCaseConfig(paths.caseYaml());
+  LabData s;
+  const CaseConfig cfg = loadCaseConfig(paths.caseYaml(), &s.warnings);
   if (!cfg.lab)
     throw std::runtime_error(paths.caseYaml() +
                              ": no lab: section (needed by the lab calibration)");
   const LabConfig& lab = *cfg.lab;
-  LabData s;
   s.case_dir = case_dir;
   s.name = cfg.name;
   s.imu_rate_hz = cfg.testedImuRateHz();

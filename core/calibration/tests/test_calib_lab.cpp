@@ -323,6 +323,19 @@ class CalibLabBad : public ::testing::Test {
 
 TEST_F(CalibLabBad, BaselineLoads) { EXPECT_NO_THROW(calibrateLab(loadLabData(dir))); }
 
+// An unknown key of case.yaml is reported (file, line and key) for the command to print; the
+// known keys still load.
+TEST_F(CalibLabBad, UnknownCaseKeyIsAWarning) {
+  EXPECT_TRUE(loadLabData(dir).warnings.empty());
+  std::ofstream(dir + "/case.yaml", std::ios::app) << "lab_notes: bench 3\n";
+  const LabData data = loadLabData(dir);
+  ASSERT_EQ(data.warnings.size(), 1u);
+  EXPECT_NE(data.warnings[0].find("case.yaml:"), std::string::npos) << data.warnings[0];
+  EXPECT_NE(data.warnings[0].find("unknown key 'lab_notes'"), std::string::npos)
+      << data.warnings[0];
+  EXPECT_EQ(data.six_position.size(), 6u);
+}
+
 TEST_F(CalibLabBad, MissingPose) {
   fs::remove(dir + "/lab/six_position/y_down.txt");
   expectError("y_down.txt", "missing six-position pose");

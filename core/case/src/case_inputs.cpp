@@ -53,6 +53,21 @@ void loadCaseReference(CaseInputs* c, bool lenient) {
   }
 }
 
+std::string defaultImuOf(const CasePaths& paths) {
+  const bool only_tested =
+      !CasePaths::exists(paths.refImu()) && CasePaths::exists(paths.testedImu());
+  return only_tested ? "tested" : "ref";
+}
+
+std::string chooseImu(const std::string& requested, const CasePaths& paths, std::string* note) {
+  if (!requested.empty()) return requested;
+  const std::string which = defaultImuOf(paths);
+  if (note && which != "ref")
+    *note = "IMU: '" + which + "' (" + paths.testedImu() +
+            "), the only IMU of the case (no field/ref_imu.txt); --imu chooses another";
+  return which;
+}
+
 ImuSelection selectImu(const CaseInputs& c, const std::string& which,
                        const std::string& profile_file, bool lenient, bool read_samples) {
   const CasePaths paths = c.paths();

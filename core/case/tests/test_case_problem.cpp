@@ -4,6 +4,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
 #include "graftnav/case/case_inputs.h"
 #include "graftnav/case/input_checks.h"
 #include "graftnav/case/outage_overrides.h"
@@ -30,6 +33,27 @@ TEST(CaseInputs, SampleLoadsWithTruthGnssAndBothImus) {
   const ImuSelection unread = selectImu(c, "tested", "", false, false);
   EXPECT_TRUE(unread.imu.empty());
   EXPECT_EQ(unread.read_options.nominal_rate_hz, c.config.testedImuRateHz());
+}
+
+// No --imu: the reference IMU, else the case's only IMU (a real recording of one IMU), said in a
+// note; an explicit choice is kept as given.
+TEST(CaseInputs, DefaultImuIsTheReferenceElseTheOnlyOne) {
+  const std::string dir = test::makeTempDir("default_imu");
+  const CasePaths paths(dir);
+  std::filesystem::create_directories(dir + "/field");
+  std::string note;
+  EXPECT_EQ(chooseImu("", paths, &note), "ref");  // neither: selectImu names the missing file
+  std::ofstream(paths.testedImu()) << "1 0 0 0 0 0 0\n";
+  EXPECT_EQ(chooseImu("", paths, &note), "tested");
+  EXPECT_THAT(note, HasSubstr("'tested'"));
+  EXPECT_THAT(note, HasSubstr("field/tested_imu.txt"));
+  note.clear();
+  EXPECT_EQ(chooseImu("ref", paths, &note), "ref");
+  EXPECT_TRUE(note.empty());
+  std::ofstream(paths.refImu()) << "1 0 0 0 0 0 0\n";
+  EXPECT_EQ(chooseImu("", paths, &note), "ref");
+  EXPECT_TRUE(note.empty());
+  EXPECT_EQ(chooseImu("tested", paths, &note), "tested");
 }
 
 TEST(CaseInputs, ErrorsNameTheDirectoryOrFile) {

@@ -60,10 +60,18 @@ struct LabData {
   std::string static_file;
   ImuSeries static_imu;
   Eigen::Matrix3d static_C_nb = Eigen::Matrix3d::Identity();
-  std::vector<std::string> notes;  // non-fatal remarks for the report
+  std::vector<std::string> notes;     // non-fatal remarks for the report
+  std::vector<std::string> warnings;  // case.yaml's reader: unknown keys ("path:line: ...")
+  // Length of the static record (first sample's start to last sample's end); 0 without one.
+  double staticRecordSeconds() const {
+    return static_imu.empty()
+               ? 0.0
+               : static_imu.back().t_s - static_imu.front().t_s + static_imu.front().dt_s;
+  }
 };
 
-// Throws std::runtime_error naming the file (and the reason) for the conditions listed above.
+// Throws std::runtime_error naming the file (and the reason) for the conditions listed above;
+// case.yaml's unknown keys go to LabData::warnings.
 LabData loadLabData(const std::string& case_dir, const LabDataOptions& options = {});
 
 // Checks one static pose (staticFraction and attitude consistency); throws std::runtime_error

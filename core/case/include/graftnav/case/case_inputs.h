@@ -50,6 +50,14 @@ struct ImuSelection {
 // A grafted series to navigate as the tested IMU: its samples with the tested IMU's profile.
 ImuSelection graftedSelection(ImuSeries imu, const ImuProfile& tested_profile,
                               const ImuReadOptions& read_options = {});
+// The IMU navigated when none is asked for: "ref" when the case holds field/ref_imu.txt, else
+// "tested" when it holds only field/tested_imu.txt (a real recording of one IMU); "ref" when it
+// holds neither (selectImu then names the missing file).
+std::string defaultImuOf(const CasePaths& paths);
+// `requested` when given (non-empty), else defaultImuOf(paths) with a printable line saying which
+// IMU that is and why in *note (left empty when the case's reference IMU is chosen).
+std::string chooseImu(const std::string& requested, const CasePaths& paths, std::string* note);
+
 // read_samples = false leaves `imu` empty (for a run that streams the file with read_options).
 ImuSelection selectImu(const CaseInputs& c, const std::string& which,
                        const std::string& profile_file = "", bool lenient = false,
