@@ -21,7 +21,7 @@ struct RunInputs {
   ImuSelection imu_restricted;
 };
 
-void restrict(const PyCase& pc, const NavigateRequest& r, RunInputs* in,
+void restrictInputs(const PyCase& pc, const NavigateRequest& r, RunInputs* in,
               std::vector<std::string>* notes) {
   in->c = &pc.inputs();
   in->imu = &pc.imu(r.imu);
@@ -42,7 +42,7 @@ NavigateOutcome navigateCase(const PyCase& pc, const NavigateRequest& r) {
   RunConfig rc = r.rc;
   if (free_inertial) rc.alignment.mode = "given";
   RunInputs in;
-  restrict(pc, r, &in, &out.notes);
+  restrictInputs(pc, r, &in, &out.notes);
   const CaseInputs& c = *in.c;
   const ImuSelection& imu = *in.imu;
   if (!free_inertial && !imu.profile_given)

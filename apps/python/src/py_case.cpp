@@ -35,8 +35,8 @@ bool PyCase::hasImu(const std::string& which) const {
 }
 
 std::string PyCase::defaultImu() const {
-  const bool ref = hasImu("ref"), tested = hasImu("tested");
-  return !ref && tested ? "tested" : "ref";
+  if (hasFolder()) return defaultImuOf(inputs_.paths());  // the command's rule
+  return hasImu("ref") ? "ref" : "tested";
 }
 
 const ImuSelection& PyCase::imu(const std::string& which) const {
