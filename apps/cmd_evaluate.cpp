@@ -67,17 +67,17 @@ void registerEvaluate(CLI::App& app) {
   auto k = std::make_shared<std::optional<int>>(), shifts = std::make_shared<std::optional<int>>();
   CLI::App* cmd = app.add_subcommand(
       "evaluate",
-      "Calibrate, graft SG#1/SG#2, navigate SG1/SG2/REAL with GNSS outages, tabulate ERR and DIFF");
+      "Calibrate, graft SG#1/SG#2, navigate SG#1/SG#2/REAL with GNSS outages, tabulate ERR and DIFF");
   cmd->add_option("case_dir", o->case_dir, "case directory")
       ->required()
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--out", o->out_dir, "output directory")->required();
   cmd->add_option("--estimator", o->estimator, "ekf | rts | fgo | fgo-window")
       ->capture_default_str();
-  cmd->add_option("--run-config", o->config_path,
+  cmd->add_option("--run-config", o->run_config,
                   "run config YAML (outages:, ekf:, fgo:, evaluation:)")
       ->check(CLI::ExistingFile);
-  addDeprecatedOption(cmd, "--config", "--run-config", &o->config_path);
+  addDeprecatedOption(cmd, "--config", "--run-config", &o->run_config);
   cmd->add_option("--outage-length", *len, "outage length (s), default 60");
   cmd->add_option("--outage-period", *per, "outage start-to-start period (s), default 180");
   cmd->add_option("--outage-start", *st,

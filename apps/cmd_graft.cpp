@@ -1,5 +1,6 @@
 // graftnav graft CASE_DIR [--out DIR] [--seed N] [--no-cross-axis]
-// Lab calibration of the tested IMU, then IMU_SG#1 and IMU_SG#2 grafted onto the reference IMU.
+// Lab calibration of the tested IMU, then SG#1 and SG#2 grafted onto the reference IMU
+// (IMU_SG1.txt, IMU_SG2.txt).
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
@@ -27,7 +28,7 @@ void registerGraft(CLI::App& app) {
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
-      "graft", "Write IMU_SG#1 (basic errors) and IMU_SG#2 (full errors) for a case");
+      "graft", "Write IMU_SG1.txt (SG#1, basic errors) and IMU_SG2.txt (SG#2, full errors)");
   cmd->add_option("case_dir", args->case_dir, "case directory")
       ->required()
       ->check(CLI::ExistingDirectory);

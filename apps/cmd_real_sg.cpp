@@ -33,7 +33,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct RealSgArgs {
-  std::string case_dir, out, config, ref_profile, tested_profile, estimator = "rts";
+  std::string case_dir, out, run_config, ref_profile, tested_profile, estimator = "rts";
   std::uint64_t seed = 1;
   std::optional<int> realizations;  // K; default from the run config (20)
   int jobs = 0;
@@ -107,9 +107,10 @@ SgEvaluationOptions pipelineOptions(const RealSgArgs& a, const RunConfig& rc) {
 void runRealSg(const RealSgArgs& a) {
   const CaseInputs c = loadReal(a.case_dir);
   std::vector<std::string> warnings;
-  const RunConfig rc = loadRunConfig(a.config, &warnings);
+  const RunConfig rc = loadRunConfig(a.run_config, &warnings);
   for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
-  if (!rc.outages_given) throw std::runtime_error(a.config + ": an outages: section is required");
+  if (!rc.outages_given)
+    throw std::runtime_error(a.run_config + ": an outages: section is required");
   const ImuSelection ref = loadImuReal(c, "ref", a.ref_profile);
   const ImuSelection tested = loadImuReal(c, "tested", a.tested_profile);
   const SgEvaluationOptions po = pipelineOptions(a, rc);
@@ -165,10 +166,10 @@ void registerRealSg(CLI::App& app) {
   sg->add_option("case_dir", s->case_dir, "case directory (ref_imu.txt and tested_imu.txt)")
       ->required();
   sg->add_option("--out", s->out, "output directory")->required();
-  sg->add_option("--run-config", s->config,
+  sg->add_option("--run-config", s->run_config,
                  "run config YAML (outages:, gnss:, ekf:, grafting:); required")
       ->check(CLI::ExistingFile);
-  addDeprecatedOption(sg, "--config", "--run-config", &s->config);
+  addDeprecatedOption(sg, "--config", "--run-config", &s->run_config);
   sg->add_flag("--no-plots", s->no_plots, "skip the matplotlib plots");
   sg->add_option("--ref-profile", s->ref_profile, "reference IMU profile")
       ->required()
@@ -191,7 +192,7 @@ void registerRealSg(CLI::App& app) {
       "--max-static-speed", s->standstill.max_gnss_speed_m_s,
       "median GNSS speed (1-s chords) above which a detected span is not a standstill (m/s)");
   sg->callback([s]() {
-    requireValue(s->config, "--run-config");
+    requireValue(s->run_config, "--run-config");
     runRealSg(*s);
   });
 }

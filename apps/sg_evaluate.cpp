@@ -114,7 +114,7 @@ std::vector<std::string> checkEvaluationInputs(const SgEvaluateOptions& o) {
   outageOverrides(o).validate();
   const CaseInputs c = loadCaseInputs(o.case_dir);
   RunConfig rc;
-  if (!o.config_path.empty()) rc = loadRunConfig(o.config_path, nullptr);
+  if (!o.run_config.empty()) rc = loadRunConfig(o.run_config, nullptr);
   const OutageScheduleConfig oc = outageOverrides(o).appliedTo(rc.outages);
   const ImuSelection ref = selectImu(c, "ref");
   if (CasePaths::exists(c.paths().testedImu()))
@@ -159,7 +159,7 @@ SgEvaluationReport runSgEvaluation(const SgEvaluateOptions& o, const LogFn& log_
   requireTestedNoise(c);
   std::vector<std::string> cw;
   RunConfig rc;
-  if (!o.config_path.empty()) rc = loadRunConfig(o.config_path, &cw);
+  if (!o.run_config.empty()) rc = loadRunConfig(o.run_config, &cw);
   for (const auto& w : cw) log("warning: " + w);
   const ImuSelection ref = selectImu(c, "ref");
   const SgEvaluationOptions po = pipelineOptions(o, rc);

@@ -20,7 +20,7 @@ struct SgEvaluateOptions {
   std::string case_dir;
   std::string out_dir;
   std::string estimator = "ekf";
-  std::string config_path;  // --run-config YAML (graftnav/case/run_config.h); empty: defaults
+  std::string run_config;  // --run-config YAML (graftnav/case/run_config.h); empty: defaults
   std::optional<double> outage_length_s, outage_period_s, outage_start_s;
   std::optional<int> realizations;   // K; default from the run config (20)
   std::optional<int> outage_shifts;  // N; default from the run config (1)

@@ -36,8 +36,8 @@ ImuSeries graftSeries(const ImuSeries& reference_imu, const GraftPlan& plan, SgS
                       const GraftOptions& options);
 
 struct GraftedCase {
-  ImuSeries sg1;  // IMU_SG#1: reference + basic error signal
-  ImuSeries sg2;  // IMU_SG#2: reference + dynamic errors + basic error signal
+  ImuSeries sg1;  // SG#1 (IMU_SG1.txt): reference + basic error signal
+  ImuSeries sg2;  // SG#2 (IMU_SG2.txt): reference + dynamic errors + basic error signal
   SensorDynamicFit gyro_fit, accel_fit;
   double start_offset_s = 0.0;   // where the field test starts in the tiled lab record
   double static_record_s = 0.0;  // length of the lab static record
