@@ -1,19 +1,16 @@
 // diagnose(): the mismatch finder on a case folder, as `graftnav diagnose` runs it without
-// --estimator: the simulation of the tested IMU (SG#2 from the lab data, else the reference plus
-// the tested IMU's static bias) against its real field recording. The report is diagnosis.json's
+// --estimator (diagnosisInputsOf of core/mismatch): the simulation of the tested IMU (SG#2 from
+// the lab data, else the reference plus the tested IMU's static bias) against its real field
+// recording. The report is diagnosis.json's
 // content. Runs without the GIL.
 #include <pybind11/stl.h>
 
 #include "bindings.h"
-#include "graftnav/calibration/lab_data.h"
-#include "graftnav/case/input_checks.h"
 #include "graftnav/io/file_errors.h"
-#include "graftnav/io/imu_io.h"
-#include "graftnav/io/nav_io.h"
 #include "graftnav/mismatch/diagnose_config.h"
+#include "graftnav/mismatch/diagnosis_case.h"
 #include "graftnav/mismatch/diagnosis.h"
 #include "graftnav/mismatch/diagnosis_report.h"
-#include "graftnav/mismatch/diagnosis_setup.h"
 #include "py_case.h"
 #include "run_options.h"
 
@@ -25,41 +22,6 @@ struct DiagnoseOutcome {
   std::vector<std::string> warnings;
 };
 
-// The finder's inputs: records, plausible ranges, the simulation and its priors.
-DiagnosisInputs finderInputs(const PyCase& pc, const RunConfig& rc, std::vector<std::string>* notes,
-                             std::vector<std::string>* warnings) {
-  const CaseInputs& c = pc.inputs();
-  const CaseConfig& cfg = c.config;
-  DiagnosisInputs in;
-  in.case_name = cfg.name;
-  in.reference = pc.imu("ref").imu;
-  in.real = pc.imu("tested").imu;
-  in.initial_state = cfg.initial_state;
-  if (cfg.tested_imu) in.tested_plausible_ranges = cfg.tested_imu->plausible_ranges;
-  if (in.tested_plausible_ranges) in.tested_plausible_ranges->validate();
-  if (CasePaths::exists(c.paths().labStatic())) {
-    PerSensor<double> ref_scale_std;
-    if (cfg.reference_imu) {
-      ref_scale_std[Sensor::gyro] = cfg.reference_imu->gyro_scale_std;
-      ref_scale_std[Sensor::accel] = cfg.reference_imu->accel_scale_std;
-    }
-    const std::string dir = c.dir;
-    LabData lab = loadLabData(dir);
-    if (lab.has_static) {
-      const auto w = checkLabStaticRecord(lab.staticRecordSeconds(), lab.static_file, 0.0);
-      warnings->insert(warnings->end(), w.begin(), w.end());
-    }
-    simulateFromLab(lab, rc.grafting.start_offset_s, ref_scale_std, &in,
-                    [dir] { return loadLabData(dir); });
-  } else {
-    simulateWithoutLab(&in, notes, warnings);
-  }
-  const std::string truth = c.paths().truthNav();
-  in.reference_is_simulated = CasePaths::exists(truth);
-  if (in.reference_is_simulated) in.read_attitude = [truth] { return readNav(truth); };
-  return in;
-}
-
 DiagnoseOutcome diagnoseCase(const PyCase& pc, const RunConfig& rc,
                              const DiagnoseOptions& options) {
   if (!pc.hasFolder())
@@ -70,7 +32,15 @@ DiagnoseOutcome diagnoseCase(const PyCase& pc, const RunConfig& rc,
         pc.inputs().paths().testedImu() + ": diagnose needs the tested IMU's field recording");
   DiagnoseOutcome out;
   std::vector<std::string> notes;
-  DiagnosisResult res = diagnose(finderInputs(pc, rc, &notes, &out.warnings), options);
+  CaseInputs c;  // what the finder reads of the case: its folder and case.yaml
+  c.dir = pc.inputs().dir;
+  c.config = pc.inputs().config;
+  ImuSelection ref = pc.imu("ref"), tested = pc.imu("tested");  // moved into the finder
+  DiagnosisInputs in =
+      diagnosisInputsOf(c, rc, &ref, &tested, {}, &notes, [&out](const std::string& line) {
+        if (line.rfind("warning: ", 0) == 0) out.warnings.push_back(line.substr(9));
+      });
+  DiagnosisResult res = diagnose(std::move(in), options);
   res.notes.insert(res.notes.end(), notes.begin(), notes.end());
   out.json = diagnosisJson(res);
   return out;

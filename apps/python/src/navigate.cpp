@@ -22,7 +22,7 @@ struct RunInputs {
 };
 
 void restrictInputs(const PyCase& pc, const NavigateRequest& r, RunInputs* in,
-              std::vector<std::string>* notes) {
+                    std::vector<std::string>* notes) {
   in->c = &pc.inputs();
   in->imu = &pc.imu(r.imu);
   if (r.rc.time_range.empty()) return;
