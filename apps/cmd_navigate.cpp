@@ -229,7 +229,8 @@ NavigateSetup prepareNavigate(const NavigateArgs& a) {
   }
   for (const auto& n : s.notes)
     if (n.find("alignment") != std::string::npos || n.find("lever") != std::string::npos ||
-        n.find("GNSS selection") != std::string::npos || n.find("time range") != std::string::npos)
+        n.find("GNSS selection") != std::string::npos ||
+        n.find("time range") != std::string::npos || n.find("odometer") != std::string::npos)
       fmt::print(stderr, "note: {}\n", n);
   if (outages) {
     const double t0 = s.pr.imu.front().t_s - s.pr.imu.front().dt_s;
@@ -283,13 +284,17 @@ class NavFileSink : public SolutionSink {
   NavFileSink(const fs::path& out, bool with_imu_errors, NavSolution* keep)
       : nav_((out / "solution.nav").string()),
         outputs_((out / "imu_errors.txt").string(), (out / "state_std.txt").string(),
-                 with_imu_errors) {
+                 with_imu_errors, (out / "odometer_scale.txt").string()) {
     if (keep) keep_.emplace(keep);
   }
   void add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate& sensors) override {
     nav_.add(state);
     outputs_.add(state, sigma, sensors);
     if (keep_) keep_->add(state, sigma, sensors);
+  }
+  void addOdometerScale(const OdometerScaleEstimate& estimate) override {
+    outputs_.addOdometerScale(estimate);
+    if (keep_) keep_->addOdometerScale(estimate);
   }
   RunFiles commit() {
     RunFiles f;
@@ -320,6 +325,8 @@ NavSolution streamedRun(const std::string& estimator, const NavigateSetup& s, co
   sol.gnss_used = book.gnss_used;
   sol.gnss_rejected = book.gnss_rejected;
   sol.gnss_withheld = book.gnss_withheld;
+  sol.vehicle_used = book.vehicle_used;
+  sol.vehicle_rejected = book.vehicle_rejected;
   before_commit(sol);
   *files = sink.commit();
   return sol;
@@ -334,6 +341,7 @@ NavSolution inMemoryRun(const std::string& estimator, const NavigateSetup& s, co
   files->epochs = sol.states.size();
   files->imu_errors = writeImuErrors((out / "imu_errors.txt").string(), sol);
   files->state_std = writeStateStd((out / "state_std.txt").string(), sol);
+  writeOdometerScale((out / "odometer_scale.txt").string(), sol);
   return sol;
 }
 

@@ -28,36 +28,102 @@ PvaSigma sigmaOf(const SmoothedRecord& r) {
 }
 }  // namespace
 
-std::vector<SmoothedRecord> smoothRecords(const SmootherRecords& rec) {
+namespace {
+
+// One backward step on N states (21, or 22 with the odometer scale): from the smoothed error
+// and covariance at record k+1 (e_next, Ps_next) to those at k, given P^+_k, and P^-_{k+1},
+// Phi_{k+1} and the correction dx_{k+1} fed back at k+1. Throws naming t_next when P^- is not
+// invertible.
+template <int N>
+void smoothStep(const Eigen::Matrix<double, N, N>& P_post,
+                const Eigen::Matrix<double, N, N>& P_prior_next,
+                const Eigen::Matrix<double, N, N>& Phi_next,
+                const Eigen::Matrix<double, N, 1>& dx_next, double t_next,
+                Eigen::Matrix<double, N, 1>* e, Eigen::Matrix<double, N, N>* Ps) {
+  using Vec = Eigen::Matrix<double, N, 1>;
+  using Mat = Eigen::Matrix<double, N, N>;
+  // G^T = (P^-)^-1 Phi P^+, solved on the diagonally scaled P^- (states span ~20 decades).
+  const Vec d = P_prior_next.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+  const Mat A = d.asDiagonal() * P_prior_next * d.asDiagonal();
+  const Mat rhs = d.asDiagonal() * (Phi_next * P_post);
+  const Eigen::LDLT<Mat> ldlt(A);
+  if (ldlt.info() != Eigen::Success) {
+    throw std::runtime_error("smoothRecords: predicted covariance not invertible at t=" +
+                             std::to_string(t_next));
+  }
+  const Mat Gt = d.asDiagonal() * ldlt.solve(rhs);
+  const Vec e_k = Gt.transpose() * (*e + dx_next);
+  Mat Ps_k = P_post + Gt.transpose() * (*Ps - P_prior_next) * Gt;
+  Ps_k = 0.5 * (Ps_k + Ps_k.transpose()).eval();
+  *e = e_k;
+  *Ps = Ps_k;
+}
+
+using Cov22 = Eigen::Matrix<double, kStateDim + 1, kStateDim + 1>;
+using State22 = Eigen::Matrix<double, kStateDim + 1, 1>;
+
+Cov22 withScale(const ErrorCov& P, const OdometerScaleState& k) {
+  Cov22 out;
+  out.topLeftCorner<kStateDim, kStateDim>() = P;
+  out.topRightCorner<kStateDim, 1>() = k.P_xk;
+  out.bottomLeftCorner<1, kStateDim>() = k.P_xk.transpose();
+  out(kStateDim, kStateDim) = k.P_kk;
+  return out;
+}
+
+// The record's nominal corrected by the smoothed error e (its first 21 states).
+void setSmoothed(const SmootherRecord& a, const ErrorState& e, const ErrorCov& P,
+                 SmoothedRecord* s) {
+  s->t_s = a.t_s;
+  s->nav = correctNavState(a.nav, e);
+  s->sensors = correctSensors(a.sensors, e);
+  s->P = P;
+}
+
+// The records carry the odometer scale: the same recursion on the 22 states (the scale's
+// transition is 1, so Phi is extended by a unit diagonal).
+std::vector<SmoothedRecord> smoothRecordsWithScale(const SmootherRecords& rec) {
   const size_t N = rec.size();
   std::vector<SmoothedRecord> out(N);
-  if (N == 0) return out;
+  State22 e_next = State22::Zero();
+  Cov22 Ps_next = withScale(rec[N - 1].P_post, rec[N - 1].scale_post);
+  for (size_t k = N; k-- > 0;) {
+    const SmootherRecord& a = rec[k];
+    if (k + 1 < N) {
+      const SmootherRecord& b = rec[k + 1];
+      Cov22 Phi = Cov22::Zero();
+      Phi.topLeftCorner<kStateDim, kStateDim>() = b.Phi;
+      Phi(kStateDim, kStateDim) = 1.0;
+      State22 dx;
+      dx << b.dx, b.dk;
+      smoothStep<kStateDim + 1>(withScale(a.P_post, a.scale_post),
+                                withScale(b.P_prior, b.scale_prior), Phi, dx, b.t_s, &e_next,
+                                &Ps_next);
+    }
+    setSmoothed(a, e_next.head<kStateDim>(), Ps_next.topLeftCorner<kStateDim, kStateDim>(),
+                &out[k]);
+    out[k].has_scale = true;
+    out[k].scale = a.scale_post.k + e_next(kStateDim);
+    out[k].scale_std = std::sqrt(std::max(Ps_next(kStateDim, kStateDim), 0.0));
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<SmoothedRecord> smoothRecords(const SmootherRecords& rec) {
+  const size_t N = rec.size();
+  if (N == 0) return {};
+  if (rec.front().has_scale) return smoothRecordsWithScale(rec);
+  std::vector<SmoothedRecord> out(N);
   ErrorState e_next = ErrorState::Zero();
   ErrorCov Ps_next = rec[N - 1].P_post;
   out[N - 1] = {rec[N - 1].t_s, rec[N - 1].nav, rec[N - 1].sensors, Ps_next};
   for (size_t k = N - 1; k-- > 0;) {
     const SmootherRecord& a = rec[k];
     const SmootherRecord& b = rec[k + 1];
-    // G^T = (P^-)^-1 Phi P^+, solved on the diagonally scaled P^- (states span ~20 decades).
-    const ErrorState d = b.P_prior.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
-    const ErrorCov A = d.asDiagonal() * b.P_prior * d.asDiagonal();
-    const ErrorCov rhs = d.asDiagonal() * (b.Phi * a.P_post);
-    const Eigen::LDLT<ErrorCov> ldlt(A);
-    if (ldlt.info() != Eigen::Success) {
-      throw std::runtime_error("smoothRecords: predicted covariance not invertible at t=" +
-                               std::to_string(b.t_s));
-    }
-    const ErrorCov Gt = d.asDiagonal() * ldlt.solve(rhs);
-    const ErrorState e = Gt.transpose() * (e_next + b.dx);
-    ErrorCov Ps = a.P_post + Gt.transpose() * (Ps_next - b.P_prior) * Gt;
-    Ps = 0.5 * (Ps + Ps.transpose()).eval();
-    SmoothedRecord& s = out[k];
-    s.t_s = a.t_s;
-    s.nav = correctNavState(a.nav, e);
-    s.sensors = correctSensors(a.sensors, e);
-    s.P = Ps;
-    e_next = e;
-    Ps_next = Ps;
+    smoothStep<kStateDim>(a.P_post, b.P_prior, b.Phi, b.dx, b.t_s, &e_next, &Ps_next);
+    setSmoothed(a, e_next, Ps_next, &out[k]);
   }
   return out;
 }
@@ -100,6 +166,10 @@ void RtsOutputPass::closeInterval(SolutionSink& sink) {
     sensors.gyro_scale = (1.0 - u) * a.sensors.gyro_scale + u * b.sensors.gyro_scale;
     sensors.accel_scale = (1.0 - u) * a.sensors.accel_scale + u * b.sensors.accel_scale;
     const PvaSigma sigma = (1.0 - u) * s0 + u * s1;
+    if (a.has_scale) {
+      sink.addOdometerScale(
+          {(1.0 - u) * a.scale + u * b.scale, (1.0 - u) * a.scale_std + u * b.scale_std});
+    }
     sink.add(out, &sigma, sensors);
   }
   buffer_.clear();
@@ -172,6 +242,8 @@ NavSolution runRts(const EstimationProblem& problem, const EkfOptions& options,
   sol.gnss_used = fwd.gnss_used;
   sol.gnss_rejected = fwd.gnss_rejected;
   sol.gnss_withheld = fwd.gnss_withheld;
+  sol.vehicle_used = fwd.vehicle_used;
+  sol.vehicle_rejected = fwd.vehicle_rejected;
   NavSolutionSink sink(&sol);
   sink.reserve(problem.imu.size() / static_cast<size_t>(options.output_decimation) + 1);
   if (forward) *forward = std::move(fwd);

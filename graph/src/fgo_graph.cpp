@@ -20,6 +20,7 @@ NodeValue NodeBlocks::value() const {
   x.v_w = Eigen::Map<const Eigen::Vector3d>(v);
   x.bg = Eigen::Map<const Eigen::Vector3d>(bg);
   x.ba = Eigen::Map<const Eigen::Vector3d>(ba);
+  x.odometer_scale = s[0];
   return x;
 }
 
@@ -29,6 +30,7 @@ void NodeBlocks::set(const NodeValue& x) {
   Eigen::Map<Eigen::Vector3d>{v} = x.v_w;
   Eigen::Map<Eigen::Vector3d>{bg} = x.bg;
   Eigen::Map<Eigen::Vector3d>{ba} = x.ba;
+  s[0] = x.odometer_scale;
 }
 
 FgoGraph::FgoGraph(const EstimationProblem& problem, const FgoOptions& options)
@@ -65,6 +67,11 @@ void FgoGraph::setUp() {
   accel_process_.sigma =
       std::max(prof.accel_bias_instability_m_s2, options_.min_accel_bias_std_m_s2);
   accel_process_.tau_s = prof.accel_bias_corr_time_s;
+  aiding_ = problem_.aiding;
+  if (aiding_.any()) {
+    aiding_.validate();
+    C_vb_ = aiding_.C_vb();
+  }
   if (options_.robust_loss == "huber") {
     loss_ = std::make_unique<ceres::HuberLoss>(options_.robust_loss_scale);
   } else if (options_.robust_loss == "cauchy") {
@@ -78,6 +85,7 @@ void FgoGraph::addNodeStorage() {
     blocks_.emplace_back();
     pre_.emplace_back();
     gravity_point_.emplace_back(Eigen::Vector3d::Zero());
+    vehicle_obs_.emplace_back();
   }
   if (first && !blocks_.empty()) initializeFirstNode();
 }
@@ -99,6 +107,7 @@ void FgoGraph::forgetBefore(size_t k) {
     blocks_.pop_front();
     pre_.pop_front();
     gravity_point_.pop_front();
+    vehicle_obs_.pop_front();
   }
 }
 
@@ -184,6 +193,39 @@ GnssPositionFactor* FgoGraph::makeGnssFactor(size_t fix) const {
   return new GnssPositionFactor(o.z_w, o.sqrt_info_w, problem_.lever_arm_b_m, o.dt_s);
 }
 
+void FgoGraph::observeVehicle(size_t k, const ImuSampleBuffer& samples) {
+  if (!aiding_.any() || k == 0) return;
+  const ImuSample& s = samples.at(node(k).sample_end - 1);  // the sample ending at the node
+  VehicleObservation& o = vehicle_obs_[k - layout_.nodes_base];
+  o.omega_raw_b = s.dtheta_rad / s.dt_s;
+  o.row_std_m_s = aiding_.rowStd_m_s();
+  if (aiding_.odometer.enabled) {
+    if (!odometer_) {
+      odometer_ = std::make_unique<OdometerInterpolator>(problem_.openOdometer(),
+                                                         aiding_.odometer.max_gap_s);
+    }
+    o.has_speed = odometer_->at(node(k).t_s, &o.speed_m_s);
+  }
+}
+
+VehicleVelocityFactor* FgoGraph::makeVehicleFactor(size_t k) const {
+  if (!aiding_.any() || k == 0) return nullptr;
+  const VehicleObservation& o = vehicle_obs_[k - layout_.nodes_base];
+  if (o.rows() == 0) return nullptr;
+  return new VehicleVelocityFactor(o, C_vb_, aiding_.odometer.lever_arm_b_m, frame_.omega_ie_w(),
+                                   estimatesOdometerScale());
+}
+
+OdometerScaleWalkFactor* FgoGraph::makeScaleWalkFactor(size_t k) const {
+  const double q = std::max(aiding_.odometer.scale_random_walk_per_sqrt_s,
+                            options_.min_odometer_scale_random_walk_per_sqrt_s);
+  return new OdometerScaleWalkFactor(q, node(k + 1).t_s - node(k).t_s);
+}
+
+OdometerScalePriorFactor* FgoGraph::makeScalePrior() const {
+  return new OdometerScalePriorFactor(0.0, aiding_.odometer.scale_std);
+}
+
 NodePriorFactor* FgoGraph::makeInitialPrior() const {
   NodeValue x0;  // the given initial state, whatever node 0's current value
   frame_.fromNavState(problem_.initial, &x0.p_w, &x0.v_w, &x0.q_wb);
@@ -225,6 +267,7 @@ void FgoGraph::addNodeBlocks(ceres::Problem* problem, size_t k) const {
   problem->AddParameterBlock(b.v, 3);
   problem->AddParameterBlock(b.bg, 3);
   problem->AddParameterBlock(b.ba, 3);
+  if (estimatesOdometerScale()) problem->AddParameterBlock(b.s, 1);
 }
 
 std::vector<double*> FgoGraph::preintegrationBlocks(size_t k) {
@@ -248,6 +291,21 @@ std::vector<double*> FgoGraph::nodeBlocks(size_t k) {
   NodeBlocks& b = blocks(k);
   return {b.p, b.q, b.v, b.bg, b.ba};
 }
+
+std::vector<double*> FgoGraph::allBlocks(size_t k) {
+  std::vector<double*> out = nodeBlocks(k);
+  if (estimatesOdometerScale()) out.push_back(blocks(k).s);
+  return out;
+}
+
+std::vector<double*> FgoGraph::vehicleBlocks(size_t k, const VehicleVelocityFactor& f) {
+  NodeBlocks& b = blocks(k);
+  std::vector<double*> out{b.q, b.v, b.bg};
+  if (f.usesScale()) out.push_back(b.s);
+  return out;
+}
+
+std::vector<double*> FgoGraph::scaleWalkBlocks(size_t k) { return {blocks(k).s, blocks(k + 1).s}; }
 
 double FgoGraph::gnssChi2(size_t fix, size_t node) {
   std::unique_ptr<GnssPositionFactor> f(makeGnssFactor(fix));
@@ -298,18 +356,21 @@ void FgoGraph::predictNode(size_t k) {
   f->predict(x.p_w, x.q_wb, x.v_w, x.bg, x.ba, &y.p_w, &y.q_wb, &y.v_w);
   y.bg = x.bg;
   y.ba = x.ba;
+  y.odometer_scale = x.odometer_scale;
   blocks(k).set(y);
 }
 
 void FgoGraph::outputPass(const ImuPassFn& imu, const std::vector<PvaSigma>& sigma_nodes,
-                          const FgoEpochFn& output) const {
-  OutputIntegrator out(frame_, problem_.initial.gnss_week, output);
+                          const FgoEpochFn& output, const FgoScaleFn& scale_output,
+                          const std::vector<double>& scale_sigma_nodes) const {
+  OutputIntegrator out(frame_, problem_.initial.gnss_week, output, scale_output);
   const size_t n = nodeCount();
   size_t next = 0, i = 0;                 // the next node to start, the sample's index
   auto startNodes = [&](size_t sample) {  // every node whose interval starts at or before it
     for (; next < n && node(next).sample_end <= sample; ++next) {
       out.node(node(next).t_s, blocks(next).value(),
-               sigma_nodes.empty() ? nullptr : &sigma_nodes[next]);
+               sigma_nodes.empty() ? nullptr : &sigma_nodes[next],
+               scale_sigma_nodes.empty() ? std::nan("") : scale_sigma_nodes[next]);
     }
   };
   imu([&](const ImuSeries& block) {

@@ -20,7 +20,8 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 }
 
 // Marginal covariance of p, v and attitude of every node, as NED 1-sigmas at the node.
-std::vector<PvaSigma> nodeSigmas(FgoGraph& graph, ceres::Problem& problem, int num_threads) {
+std::vector<PvaSigma> nodeSigmas(FgoGraph& graph, ceres::Problem& problem, int num_threads,
+                                 std::vector<double>* scale_sigma) {
   ceres::Covariance::Options co;
   co.algorithm_type = ceres::SPARSE_QR;
   co.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
@@ -33,9 +34,18 @@ std::vector<PvaSigma> nodeSigmas(FgoGraph& graph, ceres::Problem& problem, int n
     pairs.emplace_back(b.p, b.p);
     pairs.emplace_back(b.v, b.v);
     pairs.emplace_back(b.q, b.q);
+    if (graph.estimatesOdometerScale()) pairs.emplace_back(b.s, b.s);
   }
   std::vector<PvaSigma> out(n, PvaSigma::Constant(std::nan("")));
   if (!cov.Compute(pairs, &problem)) return out;
+  if (graph.estimatesOdometerScale()) {
+    scale_sigma->assign(n, std::nan(""));
+    for (size_t k = 0; k < n; ++k) {
+      double var = 0.0;
+      cov.GetCovarianceBlock(graph.blocks(k).s, graph.blocks(k).s, &var);
+      (*scale_sigma)[k] = std::sqrt(std::max(var, 0.0));
+    }
+  }
   for (size_t k = 0; k < n; ++k) {
     const NodeBlocks& b = graph.blocks(k);
     const NodeValue x = b.value();
@@ -57,12 +67,12 @@ std::vector<PvaSigma> nodeSigmas(FgoGraph& graph, ceres::Problem& problem, int n
 // The solution's epochs from `run`, into `output`, or into the returned solution when `output`
 // is empty (the solution then holds only the GNSS bookkeeping).
 NavSolution outputSolution(const FgoGraph& graph, const std::string& estimator,
-                           const std::function<void(const FgoEpochFn&)>& run,
-                           const FgoEpochFn& output) {
+                           const std::function<void(const FgoEpochFn&, const FgoScaleFn&)>& run,
+                           const FgoEpochFn& output, const FgoScaleFn& scale_output) {
   NavSolution sol;
   sol.estimator = estimator;
   if (output) {
-    run(output);
+    run(output, graph.estimatesOdometerScale() ? scale_output : FgoScaleFn{});
   } else {
     // Every sample after the initial state (placed nodes: the samples held, else known later).
     const size_t n_out = !graph.placing() ? graph.sampleCount() - graph.firstSample() + 1
@@ -70,13 +80,22 @@ NavSolution outputSolution(const FgoGraph& graph, const std::string& estimator,
     sol.states.reserve(n_out);
     sol.gyro_bias_rad_s.reserve(n_out);
     sol.accel_bias_m_s2.reserve(n_out);
-    run([&](const NavState& s, const PvaSigma* sigma, const Eigen::Vector3d& bg,
+    FgoScaleFn scale;
+    if (graph.estimatesOdometerScale()) {
+      scale = [&](const OdometerScaleEstimate& k) {
+        sol.odometer_scale.push_back(k.scale);
+        sol.odometer_scale_std.push_back(k.std);
+      };
+    }
+    run(
+        [&](const NavState& s, const PvaSigma* sigma, const Eigen::Vector3d& bg,
             const Eigen::Vector3d& ba) {
-      sol.states.push_back(s);
-      sol.gyro_bias_rad_s.push_back(bg);
-      sol.accel_bias_m_s2.push_back(ba);
-      if (sigma) sol.sigma.push_back(*sigma);
-    });
+          sol.states.push_back(s);
+          sol.gyro_bias_rad_s.push_back(bg);
+          sol.accel_bias_m_s2.push_back(ba);
+          if (sigma) sol.sigma.push_back(*sigma);
+        },
+        scale);
   }
   sol.gnss_withheld = graph.gnssWithheld();
   return sol;
@@ -92,10 +111,11 @@ bool allFinite(const NodeValue& x) {
 // are there.
 class WindowOutput final : public WindowListener {
  public:
-  WindowOutput(const FgoGraph& graph, bool fixed_lag, const FgoEpochFn& output)
+  WindowOutput(const FgoGraph& graph, bool fixed_lag, const FgoEpochFn& output,
+               const FgoScaleFn& scale_output)
       : graph_(graph),
         fixed_lag_(fixed_lag),
-        out_(graph.frame(), graph.problem().initial.gnss_week, output) {}
+        out_(graph.frame(), graph.problem().initial.gnss_week, output, scale_output) {}
   void entered(size_t k, const NodeValue& x, const ImuSampleBuffer& samples) override {
     if (fixed_lag_) return;
     if (k > 0) emitInterval(k - 1, held_, samples);
@@ -142,6 +162,8 @@ class BatchSolver {
   static ceres::Problem::Options problemOptions();
   // Intervals whose node bias moved far from the preintegration's linearization.
   std::vector<size_t> movedIntervals() const;
+  // Odometer / NHC factors of every node, the scale's walk and prior (vehicle aiding only).
+  void addVehicleFactors();
 
   FgoGraph& graph_;
   const ImuPassFn& imu_;
@@ -191,6 +213,7 @@ BatchSolver::BatchSolver(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions
     prob_.AddResidualBlock(pfs_[k], nullptr, graph_.preintegrationBlocks(k));
     prob_.AddResidualBlock(graph_.makeBiasFactor(k), nullptr, graph_.biasBlocks(k));
   }
+  addVehicleFactors();
   for (size_t k = 0; k < n_; ++k) {
     for (size_t fix : graph_.node(k).gnss) {
       gnss_[k].emplace_back(prob_.AddResidualBlock(graph_.makeGnssFactor(fix), graph_.gnssLoss(),
@@ -204,6 +227,21 @@ BatchSolver::BatchSolver(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions
   so_.initial_trust_region_radius = options.initial_trust_region_radius;  // see sliding_window.cpp
   so_.num_threads = options.num_threads;
   so_.logging_type = ceres::SILENT;
+}
+
+void BatchSolver::addVehicleFactors() {
+  if (graph_.estimatesOdometerScale()) {
+    prob_.AddResidualBlock(graph_.makeScalePrior(), nullptr, {graph_.blocks(0).s});
+    for (size_t k = 0; k + 1 < n_; ++k) {
+      prob_.AddResidualBlock(graph_.makeScaleWalkFactor(k), nullptr, graph_.scaleWalkBlocks(k));
+    }
+  }
+  for (size_t k = 1; k < n_; ++k) {
+    if (VehicleVelocityFactor* f = graph_.makeVehicleFactor(k)) {
+      prob_.AddResidualBlock(f, nullptr, graph_.vehicleBlocks(k, *f));
+      ++rep_.vehicle_factors;
+    }
+  }
 }
 
 void BatchSolver::solve() {
@@ -287,28 +325,31 @@ ImuPassFn seriesPass(const ImuSeries& imu) {
 }
 
 NavSolution solveWindowFgo(const EstimationProblem& problem, const FgoOptions& options,
-                           FgoReport* report, const FgoEpochFn& output) {
-  return solveWindowFgo(problem, seriesPass(problem.imu), options, report, output);
+                           FgoReport* report, const FgoEpochFn& output,
+                           const FgoScaleFn& scale_output) {
+  return solveWindowFgo(problem, seriesPass(problem.imu), options, report, output, scale_output);
 }
 
 NavSolution solveWindowFgo(const EstimationProblem& problem, const ImuPassFn& imu,
-                           const FgoOptions& options, FgoReport* report, const FgoEpochFn& output) {
+                           const FgoOptions& options, FgoReport* report, const FgoEpochFn& output,
+                           const FgoScaleFn& scale_output) {
   FgoReport local;
   FgoReport& rep = report ? *report : local;
   const auto t0 = std::chrono::steady_clock::now();
   FgoGraph graph(problem, options, PlaceNodesDuringPass{});  // one read of the IMU
   NavSolution sol = outputSolution(
       graph, "fgo-window",
-      [&](const FgoEpochFn& out) {
-        WindowOutput listener(graph, options.window_fixed_lag_output, out);
+      [&](const FgoEpochFn& out, const FgoScaleFn& scale) {
+        WindowOutput listener(graph, options.window_fixed_lag_output, out, scale);
         runSlidingWindow(graph, imu, &rep, false, &listener);
       },
-      output);
+      output, scale_output);
   rep.window_time_s = secondsSince(t0);  // with the output, written as the window goes
   rep.nodes = static_cast<int>(graph.nodeCount());
   rep.gnss_factors = static_cast<int>(graph.fixCount());
   sol.gnss_used = rep.gnss_factors - rep.gnss_culled;
   sol.gnss_rejected = rep.gnss_culled;
+  sol.vehicle_used = rep.vehicle_factors;
   rep.summary = fmt::format(
       "fgo-window: {} nodes, {} GNSS ({} culled), {} re-preintegrations, "
       "{} solves, {:.3f} s",
@@ -318,12 +359,14 @@ NavSolution solveWindowFgo(const EstimationProblem& problem, const ImuPassFn& im
 }
 
 NavSolution solveBatchFgo(const EstimationProblem& problem, const FgoOptions& options,
-                          FgoReport* report, const FgoEpochFn& output) {
-  return solveBatchFgo(problem, seriesPass(problem.imu), options, report, output);
+                          FgoReport* report, const FgoEpochFn& output,
+                          const FgoScaleFn& scale_output) {
+  return solveBatchFgo(problem, seriesPass(problem.imu), options, report, output, scale_output);
 }
 
 NavSolution solveBatchFgo(const EstimationProblem& problem, const ImuPassFn& imu,
-                          const FgoOptions& options, FgoReport* report, const FgoEpochFn& output) {
+                          const FgoOptions& options, FgoReport* report, const FgoEpochFn& output,
+                          const FgoScaleFn& scale_output) {
   FgoReport local;
   FgoReport& rep = report ? *report : local;
   auto t0 = std::chrono::steady_clock::now();
@@ -340,17 +383,23 @@ NavSolution solveBatchFgo(const EstimationProblem& problem, const ImuPassFn& imu
   rep.batch_time_s = secondsSince(t0);
 
   std::vector<PvaSigma> sig;
+  std::vector<double> scale_sig;
   if (options.compute_covariance) {
     t0 = std::chrono::steady_clock::now();
-    sig = nodeSigmas(graph, batch.problem(), options.num_threads);
+    sig = nodeSigmas(graph, batch.problem(), options.num_threads, &scale_sig);
     rep.covariance_time_s = secondsSince(t0);
   }
   t0 = std::chrono::steady_clock::now();
   NavSolution sol = outputSolution(
-      graph, "fgo", [&](const FgoEpochFn& out) { graph.outputPass(imu, sig, out); }, output);
+      graph, "fgo",
+      [&](const FgoEpochFn& out, const FgoScaleFn& scale) {
+        graph.outputPass(imu, sig, out, scale, scale_sig);
+      },
+      output, scale_output);
   rep.output_time_s = secondsSince(t0);
   sol.gnss_used = rep.gnss_factors - rep.gnss_culled;
   sol.gnss_rejected = rep.gnss_culled;
+  sol.vehicle_used = rep.vehicle_factors;
   rep.summary = fmt::format(
       "fgo: {} nodes, {} GNSS ({} culled), {} re-preintegrations, {} solves / {} iterations, "
       "cost {:.4g} -> {:.4g}, window init {:.3f} s, batch {:.3f} s{}",

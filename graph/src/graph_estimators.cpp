@@ -16,16 +16,22 @@ FgoEpochFn toSink(SolutionSink& sink) {
   };
 }
 
+// The odometer scale estimate of the epoch that follows, when vehicle aiding estimates it.
+FgoScaleFn toScaleSink(SolutionSink& sink) {
+  return [&sink](const OdometerScaleEstimate& k) { sink.addOdometerScale(k); };
+}
+
 }  // namespace
 
 void addGraphEstimators(EstimatorRegistry* registry) {
-  EstimatorEntry batch{
-      "fgo", "factor-graph batch smoother (Ceres, SuiteSparse), docs/fgo.md",
-      [](const EstimationProblem& p, const EstimatorOptions& o, const ProgressFn&) {
-        return solveBatchFgo(p, o.fgo);
-      },
-      [](const EstimationProblem& p, const ImuPassFn& imu, const EstimatorOptions& o,
-         SolutionSink& sink) { return solveBatchFgo(p, imu, o.fgo, nullptr, toSink(sink)); }};
+  EstimatorEntry batch{"fgo", "factor-graph batch smoother (Ceres, SuiteSparse), docs/fgo.md",
+                       [](const EstimationProblem& p, const EstimatorOptions& o,
+                          const ProgressFn&) { return solveBatchFgo(p, o.fgo); },
+                       [](const EstimationProblem& p, const ImuPassFn& imu,
+                          const EstimatorOptions& o, SolutionSink& sink) {
+                         return solveBatchFgo(p, imu, o.fgo, nullptr, toSink(sink),
+                                              toScaleSink(sink));
+                       }};
   batch.estimates_scale_factors = false;
   registry->add(std::move(batch));
   EstimatorEntry window{
@@ -34,7 +40,9 @@ void addGraphEstimators(EstimatorRegistry* registry) {
         return solveWindowFgo(p, o.fgo);
       },
       [](const EstimationProblem& p, const ImuPassFn& imu, const EstimatorOptions& o,
-         SolutionSink& sink) { return solveWindowFgo(p, imu, o.fgo, nullptr, toSink(sink)); }};
+         SolutionSink& sink) {
+        return solveWindowFgo(p, imu, o.fgo, nullptr, toSink(sink), toScaleSink(sink));
+      }};
   window.estimates_scale_factors = false;
   registry->add(std::move(window));
 }

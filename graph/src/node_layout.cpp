@@ -14,6 +14,9 @@ namespace graftnav {
 namespace {
 
 constexpr size_t kNone = std::numeric_limits<size_t>::max();
+// Fewest IMU samples between two nodes: one sample makes a preintegration whose covariance is
+// singular (its position and velocity errors both come from the one increment, dp = dv dt / 2).
+constexpr size_t kMinIntervalSamples = 2;
 
 struct SampleTime {
   size_t index = 0;
@@ -22,6 +25,11 @@ struct SampleTime {
 };
 
 }  // namespace
+
+double nodeSpacing(const EstimationProblem& problem, const FgoOptions& options) {
+  if (!problem.aiding.any()) return options.max_node_spacing_s;
+  return std::min(options.max_node_spacing_s, 1.0 / problem.aiding.rateHz());
+}
 
 // Streams the samples once. A GNSS fix is placed on the sample whose end is nearest its time
 // (searched from the first sample after the initial state), as soon as the first sample at or
@@ -36,6 +44,7 @@ class NodeLayoutBuilder::Impl {
         frame_(frame),
         options_(options),
         t0_(problem.initial.t_s),
+        spacing_s_(nodeSpacing(problem, options)),
         layout_(*layout) {
     layout_ = NodeLayout{};
     layout_.first_sample = kNone;
@@ -53,8 +62,9 @@ class NodeLayoutBuilder::Impl {
       layout_.nodes.push_back(n0);
     }
     times_.push_back(cur);
-    for (const GnssFix* f; (f = nextFix()) && f->t_s <= s.t_s; gnss_.pop())
-      placeFix(*f, times_.size() - 1);
+    for (const GnssFix* f; (f = nextFix()) && f->t_s <= s.t_s; gnss_.pop()) {
+      if (!placeFix(*f, times_.size() - 1)) break;  // its node needs a later sample
+    }
   }
 
   void finish() {
@@ -63,13 +73,20 @@ class NodeLayoutBuilder::Impl {
       throw std::invalid_argument("FgoGraph: initial state at t=" + std::to_string(t0_) +
                                   " is after the last IMU sample");
     }
+    if (count_ < layout_.first_sample + kMinIntervalSamples) {
+      throw std::invalid_argument(
+          "FgoGraph: fewer than " + std::to_string(kMinIntervalSamples) +
+          " IMU samples after the initial state at t=" + std::to_string(t0_));
+    }
     const SampleTime last = times_.back();
     for (const GnssFix* f; (f = nextFix()); gnss_.pop()) {  // fixes after the last sample's end
       if (f->t_s <= last.t_s + 0.5 * last.dt_s) placeFix(*f, times_.size() - 1);
     }
     layout_.gnss_withheld = gnss_.withheld();
     if (open_anchor_ != kNone) closeAnchor();
-    if (layout_.nodes.back().sample_end != count_) {
+    // A last node where the recording goes on after the last fix; a one-sample tail has none
+    // (the output integrates it from the last node).
+    if (count_ >= layout_.nodes.back().sample_end + kMinIntervalSamples) {
       open_anchor_ = times_.size() - 1;
       closeAnchor();
     }
@@ -86,22 +103,38 @@ class NodeLayoutBuilder::Impl {
   }
 
   // `fix` on the sample times_[pos] or the one before it, whichever ends nearer; dropped when
-  // that sample does not cover it (an IMU gap at the fix).
-  void placeFix(const GnssFix& fix, size_t pos) {
+  // that sample does not cover it (an IMU gap at the fix). No interval may hold fewer than
+  // kMinIntervalSamples samples, so a fix that would put its node closer than that to the open
+  // anchor shares the anchor's node, and one that would put it that close to the last node
+  // (the initial state's, before the first fix) goes on the first sample far enough from it,
+  // with its own time offset either way. Returns false, placing nothing, when that sample has
+  // not come yet.
+  bool placeFix(const GnssFix& fix, size_t pos) {
     const double t = fix.t_s;
     if (times_[pos].index > layout_.first_sample &&
         std::abs(times_[pos - 1].t_s - t) < std::abs(times_[pos].t_s - t)) {
       --pos;
     }
-    if (std::abs(times_[pos].t_s - t) > times_[pos].dt_s) return;
-    if (open_anchor_ != kNone && times_[pos].index != times_[open_anchor_].index) {
-      const size_t index = times_[pos].index;
-      closeAnchor();
-      pos = positionOf(index);
+    if (std::abs(times_[pos].t_s - t) > times_[pos].dt_s) return true;
+    if (open_anchor_ != kNone) {
+      if (times_[pos].index < times_[open_anchor_].index + kMinIntervalSamples) {
+        pos = open_anchor_;
+      } else {
+        const size_t index = times_[pos].index;
+        closeAnchor();
+        pos = positionOf(index);
+      }
+    } else {
+      const size_t earliest = layout_.nodes.back().sample_end + kMinIntervalSamples - 1;
+      if (times_[pos].index < earliest) {
+        if (times_.back().index < earliest) return false;
+        pos = positionOf(earliest);
+      }
     }
     open_anchor_ = pos;
     anchor_fixes_.push_back(layout_.fixCount());
     layout_.fixes.push_back(observe(fix, t - times_[pos].t_s));
+    return true;
   }
 
   // The fix in the local frame, whitened.
@@ -126,24 +159,26 @@ class NodeLayoutBuilder::Impl {
     std::deque<GraphNode>& nodes = layout_.nodes;
     const SampleTime a = times_[open_anchor_];
     const double t_prev = nodes.back().t_s;
-    const int n_sub =
-        static_cast<int>(std::ceil((a.t_s - t_prev) / options_.max_node_spacing_s - 0.25));
+    const int n_sub = static_cast<int>(std::ceil((a.t_s - t_prev) / spacing_s_ - 0.25));
     for (int m = 1; m < n_sub; ++m) {
       const SampleTime s = nearest(t_prev + (a.t_s - t_prev) * m / n_sub);
-      if (s.index + 1 > nodes.back().sample_end && s.index < a.index) {
+      if (s.index + 1 >= nodes.back().sample_end + kMinIntervalSamples &&
+          s.index + kMinIntervalSamples <= a.index) {
         GraphNode n;
         n.t_s = s.t_s;
         n.sample_end = s.index + 1;
         nodes.push_back(n);
       }
     }
-    if (a.index + 1 > nodes.back().sample_end) {
-      GraphNode n;
-      n.t_s = a.t_s;
-      n.sample_end = a.index + 1;
-      n.gnss = anchor_fixes_;
-      nodes.push_back(n);
+    if (a.index + 1 < nodes.back().sample_end + kMinIntervalSamples) {
+      throw std::logic_error("LayoutBuilder: anchor at t=" + std::to_string(a.t_s) +
+                             " too close to the node before it");
     }
+    GraphNode n;
+    n.t_s = a.t_s;
+    n.sample_end = a.index + 1;
+    n.gnss = anchor_fixes_;
+    nodes.push_back(n);
     anchor_fixes_.clear();
     const size_t keep = open_anchor_ > 0 ? open_anchor_ - 1 : 0;
     times_.erase(times_.begin(), times_.begin() + static_cast<std::ptrdiff_t>(keep));
@@ -167,6 +202,7 @@ class NodeLayoutBuilder::Impl {
   const LocalFrame& frame_;
   const FgoOptions& options_;
   const double t0_;
+  const double spacing_s_;  // largest interval between nodes (nodeSpacing)
   NodeLayout& layout_;
   size_t count_ = 0;                  // samples seen
   std::vector<SampleTime> times_;     // from the sample before the last node on

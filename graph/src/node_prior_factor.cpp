@@ -8,20 +8,28 @@ namespace graftnav {
 NodePriorFactor::NodePriorFactor(const NodeValue& x0, const Matrix15d& S, const Vector15d& e)
     : x0_(x0), S_(S), e_(e) {}
 
-bool NodePriorFactor::Evaluate(double const* const* parameters, double* residuals,
-                               double** jacobians) const {
+Eigen::Matrix<double, 15, 1> nodeDifference(const NodeValue& x0, double const* const* parameters,
+                                            Eigen::Vector3d* dth) {
   const Eigen::Map<const Eigen::Vector3d> p(parameters[0]);
   const Eigen::Map<const Eigen::Quaterniond> q(parameters[1]);
   const Eigen::Map<const Eigen::Vector3d> v(parameters[2]);
   const Eigen::Map<const Eigen::Vector3d> bg(parameters[3]);
   const Eigen::Map<const Eigen::Vector3d> ba(parameters[4]);
-  Vector15d dx;
-  dx.segment<3>(0) = p - x0_.p_w;
-  const Eigen::Vector3d dth = rotationVectorFromQuat(x0_.q_wb.conjugate() * q);
-  dx.segment<3>(3) = dth;
-  dx.segment<3>(6) = v - x0_.v_w;
-  dx.segment<3>(9) = bg - x0_.bg;
-  dx.segment<3>(12) = ba - x0_.ba;
+  Eigen::Matrix<double, 15, 1> dx;
+  dx.segment<3>(0) = p - x0.p_w;
+  *dth = rotationVectorFromQuat(x0.q_wb.conjugate() * q);
+  dx.segment<3>(3) = *dth;
+  dx.segment<3>(6) = v - x0.v_w;
+  dx.segment<3>(9) = bg - x0.bg;
+  dx.segment<3>(12) = ba - x0.ba;
+  return dx;
+}
+
+bool NodePriorFactor::Evaluate(double const* const* parameters, double* residuals,
+                               double** jacobians) const {
+  const Eigen::Map<const Eigen::Quaterniond> q(parameters[1]);
+  Eigen::Vector3d dth;
+  const Vector15d dx = nodeDifference(x0_, parameters, &dth);
   Eigen::Map<Vector15d>{residuals} = S_.lazyProduct(dx) + e_;
   if (jacobians == nullptr) return true;
   using Mat153R = Eigen::Matrix<double, 15, 3, Eigen::RowMajor>;
@@ -37,6 +45,33 @@ bool NodePriorFactor::Evaluate(double const* const* parameters, double* residual
         S_.middleCols<3>(3).lazyProduct(rightJacobianInverseSO3(dth));
     Eigen::Map<Mat154R>{jacobians[1]} = J_t * tangentToAmbientJacobian(q);
   }
+  return true;
+}
+
+NodeScalePriorFactor::NodeScalePriorFactor(const NodeValue& x0, const Matrix16d& S,
+                                           const Vector16d& e)
+    : x0_(x0), S_(S), e_(e) {}
+
+bool NodeScalePriorFactor::Evaluate(double const* const* parameters, double* residuals,
+                                    double** jacobians) const {
+  const Eigen::Map<const Eigen::Quaterniond> q(parameters[1]);
+  Eigen::Vector3d dth;
+  Vector16d dx;
+  dx.head<15>() = nodeDifference(x0_, parameters, &dth);
+  dx(15) = parameters[5][0] - x0_.odometer_scale;
+  Eigen::Map<Vector16d>{residuals} = S_.lazyProduct(dx) + e_;
+  if (jacobians == nullptr) return true;
+  using Mat163R = Eigen::Matrix<double, 16, 3, Eigen::RowMajor>;
+  using Mat164R = Eigen::Matrix<double, 16, 4, Eigen::RowMajor>;
+  for (int b : {0, 2, 3, 4}) {
+    if (jacobians[b]) Eigen::Map<Mat163R>{jacobians[b]} = S_.middleCols<3>(3 * b);
+  }
+  if (jacobians[1]) {
+    const Eigen::Matrix<double, 16, 3> J_t =
+        S_.middleCols<3>(3).lazyProduct(rightJacobianInverseSO3(dth));
+    Eigen::Map<Mat164R>{jacobians[1]} = J_t * tangentToAmbientJacobian(q);
+  }
+  if (jacobians[5]) Eigen::Map<Vector16d>{jacobians[5]} = S_.col(15);
   return true;
 }
 

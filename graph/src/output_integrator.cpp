@@ -5,10 +5,15 @@
 
 namespace graftnav {
 
-OutputIntegrator::OutputIntegrator(const LocalFrame& frame, int gnss_week, FgoEpochFn output)
-    : frame_(frame), gnss_week_(gnss_week), output_(std::move(output)) {}
+OutputIntegrator::OutputIntegrator(const LocalFrame& frame, int gnss_week, FgoEpochFn output,
+                                   FgoScaleFn scale_output)
+    : frame_(frame),
+      gnss_week_(gnss_week),
+      output_(std::move(output)),
+      scale_output_(std::move(scale_output)) {}
 
-void OutputIntegrator::node(double t_s, const NodeValue& x, const PvaSigma* sigma) {
+void OutputIntegrator::node(double t_s, const NodeValue& x, const PvaSigma* sigma,
+                            double scale_std) {
   NavState s = frame_.toNavState(t_s, x.p_w, x.v_w, x.q_wb);
   s.gnss_week = gnss_week_;
   if (sd_) {
@@ -20,6 +25,7 @@ void OutputIntegrator::node(double t_s, const NodeValue& x, const PvaSigma* sigm
   pending_.state = s;
   pending_.bg = x.bg;
   pending_.ba = x.ba;
+  pending_.scale = {x.odometer_scale, scale_std};
   pending_.has_sigma = sigma != nullptr;
   if (sigma) pending_.sigma = *sigma;
 }

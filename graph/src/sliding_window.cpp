@@ -19,6 +19,9 @@ struct NodeResiduals {
   ceres::ResidualBlockId bias_out = nullptr;
   PreintegrationFactor* preint_factor = nullptr;
   std::vector<std::pair<ceres::ResidualBlockId, size_t>> gnss;
+  // Vehicle aiding: the node's odometer / NHC factor, the scale walk to the next node, and (node
+  // 0) the scale's prior; null when absent.
+  ceres::ResidualBlockId vehicle = nullptr, scale_out = nullptr, scale_prior = nullptr;
 };
 
 ceres::Solver::Options windowSolverOptions(const FgoOptions& o) {
@@ -42,15 +45,19 @@ ceres::Solver::Options windowSolverOptions(const FgoOptions& o) {
 
 namespace {
 
-using Matrix30d = Eigen::Matrix<double, 30, 30>;
-using Vector30d = Eigen::Matrix<double, 30, 1>;
+// Tangent dimensions of one node: 15 (p, q, v, bg, ba), 16 with the odometer scale s.
+template <int N>
+using PairMatrix = Eigen::Matrix<double, 2 * N, 2 * N>;
+template <int N>
+using PairVector = Eigen::Matrix<double, 2 * N, 1>;
 
 // Adds J^T J and J^T r of one residual block (robust loss applied as a scale, quaternion
 // Jacobians taken to the tangent) to H, g over the tangent of nodes m and m+1.
+template <int N>
 void accumulateBlock(FgoGraph& graph, ceres::Problem& problem, size_t m,
                      const std::map<const double*, int>& offset, ceres::ResidualBlockId id,
-                     Matrix30d* H, Vector30d* g) {
-  constexpr int kN = 30;
+                     PairMatrix<N>* H, PairVector<N>* g) {
+  constexpr int kN = 2 * N;
   const ceres::CostFunction* cost = problem.GetCostFunctionForResidualBlock(id);
   const ceres::LossFunction* loss = problem.GetLossFunctionForResidualBlock(id);
   std::vector<double*> blocks;
@@ -87,7 +94,7 @@ void accumulateBlock(FgoGraph& graph, ceres::Problem& problem, size_t m,
       graph.quaternionManifold()->PlusJacobian(blocks[i], P.data());
       Jt.block(0, it->second, nr, 3) = scale * J[i] * P;
     } else {
-      Jt.block(0, it->second, nr, 3) = scale * J[i];
+      Jt.block(0, it->second, nr, sizes[i]) = scale * J[i];
     }
   }
   *H += Jt.transpose() * Jt;
@@ -95,28 +102,30 @@ void accumulateBlock(FgoGraph& graph, ceres::Problem& problem, size_t m,
 }
 
 // Schur complement of H, g on the second node, factored as S^T S = H', S^T e = g'.
-void schurOnSecondNode(const Matrix30d& H, const Vector30d& g, NodePriorFactor::Matrix15d* S,
-                       NodePriorFactor::Vector15d* e) {
-  const Eigen::Matrix<double, 15, 15> Hmm =
-      0.5 * (H.topLeftCorner<15, 15>() + H.topLeftCorner<15, 15>().transpose());
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 15, 15>> es_m(Hmm);
+template <int N>
+void schurOnSecondNode(const PairMatrix<N>& H, const PairVector<N>& g,
+                       Eigen::Matrix<double, N, N>* S, Eigen::Matrix<double, N, 1>* e) {
+  const Eigen::Matrix<double, N, N> Hmm =
+      0.5 * (H.template topLeftCorner<N, N>() + H.template topLeftCorner<N, N>().transpose());
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> es_m(Hmm);
   const double tol_m = 1e-12 * std::max(es_m.eigenvalues().maxCoeff(), 1e-300);
-  Eigen::Matrix<double, 15, 1> inv_l;
-  for (int i = 0; i < 15; ++i) {
+  Eigen::Matrix<double, N, 1> inv_l;
+  for (int i = 0; i < N; ++i) {
     const double l = es_m.eigenvalues()(i);
     inv_l(i) = l > tol_m ? 1.0 / l : 0.0;
   }
-  const Eigen::Matrix<double, 15, 15> Hmm_inv =
+  const Eigen::Matrix<double, N, N> Hmm_inv =
       es_m.eigenvectors() * inv_l.asDiagonal() * es_m.eigenvectors().transpose();
-  const Eigen::Matrix<double, 15, 15> Hrm = H.bottomLeftCorner<15, 15>();
-  Eigen::Matrix<double, 15, 15> Hp =
-      H.bottomRightCorner<15, 15>() - Hrm * Hmm_inv * Hrm.transpose();
+  const Eigen::Matrix<double, N, N> Hrm = H.template bottomLeftCorner<N, N>();
+  Eigen::Matrix<double, N, N> Hp =
+      H.template bottomRightCorner<N, N>() - Hrm * Hmm_inv * Hrm.transpose();
   Hp = 0.5 * (Hp + Hp.transpose()).eval();
-  const Eigen::Matrix<double, 15, 1> gp = g.tail<15>() - Hrm * Hmm_inv * g.head<15>();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 15, 15>> es(Hp);
+  const Eigen::Matrix<double, N, 1> gp =
+      g.template tail<N>() - Hrm * Hmm_inv * g.template head<N>();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> es(Hp);
   const double tol = 1e-12 * std::max(es.eigenvalues().maxCoeff(), 1e-300);
-  Eigen::Matrix<double, 15, 1> sq, isq;
-  for (int i = 0; i < 15; ++i) {
+  Eigen::Matrix<double, N, 1> sq, isq;
+  for (int i = 0; i < N; ++i) {
     const double l = es.eigenvalues()(i);
     sq(i) = l > tol ? std::sqrt(l) : 0.0;
     isq(i) = l > tol ? 1.0 / std::sqrt(l) : 0.0;
@@ -128,25 +137,45 @@ void schurOnSecondNode(const Matrix30d& H, const Vector30d& g, NodePriorFactor::
 
 }  // namespace
 
-NodePriorFactor* marginalizeNode(FgoGraph& graph, ceres::Problem& problem, size_t m,
-                                 const std::vector<ceres::ResidualBlockId>& residuals) {
+namespace {
+
+// H, g of the residual blocks over the tangent of nodes m and m+1 (N dims each), and their
+// Schur complement on node m+1.
+template <int N>
+void marginalSystem(FgoGraph& graph, ceres::Problem& problem, size_t m,
+                    const std::vector<ceres::ResidualBlockId>& residuals,
+                    Eigen::Matrix<double, N, N>* S, Eigen::Matrix<double, N, 1>* e) {
   // Tangent offset of every parameter block of nodes m and m+1.
   std::map<const double*, int> offset;
   for (int n = 0; n < 2; ++n) {
     NodeBlocks& b = graph.blocks(m + n);
-    offset[b.p] = 15 * n + 0;
-    offset[b.q] = 15 * n + 3;
-    offset[b.v] = 15 * n + 6;
-    offset[b.bg] = 15 * n + 9;
-    offset[b.ba] = 15 * n + 12;
+    offset[b.p] = N * n + 0;
+    offset[b.q] = N * n + 3;
+    offset[b.v] = N * n + 6;
+    offset[b.bg] = N * n + 9;
+    offset[b.ba] = N * n + 12;
+    if (N > 15) offset[b.s] = N * n + 15;
   }
-  Matrix30d H = Matrix30d::Zero();
-  Vector30d g = Vector30d::Zero();
+  PairMatrix<N> H = PairMatrix<N>::Zero();
+  PairVector<N> g = PairVector<N>::Zero();
   for (ceres::ResidualBlockId id : residuals)
-    accumulateBlock(graph, problem, m, offset, id, &H, &g);
+    accumulateBlock<N>(graph, problem, m, offset, id, &H, &g);
+  schurOnSecondNode<N>(H, g, S, e);
+}
+
+}  // namespace
+
+ceres::CostFunction* marginalizeNode(FgoGraph& graph, ceres::Problem& problem, size_t m,
+                                     const std::vector<ceres::ResidualBlockId>& residuals) {
+  if (graph.estimatesOdometerScale()) {
+    NodeScalePriorFactor::Matrix16d S;
+    NodeScalePriorFactor::Vector16d e;
+    marginalSystem<16>(graph, problem, m, residuals, &S, &e);
+    return new NodeScalePriorFactor(graph.blocks(m + 1).value(), S, e);
+  }
   NodePriorFactor::Matrix15d S;
   NodePriorFactor::Vector15d e;
-  schurOnSecondNode(H, g, &S, &e);
+  marginalSystem<15>(graph, problem, m, residuals, &S, &e);
   return new NodePriorFactor(graph.blocks(m + 1).value(), S, e);
 }
 
@@ -187,7 +216,7 @@ class SlidingWindow {
   size_t oldest_ = 0, solving_node_ = 0;
   double last_gnss_t_ = 0.0, reacquired_t_ = 0.0;
   int consecutive_culls_ = 0;
-  int culled_ = 0, reint_ = 0, solves_ = 0, iterations_ = 0;
+  int culled_ = 0, reint_ = 0, solves_ = 0, iterations_ = 0, vehicle_ = 0;
 };
 
 ceres::Problem::Options windowProblemOptions() {
@@ -209,6 +238,10 @@ SlidingWindow::SlidingWindow(FgoGraph& graph, bool keep_preintegrations, WindowL
   res_.emplace_back();
   res_.front().prior =
       problem_.AddResidualBlock(graph_.makeInitialPrior(), nullptr, graph_.nodeBlocks(0));
+  if (graph_.estimatesOdometerScale()) {
+    res_.front().scale_prior =
+        problem_.AddResidualBlock(graph_.makeScalePrior(), nullptr, {graph_.blocks(0).s});
+  }
   last_gnss_t_ = reacquired_t_ = graph_.node(0).t_s;
   listener_->entered(0, graph_.blocks(0).value(), ImuSampleBuffer());
 }
@@ -236,7 +269,15 @@ void SlidingWindow::addFactors(size_t k) {
   prev.preint_out = problem_.AddResidualBlock(pf, nullptr, graph_.preintegrationBlocks(k - 1));
   prev.bias_out =
       problem_.AddResidualBlock(graph_.makeBiasFactor(k - 1), nullptr, graph_.biasBlocks(k - 1));
+  if (graph_.estimatesOdometerScale()) {
+    prev.scale_out = problem_.AddResidualBlock(graph_.makeScaleWalkFactor(k - 1), nullptr,
+                                               graph_.scaleWalkBlocks(k - 1));
+  }
   res_.emplace_back();
+  if (VehicleVelocityFactor* vf = graph_.makeVehicleFactor(k)) {
+    res_.back().vehicle = problem_.AddResidualBlock(vf, nullptr, graph_.vehicleBlocks(k, *vf));
+    ++vehicle_;
+  }
   const bool reacquiring = graph_.node(k).t_s - reacquired_t_ <= opt_.cull_grace_s;
   for (size_t fix : graph_.node(k).gnss) {
     res_.back().gnss.emplace_back(
@@ -277,6 +318,7 @@ void SlidingWindow::addNode(size_t k, const ImuSampleBuffer& samples) {
   }
   graph_.preintegrate(k - 1, samples);
   graph_.predictNode(k);
+  graph_.observeVehicle(k, samples);
   addFactors(k);
   const bool solve_now = (k % static_cast<size_t>(opt_.window_solve_stride) == 0) || isLastNode(k);
   if (solve_now) solve();
@@ -303,18 +345,20 @@ void SlidingWindow::marginalizeOldest(const ImuSampleBuffer& samples) {
   ids.push_back(r.preint_out);
   ids.push_back(r.bias_out);
   for (const auto& gq : r.gnss) ids.push_back(gq.first);
-  NodePriorFactor* prior = marginalizeNode(graph_, problem_, oldest_, ids);
+  for (ceres::ResidualBlockId id : {r.vehicle, r.scale_out, r.scale_prior})
+    if (id) ids.push_back(id);
+  ceres::CostFunction* prior = marginalizeNode(graph_, problem_, oldest_, ids);
   listener_->left(oldest_, graph_.blocks(oldest_).value(), samples);
   // The factors first, in this fixed order: RemoveParameterBlock would remove them in the order
   // of a hash set of their addresses, which moves with the heap layout, and that order is the
   // order of the Jacobian's rows in later solves (their rounding).
   for (ceres::ResidualBlockId id : ids) problem_.RemoveResidualBlock(id);
-  for (double* b : graph_.nodeBlocks(oldest_)) problem_.RemoveParameterBlock(b);
+  for (double* b : graph_.allBlocks(oldest_)) problem_.RemoveParameterBlock(b);
   if (!keep_preintegrations_) graph_.releasePreintegration(oldest_);
   res_.pop_front();
   ++oldest_;
   if (!keep_preintegrations_) graph_.forgetBefore(oldest_);
-  res_.front().prior = problem_.AddResidualBlock(prior, nullptr, graph_.nodeBlocks(oldest_));
+  res_.front().prior = problem_.AddResidualBlock(prior, nullptr, graph_.allBlocks(oldest_));
 }
 
 void SlidingWindow::finish(const ImuSampleBuffer& samples) {
@@ -329,6 +373,7 @@ void SlidingWindow::addCounts(FgoReport* report) const {
   report->reintegrations += reint_;
   report->solves += solves_;
   report->iterations += iterations_;
+  report->vehicle_factors += vehicle_;
 }
 
 }  // namespace

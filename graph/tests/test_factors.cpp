@@ -7,12 +7,16 @@
 
 #include <random>
 
+#include "graftnav/filters/vehicle_velocity.h"
+#include "graftnav/graph/local_frame.h"
 #include "graftnav/nav/rotation.h"
 #include "graftnav/graph/bias_factor.h"
 #include "graftnav/graph/gnss_position_factor.h"
 #include "graftnav/graph/node_prior_factor.h"
+#include "graftnav/graph/odometer_scale_factor.h"
 #include "graftnav/graph/preintegration_factor.h"
 #include "graftnav/graph/right_quaternion_manifold.h"
+#include "graftnav/graph/vehicle_velocity_factor.h"
 #include "graph_scenario.h"
 #include "test_support.h"
 
@@ -186,6 +190,84 @@ TEST_F(FactorJacobians, NodePriorFactor) {
   Eigen::Quaterniond q = x0.q_wb * quatFromRotationVector(Eigen::Vector3d(0.3, -0.2, 0.4));
   expectJacobiansMatch(f, {p.data(), q.coeffs().data(), v.data(), bg.data(), ba.data()},
                        {nullptr, &manifold_, nullptr, nullptr, nullptr}, 1e-6);
+}
+
+TEST_F(FactorJacobians, VehicleVelocityFactor) {
+  Eigen::Vector3d v(8.0, 3.0, -0.2), bg(2e-4, -1e-4, 3e-4);
+  Eigen::Quaterniond q = quatFromEuler(Eigen::Vector3d(0.05, -0.03, 1.2));
+  double s = 2500e-6;
+  const Eigen::Matrix3d C_vb = quatFromEuler(Eigen::Vector3d(0.01, -0.02, 0.04)).toRotationMatrix();
+  const Eigen::Vector3d lever(-0.8, 0.5, 1.1), w_ie(3e-5, 0.0, -4e-5);
+  VehicleObservation obs;
+  obs.omega_raw_b << 0.05, -0.04, 0.3;
+  obs.has_speed = true;
+  obs.speed_m_s = 8.4;
+  obs.row_std_m_s << 0.05, 0.1, 0.2;
+  const VehicleVelocityFactor with_scale(obs, C_vb, lever, w_ie, true);
+  ASSERT_TRUE(with_scale.usesScale());
+  expectJacobiansMatch(with_scale, {q.coeffs().data(), v.data(), bg.data(), &s},
+                       {&manifold_, nullptr, nullptr, nullptr}, 1e-6);
+  obs.has_speed = false;  // NHC only: two rows, no scale block
+  const VehicleVelocityFactor nhc(obs, C_vb, lever, w_ie, true);
+  EXPECT_FALSE(nhc.usesScale());
+  EXPECT_EQ(nhc.num_residuals(), 2);
+  expectJacobiansMatch(nhc, {q.coeffs().data(), v.data(), bg.data()},
+                       {&manifold_, nullptr, nullptr}, 1e-6);
+}
+
+TEST_F(FactorJacobians, OdometerScaleFactors) {
+  double a = 1e-3, b = 1.5e-3;
+  const OdometerScaleWalkFactor walk(1e-5, 2.0);
+  expectJacobiansMatch(walk, {&a, &b}, {nullptr, nullptr}, 1e-6);
+  const OdometerScalePriorFactor prior(0.0, 0.01);
+  expectJacobiansMatch(prior, {&a}, {nullptr}, 1e-6);
+  double r = 0.0;
+  const double* pa[] = {&a};
+  prior.Evaluate(pa, &r, nullptr);
+  EXPECT_NEAR(r, 0.1, 1e-12);
+}
+
+TEST_F(FactorJacobians, NodeScalePriorFactor) {
+  std::mt19937 rng(6);
+  NodeValue x0;
+  x0.p_w << 1, 2, 3;
+  x0.q_wb = randomQuat(rng, 2.0);
+  x0.v_w << 4, 5, 6;
+  x0.odometer_scale = 1e-3;
+  const NodeScalePriorFactor f(x0, NodeScalePriorFactor::Matrix16d::Random(),
+                               NodeScalePriorFactor::Vector16d::Random());
+  Eigen::Vector3d p(1.5, 2.2, 2.9), v(4.1, 4.9, 6.3), bg(1e-3, 0, 0), ba(0.1, 0.2, 0.0);
+  double s = 2e-3;
+  Eigen::Quaterniond q = x0.q_wb * quatFromRotationVector(Eigen::Vector3d(0.3, -0.2, 0.4));
+  expectJacobiansMatch(f, {p.data(), q.coeffs().data(), v.data(), bg.data(), ba.data(), &s},
+                       {nullptr, &manifold_, nullptr, nullptr, nullptr, nullptr}, 1e-6);
+}
+
+// The factor carries the EKF's model (filters/vehicle_velocity.h): at the origin of w the two
+// differ only by the transport rate in the lever-arm term (~1e-6 m/s here).
+TEST(VehicleVelocityFactorModel, EqualsTheEkfsVehicleVelocity) {
+  NavState s;
+  s.pos = {30.5 * kDegToRad, 114.3 * kDegToRad, 40.0};
+  s.v_n << 9.0, -4.0, 0.3;
+  s.q_nb = quatFromEuler(Eigen::Vector3d(0.04, -0.02, 2.1));
+  const LocalFrame frame(s.pos);
+  Eigen::Vector3d p_w, v_w;
+  Eigen::Quaterniond q_wb;
+  frame.fromNavState(s, &p_w, &v_w, &q_wb);
+  VehicleGeometry g;
+  g.C_vb = quatFromEuler(Eigen::Vector3d(0.01, -0.02, 0.04)).toRotationMatrix();
+  g.lever_arm_b_m << -0.8, 0.5, 1.1;
+  const Eigen::Vector3d omega_ib(0.05, -0.04, 0.3), bg(2e-4, -1e-4, 3e-4);
+  VehicleObservation obs;
+  obs.omega_raw_b = omega_ib + bg;
+  obs.has_speed = true;
+  obs.row_std_m_s.setOnes();
+  const VehicleVelocityFactor f(obs, g.C_vb, g.lever_arm_b_m, frame.omega_ie_w(), false);
+  Eigen::Vector3d r;
+  const double* params[] = {q_wb.coeffs().data(), v_w.data(), bg.data()};
+  ASSERT_TRUE(f.Evaluate(params, r.data(), nullptr));
+  EXPECT_LT((r - vehicleVelocity(s, omega_ib, g)).norm(), 1e-5)
+      << r.transpose() << " vs " << vehicleVelocity(s, omega_ib, g).transpose();
 }
 
 }  // namespace

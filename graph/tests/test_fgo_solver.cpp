@@ -186,7 +186,7 @@ TEST(FgoSolver, MarginalizationPreservesOptimumAndCovariance) {
   Eigen::Matrix3d Pv_full;
   cov_full.GetCovarianceBlock(pv1, pv1, Pv_full.data());
 
-  NodePriorFactor* mprior = marginalizeNode(graph, full, 0, touching0);
+  ceres::CostFunction* mprior = marginalizeNode(graph, full, 0, touching0);
   for (double* b : graph.nodeBlocks(0)) full.RemoveParameterBlock(b);
   full.AddResidualBlock(mprior, nullptr, graph.nodeBlocks(1));
   // Perturb, re-solve: must return to the same optimum.

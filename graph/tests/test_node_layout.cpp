@@ -17,8 +17,10 @@ namespace graftnav {
 namespace {
 
 // The layout rule over a series in memory: each fix on the sample whose end is nearest
-// (dropped outside the samples' cover), nodes on those samples, and between them every
-// max_node_spacing_s on the nearest samples.
+// (dropped outside the samples' cover), nodes on those samples at least two samples apart (a fix
+// nearer than that to the previous fix's sample shares its node; the first fix goes at least
+// two samples after the initial state's), a last node at the last sample unless that is a
+// one-sample tail, and between them every max_node_spacing_s on the nearest samples.
 NodeLayout directLayout(const EstimationProblem& p, const FgoOptions& o) {
   const ImuSeries& imu = p.imu;
   const double t0 = p.initial.t_s;
@@ -35,7 +37,7 @@ NodeLayout directLayout(const EstimationProblem& p, const FgoOptions& o) {
     if (i > L.first_sample && std::abs(imu[i - 1].t_s - t) < std::abs(imu[i].t_s - t)) --i;
     return i;
   };
-  std::vector<std::pair<size_t, size_t>> at;  // (sample, fix number)
+  std::vector<std::pair<size_t, size_t>> at;  // (anchor sample, fix number)
   for (const GnssFix& f : p.gnss) {
     bool withheld = false;
     for (const TimeWindow& w : p.outages) withheld = withheld || w.contains(f.t_s);
@@ -44,8 +46,13 @@ NodeLayout directLayout(const EstimationProblem& p, const FgoOptions& o) {
       continue;
     }
     if (f.t_s <= t0 + 1e-6 || f.t_s > imu.back().t_s + 0.5 * imu.back().dt_s) continue;
-    const size_t i = nearest(f.t_s);
+    size_t i = nearest(f.t_s);
     if (std::abs(imu[i].t_s - f.t_s) > imu[i].dt_s) continue;
+    if (!at.empty() && i < at.back().first + 2) {
+      i = at.back().first;
+    } else if (at.empty()) {
+      i = std::max(i, L.first_sample + 1);
+    }
     GnssObservation obs;
     obs.fix = f;
     obs.z_w.setZero();  // not compared
@@ -54,11 +61,11 @@ NodeLayout directLayout(const EstimationProblem& p, const FgoOptions& o) {
     at.emplace_back(i, L.fixes.size());
     L.fixes.push_back(obs);
   }
-  std::sort(at.begin(), at.end());
   std::vector<size_t> anchors;
   for (const auto& a : at)
     if (anchors.empty() || anchors.back() != a.first) anchors.push_back(a.first);
-  if (anchors.empty() || anchors.back() != imu.size() - 1) anchors.push_back(imu.size() - 1);
+  const size_t last_end = anchors.empty() ? L.first_sample : anchors.back() + 1;
+  if (imu.size() >= last_end + 2) anchors.push_back(imu.size() - 1);
   L.nodes.push_back(GraphNode{t0, L.first_sample, {}});
   size_t g = 0;
   for (size_t a : anchors) {
@@ -66,7 +73,7 @@ NodeLayout directLayout(const EstimationProblem& p, const FgoOptions& o) {
     const int n_sub = static_cast<int>(std::ceil((t_a - t_prev) / o.max_node_spacing_s - 0.25));
     for (int m = 1; m < n_sub; ++m) {
       const size_t i = nearest(t_prev + (t_a - t_prev) * m / n_sub);
-      if (i + 1 > L.nodes.back().sample_end && i < a)
+      if (i + 1 >= L.nodes.back().sample_end + 2 && i + 2 <= a)
         L.nodes.push_back(GraphNode{imu[i].t_s, i + 1, {}});
     }
     GraphNode n{t_a, a + 1, {}};

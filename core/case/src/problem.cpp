@@ -8,6 +8,7 @@
 
 #include "graftnav/estimation/alignment.h"
 #include "graftnav/eval/gnss_selection.h"
+#include "graftnav/io/odometer_io.h"
 #include "graftnav/nav/nav_interp.h"
 #include "graftnav/nav/rotation.h"
 
@@ -80,6 +81,30 @@ void alignInMotionInto(EstimationProblem& pr, const CaseConfig& cfg, const RunCo
   }
 }
 
+// The run config's odometer and NHC; with the odometer on, the case's field/odometer.txt as a
+// stream, read once here so that a bad line stops the run before any output, and a warning
+// listing the parts of the IMU span it does not cover.
+void addVehicleAiding(const CaseInputs& c, const RunConfig& rc, EstimationProblem* pr,
+                      std::vector<std::string>* notes) {
+  pr->aiding = rc.aiding.options;
+  if (!pr->aiding.any()) return;
+  const double rate_hz = pr->aiding.rateHz();
+  notes->push_back(fmt::format("vehicle aiding: odometer {}, NHC {}, {:g} Hz",
+                               pr->aiding.odometer.enabled ? "on" : "off",
+                               pr->aiding.nhc.enabled ? "on" : "off", rate_hz));
+  if (!pr->aiding.odometer.enabled) return;
+  const std::string path = c.paths().odometer();
+  if (!CasePaths::exists(path))
+    throw std::runtime_error("odometer.enabled is true in the run config but the case '" + c.dir +
+                             "' has no field/odometer.txt");
+  pr->odometer_stream = odometerFileStream(path, rc.aiding.odometer_read);
+  const double t0 = pr->imu.front().t_s - pr->imu.front().dt_s, t1 = pr->imu.back().t_s;
+  const auto pass = pr->odometer_stream();
+  const std::string w = odometerCoverageWarning(
+      path, odometerUncoveredSpans(*pass, t0, t1, pr->aiding.odometer.max_gap_s), t0, t1);
+  if (!w.empty()) notes->push_back(w);
+}
+
 }  // namespace
 
 EstimationProblem makeProblem(const CaseInputs& c, const ImuSelection& sel, const RunConfig& rc,
@@ -131,6 +156,7 @@ EstimationProblem makeProblem(const CaseInputs& c, const ImuSelection& sel, cons
   }
   // The schedule counts from the first IMU epoch, also when the filter starts later (alignment).
   if (outages) pr.outages = buildOutageWindows(*outages, t_first, pr.imu.back().t_s);
+  addVehicleAiding(c, rc, &pr, notes);
   return pr;
 }
 

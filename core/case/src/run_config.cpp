@@ -222,7 +222,9 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& runConfigSc
       {"ekf", kEkfKeys},
       {"grafting", kGraftingKeys},
       {"fgo", kFgoKeys},
-      {"evaluation", kEvaluationKeys}};
+      {"evaluation", kEvaluationKeys},
+      {"odometer", odometerSectionKeys()},
+      {"nhc", nhcSectionKeys()}};
   return schema;
 }
 
@@ -255,6 +257,10 @@ RunConfig parseRunConfig(const YAML::Node& root, const std::string& source, RunC
   if (const YAML::Node g = section(ctx, root, "grafting")) parseGrafting(ctx, g, &c.grafting);
   if (const YAML::Node g = section(ctx, root, "fgo")) parseFgo(ctx, g, &c.fgo);
   if (const YAML::Node v = section(ctx, root, "evaluation")) parseEvaluation(ctx, v, &c.evaluation);
+  const YAML::Node odometer = section(ctx, root, "odometer"), nhc = section(ctx, root, "nhc");
+  if (odometer) parseOdometerSection(ctx, odometer, &c.aiding);
+  if (nhc) parseNhcSection(ctx, nhc, &c.aiding);
+  if (odometer || nhc) validateAidingConfig(ctx, c.aiding);
   return c;
 }
 

@@ -34,6 +34,15 @@ constexpr const char* kStateStdHeader =
     "# time_s pos_std_n_m pos_std_e_m pos_std_d_m vel_std_n_m_s vel_std_e_m_s vel_std_d_m_s "
     "att_std_n_deg att_std_e_deg att_std_d_deg\n";
 
+constexpr const char* kOdometerScaleHeader = "# time_s odometer_scale_ppm odometer_scale_std_ppm\n";
+constexpr const char* kOdometerScaleHeaderNoStd = "# time_s odometer_scale_ppm\n";
+
+void appendOdometerScaleRow(std::string* out, const std::string& path, double t_s,
+                            const OdometerScaleEstimate& k, bool with_std) {
+  const double v[2] = {k.scale * kPpmPerFraction, k.std * kPpmPerFraction};
+  appendRow(out, path, t_s, v, with_std ? 2 : 1);
+}
+
 // One row of each file (shared by the in-memory writers and the streamed sink).
 void appendImuErrorsRow(std::string* out, const std::string& path, double t_s,
                         const ImuErrorEstimate& e) {
@@ -86,8 +95,24 @@ bool writeStateStd(const std::string& path, const NavSolution& sol) {
   return true;
 }
 
+bool writeOdometerScale(const std::string& path, const NavSolution& sol) {
+  const size_t n = sol.states.size();
+  if (n == 0 || sol.odometer_scale.size() != n || sol.odometer_scale_std.size() != n) return false;
+  bool with_std = true;
+  for (double sd : sol.odometer_scale_std) with_std = with_std && std::isfinite(sd);
+  std::string out = with_std ? kOdometerScaleHeader : kOdometerScaleHeaderNoStd;
+  for (size_t k = 0; k < n; ++k) {
+    appendOdometerScaleRow(&out, path, sol.states[k].t_s,
+                           {sol.odometer_scale[k], sol.odometer_scale_std[k]}, with_std);
+  }
+  writeFileAtomically(path, out);
+  return true;
+}
+
 SolutionOutputsSink::SolutionOutputsSink(const std::string& imu_errors_path,
-                                         const std::string& state_std_path, bool with_imu_errors) {
+                                         const std::string& state_std_path, bool with_imu_errors,
+                                         const std::string& odometer_scale_path)
+    : odometer_scale_path_(odometer_scale_path) {
   if (with_imu_errors) imu_errors_.file = std::make_unique<AtomicFile>(imu_errors_path);
   imu_errors_.buffer = kImuErrorsHeader;
   state_std_.file = std::make_unique<AtomicFile>(state_std_path);
@@ -100,9 +125,25 @@ void SolutionOutputsSink::File::flush(bool force) {
   buffer.clear();
 }
 
+void SolutionOutputsSink::addOdometerScale(const OdometerScaleEstimate& estimate) {
+  pending_scale_ = estimate;
+}
+
 void SolutionOutputsSink::add(const NavState& state, const PvaSigma* sigma,
                               const ImuErrorEstimate& sensors) {
   ++epochs_;
+  if (pending_scale_ && !odometer_scale_path_.empty()) {
+    if (!odometer_scale_.file) {  // the first epoch decides the columns, as writeOdometerScale
+      odometer_scale_.file = std::make_unique<AtomicFile>(odometer_scale_path_);
+      scale_with_std_ = std::isfinite(pending_scale_->std);
+      odometer_scale_.buffer = scale_with_std_ ? kOdometerScaleHeader : kOdometerScaleHeaderNoStd;
+    }
+    appendOdometerScaleRow(&odometer_scale_.buffer, odometer_scale_path_, state.t_s,
+                           *pending_scale_, scale_with_std_);
+    odometer_scale_.flush(false);
+    ++scale_epochs_;
+  }
+  pending_scale_.reset();
   if (imu_errors_.file) {
     appendImuErrorsRow(&imu_errors_.buffer, imu_errors_.file->path(), state.t_s, sensors);
     imu_errors_.flush(false);
@@ -117,9 +158,16 @@ void SolutionOutputsSink::add(const NavState& state, const PvaSigma* sigma,
   state_std_.flush(false);
 }
 
-void SolutionOutputsSink::commit(bool* imu_errors, bool* state_std) {
+void SolutionOutputsSink::commit(bool* imu_errors, bool* state_std, bool* odometer_scale) {
   *imu_errors = epochs_ > 0 && imu_errors_.file;
   *state_std = epochs_ > 0 && state_std_.file;
+  // Every epoch has a scale, or the file is not written (as writeOdometerScale).
+  const bool scale = scale_epochs_ == epochs_ && epochs_ > 0 && odometer_scale_.file;
+  if (odometer_scale) *odometer_scale = scale;
+  if (scale) {
+    odometer_scale_.flush(true);
+    odometer_scale_.file->commit();
+  }
   if (*imu_errors) {
     imu_errors_.flush(true);
     imu_errors_.file->commit();

@@ -68,8 +68,8 @@ TEST(RunConfig, FileAndTextGiveTheSameConfig) {
 
 TEST(RunConfig, UnknownKeysAreReportedDottedAndWithTheirLine) {
   RunConfigReport report;
-  parseRunConfigText("ekf:\n  gate_probabilty: 0.9\nodometer: {}\n", "run.yaml", &report);
-  EXPECT_EQ(report.unknown_keys, (std::vector<std::string>{"odometer", "ekf.gate_probabilty"}));
+  parseRunConfigText("ekf:\n  gate_probabilty: 0.9\nodometr: {}\n", "run.yaml", &report);
+  EXPECT_EQ(report.unknown_keys, (std::vector<std::string>{"odometr", "ekf.gate_probabilty"}));
   ASSERT_EQ(report.warnings.size(), 2u);
   EXPECT_THAT(report.warnings[1], HasSubstr("run.yaml:2: unknown key 'ekf.gate_probabilty'"));
 }
@@ -137,7 +137,7 @@ TEST(RunConfig, SchemaListsEverySection) {
   std::vector<std::string> sections;
   for (const auto& s : runConfigSchema()) sections.push_back(s.first);
   EXPECT_EQ(sections, (std::vector<std::string>{"time_range", "outages", "gnss", "ekf", "grafting",
-                                                "fgo", "evaluation"}));
+                                                "fgo", "evaluation", "odometer", "nhc"}));
 }
 
 }  // namespace

@@ -64,6 +64,9 @@ bool FgoOptions::validate(std::string* error) const {
     return fail(error, "min_gyro_bias_std_rad_s", min_gyro_bias_std_rad_s, "must be > 0");
   if (!positive(min_accel_bias_std_m_s2))
     return fail(error, "min_accel_bias_std_m_s2", min_accel_bias_std_m_s2, "must be > 0");
+  if (!positive(min_odometer_scale_random_walk_per_sqrt_s))
+    return fail(error, "min_odometer_scale_random_walk_per_sqrt_s",
+                min_odometer_scale_random_walk_per_sqrt_s, "must be > 0");
   return true;
 }
 

@@ -21,4 +21,9 @@ void NavSolutionSink::add(const NavState& state, const PvaSigma* sigma,
   sol_->accel_scale.push_back(sensors.accel_scale);
 }
 
+void NavSolutionSink::addOdometerScale(const OdometerScaleEstimate& estimate) {
+  sol_->odometer_scale.push_back(estimate.scale);
+  sol_->odometer_scale_std.push_back(estimate.std);
+}
+
 }  // namespace graftnav

@@ -88,6 +88,15 @@ std::vector<std::string> writeRunInfoJson(const std::string& path, const ReportM
                 "correlated in time, so the band is optimistic"}};
   j["gnss"] = {
       {"used", sol.gnss_used}, {"rejected", sol.gnss_rejected}, {"withheld", sol.gnss_withheld}};
+  if (sol.vehicle_used > 0 || sol.vehicle_rejected > 0 || !sol.odometer_scale.empty()) {
+    // Odometer / NHC updates (factors in a graph) and the last odometer scale estimate (ppm).
+    json v = {{"used", sol.vehicle_used}, {"rejected", sol.vehicle_rejected}};
+    if (!sol.odometer_scale.empty()) {
+      v["odometer_scale_ppm"] = num(sol.odometer_scale.back() * 1e6);
+      v["odometer_scale_std_ppm"] = num(sol.odometer_scale_std.back() * 1e6);
+    }
+    j["vehicle_aiding"] = v;
+  }
   json w = json::array();
   for (const TimeWindow& t : outages) w.push_back({t.start_s, t.end_s});
   j["outage_windows_s"] = w;

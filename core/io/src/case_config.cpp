@@ -250,6 +250,9 @@ std::string CasePaths::gnssPos() const { return (fs::path(dir_) / "field" / "gns
 std::string CasePaths::gnssFixType() const {
   return (fs::path(dir_) / "field" / "gnss_fixtype.txt").string();
 }
+std::string CasePaths::odometer() const {
+  return (fs::path(dir_) / "field" / "odometer.txt").string();
+}
 std::string CasePaths::truthNav() const {
   return (fs::path(dir_) / "field" / "truth.nav").string();
 }

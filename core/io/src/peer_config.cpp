@@ -2,6 +2,7 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
@@ -165,6 +166,56 @@ void readKfGins(const yf::Context& ctx, const YAML::Node& root, PeerSetup* s) {
                       {"arw", "vrw", "gbstd", "abstd", "gsstd", "asstd", "corrtime"});
 }
 
+// The odometer keys; the speed columns of the IMU file (imudatalen 8 or 9).
+void readObGinsOdometer(const yf::Context& ctx, const YAML::Node& root, PeerSetup* s) {
+  s->odometer_columns = std::min(std::max(s->imu_columns - 7, 0), 2);
+  const YAML::Node odo = root["odometer"];
+  if (!yf::present(odo) && !yf::present(root["odolever"]) && !yf::present(root["bodyangle"]))
+    return;
+  PeerOdometer o;
+  if (yf::present(odo)) {
+    if (!odo.IsMap()) yf::fail(ctx, odo, "odometer", "expected a map {isuseodo, std, srw}");
+    if (yf::present(odo["isuseodo"]))
+      o.enabled = yf::asBool(ctx, odo["isuseodo"], "odometer.isuseodo");
+    if (yf::present(odo["std"])) {
+      o.std_m_s = yf::asVector3(ctx, odo["std"], "odometer.std");
+      if (!(o.std_m_s.minCoeff() > 0.0))
+        yf::fail(ctx, odo["std"], "odometer.std", "must be > 0 m/s on every axis");
+    }
+    if (yf::present(odo["srw"])) {
+      const double ppm = yf::asDouble(ctx, odo["srw"], "odometer.srw");
+      nonNegative(ctx, odo["srw"], "odometer.srw", ppm);
+      o.scale_random_walk_per_sqrt_s = ppm * kPpmToFraction;
+    }
+    yf::warnUnknownKeys(ctx, odo, "odometer", {"isuseodo", "std", "srw"});
+  }
+  if (yf::present(root["odolever"]))
+    o.lever_arm_m = yf::asVector3(ctx, root["odolever"], "odolever");
+  if (yf::present(root["bodyangle"]))
+    o.mounting_rad = yf::asVector3(ctx, root["bodyangle"], "bodyangle") * kDegToRad;
+  if (o.enabled && s->odometer_columns == 0) {
+    yf::fail(ctx, root["imudatalen"] ? root["imudatalen"] : odo, "odometer.isuseodo",
+             "the odometer is on but imudatalen is 7: its IMU file has no odometer column");
+  }
+  s->odometer = o;
+  s->notes.push_back(fmt::format(
+      "odometer: isuseodo {} -> odometer.enabled; std [{}, {}, {}] m/s -> odometer.std_m_s "
+      "(forward, lateral, vertical: OB_GINS's odometer also says the wheels do not slide; "
+      "graftnav applies it as a vehicle-frame velocity update, OB_GINS inside its "
+      "preintegration); odolever -> odometer.lever_arm_m; bodyangle [{}, {}, {}] deg -> "
+      "odometer.mounting_deg (OB_GINS itself uses only pitch and yaw)",
+      o.enabled, o.std_m_s.x(), o.std_m_s.y(), o.std_m_s.z(), o.mounting_rad.x() / kDegToRad,
+      o.mounting_rad.y() / kDegToRad, o.mounting_rad.z() / kDegToRad));
+  if (o.scale_random_walk_per_sqrt_s) {
+    s->notes.push_back(fmt::format(
+        "odometer.srw {:g} ppm -> odometer.scale_random_walk_ppm_sqrt_s {:g} (OB_GINS drives "
+        "its odometer scale as a random walk of this density); OB_GINS states no initial "
+        "scale sigma: graftnav's default odometer.scale_std_ppm is used",
+        *o.scale_random_walk_per_sqrt_s / kPpmToFraction,
+        *o.scale_random_walk_per_sqrt_s / kPpmToFraction));
+  }
+}
+
 void readObGinsOptions(const yf::Context& ctx, const YAML::Node& root, PeerSetup* s) {
   if (yf::present(root["windows"])) {
     s->window_nodes = yf::asInt(ctx, root["windows"], "windows");
@@ -174,20 +225,18 @@ void readObGinsOptions(const yf::Context& ctx, const YAML::Node& root, PeerSetup
                     *s->window_nodes));
   }
   if (yf::present(root["isearth"])) s->earth_rotation = yf::asBool(ctx, root["isearth"], "isearth");
+  for (const char* key : {"num_iterations", "is_outlier_culling"}) {
+    if (yf::present(root[key])) {
+      s->notes.push_back(std::string(key) +
+                         " not converted: graftnav's factor-graph solver keeps its own settings "
+                         "(fgo: window_iterations, culling_rounds, robust_loss)");
+    }
+  }
   if (yf::present(root["gnssthreshold"])) {
     s->gnss_max_std_m = yf::asDouble(ctx, root["gnssthreshold"], "gnssthreshold");
     s->notes.push_back("gnssthreshold taken as gnss.max_horizontal_std_m and max_vertical_std_m");
   }
-  if (const YAML::Node odo = root["odometer"];
-      yf::present(odo) && yf::present(odo["isuseodo"]) &&
-      yf::asBool(ctx, odo["isuseodo"], "odometer.isuseodo")) {
-    s->notes.push_back("NOT CONVERTED: odometer.isuseodo true: graftnav has no odometer aiding");
-  }
-  if (yf::present(root["bodyangle"]) &&
-      yf::asVector3(ctx, root["bodyangle"], "bodyangle").cwiseAbs().maxCoeff() > 0.0) {
-    s->notes.push_back(
-        "NOT CONVERTED: bodyangle (IMU-to-vehicle mounting, used only with the odometer)");
-  }
+  readObGinsOdometer(ctx, root, s);
   if (yf::present(root["isuseoutage"]) && yf::asBool(ctx, root["isuseoutage"], "isuseoutage")) {
     PeerOutageSchedule o;
     o.first_start_s = yf::requireDouble(ctx, root, "", "outagetime");
@@ -217,10 +266,11 @@ void readObGins(const yf::Context& ctx, const YAML::Node& root, PeerSetup* s) {
   noteInitialErrors(ctx, root, s, {"initgb", "initab"});
   yf::warnUnknownKeys(
       ctx, root, "",
-      {"imufile",     "gnssfile",   "outputpath", "windows",      "starttime",    "endtime",
-       "initvel",     "initatt",    "initgb",     "initab",       "imudatalen",   "imudatarate",
-       "isearth",     "antlever",   "odolever",   "bodyangle",    "odometer",     "imumodel",
-       "isuseoutage", "outagetime", "outagelen",  "outageperiod", "gnssthreshold"});
+      {"imufile",    "gnssfile",     "outputpath",    "windows",        "starttime",
+       "endtime",    "initvel",      "initatt",       "initgb",         "initab",
+       "imudatalen", "imudatarate",  "isearth",       "antlever",       "odolever",
+       "bodyangle",  "odometer",     "imumodel",      "isuseoutage",    "outagetime",
+       "outagelen",  "outageperiod", "gnssthreshold", "num_iterations", "is_outlier_culling"});
   yf::warnUnknownKeys(ctx, root["imumodel"], "imumodel",
                       {"arw", "vrw", "gbstd", "abstd", "corrtime"});
 }
@@ -253,7 +303,13 @@ PeerSetup loadPeerConfig(PeerFormat format, const std::string& path,
   }
   s.profile.name = peerFormatName(format) + " imunoise";
   if (!s.end_s) s.notes.push_back("endtime absent or -1: to the end of the IMU file");
-  if (s.imu_columns > 7) {
+  if (s.odometer_columns > 0) {
+    s.notes.push_back(fmt::format(
+        "imudatalen {}: the IMU file's column{} {} (odometer speed, m/s) moved to "
+        "field/odometer.txt{}; the IMU copied with its first 7 columns",
+        s.imu_columns, s.odometer_columns > 1 ? "s" : "", s.odometer_columns > 1 ? "8-9" : "8",
+        s.odometer_columns > 1 ? " (the mean of the two wheels)" : ""));
+  } else if (s.imu_columns > 7) {
     s.notes.push_back(fmt::format(
         "imudatalen {}: only the first 7 columns (time, increments) are used", s.imu_columns));
   }

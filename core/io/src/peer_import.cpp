@@ -8,10 +8,12 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include "graftnav/io/atomic_file.h"
 #include "graftnav/io/case_config.h"
 #include "graftnav/io/gnss_io.h"
+#include "graftnav/io/odometer_io.h"
 #include "graftnav/nav/earth.h"
 #include "graftnav/nav/rotation.h"
 #include "graftnav/nav/units.h"
@@ -68,6 +70,34 @@ std::string placeDataFile(const std::string& source, const std::string& dest, in
     fs::create_symlink(fs::absolute(source), dest);
   }
   return {};
+}
+
+// OB_GINS's odometer columns (8, or the mean of 8 and 9) of the IMU file as field/odometer.txt,
+// each speed stamped at the middle of its sample (it is the mean speed over the interval that
+// ends at the line's time). Throws std::runtime_error naming file and line for a line without
+// them or a non-number.
+void writeOdometerColumns(const std::string& imu_path, const std::string& dest, int columns,
+                          double rate_hz) {
+  std::ifstream in(imu_path);
+  if (!in) throw std::runtime_error(imu_path + ": cannot open");
+  OdometerSeries out;
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    const auto p = line.find_first_not_of(" \t\r");
+    if (p == std::string::npos || line[p] == '#' || line[p] == '%') continue;
+    std::istringstream ss(line);
+    std::vector<double> v;
+    for (double x; ss >> x;) v.push_back(x);
+    if (!ss.eof() || static_cast<int>(v.size()) < 7 + columns) {
+      throw std::runtime_error(
+          fmt::format("{}:{}: expected {} numeric columns (imudatalen), got "
+                      "'{}'",
+                      imu_path, n, 7 + columns, line));
+    }
+    const double speed = columns == 2 ? 0.5 * (v[7] + v[8]) : v[7];
+    out.push_back({v[0] - 0.5 / rate_hz, speed});
+  }
+  writeOdometer(dest, out);
 }
 
 double medianInterval(const GnssSeries& gnss) {
@@ -155,6 +185,23 @@ std::string runConfigYaml(const PeerSetup& s, const std::vector<TimeWindow>& out
     emitScalar(out, "max_vertical_std_m", *s.gnss_max_std_m);
     out << YAML::EndMap;
   }
+  if (s.odometer) {
+    const PeerOdometer& o = *s.odometer;
+    out << YAML::Key << "odometer" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "enabled" << YAML::Value << o.enabled;
+    out << YAML::Key << "std_m_s" << YAML::Value << YAML::Flow << YAML::BeginSeq << o.std_m_s.x()
+        << o.std_m_s.y() << o.std_m_s.z() << YAML::EndSeq;
+    if (o.scale_random_walk_per_sqrt_s) {
+      emitScalar(out, "scale_random_walk_ppm_sqrt_s",
+                 *o.scale_random_walk_per_sqrt_s / units::kPpmToFraction);
+    }
+    out << YAML::Key << "lever_arm_m" << YAML::Value << YAML::Flow << YAML::BeginSeq
+        << o.lever_arm_m.x() << o.lever_arm_m.y() << o.lever_arm_m.z() << YAML::EndSeq;
+    const Eigen::Vector3d deg = o.mounting_rad * units::kRadToDeg;
+    out << YAML::Key << "mounting_deg" << YAML::Value << YAML::Flow << YAML::BeginSeq << deg.x()
+        << deg.y() << deg.z() << YAML::EndSeq;
+    out << YAML::EndMap;
+  }
   if (s.window_nodes || s.earth_rotation) {
     out << YAML::Key << "fgo" << YAML::Value << YAML::BeginMap;
     if (s.window_nodes) out << YAML::Key << "window_nodes" << YAML::Value << *s.window_nodes;
@@ -221,6 +268,10 @@ ImportResult importPeerSetup(const PeerSetup& s, const std::string& case_dir,
           placeDataFile(s.imu_path, (dir / "field" / "ref_imu.txt").string(), 7, o.copy_files);
       !n.empty())
     r.notes.push_back(n);
+  const std::string odometer_dest = (dir / "field" / "odometer.txt").string();
+  fs::remove(odometer_dest);
+  if (s.odometer_columns > 0)
+    writeOdometerColumns(s.imu_path, odometer_dest, s.odometer_columns, s.imu_rate_hz);
   if (!o.reference_path.empty()) {
     if (!fs::is_regular_file(o.reference_path))
       throw std::runtime_error("reference solution '" + o.reference_path + "' not found");

@@ -6,8 +6,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "graftnav/io/case_config.h"
+#include "graftnav/io/imu_io.h"
+#include "graftnav/io/odometer_io.h"
 #include "graftnav/io/peer_config.h"
 #include "graftnav/io/peer_import.h"
 #include "test_support.h"
@@ -157,6 +160,80 @@ TEST(PeerImport, KfGinsCaseLoadsBackWithItsRunConfig) {
   ss << run.rdbuf();
   EXPECT_THAT(ss.str(), HasSubstr("init_pos_std_m: 0.3"));
   EXPECT_THAT(ss.str(), HasSubstr("103.001"));
+}
+
+// OB_GINS's odometer: column 8 of its IMU file (or the mean of 8 and 9) becomes
+// field/odometer.txt, never a temperature; the keys become run.yaml's odometer section with SI
+// conversions noted, and no odometer or mounting key is left "NOT CONVERTED".
+std::string obGinsOdometer(int imudatalen, bool use_odometer) {
+  return "imufile: imu.txt\ngnssfile: gnss.pos\nwindows: 20\nstarttime: 100\nendtime: 0\n"
+         "initvel: [0, 0, 0]\ninitatt: [0, 0, 90]\nimudatalen: " +
+         std::to_string(imudatalen) +
+         "\nimudatarate: 100\nisearth: true\nantlever: [0, 0, -1.0]\n"
+         "odolever: [-0.5, 0.2, 0.8]\nbodyangle: [0, -0.30, 1.5]\n"
+         "odometer: {isuseodo: " +
+         std::string(use_odometer ? "true" : "false") +
+         ", std: [0.05, 0.1, 0.2], srw: 100}\n"
+         "imumodel: {arw: 0.24, vrw: 0.24, gbstd: 50.0, abstd: 250.0, corrtime: 1.0}\n";
+}
+
+TEST(PeerImport, ObGinsOdometerColumnAndKeysAreConverted) {
+  const std::string dir = test::makeTempDir("peer_odo");
+  writeData(dir);
+  writeText(dir + "/imu.txt", "100.01 0 0 0 0 0 -0.098 1.50\n100.02 0 0 0 0 0 -0.098 1.70\n");
+  writeText(dir + "/ob.yaml", obGinsOdometer(8, true));
+  const PeerSetup s = loadPeerConfig(PeerFormat::kObGins, dir + "/ob.yaml");
+  ASSERT_TRUE(s.odometer);
+  EXPECT_TRUE(s.odometer->enabled);
+  EXPECT_EQ(s.odometer_columns, 1);
+  EXPECT_NEAR(*s.odometer->scale_random_walk_per_sqrt_s, 100e-6, 1e-15);
+  EXPECT_NEAR(s.odometer->mounting_rad.z(), 1.5 * kDeg, 1e-12);
+  for (const std::string& n : s.notes) EXPECT_THAT(n, ::testing::Not(HasSubstr("NOT CONVERTED")));
+  importPeerSetup(s, dir + "/case");
+  const OdometerSeries odo = readOdometer(dir + "/case/field/odometer.txt");
+  ASSERT_EQ(odo.size(), 2u);
+  EXPECT_NEAR(odo[0].t_s, 100.005, 1e-9);  // the mean over the sample, at its middle
+  EXPECT_NEAR(odo[1].speed_m_s, 1.70, 1e-9);
+  ImuReadOptions io;
+  io.nominal_rate_hz = 100.0;
+  for (const ImuSample& x : readImu(dir + "/case/field/ref_imu.txt", io))
+    EXPECT_FALSE(x.hasTemperature());  // 7 columns: column 8 is no temperature
+  std::ifstream run(dir + "/case/run.yaml");
+  std::stringstream ss;
+  ss << run.rdbuf();
+  EXPECT_THAT(ss.str(), HasSubstr("odometer:"));
+  EXPECT_THAT(ss.str(), HasSubstr("enabled: true"));
+  EXPECT_THAT(ss.str(), HasSubstr("scale_random_walk_ppm_sqrt_s: 100"));
+  EXPECT_THAT(ss.str(), HasSubstr("mounting_deg: [0, -0.3"));
+  EXPECT_THAT(ss.str(), HasSubstr("lever_arm_m: [-0.5, 0.2, 0.8]"));
+}
+
+TEST(PeerImport, ObGinsTwoWheelColumnsAreAveragedAndAMissingColumnIsAnError) {
+  const std::string dir = test::makeTempDir("peer_odo2");
+  writeData(dir);
+  writeText(dir + "/imu.txt", "100.01 0 0 0 0 0 -0.098 1.0 2.0\n100.02 0 0 0 0 0 -0.098 3.0\n");
+  writeText(dir + "/ob.yaml", obGinsOdometer(9, true));
+  const PeerSetup s = loadPeerConfig(PeerFormat::kObGins, dir + "/ob.yaml");
+  EXPECT_EQ(s.odometer_columns, 2);
+  try {
+    importPeerSetup(s, dir + "/case");
+    FAIL() << "a line without the 9th column was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("imu.txt:2:"));
+  }
+  writeText(dir + "/imu.txt", "100.01 0 0 0 0 0 -0.098 1.0 2.0\n100.02 0 0 0 0 0 -0.098 3.0 5.0\n");
+  importPeerSetup(s, dir + "/case");
+  const OdometerSeries odo = readOdometer(dir + "/case/field/odometer.txt");
+  EXPECT_NEAR(odo[0].speed_m_s, 1.5, 1e-9);
+  EXPECT_NEAR(odo[1].speed_m_s, 4.0, 1e-9);
+  // The odometer on with a 7-column IMU file: refused, naming the key.
+  writeText(dir + "/ob7.yaml", obGinsOdometer(7, true));
+  try {
+    loadPeerConfig(PeerFormat::kObGins, dir + "/ob7.yaml");
+    FAIL() << "accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("odometer.isuseodo"));
+  }
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "graftnav/io/imu_io.h"
 #include "graftnav/sim/imu_simulator.h"
 #include "graftnav/io/nav_io.h"
+#include "graftnav/io/odometer_io.h"
 #include "graftnav/nav/units.h"
 
 namespace graftnav {
@@ -216,6 +217,14 @@ void writeSimulationYaml(const SimConfig& config, const std::string& case_dir, d
   describeModel(out, ref_model);
   out << YAML::Key << "tested_imu_errors" << YAML::Value;
   describeModel(out, tested_model);
+  if (config.odometer) {
+    const OdometerSimOptions& o = *config.odometer;
+    out << YAML::Key << "odometer" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "scale_error_ppm" << YAML::Value << o.scale_error * 1e6;
+    out << YAML::Key << "noise_std_m_s" << YAML::Value << o.noise_std_m_s;
+    out << YAML::Key << "rate_hz" << YAML::Value << o.rate_hz;
+    out << YAML::EndMap;
+  }
   out << YAML::EndMap;
   writeFileAtomically((fs::path(case_dir) / "simulation.yaml").string(),
                       std::string(out.c_str()) + "\n");
@@ -313,6 +322,14 @@ CaseSimSummary simulateCase(const SimConfig& config, const std::string& case_dir
   const GnssSeries gnss = simulateGnss(*f.trj, f.t_begin, f.t_end, gopt, deriveStreamSeed(seed, 5));
   writeGnssPos(paths.gnssPos(), gnss);
   sum.gnss_fixes = gnss.size();
+
+  if (config.odometer) {
+    say("odometer");
+    OdometerSimOptions oopt = *config.odometer;
+    oopt.add_noise = !config.ideal;
+    writeOdometer(paths.odometer(),
+                  simulateOdometer(*f.trj, f.t_begin, f.t_end, oopt, deriveStreamSeed(seed, 6)));
+  }
 
   say("lab sessions");
   sum.lab_files =

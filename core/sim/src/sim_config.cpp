@@ -429,6 +429,28 @@ void parseGnssAndTemperature(const Reader& r, const YAML::Node& root, SimConfig&
   }
 }
 
+// The odometer section (config units: ppm, deg).
+OdometerSimOptions parseOdometer(const Reader& r, const YAML::Node& o) {
+  r.checkKeys(o, "odometer",
+              {"rate_hz", "scale_error_ppm", "noise_std_m_s", "quantization_m_s", "lever_arm_m",
+               "mounting_deg"});
+  OdometerSimOptions opt;
+  opt.rate_hz = r.num(o, "rate_hz", "odometer.rate_hz", opt.rate_hz);
+  opt.scale_error = r.num(o, "scale_error_ppm", "odometer.scale_error_ppm", 0.0) * 1e-6;
+  opt.noise_std_m_s = r.num(o, "noise_std_m_s", "odometer.noise_std_m_s", opt.noise_std_m_s);
+  opt.quantization_m_s =
+      r.num(o, "quantization_m_s", "odometer.quantization_m_s", opt.quantization_m_s);
+  if (auto v = r.vec3(o, "lever_arm_m", "odometer.lever_arm_m")) opt.lever_arm_b_m = *v;
+  if (auto v = r.vec3(o, "mounting_deg", "odometer.mounting_deg"))
+    opt.mounting_rad = *v * units::kDegToRad;
+  try {
+    opt.validate();
+  } catch (const std::invalid_argument& e) {
+    r.fail(o, "odometer", e.what());
+  }
+  return opt;
+}
+
 // The lab section: where and how long the lab records are (config units, converted to SI).
 void parseLab(const Reader& r, const YAML::Node& l, SimConfig& c) {
   r.checkKeys(l, "lab",
@@ -471,9 +493,10 @@ SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warni
   if (!fs::exists(path)) throw MissingFileError(path, path + ": sim config file not found");
   const YAML::Node root = yf::loadFile(path);
   const Reader r(path, warnings);
-  r.checkKeys(root, "",
-              {"name", "seed", "gnss_week", "imu_rate_hz", "quadrature_nodes", "truth_rate_hz",
-               "trajectory", "reference_imu", "tested_imu", "gnss", "lab", "temperature"});
+  r.checkKeys(
+      root, "",
+      {"name", "seed", "gnss_week", "imu_rate_hz", "quadrature_nodes", "truth_rate_hz",
+       "trajectory", "reference_imu", "tested_imu", "gnss", "lab", "temperature", "odometer"});
   SimConfig c;
   c.source_path = path;
   c.name = r.str(root, "name", "name", c.name);
@@ -496,6 +519,7 @@ SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warni
   c.tested_imu = parseImu(r, root["tested_imu"], "tested_imu", true, warnings);
 
   parseGnssAndTemperature(r, root, c);
+  if (const YAML::Node o = root["odometer"]) c.odometer = parseOdometer(r, o);
   c.lab.rate_hz = c.imu_rate_hz;
   c.lab.quadrature_nodes = c.quadrature_nodes;
   if (const YAML::Node l = root["lab"]) parseLab(r, l, c);

@@ -9,9 +9,18 @@
 // happens exactly at the GNSS time. Update: chi-square gate on the innovation, Joseph form,
 // symmetrized covariance, then the estimate is fed back (PVA reset, sensor estimates augmented)
 // and the error state is zero again.
+//
+// Vehicle aiding (problem.aiding, graftnav/estimation/vehicle_aiding.h): every 1/rateHz() s, at
+// the end of the IMU sample that reaches that time, a vehicle-frame velocity update with the
+// odometer's forward speed (interpolated there) and NHC's lateral and vertical rows
+// (vehicle_velocity.h), gated at gate_probability like GNSS. When the odometer scale factor is
+// estimated it is a 22nd state, kept beside the 21-state covariance as its cross-covariance
+// column and variance: the 21-state propagation is untouched and a run without it computes
+// exactly what it did before the state existed.
 
 #include <deque>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "graftnav/nav/mechanization.h"
@@ -20,8 +29,20 @@
 #include "graftnav/estimation/usable_gnss.h"
 #include "graftnav/filters/ins_error_model.h"
 #include "graftnav/estimation/solution_sink.h"
+#include "graftnav/filters/vehicle_velocity.h"
 
 namespace graftnav {
+
+// The odometer scale factor k as the 22nd state (vehicle_aiding.h): its estimate, and its
+// covariance with the 21-state error (P_xk) and its variance (P_kk). Its transition is 1 (a
+// random walk), so the 21-state propagation leaves it alone: P_xk <- Phi P_xk,
+// P_kk <- P_kk + q dt.
+struct OdometerScaleState {
+  double k = 0.0;
+  ErrorState P_xk = ErrorState::Zero();
+  double P_kk = 0.0;
+  double q_per_s = 0.0;  // random-walk variance per second
+};
 
 // What the RTS smoother needs at one record epoch of the forward pass.
 struct SmootherRecord {
@@ -32,6 +53,11 @@ struct SmootherRecord {
   ErrorCov P_prior = ErrorCov::Zero();  // before the update at t_s
   ErrorCov P_post = ErrorCov::Zero();   // after it
   ErrorCov Phi = ErrorCov::Identity();  // transition from the previous record to this one
+  // With the odometer scale state: its part of the same (P_xk, P_kk of the prior and the
+  // posterior, the estimate after the feedback and the correction fed back).
+  bool has_scale = false;
+  OdometerScaleState scale_prior, scale_post;
+  double dk = 0.0;
 };
 
 // A deque: records are ~10 KB each and an hour holds thousands; growing a vector would hold
@@ -55,12 +81,25 @@ class GnssInsEkf {
   bool updateVelocity(const Eigen::Vector3d& v_ned_m_s, const Eigen::Vector3d& std_m_s,
                       const Eigen::Vector3d& lever_arm_b_m);
 
+  // Adds the odometer scale factor as a state with initial 1-sigma sigma0 and random walk
+  // (fraction/sqrt(s)); before any update.
+  void enableOdometerScale(double sigma0, double random_walk_per_sqrt_s);
+  bool estimatesOdometerScale() const { return has_scale_; }
+  const OdometerScaleState& odometerScale() const { return scale_; }
+  // Vehicle-frame velocity update (vehicle_velocity.h): the rows whose row_std_m_s is > 0, the
+  // forward one only with an odometer speed (speed_m_s not null). Returns false when gated out
+  // (or when no row is left).
+  bool updateVehicleVelocity(const VehicleGeometry& g, const Eigen::Vector3d& row_std_m_s,
+                             const double* speed_m_s);
+  int vehicleUsed() const { return vehicle_gate_.used; }
+  int vehicleRejected() const { return vehicle_gate_.rejected; }
+
   const NavState& state() const { return nav_; }
   const ImuErrorEstimate& sensors() const { return sensors_; }
   const ErrorCov& covariance() const { return P_; }
   // 1-sigma of (dr, v error, phi) in the true n frame, from the last propagated covariance.
   const PvaSigma& pvaSigma();
-  int rejected() const { return rejected_; }
+  int rejected() const { return gnss_gate_.rejected; }
 
   // Records for the smoother (off by default).
   void enableRecording(bool on);
@@ -69,9 +108,24 @@ class GnssInsEkf {
   void recordNow();
 
  private:
-  bool update(const Eigen::Vector3d& z, const Eigen::Matrix<double, 3, ekf::kStateDim>& H,
-              const Eigen::Vector3d& r_diag);
-  void pushRecord(const ErrorState& dx, const ErrorCov& P_prior);
+  // Chi-square gate of one kind of measurement; after max_consecutive rejections in a row the
+  // next is accepted (avoids lock-out).
+  struct Gate {
+    double threshold[4] = {0.0, 0.0, 0.0, 0.0};  // by number of rows
+    int consecutive = 0, rejected = 0, used = 0;
+  };
+  template <int M>
+  bool update(const Eigen::Matrix<double, M, 1>& z,
+              const Eigen::Matrix<double, M, ekf::kStateDim>& H,
+              const Eigen::Matrix<double, M, 1>& r_diag, const Eigen::Matrix<double, M, 1>& H_k,
+              Gate& gate);
+  template <int M>
+  bool updateRows(const Eigen::Vector3d& z, const Eigen::Matrix<double, 3, ekf::kStateDim>& H,
+                  const Eigen::Vector3d& r, const Eigen::Vector3d& H_k, const int* rows);
+  bool accept(Gate& gate, int rows, double d2);
+  void applyCorrection(const ErrorState& dx);
+  void pushRecord(const ErrorState& dx, const ErrorCov& P_prior, double dk = 0.0,
+                  const OdometerScaleState* scale_prior = nullptr);
 
   EkfOptions opt_;
   ImuProfile profile_;
@@ -89,9 +143,9 @@ class GnssInsEkf {
   ErrorCov Phi_since_record_ = ErrorCov::Identity();
   double last_record_t_ = 0.0;
   SmootherRecords records_;
-  int rejected_ = 0;
-  int consecutive_rejected_ = 0;
-  double gate_threshold_ = 0.0;
+  Gate gnss_gate_, vehicle_gate_;
+  bool has_scale_ = false;
+  OdometerScaleState scale_;
   PvaSigma sigma_;
   bool sigma_valid_ = false;
 };
@@ -123,6 +177,8 @@ class EkfPass {
  private:
   // Applies the next usable fix and moves past it.
   void applyNextFix();
+  // The vehicle-frame velocity update at t_s when one is due.
+  void aidVehicle(double t_s);
 
   EkfOptions options_;
   UsableGnss gnss_;  // the problem's fixes, one at a time, outages withheld
@@ -132,6 +188,12 @@ class EkfPass {
   NavSolution bookkeeping_;
   double t_cur_ = 0.0;
   std::size_t processed_ = 0;
+  // Vehicle aiding (off when aiding_.any() is false).
+  VehicleAidingOptions aiding_;
+  VehicleGeometry vehicle_;
+  std::unique_ptr<OdometerInterpolator> odometer_;
+  double t0_ = 0.0;
+  long next_aid_ = 1;  // the next update is due at t0_ + next_aid_ / aiding_.rateHz()
 };
 
 // ImuBlockFn, ImuPassFn: graftnav/estimation/nav_solution.h.

@@ -10,6 +10,7 @@
 //                                                 the error from the posterior to the prior nominal)
 //     P^s_k = P^+_k + G_k (P^s_{k+1} - P^-_{k+1}) G_k^T
 // and the smoothed state at k is the recorded nominal corrected by e_k (sensor estimates too).
+// With the odometer scale state (ekf.h) the same recursion runs on 22 states.
 // Output at the IMU rate: from each smoothed record the IMU (corrected with the smoothed sensor
 // errors of that record) is re-mechanized to the next record; the mismatch with the next
 // smoothed state is removed linearly in time over the interval, so the output is continuous and
@@ -28,6 +29,9 @@ struct SmoothedRecord {
   NavState nav;
   ImuErrorEstimate sensors;
   ErrorCov P = ErrorCov::Zero();
+  // The odometer scale factor and its 1-sigma, when the forward pass estimated it.
+  bool has_scale = false;
+  double scale = 0.0, scale_std = 0.0;
 };
 
 std::vector<SmoothedRecord> smoothRecords(const SmootherRecords& records);

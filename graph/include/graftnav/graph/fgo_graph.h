@@ -24,7 +24,9 @@
 #include "graftnav/graph/node_prior_factor.h"
 #include "graftnav/graph/output_integrator.h"
 #include "graftnav/graph/preintegration_factor.h"
+#include "graftnav/graph/odometer_scale_factor.h"
 #include "graftnav/graph/right_quaternion_manifold.h"
+#include "graftnav/graph/vehicle_velocity_factor.h"
 
 namespace graftnav {
 
@@ -35,6 +37,7 @@ struct NodeBlocks {
   double v[3];
   double bg[3];
   double ba[3];
+  double s[1] = {0.0};  // odometer scale factor (a parameter block only when estimated)
   NodeValue value() const;
   void set(const NodeValue& x);
 };
@@ -97,11 +100,23 @@ class FgoGraph {
   // True when node k's bias estimate is far (options) from preintegration k's linearization.
   bool biasMovedFar(size_t k) const;
 
+  // Vehicle aiding (problem().aiding): whether it is on and whether each node carries an
+  // odometer scale block. observeVehicle(k, samples) records node k's observation (the rate of
+  // the sample ending at it, the odometer speed there); nodes in time order, each once, k >= 1.
+  bool aidsVehicle() const { return aiding_.any(); }
+  bool estimatesOdometerScale() const { return aiding_.odometer.estimatesScale(); }
+  void observeVehicle(size_t k, const ImuSampleBuffer& samples);
+
   // Factories (the caller's Problem takes ownership of the returned cost functions).
   PreintegrationFactor* makePreintegrationFactor(size_t k) const;  // uses preintegration(k)
   BiasFactor* makeBiasFactor(size_t k) const;                      // node k -> k+1
   GnssPositionFactor* makeGnssFactor(size_t fix) const;
-  NodePriorFactor* makeInitialPrior() const;                     // on node 0
+  NodePriorFactor* makeInitialPrior() const;  // on node 0
+  // Node k's odometer / NHC factor (null when it has no row); scale walk node k -> k+1; the
+  // scale's prior on node 0.
+  VehicleVelocityFactor* makeVehicleFactor(size_t k) const;
+  OdometerScaleWalkFactor* makeScaleWalkFactor(size_t k) const;
+  OdometerScalePriorFactor* makeScalePrior() const;
   ceres::LossFunction* gnssLoss() const { return loss_.get(); }  // owned here; may be null
   ceres::Manifold* quaternionManifold() const { return &manifold_; }
 
@@ -112,6 +127,10 @@ class FgoGraph {
   std::vector<double*> biasBlocks(size_t k);
   std::vector<double*> poseBlocks(size_t k);  // p, q, v (GNSS)
   std::vector<double*> nodeBlocks(size_t k);  // p, q, v, bg, ba (priors)
+  // nodeBlocks and, when the scale is estimated, s: every block of node k in a problem.
+  std::vector<double*> allBlocks(size_t k);
+  std::vector<double*> vehicleBlocks(size_t k, const VehicleVelocityFactor& f);  // q, v, bg (s)
+  std::vector<double*> scaleWalkBlocks(size_t k);                                // s_k, s_k+1
 
   // Whitened squared norm of GNSS observation `fix` at node k's current values, no loss.
   double gnssChi2(size_t fix, size_t node);
@@ -128,9 +147,11 @@ class FgoGraph {
   // IMU-rate output by strapdown from each node's current values with its biases over its
   // interval (graph/output_integrator.h), one pass over `imu`, the epochs given one at a time
   // to `output`. `sigma_nodes`, when not empty, holds each node's PvaSigma, copied to the epochs
-  // it starts (else sigma is null).
+  // it starts (else sigma is null); likewise scale_sigma_nodes for the odometer scale, whose
+  // epochs go to scale_output when it is set.
   void outputPass(const ImuPassFn& imu, const std::vector<PvaSigma>& sigma_nodes,
-                  const FgoEpochFn& output) const;
+                  const FgoEpochFn& output, const FgoScaleFn& scale_output = {},
+                  const std::vector<double>& scale_sigma_nodes = {}) const;
 
   const EstimationProblem& problem() const { return problem_; }
   const FgoOptions& options() const { return options_; }
@@ -159,6 +180,10 @@ class FgoGraph {
   std::deque<NodeBlocks> blocks_;
   std::deque<std::unique_ptr<ImuPreintegration>> pre_;  // interval k (none for the last node)
   std::deque<Eigen::Vector3d> gravity_point_;           // where each factor's gravity is linearized
+  std::deque<VehicleObservation> vehicle_obs_;          // with aiding: observeVehicle's
+  VehicleAidingOptions aiding_;
+  Eigen::Matrix3d C_vb_ = Eigen::Matrix3d::Identity();
+  std::unique_ptr<OdometerInterpolator> odometer_;  // opened at the first observation
   std::unique_ptr<ceres::LossFunction> loss_;
   mutable RightQuaternionManifold manifold_;
 };

@@ -2,7 +2,8 @@
 // GNSS antenna position factor on one node (docs/fgo.md, section 3).
 //   r = S (p_w + R_wb l_b + v_w dt - z_w)
 // l_b the antenna lever arm (body FRD), dt = t_fix - t_node (the node sits on the IMU sample
-// nearest the fix, |dt| <= half a sample), z_w the fix in the local frame, S the square root of
+// nearest the fix, |dt| <= half a sample, or on a node shared with a fix less than two samples
+// away, |dt| < two samples: graph/node_layout.h), z_w the fix in the local frame, S the square root of
 // the fix's information rotated into w. Blocks: p_w[3], q_wb[4], v_w[3]. Robust loss and
 // chi-square culling are applied by the solver.
 

@@ -2,9 +2,13 @@
 // Where the nodes of a factor graph sit, found in one pass over the IMU without holding it.
 //
 // Nodes sit on IMU sample ends: at every GNSS epoch used (the nearest sample), and every
-// max_node_spacing_s where GNSS is absent (outages, gaps, after the last fix). Node 0 is the
+// nodeSpacing() where GNSS is absent (outages, gaps, after the last fix). Node 0 is the
 // problem's initial state. The interval from node k to node k+1 holds the IMU samples
-// [node[k].sample_end, node[k+1].sample_end).
+// [node[k].sample_end, node[k+1].sample_end), never fewer than two: a one-sample preintegration
+// cannot be inverted. So fixes closer together than two samples (GNSS at a high rate, jitter,
+// duplicate stamps, fixes between samples) share one node, each with its own time offset from
+// it, and a first fix within a sample of the initial state goes on the second sample after it.
+// No fix is dropped for being close to another.
 //
 // The pass holds the sample times since the last node only (a few hundred with GNSS, one outage
 // at most in outages); the node list grows with the recording (~250 bytes per node with the
@@ -77,6 +81,11 @@ class NodeLayoutBuilder {
   class Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// The largest interval between nodes: options.max_node_spacing_s, or with vehicle aiding the
+// period of its updates when shorter (each node carries one odometer / NHC factor, so the graph
+// sees the vehicle as often as the filters do).
+double nodeSpacing(const EstimationProblem& problem, const FgoOptions& options);
 
 // The layout of `problem` in one pass over `imu` (problem.imu is not read; its GNSS fixes, in
 // time order, from one pass over them). Throws as NodeLayoutBuilder.

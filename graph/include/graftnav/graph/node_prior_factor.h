@@ -18,7 +18,13 @@ struct NodeValue {
   Eigen::Vector3d v_w = Eigen::Vector3d::Zero();
   Eigen::Vector3d bg = Eigen::Vector3d::Zero();
   Eigen::Vector3d ba = Eigen::Vector3d::Zero();
+  double odometer_scale = 0.0;  // used only when the graph estimates it (vehicle_aiding.h)
 };
+
+// x [-] x0 over the five blocks at `parameters` (p, q, v, bg, ba), and Log(q0^-1 q) (the q
+// columns' Jacobian is then Jr^-1 of it).
+Eigen::Matrix<double, 15, 1> nodeDifference(const NodeValue& x0, double const* const* parameters,
+                                            Eigen::Vector3d* dth);
 
 class NodePriorFactor final : public ceres::SizedCostFunction<15, 3, 4, 3, 3, 3> {
  public:
@@ -32,6 +38,22 @@ class NodePriorFactor final : public ceres::SizedCostFunction<15, 3, 4, 3, 3, 3>
   NodeValue x0_;
   Matrix15d S_;
   Vector15d e_;
+};
+
+// The same on a node with its odometer scale s (16 tangent dims, s last): the sliding window's
+// marginalization prior when the graph estimates the scale. Blocks: p, q, v, bg, ba, s[1].
+class NodeScalePriorFactor final : public ceres::SizedCostFunction<16, 3, 4, 3, 3, 3, 1> {
+ public:
+  using Matrix16d = Eigen::Matrix<double, 16, 16>;
+  using Vector16d = Eigen::Matrix<double, 16, 1>;
+  NodeScalePriorFactor(const NodeValue& x0, const Matrix16d& S, const Vector16d& e);
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  NodeValue x0_;
+  Matrix16d S_;
+  Vector16d e_;
 };
 
 }  // namespace graftnav

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <limits>
 #include <optional>
 
 #include "graftnav/estimation/nav_solution.h"
@@ -21,12 +22,20 @@ using FgoEpochFn = std::function<void(const NavState& state, const PvaSigma* sig
                                       const Eigen::Vector3d& gyro_bias_rad_s,
                                       const Eigen::Vector3d& accel_bias_m_s2)>;
 
+// With an odometer scale estimated: its value (and 1-sigma, NaN when not computed) at the epoch
+// given next, called just before the FgoEpochFn of that epoch.
+using FgoScaleFn = std::function<void(const OdometerScaleEstimate& estimate)>;
+
 class OutputIntegrator {
  public:
-  OutputIntegrator(const LocalFrame& frame, int gnss_week, FgoEpochFn output);
+  // scale_output (may be empty) receives each epoch's odometer scale: x.odometer_scale of the
+  // node starting its interval.
+  OutputIntegrator(const LocalFrame& frame, int gnss_week, FgoEpochFn output,
+                   FgoScaleFn scale_output = {});
   // Starts the next node's interval (nodes in time order) at its value `x` at t_s; `sigma`
-  // (null: none) goes with every epoch the interval gives.
-  void node(double t_s, const NodeValue& x, const PvaSigma* sigma);
+  // (null: none) and the scale's 1-sigma go with every epoch the interval gives.
+  void node(double t_s, const NodeValue& x, const PvaSigma* sigma,
+            double scale_std = std::numeric_limits<double>::quiet_NaN());
   // The next raw sample of the current interval.
   void sample(const ImuSample& raw);
   // Gives the last epoch.
@@ -38,8 +47,10 @@ class OutputIntegrator {
     Eigen::Vector3d bg, ba;
     PvaSigma sigma;
     bool has_sigma = false;
+    OdometerScaleEstimate scale;
   };
   void emit() {
+    if (scale_output_) scale_output_(pending_.scale);
     output_(pending_.state, pending_.has_sigma ? &pending_.sigma : nullptr, pending_.bg,
             pending_.ba);
   }
@@ -47,6 +58,7 @@ class OutputIntegrator {
   const LocalFrame& frame_;
   int gnss_week_;
   FgoEpochFn output_;
+  FgoScaleFn scale_output_;
   std::optional<Strapdown> sd_;
   NodeValue x_;    // the current node
   Epoch pending_;  // the epoch held back

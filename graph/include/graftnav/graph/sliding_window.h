@@ -40,9 +40,10 @@ void runSlidingWindow(FgoGraph& graph, const ImuPassFn& imu, FgoReport* report,
                       bool keep_preintegrations, WindowListener* listener = nullptr);
 
 // Linear prior on node m+1 from marginalizing node m out of the given residual blocks
-// (exposed for tests): H, b of the factors over [node m, node m+1] tangent (30 dims), Schur
-// complement on node m+1, factored as NodePriorFactor(x_{m+1}, S, e).
-NodePriorFactor* marginalizeNode(FgoGraph& graph, ceres::Problem& problem, size_t m,
-                                 const std::vector<ceres::ResidualBlockId>& residuals);
+// (exposed for tests): H, b of the factors over [node m, node m+1] tangent (30 dims; 32 with
+// the odometer scale), Schur complement on node m+1, factored as NodePriorFactor(x_{m+1}, S, e)
+// (NodeScalePriorFactor with the scale), over graph.allBlocks(m + 1).
+ceres::CostFunction* marginalizeNode(FgoGraph& graph, ceres::Problem& problem, size_t m,
+                                     const std::vector<ceres::ResidualBlockId>& residuals);
 
 }  // namespace graftnav

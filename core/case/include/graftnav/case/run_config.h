@@ -54,6 +54,10 @@
 //   evaluation:
 //     nees_interval_s: 1.0
 //     csv_rate_hz: 10     # per-epoch error CSV rate (statistics always use every epoch)
+//   odometer:             # vehicle aiding (AidingConfig, aiding_config.h, docs/aiding.md)
+//     enabled: true
+//   nhc:
+//     enabled: true
 //
 // The same schema is read from a file, from YAML text or a YAML node (a batch manifest's option
 // axis, the Python module's options={...}), and as overrides given by dotted keys
@@ -68,6 +72,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "graftnav/case/aiding_config.h"
 #include "graftnav/estimation/alignment.h"
 #include "graftnav/estimation/estimator_registry.h"
 #include "graftnav/eval/evaluation.h"
@@ -123,6 +128,7 @@ struct RunConfig : EstimatorOptions {
   EvaluationConfig evaluation;
   GnssConfig gnss;
   GraftingConfig grafting;
+  AidingConfig aiding;  // odometer and NHC, off unless enabled (makeProblem hands them on)
 };
 
 // What parsing found besides the values: printable warnings ("source:line: unknown key 'ekf.x'

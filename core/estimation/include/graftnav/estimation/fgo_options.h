@@ -56,6 +56,10 @@ struct FgoOptions {
   double min_vrw_m_s_sqrt_s = 1e-6;
   double min_gyro_bias_std_rad_s = 1e-9;
   double min_accel_bias_std_m_s2 = 1e-7;
+  // Odometer scale factor: each node carries its own, tied to the next by a random walk of at
+  // least this (fraction/sqrt(s); 1e-6 moves it by ~40 ppm over 25 min) so that a scale given
+  // as constant stays finite.
+  double min_odometer_scale_random_walk_per_sqrt_s = 1e-6;
 
   // True when every field is usable; otherwise false and *error names the field and value.
   bool validate(std::string* error) const;

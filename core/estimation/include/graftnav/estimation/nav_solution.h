@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "graftnav/estimation/gnss_source.h"
+#include "graftnav/estimation/vehicle_aiding.h"
 #include "graftnav/imu/imu_profile.h"
 #include "graftnav/nav/time_window.h"
 #include "graftnav/nav/types.h"
@@ -24,10 +25,16 @@ struct NavSolution {
   std::vector<PvaSigma> sigma;  // same length as states, or empty
   // Estimated IMU errors at each state epoch (same length as states, or empty):
   std::vector<Eigen::Vector3d> gyro_bias_rad_s, accel_bias_m_s2, gyro_scale, accel_scale;
+  // Estimated odometer scale factor k (fraction) and its 1-sigma at each state epoch: same
+  // length as states when the estimator estimates it (vehicle_aiding.h), else empty.
+  std::vector<double> odometer_scale, odometer_scale_std;
   // GNSS bookkeeping.
   int gnss_used = 0;
   int gnss_rejected = 0;  // failed the innovation gate
   int gnss_withheld = 0;  // inside outages
+  // Vehicle-frame velocity (odometer / NHC) updates or factors used and rejected by the gate.
+  int vehicle_used = 0;
+  int vehicle_rejected = 0;
 };
 
 // The inputs shared by all estimators.
@@ -42,6 +49,13 @@ struct EstimationProblem {
   Eigen::Vector3d lever_arm_b_m = Eigen::Vector3d::Zero();  // antenna from IMU, body FRD
   ImuProfile imu_profile;  // noise and bias model of the IMU being navigated
   PvaSigma initial_sigma = PvaSigma::Constant(-1.0);  // < 0: estimator default
+  // Odometer and NHC (off unless enabled); the odometer's samples come from odometer_stream when
+  // set, else from `odometer` (in time order).
+  VehicleAidingOptions aiding;
+  OdometerSeries odometer;
+  OdometerOpenFn odometer_stream;
+  // A pass over the odometer samples (the stream when set, else the series).
+  std::unique_ptr<OdometerSource> openOdometer() const;
 };
 
 // One pass over an IMU that need not be held in memory: calls `block` with consecutive blocks of

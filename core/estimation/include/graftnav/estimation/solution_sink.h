@@ -17,6 +17,9 @@ class SolutionSink {
   // sensor-error estimates at that epoch.
   virtual void add(const NavState& state, const PvaSigma* sigma,
                    const ImuErrorEstimate& sensors) = 0;
+  // When the estimator estimates the odometer scale factor: its value at the epoch given next
+  // to add(), called just before it. Ignored unless a sink wants it.
+  virtual void addOdometerScale(const OdometerScaleEstimate& /*estimate*/) {}
 };
 
 // Appends every epoch to the vectors of a NavSolution (sigma only when given).
@@ -25,6 +28,7 @@ class NavSolutionSink : public SolutionSink {
   explicit NavSolutionSink(NavSolution* solution) : sol_(solution) {}
   void reserve(std::size_t epochs);
   void add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate& sensors) override;
+  void addOdometerScale(const OdometerScaleEstimate& estimate) override;
 
  private:
   NavSolution* sol_;

@@ -87,6 +87,7 @@ class CasePaths {
   std::string gnssPos() const;      // field/gnss.pos
   std::string gnssFixType() const;  // field/gnss_fixtype.txt
   std::string truthNav() const;     // field/truth.nav
+  std::string odometer() const;     // field/odometer.txt
   // The external reference solution named by case.yaml (nullopt when the key is absent).
   std::optional<std::string> referenceSolution(const CaseConfig& config) const;
   std::string labStatic() const;  // lab/static.txt

@@ -14,7 +14,9 @@
 //   imufile, gnssfile, outputpath, windows, starttime, endtime, initvel, initatt, initgb (deg/h),
 //   initab (mGal), imudatalen, imudatarate, isearth, antlever, odolever, bodyangle,
 //   odometer: {isuseodo, std, srw}, imumodel: {arw, vrw, gbstd, abstd, corrtime} (units as above),
-//   isuseoutage, outagetime, outagelen, outageperiod (s), gnssthreshold (m).
+//   isuseoutage, outagetime, outagelen, outageperiod (s), gnssthreshold (m). odolever (m, FRD),
+//   bodyangle (deg, roll pitch yaw of the IMU in the vehicle), odometer.std (m/s, forward lateral
+//   vertical), odometer.srw (ppm, the random-walk density of its scale state, per sqrt(s)).
 // Anything that has no graftnav counterpart, or was interpreted, is recorded in PeerSetup::notes.
 
 #include <Eigen/Core>
@@ -32,6 +34,17 @@ enum class PeerFormat { kKfGins, kObGins };
 // "kf-gins" / "ob-gins" -> format; throws std::invalid_argument naming the text otherwise.
 PeerFormat peerFormatFromName(const std::string& name);
 std::string peerFormatName(PeerFormat format);
+
+// OB_GINS's odometer set-up, in SI: `odometer: {isuseodo, std, srw}`, `odolever`, `bodyangle`.
+// Its IMU file carries the odometer speed (m/s, mean over the sample) in column 8, or in
+// columns 8 and 9 (two wheels, averaged) with imudatalen 9.
+struct PeerOdometer {
+  bool enabled = false;                                         // isuseodo
+  Eigen::Vector3d std_m_s = Eigen::Vector3d(0.05, 0.05, 0.05);  // std: forward, lateral, vertical
+  std::optional<double> scale_random_walk_per_sqrt_s;      // srw (ppm -> fraction, per sqrt(s))
+  Eigen::Vector3d lever_arm_m = Eigen::Vector3d::Zero();   // odolever, from the IMU, FRD
+  Eigen::Vector3d mounting_rad = Eigen::Vector3d::Zero();  // bodyangle: IMU in the vehicle
+};
 
 // A periodic outage schedule in absolute seconds of week (OB_GINS isuseoutage).
 struct PeerOutageSchedule {
@@ -61,6 +74,10 @@ struct PeerSetup {
   std::optional<double> gnss_max_std_m;               // OB_GINS gnssthreshold
   std::optional<int> window_nodes;                    // OB_GINS windows
   std::optional<bool> earth_rotation;                 // OB_GINS isearth
+  std::optional<PeerOdometer> odometer;               // OB_GINS odometer keys, when present
+  // IMU columns after the 7th that hold the odometer speed (OB_GINS imudatalen 8 or 9: 1 or 2;
+  // 0: none). Never read as a temperature.
+  int odometer_columns = 0;
   std::vector<std::string> notes;  // what was assumed, interpreted or not converted
 };
 

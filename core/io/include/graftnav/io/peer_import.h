@@ -5,9 +5,11 @@
 //   CASE/case.yaml          name, IMU rate, the peer's IMU noise as reference_imu, lever arm,
 //                           initial state at the start time, reference_solution when given
 //   CASE/field/ref_imu.txt  the peer's IMU file (linked; copied with 7 columns when it has more)
+//   CASE/field/odometer.txt OB_GINS's odometer column(s) of the IMU file (imudatalen 8 or 9)
 //   CASE/field/gnss.pos     the peer's GNSS file (linked, or copied with ImportOptions::copy_files)
 //   CASE/field/reference.nav  optional reference solution for the errors (linked or copied)
-//   CASE/run.yaml           run config: time_range, outages.windows, ekf initial sigmas, gnss, fgo
+//   CASE/run.yaml           run config: time_range, outages.windows, ekf initial sigmas, gnss, fgo,
+//                           odometer
 //   CASE/notes.md           what was converted, assumed or not converted (also returned)
 //   CASE/source/<name>.yaml the peer's yaml, copied for the record
 //

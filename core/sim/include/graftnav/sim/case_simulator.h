@@ -1,10 +1,12 @@
 #pragma once
 // Writes a whole simulated case (layout of spec/dataset.md) from a SimConfig:
 //   case.yaml, field/ref_imu.txt, field/tested_imu.txt, field/gnss.pos, field/truth.nav,
+//   field/odometer.txt (when the config has an odometer section),
 //   lab/static.txt, lab/six_position/*, lab/rate/*, lab/tilt/*, and simulation.yaml (the seed
 //   and the drawn error terms of both IMUs, for checking calibration and grafting results).
 // Randomness: every stream derives from the one seed (deriveStreamSeed): reference IMU 1, tested
-// IMU field 2, tested turn-on draw 3, reference turn-on draw 4, GNSS 5, lab session i 100 + i.
+// IMU field 2, tested turn-on draw 3, reference turn-on draw 4, GNSS 5, odometer 6, lab session
+// i 100 + i.
 // The tested IMU keeps the same deterministic terms (turn-on draw included) in the field and in
 // the lab, so that lab-derived errors apply to the field record; noise realizations differ.
 

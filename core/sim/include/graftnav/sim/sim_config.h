@@ -64,6 +64,13 @@
 //     accel_vibration_rectification: {coeff: [..3], regressor: specific_force_hp_sq, window_s: 1}
 //                                    # coeff SI per regressor unit (also gyro_)
 //     gyro_quantization_rad: [..3]     # increment step (rad); accel_quantization_m_s (m/s)
+//   odometer:                       # optional: field/odometer.txt (OdometerSimOptions)
+//     rate_hz: 10
+//     scale_error_ppm: 3000         # the odometer reads 0.3 % fast
+//     noise_std_m_s: 0.05
+//     quantization_m_s: 0           # reading step (0: none)
+//     lever_arm_m: [0, 0, 0]        # odometer point from the reference IMU, FRD
+//     mounting_deg: [0, 0, 0]       # roll, pitch, yaw of the reference IMU in the vehicle frame
 //   temperature:                    # optional: tested IMU files get an 8th (temperature) column
 //     start_degC: 20                # warm-up T(t) = end + (start - end) exp(-(t - t_file0) / tau)
 //     end_degC: 35
@@ -96,6 +103,7 @@
 #include "graftnav/imu/imu_profile.h"
 #include "graftnav/sim/lab_simulator.h"
 #include "graftnav/sim/motion_script.h"
+#include "graftnav/sim/odometer_simulator.h"
 #include "graftnav/sim/track_trajectory.h"
 
 namespace graftnav {
@@ -155,6 +163,7 @@ struct SimConfig {
   // is extended to its length. Not a physical lab session.
   bool lab_common_random_numbers = false;
   std::optional<SimTemperature> temperature;
+  std::optional<OdometerSimOptions> odometer;  // field/odometer.txt when set
   bool ideal = false;  // every IMU error-free and GNSS noise-free (set by --ideal)
 
   void validate() const;  // throws std::invalid_argument naming the key
