@@ -38,16 +38,15 @@ class Case:
             gnss.pos's 7 columns.
         truth: fields [gnss_week,] t_s, lat_deg, lon_deg, height_m, v_{n,e,d}_m_s, roll_deg,
             pitch_deg, heading_deg, or a .nav file's 11 columns.
-        odometer: not supported by this build (ValueError when given).
+        odometer: fields t_s, speed_m_s (forward speed at the odometer), or field/odometer.txt's
+            2 columns; used when the run config turns the odometer on (odometer.enabled).
         config: case.yaml's content: a path, a dict of its keys, or None (then the IMU has no
             noise parameters and only free-inertial navigation runs).
         """
-        if odometer is not None:
-            raise ValueError("odometer: this graftnav has no vehicle aiding")
         to = lambda a, kind, name: None if a is None else _canonical(a, kind, name)
         return cls(_c.from_arrays(to(imu, "imu", "imu"), to(gnss, "gnss", "gnss"),
                                   to(truth, "nav", "truth"), to(tested_imu, "imu", "tested_imu"),
-                                  config))
+                                  to(odometer, "odometer", "odometer"), config))
 
     name = property(lambda self: self._impl.name, doc="case.yaml's name")
     dir = property(lambda self: self._impl.dir, doc="the case folder (None: built from arrays)")

@@ -16,10 +16,12 @@ _FILE_LAYOUTS = {
                 "dvel_z_m_s"]},
     "gnss": {7: ["t_s", "lat_deg", "lon_deg", "height_m", "std_n_m", "std_e_m", "std_d_m"]},
     "nav": {11: list(_c.NAV_COLUMNS)},
+    "odometer": {2: list(_c.ODOMETER_COLUMNS)},
 }
 _FILE_LAYOUTS["imu"][8] = _FILE_LAYOUTS["imu"][7] + ["temperature_degC"]
 
-_COLUMNS = {"imu": _c.IMU_COLUMNS, "gnss": _c.GNSS_COLUMNS, "nav": _c.NAV_COLUMNS}
+_COLUMNS = {"imu": _c.IMU_COLUMNS, "gnss": _c.GNSS_COLUMNS, "nav": _c.NAV_COLUMNS,
+            "odometer": _c.ODOMETER_COLUMNS}
 
 
 def structured(table, columns):

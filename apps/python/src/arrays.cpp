@@ -109,6 +109,22 @@ const std::vector<std::string>& imuErrorColumns() {
   return c;
 }
 
+const std::vector<std::string>& odometerColumns() {
+  static const std::vector<std::string> c{"t_s", "speed_m_s"};
+  return c;
+}
+
+OdometerSeries odometerFromArray(const Array& a, const std::string& name) {
+  const auto r = checkedRows(a, odometerColumns(), name);
+  OdometerSeries odo(r.shape(0));
+  for (py::ssize_t k = 0; k < r.shape(0); ++k) {
+    requireFinite(r, k, {0, 1}, odometerColumns(), name);
+    requireIncreasing(r, k, 0, name);
+    odo[k] = OdometerSample{r(k, 0), r(k, 1)};
+  }
+  return odo;
+}
+
 Array imuToArray(const ImuSeries& imu) {
   Array a = newArray(imu.size(), imuColumns().size());
   auto r = a.mutable_unchecked<2>();

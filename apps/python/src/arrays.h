@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "graftnav/estimation/nav_solution.h"
+#include "graftnav/estimation/vehicle_aiding.h"
 #include "graftnav/nav/types.h"
 
 namespace graftnav::python {
@@ -21,9 +22,11 @@ const std::vector<std::string>&
 imuColumns();  // t_s, dt_s, dtheta_*_rad, dvel_*_m_s, temperature_degC
 const std::vector<std::string>&
 gnssColumns();  // t_s, lat_deg, lon_deg, height_m, std_*_m, fix_type, num_sv
-const std::vector<std::string>& navColumns();       // gnss_week, t_s, lat_deg, ..., heading_deg
-const std::vector<std::string>& sigmaColumns();     // pos_std_n_m ... att_std_d_deg (state_std.txt)
-const std::vector<std::string>& imuErrorColumns();  // t_s, gyro_bias_x_deg_h ... (imu_errors.txt)
+const std::vector<std::string>& navColumns();    // gnss_week, t_s, lat_deg, ..., heading_deg
+const std::vector<std::string>& sigmaColumns();  // pos_std_n_m ... att_std_d_deg (state_std.txt)
+const std::vector<std::string>& imuErrorColumns();
+const std::vector<std::string>&
+odometerColumns();  // t_s, speed_m_s (field/odometer.txt)  // t_s, gyro_bias_x_deg_h ... (imu_errors.txt)
 
 Array imuToArray(const ImuSeries& imu);
 Array gnssToArray(const GnssSeries& gnss);
@@ -35,6 +38,7 @@ Array navToArray(const NavSeries& nav);
 ImuSeries imuFromArray(const Array& a, double nominal_rate_hz, const std::string& name);
 GnssSeries gnssFromArray(const Array& a, const std::string& name);
 NavSeries navFromArray(const Array& a, const std::string& name);
+OdometerSeries odometerFromArray(const Array& a, const std::string& name);
 
 // The returned solution: the epochs at `rows` (navColumns, then sigmaColumns when the solution
 // has sigmas) and its IMU errors (imuErrorColumns; empty array when it has none).

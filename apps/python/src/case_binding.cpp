@@ -40,7 +40,8 @@ ImuSelection selectionOf(ImuSeries imu, const std::optional<ImuProfile>& profile
 }
 
 std::shared_ptr<PyCase> fromArrays(const Array& imu, const Array& gnss, const py::object& truth,
-                                   const py::object& tested_imu, const py::object& config) {
+                                   const py::object& tested_imu, const py::object& odometer,
+                                   const py::object& config) {
   CaseInputs c;
   c.config = caseConfigOf(config, imu, &c.warnings);
   c.gnss = gnssFromArray(gnss, "gnss");
@@ -58,7 +59,9 @@ std::shared_ptr<PyCase> fromArrays(const Array& imu, const Array& gnss, const py
         "tested",
         selectionOf(imuFromArray(tested_imu.cast<Array>(), cfg.testedImuRateHz(), "tested_imu"),
                     cfg.tested_imu, cfg.tested_imu_noise_given, cfg.testedImuRateHz(), "tested"));
-  return PyCase::fromInputs(std::move(c), std::move(imus));
+  OdometerSeries odo;
+  if (!odometer.is_none()) odo = odometerFromArray(odometer.cast<Array>(), "odometer");
+  return PyCase::fromInputs(std::move(c), std::move(imus), std::move(odo));
 }
 
 }  // namespace
@@ -69,6 +72,7 @@ void bindCase(py::module_& m) {
   m.attr("NAV_COLUMNS") = navColumns();
   m.attr("SIGMA_COLUMNS") = sigmaColumns();
   m.attr("IMU_ERROR_COLUMNS") = imuErrorColumns();
+  m.attr("ODOMETER_COLUMNS") = odometerColumns();
 
   py::class_<PyCase, std::shared_ptr<PyCase>>(m, "Case")
       .def_property_readonly("name", [](const PyCase& c) { return c.inputs().config.name; })
@@ -111,7 +115,7 @@ void bindCase(py::module_& m) {
       },
       py::arg("path"));
   m.def("from_arrays", &fromArrays, py::arg("imu"), py::arg("gnss"), py::arg("truth"),
-        py::arg("tested_imu"), py::arg("config"));
+        py::arg("tested_imu"), py::arg("odometer"), py::arg("config"));
 }
 
 }  // namespace graftnav::python

@@ -33,6 +33,27 @@ void restrictInputs(const PyCase& pc, const NavigateRequest& r, RunInputs* in,
   in->imu = &in->imu_restricted;
 }
 
+// makeProblem; a case from arrays hands its odometer array to the estimator (makeProblem reads
+// a folder's field/odometer.txt).
+EstimationProblem problemOf(const PyCase& pc, const CaseInputs& c, const ImuSelection& imu,
+                            const RunConfig& rc, const std::optional<OutageScheduleConfig>& outages,
+                            std::vector<std::string>* notes) {
+  if (pc.hasFolder() || !rc.aiding.options.odometer.enabled)
+    return makeProblem(c, imu, rc, outages, notes);
+  if (pc.odometer().empty())
+    throw std::invalid_argument(
+        "odometer.enabled is true but the case built from arrays has no odometer array");
+  RunConfig without = rc;
+  without.aiding.options.odometer.enabled = false;
+  EstimationProblem pr = makeProblem(c, imu, without, outages, notes);
+  pr.aiding = rc.aiding.options;
+  const OdometerSeries* odometer = &pc.odometer();  // the case outlives the run
+  pr.odometer_stream = [odometer] { return seriesOdometerSource(*odometer); };
+  notes->push_back("vehicle aiding: odometer from the array (" + std::to_string(odometer->size()) +
+                   " samples)");
+  return pr;
+}
+
 }  // namespace
 
 NavigateOutcome navigateCase(const PyCase& pc, const NavigateRequest& r) {
@@ -56,7 +77,7 @@ NavigateOutcome navigateCase(const PyCase& pc, const NavigateRequest& r) {
 
   std::optional<OutageScheduleConfig> outages;
   if (rc.outages_given && !free_inertial) outages = rc.outages;
-  const EstimationProblem pr = makeProblem(c, imu, rc, outages, &out.notes);
+  const EstimationProblem pr = problemOf(pc, c, imu, rc, outages, &out.notes);
   if (outages) {
     const double t0 = pr.imu.front().t_s - pr.imu.front().dt_s;
     requireOutagesInsideData(*outages, pr.outages, t0, pr.imu.back().t_s);

@@ -15,10 +15,12 @@ std::shared_ptr<PyCase> PyCase::load(const std::string& dir) {
 }
 
 std::shared_ptr<PyCase> PyCase::fromInputs(CaseInputs inputs,
-                                           std::map<std::string, ImuSelection> imus) {
+                                           std::map<std::string, ImuSelection> imus,
+                                           OdometerSeries odometer) {
   auto c = std::make_shared<PyCase>();
   c->inputs_ = std::move(inputs);
   c->imus_ = std::move(imus);
+  c->odometer_ = std::move(odometer);
   return c;
 }
 

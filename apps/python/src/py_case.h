@@ -10,6 +10,7 @@
 #include <string>
 
 #include "graftnav/case/case_inputs.h"
+#include "graftnav/estimation/vehicle_aiding.h"
 
 namespace graftnav::python {
 
@@ -31,6 +32,10 @@ class PyCase {
   // Throws std::invalid_argument for another name, MissingFileError when its file is missing.
   const ImuSelection& imu(const std::string& which) const;
 
+  // The odometer given as an array (a case from arrays); empty otherwise (a folder's
+  // field/odometer.txt is read by makeProblem).
+  const OdometerSeries& odometer() const { return odometer_; }
+
   // simulate(out=None) keeps its temporary folder alive as long as the case.
   void keepAlive(std::shared_ptr<void> owner) { owner_ = std::move(owner); }
 
@@ -38,6 +43,7 @@ class PyCase {
   CaseInputs inputs_;
   mutable std::mutex mutex_;
   mutable std::map<std::string, ImuSelection> imus_;
+  OdometerSeries odometer_;
   std::shared_ptr<void> owner_;
 };
 

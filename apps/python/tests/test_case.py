@@ -91,6 +91,30 @@ class FromArrays(unittest.TestCase):
         self.assertIsNone(aligned.statistics)  # nothing to compare with
         self.assertGreater(len(aligned.solution), 0)
 
+    def test_odometer_array_aids_the_outages(self):
+        """An odometer built from the truth's speed narrows the outage drift of the MEMS IMU."""
+        loaded = graftnav.load_case(SAMPLES["mems"])
+        truth = loaded.reference()
+        odometer = np.empty(len(truth), dtype=[("t_s", "f8"), ("speed_m_s", "f8")])
+        odometer["t_s"] = truth["t_s"]
+        odometer["speed_m_s"] = np.hypot(truth["v_n_m_s"], truth["v_e_m_s"])
+        import yaml  # Debian's python3-yaml
+        with open(os.path.join(SAMPLES["mems"], "case.yaml")) as f:
+            config = yaml.safe_load(f)
+        config["reference_imu"] = config["tested_imu"]  # the tested IMU is the case's one IMU
+        built = graftnav.Case.from_arrays(imu=loaded.imu("tested"), gnss=loaded.gnss(),
+                                          truth=truth, odometer=odometer, config=config)
+        free = graftnav.navigate(loaded, "ekf", run_config=NAVIGATE_CONFIG, imu="tested")
+        aided = graftnav.navigate(built, "ekf", run_config=NAVIGATE_CONFIG,
+                                  options={"odometer": {"enabled": True}})
+        self.assertTrue(any("odometer from the array" in n for n in aided.notes))
+        self.assertLess(aided.statistics["outage"]["horizontal_m"],
+                        0.5 * free.statistics["outage"]["horizontal_m"])
+        no_odometer = graftnav.Case.from_arrays(imu=loaded.imu("tested"), gnss=loaded.gnss(),
+                                                config=os.path.join(SAMPLES["mems"], "case.yaml"))
+        with self.assertRaises(ValueError):
+            graftnav.navigate(no_odometer, "ekf", options={"odometer": {"enabled": True}})
+
     def test_bad_arrays(self):
         loaded = graftnav.load_case(SAMPLES["mems"])
         imu = loaded.imu("ref")
