@@ -62,6 +62,14 @@ def plot_estimators(out_dir):
         ax.set_yticks(range(len(sel)))
         ax.set_yticklabels([label_of(r) for r in sel], fontsize=7)
         ax.invert_yaxis()
+        # Estimators differ by orders of magnitude (a smoother's decimetres beside a filter's
+        # metres): a log axis then, else a linear one from 0; room on the right for "n=".
+        ends = [v for r in sel for v in (num(r["min"]), num(r["max"])) if v == v and v > 0]
+        if ends and max(ends) / min(ends) > 20:
+            ax.set_xscale("log")
+            ax.set_xlim(min(ends) / 1.5, max(ends) * 2.5)
+        elif ends:
+            ax.set_xlim(0, max(ends) * 1.15)
         ax.set_xlabel(f"RMS horizontal error over the {scope} epochs across cases (m)")
         ax.grid(axis="x", alpha=0.3)
     axes[0, 0].set_title("Per estimator: median, interquartile range and min-max over the cases")

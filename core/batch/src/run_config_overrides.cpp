@@ -2,10 +2,10 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <algorithm>
 #include <sstream>
 #include <stdexcept>
 
+#include "graftnav/case/run_config.h"
 #include "graftnav/io/yaml_fields.h"
 
 namespace graftnav {
@@ -16,9 +16,7 @@ std::vector<std::string> splitKey(const std::string& key) {
   std::stringstream ss(key);
   std::string p;
   while (std::getline(ss, p, '.')) parts.push_back(p);
-  if (parts.size() < 2 ||
-      std::any_of(parts.begin(), parts.end(), [](const std::string& s) { return s.empty(); }))
-    throw std::runtime_error("'" + key + "' is not a dotted run-config key (section.key)");
+  if (parts.empty()) throw std::runtime_error("an empty run-config key");
   return parts;
 }
 
@@ -28,6 +26,18 @@ YAML::Node loadBase(const std::string& base_path) {
   if (!root.IsDefined() || root.IsNull()) return YAML::Node(YAML::NodeType::Map);
   if (!root.IsMap()) throw std::runtime_error(base_path + ": the run config must be a YAML map");
   return root;
+}
+
+// Writes `value` at `node[key]`; a map given where a map is merges key by key (an option
+// `outages: {length_s: 30}` keeps the group's other outages keys), as the run-config parser does
+// with overrides.
+void setMerged(YAML::Node node, const std::string& key, const YAML::Node& value) {
+  YAML::Node cur = node[key];
+  if (value.IsMap() && cur.IsDefined() && cur.IsMap()) {
+    for (const auto& kv : value) setMerged(cur, kv.first.Scalar(), kv.second);
+    return;
+  }
+  node[key] = value;
 }
 
 void setDotted(YAML::Node root, const std::string& key, const std::string& value_yaml) {
@@ -43,13 +53,32 @@ void setDotted(YAML::Node root, const std::string& key, const std::string& value
     }
     cur.reset(next);  // rebinds cur (operator= would assign the value)
   }
-  cur[parts.back()] = YAML::Load(value_yaml);
+  setMerged(cur, parts.back(), YAML::Load(value_yaml));
+}
+
+RunConfig parseBase(const std::string& base_path) {
+  if (base_path.empty()) return RunConfig{};
+  return loadRunConfig(base_path);
+}
+
+std::string knownKeys(const std::string& key) {
+  const std::string section = splitKey(key).front();
+  std::string sections;
+  for (const auto& [name, keys] : runConfigSchema()) {
+    if (name == section) {
+      std::string list;
+      for (const auto& k : keys) list += (list.empty() ? "" : ", ") + k;
+      return "the keys of " + section + ": " + list;
+    }
+    sections += (sections.empty() ? "" : ", ") + name;
+  }
+  return "the sections: " + sections;
 }
 
 }  // namespace
 
 std::string composeRunConfig(const std::string& base_path,
-                             const std::vector<RunConfigOverride>& overrides) {
+                             const std::vector<RunConfigSetting>& overrides) {
   YAML::Node root = YAML::Clone(loadBase(base_path));
   for (const auto& o : overrides) setDotted(root, o.key, o.value_yaml);
   YAML::Emitter out;
@@ -62,19 +91,18 @@ std::string composeRunConfig(const std::string& base_path,
 
 void checkRunConfigOption(const std::string& base_path, const std::string& key,
                           const std::string& value_yaml) {
-  static const char* const kSections[] = {"time_range", "outages", "ekf",     "evaluation",
-                                          "fgo",        "gnss",    "grafting"};
-  const std::vector<std::string> parts = splitKey(key);
-  if (std::find(std::begin(kSections), std::end(kSections), parts.front()) == std::end(kSections))
-    throw std::runtime_error("unknown run-config section '" + parts.front() + "'");
-  YAML::Node root = YAML::Clone(loadBase(base_path));
-  setDotted(root, key, value_yaml);
+  const RunConfig base = parseBase(base_path);
+  RunConfigReport report;
+  const std::string source =
+      "the run config " + (base_path.empty() ? std::string("(none)") : base_path) + " with it";
+  applyRunConfigOverrides(base, {{key, value_yaml}}, source, &report);
+  if (!report.unknown_keys.empty())
+    throw std::runtime_error("unknown run-config key '" + report.unknown_keys.front() + "' (" +
+                             knownKeys(report.unknown_keys.front()) + ")");
 }
 
 bool runConfigListsOutageWindows(const std::string& base_path) {
-  const YAML::Node root = loadBase(base_path);
-  const YAML::Node o = root["outages"];
-  return o.IsDefined() && o.IsMap() && o["windows"].IsDefined();
+  return !parseBase(base_path).outages.explicit_windows.empty();
 }
 
 }  // namespace graftnav

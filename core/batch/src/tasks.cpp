@@ -60,10 +60,10 @@ std::string joined(const std::vector<std::string>& v, const char* sep) {
 }
 
 // Every combination of the option axes, the last axis fastest; one empty combination without.
-std::vector<std::vector<RunConfigOverride>> optionGrid(const std::vector<OptionAxis>& axes) {
-  std::vector<std::vector<RunConfigOverride>> grid{{}};
+std::vector<std::vector<RunConfigSetting>> optionGrid(const std::vector<OptionAxis>& axes) {
+  std::vector<std::vector<RunConfigSetting>> grid{{}};
   for (const auto& a : axes) {
-    std::vector<std::vector<RunConfigOverride>> next;
+    std::vector<std::vector<RunConfigSetting>> next;
     for (const auto& partial : grid) {
       for (const auto& v : a.values) {
         next.push_back(partial);
@@ -109,7 +109,7 @@ std::string taskName(const BatchTask& t) {
   return name;
 }
 
-std::string optionsJson(const std::vector<RunConfigOverride>& options) {
+std::string optionsJson(const std::vector<RunConfigSetting>& options) {
   nlohmann::ordered_json j = nlohmann::ordered_json::object();
   for (const auto& o : options) j[o.key] = yamlToJson(YAML::Load(o.value_yaml));
   return j.dump();
@@ -181,8 +181,8 @@ std::string taskId(const Fnv1a64& group_hash, const std::string& case_hash, cons
   return h.hex();
 }
 
-std::vector<RunConfigOverride> runConfigOverrides(const BatchTask& t) {
-  std::vector<RunConfigOverride> o = t.options;
+std::vector<RunConfigSetting> runConfigOverrides(const BatchTask& t) {
+  std::vector<RunConfigSetting> o = t.options;
   if (t.schedule) {
     o.push_back({"outages.length_s", fmt::format("{}", t.schedule->length_s)});
     o.push_back({"outages.period_s", fmt::format("{}", t.schedule->period_s)});

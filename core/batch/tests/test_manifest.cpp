@@ -242,6 +242,42 @@ TEST(BatchManifest, EveryClassOfBadManifestIsRefusedWithFileAndLine) {
                 m + ":5", "lists '0.9' twice");
 }
 
+// The option values are judged by the run config's own parser (core/case) over the group's run
+// config: an unknown key, a wrong type and a value out of range are refused at the value's line,
+// a section's keys given as a map are accepted and merged into the task's run config.
+TEST(BatchManifest, OptionValuesAreJudgedByTheRunConfigParser) {
+  const std::string dir = setUp("manifest_option_values", "out: out\n");
+  const std::string m = dir + "/m.yaml";
+  const std::string head =
+      "out: out\ngroups:\n  - command: navigate\n    cases: [cases/other]\n"
+      "    run_config: run.yaml\n    options:\n";
+  expectRefused(errorOf(dir, head + "      ekf.gate_probabilty: [0.99]\n"), m + ":7",
+                "unknown run-config key 'ekf.gate_probabilty' (the keys of ekf: ");
+  expectRefused(errorOf(dir, head + "      ekff.gate_probability: [0.99]\n"), m + ":7",
+                "unknown run-config key 'ekff' (the sections: ");
+  expectRefused(errorOf(dir, head + "      ekf.gate_probability:\n        - 0.99\n"
+                                    "        - high\n"),
+                m + ":9", "expected a number, got 'high'");
+  expectRefused(errorOf(dir, head + "      fgo.window_nodes: [5, 7.5]\n"), m + ":7",
+                "expected an integer, got '7.5'");
+  expectRefused(errorOf(dir, head + "      fgo.robust_loss: [huber, tukey]\n"), m + ":7", "tukey");
+  expectRefused(errorOf(dir, head + "      grafting.realizations: [0]\n"), m + ":7",
+                "must be >= 1, got 0");
+  expectRefused(errorOf(dir, head + "      outages.length_s: [[30]]\n"), m + ":7",
+                "expected a number, got a list");
+  // A section given as a map: the key inside is checked too, and a good one merges.
+  expectRefused(errorOf(dir, head + "      outages: [{lenght_s: 30}]\n"), m + ":7",
+                "unknown run-config key 'outages.lenght_s'");
+  ASSERT_EQ(errorOf(dir, head + "      outages: [{length_s: 30}]\n"), "");
+  const BatchManifest ok = loadBatchManifest(m);
+  const auto tasks = expandBatchTasks(ok);
+  ASSERT_EQ(tasks.size(), 1u);
+  writeTaskRunConfig(ok, tasks[0]);
+  const YAML::Node n = YAML::LoadFile(taskRunConfigPath(ok, tasks[0]));
+  EXPECT_EQ(n["outages"]["length_s"].as<double>(), 30.0);
+  EXPECT_EQ(n["outages"]["period_s"].as<double>(), 100.0);  // the group's run config's key kept
+}
+
 TEST(BatchManifest, ABadValueNamesFileLineAndKey) {
   const std::string path = test::makeTempDir("manifest_bad_value") + "/m.yaml";
   writeFile(path, "out: out\ncases: [a]\nestimators: [ekf]\nseeds: [1, -2]\n");

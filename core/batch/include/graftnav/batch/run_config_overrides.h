@@ -9,20 +9,22 @@
 
 namespace graftnav {
 
-struct RunConfigOverride {
+struct RunConfigSetting {
   std::string key;         // dotted path
   std::string value_yaml;  // the value as YAML text ("0.999", "[4, 5]")
 };
 
 // The base file (empty path: an empty config) with every override set, creating the sections it
-// needs, emitted as YAML. Throws std::runtime_error naming the file when it cannot be read or a
+// needs (a map value merges into a map already there), emitted as YAML. Throws std::runtime_error naming the file when it cannot be read or a
 // key runs through a value that is not a map.
 std::string composeRunConfig(const std::string& base_path,
-                             const std::vector<RunConfigOverride>& overrides);
+                             const std::vector<RunConfigSetting>& overrides);
 
 // Throws std::runtime_error with the reason when `value_yaml` is not a valid value of `key` in a
-// run config (an unknown section or key, a value of the wrong type or out of range), judged on the
-// base file with that one value set.
+// run config (an unknown section or key, a value of the wrong type or out of range): the base file
+// is parsed and the value applied by the run config's own parser (core/case), so the batch holds
+// no copy of the schema. A map value sets a section's keys over the base's ("outages" ->
+// {length_s: 30}).
 void checkRunConfigOption(const std::string& base_path, const std::string& key,
                           const std::string& value_yaml);
 

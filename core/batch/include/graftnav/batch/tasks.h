@@ -32,7 +32,7 @@ struct BatchTask {
   std::optional<OutageScheduleSpec> schedule;  // empty: the run config's schedule
   std::string schedule_label;                  // "config" when empty
   std::optional<unsigned long long> seed;      // empty: the command takes none
-  std::vector<RunConfigOverride> options;      // this task's option values
+  std::vector<RunConfigSetting> options;       // this task's option values
   std::string options_json;                    // {"fgo.window_nodes":5}; "{}" without options
   std::string name;     // "<case>__<estimator>__<schedule>[__seed<N>][__<key>=<value>...]"
   std::string out_dir;  // <manifest out>/tasks/<grp>/<name>
