@@ -21,7 +21,8 @@ class PyCase {
   static std::shared_ptr<PyCase> load(const std::string& dir);
   // A case without a folder: no lab data, so evaluate and diagnose need a folder.
   static std::shared_ptr<PyCase> fromInputs(CaseInputs inputs,
-                                            std::map<std::string, ImuSelection> imus);
+                                            std::map<std::string, ImuSelection> imus,
+                                            OdometerSeries odometer = {});
 
   const CaseInputs& inputs() const { return inputs_; }
   bool hasFolder() const { return !inputs_.dir.empty(); }
