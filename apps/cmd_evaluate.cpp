@@ -88,16 +88,19 @@ void registerEvaluate(CLI::App& app) {
   cmd->add_option("--seed", o->seed, "grafting seed (realization k draws from seed and k)")
       ->capture_default_str();
   cmd->add_option("--realizations", *k,
-                  "grafted realizations per SG strategy, K (default 20, or grafting.realizations)");
+                  "grafted realizations per SG strategy, K (default 20, or grafting.realizations)")
+      ->check(CLI::Range(1, 100000));
   cmd->add_option(
-      "--outage-shifts", *shifts,
-      "repeat the outage schedule at N starts spread over one period and average ERR (default 1)");
+         "--outage-shifts", *shifts,
+         "repeat the outage schedule at N starts spread over one period and average ERR (default 1)")
+      ->check(CLI::Range(1, 100000));
   cmd->add_flag(
       "--no-cross-axis", [o](int64_t) { o->use_cross_axis = false; },
       "SG#2 with per-axis fitting functions only, as in the seed");
   cmd->add_flag(
       "--no-plots", [o](int64_t) { o->plots = false; }, "skip the matplotlib plots");
-  cmd->add_option("--jobs", o->jobs, "solutions navigated in parallel (0: all cores)");
+  cmd->add_option("--jobs", o->jobs, "solutions navigated in parallel (0: all cores)")
+      ->check(CLI::Range(0, 1024));
   cmd->callback([o, len, per, st, k, shifts]() {
     o->outage_length_s = *len;
     o->outage_period_s = *per;

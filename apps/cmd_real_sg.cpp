@@ -1,11 +1,9 @@
 // graftnav real-sg CASE_DIR --out DIR --run-config FILE --ref-profile FILE --tested-profile FILE
 //   [--realizations K] [--seed S] [--estimator rts]
-//   Real-data signal grafting: the tested IMU's basic errors from its own standstill spans
-//   (sg/standstill_errors.h) grafted onto the reference IMU in K realizations (SG#1; no lab, so
-//   no dynamic model for SG#2), navigated next to the real tested IMU by the same pipeline as
-//   `evaluate` (sg/evaluate_pipeline.h); ERR against SOL_REF (reference IMU, smoothed, all GNSS)
-//   with the 90 % predictive interval, REAL's percentile and a verdict per statistic.
-// Every reader repair/warning is printed.
+//   The tested IMU's basic errors from its own standstill spans (sg/standstill_errors.h) grafted
+//   onto the reference IMU in K realizations (SG#1 only: no lab, no dynamic model), navigated
+//   next to the real tested IMU as in `evaluate` (sg/evaluate_pipeline.h); ERR against SOL_REF
+//   with the 90 % predictive interval, REAL's percentile and a verdict. Reader repairs printed.
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
@@ -180,8 +178,10 @@ void registerRealSg(CLI::App& app) {
   sg->add_option("--estimator", s->estimator, "estimator (default rts)");
   sg->add_option("--seed", s->seed, "grafting seed (realization k draws from seed and k)");
   sg->add_option("--realizations", s->realizations,
-                 "grafted realizations, K (default 20, or grafting.realizations)");
-  sg->add_option("--jobs", s->jobs, "solutions navigated in parallel (0: all cores)");
+                 "grafted realizations, K (default 20, or grafting.realizations)")
+      ->check(CLI::Range(1, 100000));
+  sg->add_option("--jobs", s->jobs, "solutions navigated in parallel (0: all cores)")
+      ->check(CLI::Range(0, 1024));
   StaticDetectorOptions& d = s->standstill.detector;
   sg->add_option("--static-gyro-threshold", d.gyro_threshold_rad_s,
                  "static detector gyro threshold (rad/s)");

@@ -119,12 +119,15 @@ std::vector<UnitResult> navigateAll(const std::vector<Unit>& units,
 
 void SgEvaluationOptions::validate() const {
   if (realizations < 1)
-    throw std::invalid_argument("--realizations must be >= 1, got " + std::to_string(realizations));
+    throw std::invalid_argument("SgEvaluationOptions.realizations must be >= 1, got " +
+                                std::to_string(realizations));
   if (outage_shifts < 1)
-    throw std::invalid_argument("--outage-shifts must be >= 1, got " +
+    throw std::invalid_argument("SgEvaluationOptions.outage_shifts must be >= 1, got " +
                                 std::to_string(outage_shifts));
   if (strategies.empty()) throw std::invalid_argument("SgEvaluationOptions.strategies: empty");
-  if (jobs < 0) throw std::invalid_argument("--jobs must be >= 0, got " + std::to_string(jobs));
+  if (jobs < 0)
+    throw std::invalid_argument("SgEvaluationOptions.jobs must be >= 0, got " +
+                                std::to_string(jobs));
   evaluation.validate();
 }
 
@@ -147,7 +150,8 @@ SgEvaluationPipeline::SgEvaluationPipeline(const SgEvaluationOptions& options, G
     throw std::invalid_argument(inputs_.case_name + ": the reference IMU series is empty");
   if (options_.outage_shifts > 1 && !inputs_.outages.explicit_windows.empty())
     throw std::invalid_argument(
-        "--outage-shifts needs a periodic schedule; the run config lists explicit windows");
+        "SgEvaluationOptions.outage_shifts > 1 needs a periodic outage schedule; the run config "
+        "lists explicit windows (outages.windows)");
   schedules_ = shiftedSchedules(inputs_.outages, options_.outage_shifts);
   t_first_s_ = inputs_.reference_imu.front().t_s - inputs_.reference_imu.front().dt_s;
   t_last_s_ = inputs_.reference_imu.back().t_s;
@@ -156,7 +160,7 @@ SgEvaluationPipeline::SgEvaluationPipeline(const SgEvaluationOptions& options, G
       throw std::runtime_error(fmt::format(
           "no GNSS outage fits in the data of '{}' ({:.1f} s of IMU data) with outages of {:g} s every "
           "{:g} s starting {:g} s after the first epoch and ending {:g} s before the last: nothing to "
-          "evaluate (set --outage-start / --outage-period / --outage-length)",
+          "evaluate (a shorter or earlier outage schedule: the run config's outages: or its overrides)",
           inputs_.case_name, t_last_s_ - t_first_s_, s.length_s, s.period_s, s.start_s,
           s.end_margin_s));
     }

@@ -134,7 +134,14 @@ TEST(EvaluatePipeline, TheOutcomeDoesNotDependOnTheThreads) {
 TEST(EvaluatePipeline, BadOptionsAndSchedulesFailBeforeAnyNavigation) {
   SgEvaluationOptions o;
   o.realizations = 0;
-  EXPECT_THROW(SgEvaluationPipeline(o, plan(), inputs()), std::invalid_argument);
+  // The library names its option fields, not a command's flags (the commands check their flags).
+  try {
+    SgEvaluationPipeline p(o, plan(), inputs());
+    FAIL() << "realizations 0 must throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("SgEvaluationOptions.realizations"), std::string::npos);
+    EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << e.what();
+  }
   o = SgEvaluationOptions{};
   o.outage_shifts = 2;
   SgEvaluationInputs in = inputs();
