@@ -36,6 +36,6 @@ set(CPACK_DEBIAN_PACKAGE_DEPENDS
   "libeigen3-dev, libceres-dev, libgeographiclib-dev, libyaml-cpp-dev, libfmt-dev, nlohmann-json3-dev")
 # The commands write their plots with the installed scripts through python3 and matplotlib;
 # without them every number is still written and each command warns that it made no plot.
-set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3, python3-matplotlib")
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3, python3-matplotlib, python3-numpy")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 include(CPack)

@@ -27,6 +27,10 @@ function(graftnav_add_module name)
     target_link_libraries(${target} INTERFACE ${M_DEPS} ${M_PUBLIC_LIBS})
   endif()
   add_library(graftnav::${name} ALIAS ${target})
+  if(GRAFTNAV_BUILD_PYTHON AND srcs)
+    # Linked into the Python module, a shared object (the executables stay as they were).
+    set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  endif()
   # Installed as graftnav::<name> (find_package(graftnav)), headers merged under include/graftnav.
   set_target_properties(${target} PROPERTIES EXPORT_NAME ${name})
   install(TARGETS ${target} EXPORT graftnavTargets

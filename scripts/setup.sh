@@ -9,6 +9,8 @@ PACKAGES=(build-essential cmake ninja-build ccache pkg-config
   libeigen3-dev libceres-dev libsuitesparse-dev libgeographiclib-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   python3 python3-matplotlib dpkg-dev
+  pybind11-dev python3-dev python3-numpy python3-yaml  # the Python module (docs/python.md)
+  python3-pandas python3-pytest  # optional for the module: results() as DataFrames; pytest
   libsqlite3-dev sqlite3 munge slurm-wlm
   time  # time: /usr/bin/time -v for scripts/dev/bench_memory.sh
   clang-format-14 universal-ctags)  # scripts/dev/check_format.sh, scripts/dev/check_sizes.sh

@@ -61,6 +61,12 @@ case "$mode" in
     "$work/root/usr/bin/graftnav" --version | grep -Eq '^graftnav [0-9.]+ \(commit [0-9a-f]{12}'
     "$work/root/usr/bin/graftnav" --version
     navigate_with_plots "$work/root/usr/bin/graftnav"
+    if [ -f "$build/python/graftnav/__init__.py" ]; then  # built with the Python module
+      site=$(grep -o ' \./usr/lib/python3/dist-packages/graftnav/_graftnav[^ ]*\.so$' "$work/contents.txt" || true)
+      [ -n "$site" ] || { echo "the Python module is missing from $deb" >&2; exit 1; }
+      PYTHONPATH="$work/root/usr/lib/python3/dist-packages" /usr/bin/python3 -c \
+        "import graftnav; c = graftnav.load_case('$src/data/sample_mems'); print(c, len(c.imu()))"
+    fi
     ;;
   *) echo "unknown mode $mode" >&2; exit 2 ;;
 esac

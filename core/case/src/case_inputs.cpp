@@ -9,12 +9,13 @@
 #include "graftnav/io/imu_io.h"
 #include "graftnav/io/imu_profile_io.h"
 #include "graftnav/io/nav_io.h"
+#include "graftnav/io/file_errors.h"
 
 namespace graftnav {
 
 CaseInputs loadCaseInputs(const std::string& case_dir, const CaseLoadOptions& o) {
   if (!std::filesystem::is_directory(case_dir)) {
-    throw std::runtime_error("case directory '" + case_dir + "' does not exist");
+    throw MissingFileError(case_dir, "case directory '" + case_dir + "' does not exist");
   }
   CaseInputs c;
   c.dir = case_dir;
@@ -25,7 +26,7 @@ CaseInputs loadCaseInputs(const std::string& case_dir, const CaseLoadOptions& o)
   c.config = loadCaseConfig(paths.caseYaml(), &c.warnings);
   if (o.load_gnss) {
     if (!CasePaths::exists(paths.gnssPos())) {
-      throw std::runtime_error("GNSS file '" + paths.gnssPos() + "' not found");
+      throw MissingFileError(paths.gnssPos(), "GNSS file '" + paths.gnssPos() + "' not found");
     }
     const std::string ft = CasePaths::exists(paths.gnssFixType()) ? paths.gnssFixType() : "";
     std::vector<ReadReport> reports;
@@ -112,7 +113,8 @@ ImuSelection selectImu(const CaseInputs& c, const std::string& which,
     s.profile_given = true;
   }
   if (profile) s.profile = *profile;
-  if (!CasePaths::exists(s.path)) throw std::runtime_error("IMU file '" + s.path + "' not found");
+  if (!CasePaths::exists(s.path))
+    throw MissingFileError(s.path, "IMU file '" + s.path + "' not found");
   ImuReadOptions& ro = s.read_options;
   ro.nominal_rate_hz = rate_hz;
   if (lenient) ro.policy = ImuReadPolicy::real();

@@ -50,8 +50,7 @@ std::string missingStatisticsReason(const Evaluation& ev) {
   return s;
 }
 
-std::vector<std::string> writeErrorsJson(const std::string& path, const ReportMeta& m,
-                                         const Evaluation& ev) {
+nlohmann::json errorsJson(const ReportMeta& m, const Evaluation& ev) {
   json j;
   j["estimator"] = m.estimator;
   j["imu"] = m.imu;
@@ -65,7 +64,12 @@ std::vector<std::string> writeErrorsJson(const std::string& path, const ReportMe
   j["outage"] = drift(ev.outage_rms);
   j["outage_max"] = drift(ev.outage_max_rms);
   j["nees"] = num(ev.nees_mean);
-  return writeJsonResult(path, j, missingStatisticsReason(ev));
+  return j;
+}
+
+std::vector<std::string> writeErrorsJson(const std::string& path, const ReportMeta& m,
+                                         const Evaluation& ev) {
+  return writeJsonResult(path, errorsJson(m, ev), missingStatisticsReason(ev));
 }
 
 std::vector<std::string> writeRunInfoJson(const std::string& path, const ReportMeta& m,

@@ -94,7 +94,11 @@ NavState parseInitialState(const yf::Context& ctx, const YAML::Node& n, int week
 }  // namespace
 
 CaseConfig loadCaseConfig(const std::string& path, std::vector<std::string>* warnings) {
-  const YAML::Node root = yf::loadFile(path);
+  return parseCaseConfig(yf::loadFile(path), path, warnings);
+}
+
+CaseConfig parseCaseConfig(const YAML::Node& root, const std::string& path,
+                           std::vector<std::string>* warnings) {
   const yf::Context ctx{path, warnings};
   if (!root.IsMap()) throw std::runtime_error(path + ": expected a YAML map at the top level");
   yf::warnUnknownKeys(

@@ -13,6 +13,7 @@
 
 #include "graftnav/io/atomic_file.h"
 #include "graftnav/nav/units.h"
+#include "graftnav/io/file_errors.h"
 
 namespace graftnav {
 
@@ -215,7 +216,7 @@ bool ImuBlockReader::next(ImuSeries* block) {
 double readLastImuTime(const std::string& path) {
   constexpr long kTailBytes = 64 * 1024;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throw std::runtime_error(path + ": cannot open file (missing or unreadable)");
+  if (!f) throw MissingFileError(path, path + ": cannot open file (missing or unreadable)");
   if (std::fseek(f.get(), 0, SEEK_END) != 0) throw std::runtime_error(path + ": cannot seek");
   const long size = std::ftell(f.get());
   const long start = std::max(0L, size - kTailBytes);

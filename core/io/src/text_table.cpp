@@ -1,4 +1,5 @@
 #include "graftnav/io/text_table.h"
+#include "graftnav/io/file_errors.h"
 
 #include <algorithm>
 #include <charconv>
@@ -12,7 +13,7 @@ namespace graftnav {
 
 std::string readWholeFile(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) throw std::runtime_error(path + ": cannot open file (missing or unreadable)");
+  if (!f) throw MissingFileError(path, path + ": cannot open file (missing or unreadable)");
   std::string data;
   long size = -1;
   if (std::fseek(f, 0, SEEK_END) == 0) {
@@ -40,7 +41,7 @@ std::size_t newlinesIn(const char* data, std::size_t size) {
 
 std::size_t countPhysicalLines(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) throw std::runtime_error(path + ": cannot open file (missing or unreadable)");
+  if (!f) throw MissingFileError(path, path + ": cannot open file (missing or unreadable)");
   std::size_t n = 1;
   std::vector<char> chunk(std::size_t{1} << 20);
   std::size_t got;
@@ -73,7 +74,8 @@ TextTableReader TextTableReader::streaming(std::string path, std::size_t chunk_b
   r.path_ = std::move(path);
   r.chunk_bytes_ = std::max<std::size_t>(chunk_bytes, 64);
   r.file_.reset(std::fopen(r.path_.c_str(), "rb"));
-  if (!r.file_) throw std::runtime_error(r.path_ + ": cannot open file (missing or unreadable)");
+  if (!r.file_)
+    throw MissingFileError(r.path_, r.path_ + ": cannot open file (missing or unreadable)");
   r.buffer_.reserve(2 * r.chunk_bytes_);
   return r;
 }

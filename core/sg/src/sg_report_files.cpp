@@ -311,7 +311,7 @@ std::string driftStatsJson(const DriftStats& s, int indent) {
   return statsJson(s, false).dump(indent);
 }
 
-void writeEvaluationJson(const std::string& path, const SgEvaluationReport& r) {
+nlohmann::json evaluationJson(const SgEvaluationReport& r) {
   nlohmann::json j;
   j["case"] = r.case_name;
   j["estimator"] = r.estimator;
@@ -336,7 +336,11 @@ void writeEvaluationJson(const std::string& path, const SgEvaluationReport& r) {
   j["outage_windows_s"] = wins;
   j["notes"] = r.notes;
   addPredictiveJson(r, &j);
-  writeFileAtomically(path, j.dump(2) + "\n");
+  return j;
+}
+
+void writeEvaluationJson(const std::string& path, const SgEvaluationReport& r) {
+  writeFileAtomically(path, evaluationJson(r).dump(2) + "\n");
 }
 
 void writeTablesMarkdown(const std::string& path, const SgEvaluationReport& r) {

@@ -12,6 +12,7 @@
 #include "graftnav/io/yaml_fields.h"
 #include "graftnav/sim/imu_simulator.h"
 #include "graftnav/nav/units.h"
+#include "graftnav/io/file_errors.h"
 
 namespace graftnav {
 namespace {
@@ -489,7 +490,7 @@ void parseLab(const Reader& r, const YAML::Node& l, SimConfig& c) {
 }
 
 SimConfig loadSimConfig(const std::string& path, std::vector<std::string>* warnings) {
-  if (!fs::exists(path)) throw std::runtime_error(path + ": sim config file not found");
+  if (!fs::exists(path)) throw MissingFileError(path, path + ": sim config file not found");
   const YAML::Node root = yf::loadFile(path);
   const Reader r(path, warnings);
   r.checkKeys(

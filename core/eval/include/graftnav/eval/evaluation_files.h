@@ -26,7 +26,9 @@ std::string missingStatisticsReason(const Evaluation& ev);
 
 // errors.json, exactly: {"estimator", "imu", "outages": {"count", "length_s"}, "overall": {...},
 // "outage": S, "outage_max": S, "nees"}; degrees for angles, a statistic that cannot be computed
-// written as null. Returns the warnings of writeJsonResult (graftnav/io/json_result.h).
+// written as null (errorsJson: the object; the Python module's statistics). writeErrorsJson
+// returns the warnings of writeJsonResult (graftnav/io/json_result.h).
+nlohmann::json errorsJson(const ReportMeta& meta, const Evaluation& ev);
 std::vector<std::string> writeErrorsJson(const std::string& path, const ReportMeta& meta,
                                          const Evaluation& ev);
 // run_info.json: NEES band and sample count, GNSS used/rejected/withheld, outage windows, notes.

@@ -12,6 +12,10 @@
 #include "graftnav/imu/imu_profile.h"
 #include "graftnav/nav/types.h"
 
+namespace YAML {
+class Node;
+}  // namespace YAML
+
 namespace graftnav {
 
 struct LabConfig {
@@ -54,6 +58,10 @@ struct CaseConfig {
 // Throws std::runtime_error naming the file, line and key for a missing file, a YAML syntax error,
 // a missing required key, a wrong type or an invalid value.
 CaseConfig loadCaseConfig(const std::string& path, std::vector<std::string>* warnings = nullptr);
+// The same from a YAML node (a case built in memory, the Python module's Case.from_arrays);
+// `source` names it in messages.
+CaseConfig parseCaseConfig(const YAML::Node& root, const std::string& source,
+                           std::vector<std::string>* warnings = nullptr);
 
 // Writes case.yaml atomically (degrees in the file, 15 significant digits). Throws
 // std::invalid_argument when the config would not load back (empty name, rate <= 0, ...).

@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+#include "graftnav/io/file_errors.h"
 
 namespace graftnav::yaml_fields {
 
@@ -234,7 +235,7 @@ inline YAML::Node loadFile(const std::string& path) {
   try {
     return YAML::LoadFile(path);
   } catch (const YAML::BadFile&) {
-    throw std::runtime_error(path + ": cannot open file (missing or unreadable)");
+    throw MissingFileError(path, path + ": cannot open file (missing or unreadable)");
   } catch (const YAML::ParserException& e) {
     throw std::runtime_error(path + ":" + std::to_string(e.mark.line + 1) +
                              ": YAML syntax error: " + e.msg);

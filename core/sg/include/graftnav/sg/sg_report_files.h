@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "graftnav/eval/evaluation.h"
 #include "graftnav/sg/predictive.h"
 #include "graftnav/sg/sg_evaluation_report.h"
@@ -23,6 +25,8 @@ std::vector<std::string> readingLines(const SgEvaluationReport& r);
 // DriftStats as the JSON object S of the contract (degrees for angles).
 std::string driftStatsJson(const DriftStats& s, int indent);
 
+// evaluation.json's content (the Python module's evaluate) and the file.
+nlohmann::json evaluationJson(const SgEvaluationReport& r);
 void writeEvaluationJson(const std::string& path, const SgEvaluationReport& r);
 void writeTablesMarkdown(const std::string& path, const SgEvaluationReport& r);
 void writeEvaluationCsv(const std::string& path, const SgEvaluationReport& r);
