@@ -252,6 +252,10 @@ TEST(BatchRuns, EveryCommandKindWritesItsRows) {
                   "statistic = 'horizontal_m'"),
             2);
   EXPECT_EQ(count("compare", "cross_checks", "a = 'ekf' AND b = 'rts'"), 3);
+  // ekf and rts carry sigmas: the pair is weighed as a filter and its own smoother.
+  EXPECT_EQ(count("compare", "cross_checks",
+                  "sigma_form = 'filter-smoother' AND rms_normalized > 0 AND epochs > 0"),
+            3);
   // real: the check points and the reference (the sample's truth).
   EXPECT_EQ(count("real", "statistics",
                   "scope = 'checkpoint' AND statistic = 'points' AND "
