@@ -36,6 +36,7 @@
 #include "graftnav/case/outage_overrides.h"
 #include "graftnav/case/run_config.h"
 #include "script_locator.h"
+#include "graftnav/eval/cross_check.h"
 #include "graftnav/eval/evaluation.h"
 #include "graftnav/eval/streamed_evaluation.h"
 #include "graftnav/io/nav_io.h"
@@ -182,7 +183,45 @@ struct Cells {
 struct Pair {
   std::string a, b;
   DriftStats rms, max_rms;
+  CrossCheck cross;  // the difference weighed by its own sigma, when both carry sigmas
 };
+
+// ekf and rts are one forward filter and its smoother (var = P_a - P_b, with a the filter);
+// every other pair is weighed by the sum of the variances, an upper bound.
+Pair crossCheckPair(const std::string& name_a, const NavSolution& a, const std::string& name_b,
+                    const NavSolution& b, const std::vector<TimeWindow>& outages) {
+  const Evaluation e = evaluateSolution(a, b.states, outages);
+  Pair q{name_a, name_b, e.outage_rms, e.outage_max_rms, {}};
+  if (name_a == "rts" && name_b == "ekf") {
+    q.cross = crossCheck(b, a, outages, DifferenceCovariance::kFilterSmoother);
+  } else if (name_a == "ekf" && name_b == "rts") {
+    q.cross = crossCheck(a, b, outages, DifferenceCovariance::kFilterSmoother);
+  } else {
+    q.cross = crossCheck(a, b, outages, DifferenceCovariance::kIndependent);
+  }
+  return q;
+}
+
+// One statistic of the cross-check; `scale` turns the difference's unit into the key's.
+nlohmann::json crossCheckStatJson(const CrossCheckStat& s, double scale) {
+  const auto num = [](double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+  };
+  return {{"rms_sigma", num(s.rms_sigma * scale)},
+          {"rms_normalized", num(s.rms_normalized)},
+          {"max_normalized", num(s.max_normalized)},
+          {"max_normalized_t_s", num(s.max_normalized_t_s)},
+          {"epochs", s.normalized_epochs}};
+}
+
+// "sigma": the form of the difference's variance, or "none" when a solution has no sigmas.
+nlohmann::json crossCheckJson(const CrossCheck& c) {
+  if (!c.has_sigma) return {{"sigma", "none"}};
+  return {{"sigma", differenceCovarianceName(c.form)},
+          {"horizontal_m", crossCheckStatJson(c.horizontal, 1.0)},
+          {"vertical_m", crossCheckStatJson(c.vertical, 1.0)},
+          {"heading_deg", crossCheckStatJson(c.heading, units::kRadToDeg)}};
+}
 
 // The case, the run config and the outage schedule as `navigate` reads them
 // (apps/case_loader.h), so both commands agree to the digit.
@@ -353,7 +392,8 @@ nlohmann::json compareJson(const CompareArgs& a, const EstimationProblem& p,
     js["differences"].push_back({{"a", q.a},
                                  {"b", q.b},
                                  {"outage_rms", driftJson(q.rms)},
-                                 {"outage_max_rms", driftJson(q.max_rms)}});
+                                 {"outage_max_rms", driftJson(q.max_rms)},
+                                 {"cross_check", crossCheckJson(q.cross)}});
   }
   return js;
 }
@@ -391,8 +431,7 @@ void runCompare(const CompareArgs& a) {
   std::vector<Pair> pairs;
   for (size_t i = 0; i < sols.size(); ++i) {
     for (size_t j = i + 1; j < sols.size(); ++j) {
-      const Evaluation e = evaluateSolution(sols[i], sols[j].states, p.outages);
-      pairs.push_back({names[i], names[j], e.outage_rms, e.outage_max_rms});
+      pairs.push_back(crossCheckPair(names[i], sols[i], names[j], sols[j], p.outages));
     }
   }
 

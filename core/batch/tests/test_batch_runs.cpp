@@ -15,6 +15,7 @@ namespace graftnav {
 namespace {
 namespace fs = std::filesystem;
 using batch_test::graftnav;
+using batch_test::queryInt;
 using batch_test::readFile;
 using batch_test::RunResult;
 using batch_test::sample;
@@ -45,19 +46,6 @@ std::map<int, std::pair<std::string, std::string>> listTasks(const std::string& 
     if (f >> index >> id >> status) tasks[index] = {id, status};
   }
   return tasks;
-}
-
-long long queryInt(const std::string& db_path, const std::string& sql) {
-  sqlite3* db = nullptr;
-  EXPECT_EQ(sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
-  sqlite3_stmt* st = nullptr;
-  EXPECT_EQ(sqlite3_prepare_v2(db, sql.c_str(), -1, &st, nullptr), SQLITE_OK)
-      << sqlite3_errmsg(db) << ": " << sql;
-  long long v = -1;
-  if (st && sqlite3_step(st) == SQLITE_ROW) v = sqlite3_column_int64(st, 0);
-  sqlite3_finalize(st);
-  sqlite3_close(db);
-  return v;
 }
 
 TEST(BatchRuns, FinishedTasksAreSkippedForceRerunsAndTheSummaryIsTheSame) {
@@ -252,6 +240,10 @@ TEST(BatchRuns, EveryCommandKindWritesItsRows) {
                   "statistic = 'horizontal_m'"),
             2);
   EXPECT_EQ(count("compare", "cross_checks", "a = 'ekf' AND b = 'rts'"), 3);
+  // ekf and rts carry sigmas: the pair is weighed as a filter and its own smoother.
+  EXPECT_EQ(count("compare", "cross_checks",
+                  "sigma_form = 'filter-smoother' AND rms_normalized > 0 AND epochs > 0"),
+            3);
   // real: the check points and the reference (the sample's truth).
   EXPECT_EQ(count("real", "statistics",
                   "scope = 'checkpoint' AND statistic = 'points' AND "
