@@ -3,7 +3,9 @@
 #include <fmt/core.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -17,7 +19,11 @@
 #include "graftnav/calibration/calibration_io.h"
 #include "graftnav/calibration/lab_calibration.h"
 #include "graftnav/calibration/lab_data.h"
+#include "graftnav/case/file_streams.h"
 #include "graftnav/io/imu_io.h"
+#include "graftnav/io/imu_recording.h"
+#include "graftnav/io/nav_io.h"
+#include "graftnav/eval/errors_csv.h"
 #include "graftnav/sg/evaluate_pipeline.h"
 #include "graftnav/sg/sg_report_files.h"
 #include "script_locator.h"
@@ -32,6 +38,39 @@ OutageOverrides outageOverrides(const SgEvaluateOptions& o) {
 }
 
 double imuBegin(const ImuSeries& imu) { return imu.front().t_s - imu.front().dt_s; }
+
+// Whether the evaluation streams (nothing held that grows with the recording): the estimator and
+// the smoother of a smoothed SOL_REF have streamed forms, and no problem needs the samples before
+// its run (an alignment from the data reads them).
+bool evaluationStreams(const SgEvaluateOptions& o, const RunConfig& rc) {
+  return estimatorTable().canStream(o.estimator) && estimatorTable().canStream("rts") &&
+         rc.alignment.mode == "given";
+}
+
+// An IMU file read once in blocks: its errors (range, time order, intervals) stop the run as
+// readImu's would. Returns its first and last samples.
+ImuSeries scanImuSpan(const std::string& path, const ImuReadOptions& options) {
+  ImuBlockReader reader(path, options);
+  ImuSeries block, span;
+  while (reader.next(&block)) {
+    if (span.empty()) span = {block.front(), block.back()};
+    span.back() = block.back();
+  }
+  return span;
+}
+
+// The case's reference file read once (its errors stop the run here), checked for coverage of
+// the outages from counts.
+std::vector<std::string> checkStreamedReference(const CaseInputs& c, const ImuSeries& imu_span,
+                                                const std::vector<TimeWindow>& windows) {
+  const CaseReferenceFile f = caseReferenceFile(c, false);
+  if (f.path.empty()) return {};
+  NavStreamReader reader(f.path, f.policy);
+  ReferenceCoverage coverage(windows);
+  NavState state;
+  while (reader.next(&state)) coverage.add(state.t_s);
+  return coverage.check(f.path, imu_span);
+}
 
 SgEvaluationOptions pipelineOptions(const SgEvaluateOptions& o, const RunConfig& rc) {
   SgEvaluationOptions p;
@@ -88,12 +127,10 @@ void requireTestedNoise(const CaseInputs& c) {
 
 // The pipeline's inputs from the case: the lab calibration's graft plan and the reference IMU.
 SgEvaluationInputs pipelineInputs(const SgEvaluateOptions& o, const CaseInputs& c,
-                                  const ImuSelection& ref, const OutageScheduleConfig& oc,
-                                  const LabCalibrationReport& lab) {
+                                  const OutageScheduleConfig& oc, const LabCalibrationReport& lab) {
   SgEvaluationInputs in;
   in.case_name = o.case_dir;
   for (const auto& n : lab.notes) in.notes.push_back("calibration: " + n);
-  in.reference_imu = ref.imu;
   in.tested_profile = *c.config.tested_imu;
   if (c.config.reference_imu && c.config.reference_imu_noise_given)
     in.reference_noise_profile = *c.config.reference_imu;
@@ -112,13 +149,18 @@ std::vector<std::string> checkEvaluationInputs(const SgEvaluateOptions& o) {
     throw std::runtime_error("--estimator '" + o.estimator +
                              "': unknown (known: " + estimatorTable().namesText() + ")");
   outageOverrides(o).validate();
-  const CaseInputs c = loadCaseInputs(o.case_dir);
+  CaseLoadOptions lo;
+  lo.load_reference = false;  // read as a stream below
+  const CaseInputs c = loadCaseInputs(o.case_dir, lo);
   RunConfig rc;
   if (!o.run_config.empty()) rc = loadRunConfig(o.run_config, nullptr);
   const OutageScheduleConfig oc = outageOverrides(o).appliedTo(rc.outages);
-  const ImuSelection ref = selectImu(c, "ref");
-  if (CasePaths::exists(c.paths().testedImu()))
-    selectImu(c, "tested");  // range checks of the tested file
+  ImuSelection ref = selectImu(c, "ref", "", false, false);
+  ref.imu = scanImuSpan(ref.path, ref.read_options);
+  if (CasePaths::exists(c.paths().testedImu())) {  // range checks of the tested file
+    const ImuSelection tested = selectImu(c, "tested", "", false, false);
+    scanImuSpan(tested.path, tested.read_options);
+  }
   add(checkGnssCoverage(c.gnss, c.paths().gnssPos(), ref.imu, false));
   const double t0 = imuBegin(ref.imu), t1 = ref.imu.back().t_s;
   std::vector<TimeWindow> windows;
@@ -128,71 +170,218 @@ std::vector<std::string> checkEvaluationInputs(const SgEvaluateOptions& o) {
     throw std::runtime_error(std::string("outage schedule: ") + e.what());
   }
   requireOutagesInsideData(oc, windows, t0, t1);
-  add(checkReferenceCoverage(c.reference, c.reference_name, ref.imu, windows));
+  add(checkStreamedReference(c, ref.imu, windows));
   const std::string static_path = c.paths().labStatic();
   if (CasePaths::exists(static_path)) {
     ImuReadOptions ro;
     ro.nominal_rate_hz = c.config.testedImuRateHz();
     ro.policy = ImuReadPolicy::
         real();  // only the span and the range checks; loadLabData applies its own rules
-    const ImuSeries st = readImu(static_path, ro);
+    const ImuSeries st = scanImuSpan(static_path, ro);
     add(checkLabStaticRecord(st.back().t_s - imuBegin(st), static_path, outageSpacing(windows)));
   }
   return w;
 }
 
 void writeSgOutputs(const std::string& out_dir, const SgEvaluationReport& rep, bool plots,
-                    const LogFn& log) {
-  writeSgEvaluationFiles(out_dir, rep);
+                    const LogFn& log, bool errors_csv) {
+  writeSgEvaluationFiles(out_dir, rep, errors_csv);
   if (plots) {
     const std::string w = runPythonScript("plot_sg.py", {out_dir});
     if (!w.empty()) log("warning: " + w);
   }
 }
 
-SgEvaluationReport runSgEvaluation(const SgEvaluateOptions& o, const LogFn& log_in) {
-  const LogFn log = log_in ? log_in : [](const std::string&) {};
-  for (const auto& w : checkEvaluationInputs(o)) log("warning: " + w);  // before any output
-  const std::string tag = fs::path(o.case_dir).filename().string();
-  const CaseInputs c = loadCaseInputs(o.case_dir);
-  for (const auto& w : c.warnings) log("warning: " + w);
-  requireTestedNoise(c);
-  std::vector<std::string> cw;
-  RunConfig rc;
-  if (!o.run_config.empty()) rc = loadRunConfig(o.run_config, &cw);
-  for (const auto& w : cw) log("warning: " + w);
+namespace {
+
+// Hands each epoch of a streamed estimator to the evaluation against SOL_REF.
+class EpochForwardSink final : public SolutionSink {
+ public:
+  explicit EpochForwardSink(SgEpochFn epochs) : epochs_(std::move(epochs)) {}
+  void add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate&) override {
+    epochs_(state, sigma);
+  }
+
+ private:
+  SgEpochFn epochs_;
+};
+
+// The case's streamed navigator: makeProblem from the recording's span with the tested IMU's
+// profile (REAL: the tested IMU's selection), then the estimator's streamed form over the
+// recording, each epoch handed to the evaluation.
+SgStreamNavigator streamedCaseNavigator(const CaseInputs& c, const RunConfig& rc,
+                                        const std::optional<ImuSelection>& real,
+                                        const std::string& estimator) {
+  return [&c, &rc, &real, estimator](const SgImu& imu, const OutageScheduleConfig& schedule,
+                                     const SgStartFn& start) {
+    SgNavigation nav;
+    ImuSelection sel =
+        imu.strategy ? graftedSelection(imu.imu.span(), *c.config.tested_imu) : *real;
+    sel.imu = imu.imu.span();
+    EstimationProblem pr = makeProblem(c, sel, rc, schedule, &nav.notes);
+    pr.imu = {};
+    // One epoch per sample, unless the run config decimates (then the rate is left unknown).
+    const double span_s = imu.imu.last.t_s - imu.imu.first.t_s;
+    const double rate_hz = rc.ekf.output_decimation == 1 && imu.imu.samples > 1 && span_s > 0.0
+                               ? static_cast<double>(imu.imu.samples - 1) / span_s
+                               : 0.0;
+    EpochForwardSink sink(start(pr.outages, rate_hz));
+    const NavSolution book = estimatorTable().runStreaming(estimator, pr, imu.imu.pass, rc, sink);
+    nav.solution.estimator = book.estimator;
+    nav.solution.gnss_used = book.gnss_used;
+    nav.solution.gnss_rejected = book.gnss_rejected;
+    nav.solution.gnss_withheld = book.gnss_withheld;
+    nav.outages = pr.outages;
+    return nav;
+  };
+}
+
+// The case's IMU files as spooled recordings (parsed once, read back by every navigation), and
+// the head of its reference that makeProblem reads.
+struct StreamedCase {
+  ImuSelection ref;  // its span
+  std::optional<ImuSelection> real;
+  ImuRecording ref_recording;
+  std::optional<ImuRecording> real_recording;
+  CaseReferenceFile reference_file;
+};
+
+StreamedCase streamCase(CaseInputs* c) {
+  StreamedCase s;
+  s.ref = selectImu(*c, "ref", "", false, false);
+  s.ref_recording = spooledRecording(imuFileStream(s.ref.path, s.ref.read_options));
+  s.ref.imu = s.ref_recording.span();
+  double t_head = s.ref_recording.beginTime_s();
+  if (CasePaths::exists(c->paths().testedImu())) {
+    s.real = selectImu(*c, "tested", "", false, false);
+    s.real_recording = spooledRecording(imuFileStream(s.real->path, s.real->read_options));
+    s.real->imu = s.real_recording->span();
+    t_head = std::max(t_head, s.real_recording->beginTime_s());
+  }
+  s.reference_file = caseReferenceFile(*c, false);
+  if (!s.reference_file.path.empty()) {
+    c->reference = readReferenceHead(s.reference_file, t_head);
+    c->reference_name = s.reference_file.path;
+    c->reference_is_truth = s.reference_file.is_truth;
+  }
+  return s;
+}
+
+SolutionReference streamedSolutionReference(const SgEvaluateOptions& o, const CaseInputs& c,
+                                            const StreamedCase& s, const RunConfig& rc,
+                                            const LogFn& log, const std::string& tag) {
+  ReferenceSolutionOptions ro;
+  ro.use_case_reference = o.sol_ref == "auto";
+  if (!ro.use_case_reference || s.reference_file.path.empty())
+    log(fmt::format("[{}] smoothing SOL_REF (rts) from the reference IMU and all GNSS", tag));
+  const StreamedReferenceSolution r = streamReferenceSolution(
+      c, s.reference_file, s.ref, s.ref_recording.pass, rc, estimatorTable(), ro);
+  SolutionReference out;
+  out.open = r.open;
+  out.rate_hz = r.rate_hz;
+  out.description = r.description;
+  return out;
+}
+
+void writeGraftedImu(const std::string& path, const ImuRecording& grafted) {
+  ImuWriter writer(path);
+  grafted.pass([&writer](const ImuSeries& block) {
+    for (const ImuSample& s : block) writer.add(s);
+  });
+  writer.commit();
+}
+
+// The pipeline with everything streamed: the IMU files spooled, SOL_REF spooled (or smoothed as
+// a stream into a spool), each realization grafted block by block, every solution evaluated as
+// it is written, the representative errors_<LABEL>.csv written as they come.
+SgEvaluationReport runStreamed(const SgEvaluateOptions& o, CaseInputs* c, const RunConfig& rc,
+                               const SgEvaluationOptions& po, const GraftPlan& plan,
+                               SgEvaluationInputs in, const LogFn& log, const std::string& tag) {
+  const StreamedCase s = streamCase(c);
+  in.reference_recording = s.ref_recording;
+  in.real_recording = s.real_recording;
+  if (s.real) {
+    in.has_real = true;
+    in.real_imu_file = s.real->path;
+  }
+  const SgEvaluationPipeline pipeline(po, plan, std::move(in));
+  const SolutionReference sol_ref = streamedSolutionReference(o, *c, s, rc, log, tag);
+  for (SgStrategy g : po.strategies) {
+    if (o.write_grafted_imu)
+      writeGraftedImu((fs::path(o.out_dir) / (std::string("IMU_") + sgLabel(g) + ".txt")).string(),
+                      pipeline.graftedRecording(g, 0));
+  }
+  SgRunHooks hooks;
+  hooks.log = log;
+  const double csv_interval_s = 1.0 / rc.evaluation.csv_rate_hz;
+  const std::string out_dir = o.out_dir;
+  hooks.epoch_sink = [out_dir, csv_interval_s](const std::string& label) {
+    return std::make_unique<ErrorsCsvWriter>(
+        (fs::path(out_dir) / ("errors_" + label + ".csv")).string(), csv_interval_s);
+  };
+  return pipeline.run(sol_ref, streamedCaseNavigator(*c, rc, s.real, o.estimator), o.estimator,
+                      hooks);
+}
+
+// The pipeline with the case's series held (an estimator without a streamed form, or an
+// alignment from the data).
+SgEvaluationReport runHeld(const SgEvaluateOptions& o, const CaseInputs& c, const RunConfig& rc,
+                           const SgEvaluationOptions& po, const GraftPlan& plan,
+                           SgEvaluationInputs in, const LogFn& log, const std::string& tag) {
   const ImuSelection ref = selectImu(c, "ref");
-  const SgEvaluationOptions po = pipelineOptions(o, rc);
-  po.validate();
-  log(fmt::format("[{}] calibrating the tested IMU from lab/", tag));
-  const LabCalibrationReport lab = calibrateLab(loadLabData(o.case_dir));
-  SgEvaluationInputs in = pipelineInputs(o, c, ref, outageOverrides(o).appliedTo(rc.outages), lab);
+  in.reference_imu = ref.imu;
   std::optional<ImuSelection> real;
   if (CasePaths::exists(c.paths().testedImu())) {
     real = selectImu(c, "tested");
     in.has_real = true;
     in.real_imu_file = real->path;
   }
-  const SgEvaluationPipeline pipeline(po, makeGraftPlan(lab, o.use_cross_axis), std::move(in));
+  const SgEvaluationPipeline pipeline(po, plan, std::move(in));
   const SolutionReference sol_ref = solutionReference(o, c, ref, rc, log, tag);
-
-  // Only now are files written.
-  fs::create_directories(o.out_dir);
-  writeCalibrationYaml((fs::path(o.out_dir) / "calibration.yaml").string(), lab.result);
   for (SgStrategy g : po.strategies) {
     if (o.write_grafted_imu)
       writeImu((fs::path(o.out_dir) / (std::string("IMU_") + sgLabel(g) + ".txt")).string(),
                pipeline.graft(g, 0));
   }
-  SgEvaluationReport rep =
-      pipeline.run(sol_ref, caseNavigator(c, rc, real, o.estimator), o.estimator, log);
+  return pipeline.run(sol_ref, caseNavigator(c, rc, real, o.estimator), o.estimator, log);
+}
+
+}  // namespace
+
+SgEvaluationReport runSgEvaluation(const SgEvaluateOptions& o, const LogFn& log_in) {
+  const LogFn log = log_in ? log_in : [](const std::string&) {};
+  for (const auto& w : checkEvaluationInputs(o)) log("warning: " + w);  // before any output
+  const std::string tag = fs::path(o.case_dir).filename().string();
+  std::vector<std::string> cw;
+  RunConfig rc;
+  if (!o.run_config.empty()) rc = loadRunConfig(o.run_config, &cw);
+  const bool streams = evaluationStreams(o, rc);
+  CaseLoadOptions lo;
+  lo.load_reference = !streams;
+  CaseInputs c = loadCaseInputs(o.case_dir, lo);
+  for (const auto& w : c.warnings) log("warning: " + w);
+  for (const auto& w : cw) log("warning: " + w);
+  requireTestedNoise(c);
+  const SgEvaluationOptions po = pipelineOptions(o, rc);
+  po.validate();
+  log(fmt::format("[{}] calibrating the tested IMU from lab/", tag));
+  LabCalibrationReport lab = calibrateLab(loadLabData(o.case_dir));
+  const GraftPlan plan = makeGraftPlan(lab, o.use_cross_axis);
+  lab.basic.error = ImuSeries();  // the plan holds the basic error signal
+  SgEvaluationInputs in = pipelineInputs(o, c, outageOverrides(o).appliedTo(rc.outages), lab);
+
+  // From here on files are written.
+  fs::create_directories(o.out_dir);
+  writeCalibrationYaml((fs::path(o.out_dir) / "calibration.yaml").string(), lab.result);
+  SgEvaluationReport rep = streams ? runStreamed(o, &c, rc, po, plan, std::move(in), log, tag)
+                                   : runHeld(o, c, rc, po, plan, std::move(in), log, tag);
   for (auto& s : rep.solutions)
     if (s.label != "REAL")
       s.imu_file = (fs::path(o.out_dir) / ("IMU_" + s.label + ".txt")).string();
   rep.case_name = c.config.name;
   rep.tested_grade = c.config.tested_imu->grade;
   rep.csv_rate_hz = rc.evaluation.csv_rate_hz;
-  writeSgOutputs(o.out_dir, rep, o.plots, log);
+  writeSgOutputs(o.out_dir, rep, o.plots, log, !streams);
   return rep;
 }
 

@@ -52,8 +52,9 @@ SgEvaluationReport runSgEvaluation(const SgEvaluateOptions& options, const LogFn
 void printEvaluationSummary(const SgEvaluationReport& report);
 
 // evaluation.json, tables.md, evaluation.csv, predictive.csv, outage_drift.csv, errors_<LABEL>.csv
-// and (plots) the plots of a report into out_dir (shared with `real-sg`).
+// and (plots) the plots of a report into out_dir (shared with `real-sg`). errors_csv false: the
+// errors_<LABEL>.csv were written as the epochs came (the report holds no epochs).
 void writeSgOutputs(const std::string& out_dir, const SgEvaluationReport& report, bool plots,
-                    const LogFn& log);
+                    const LogFn& log, bool errors_csv = true);
 
 }  // namespace graftnav::app

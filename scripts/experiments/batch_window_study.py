@@ -21,8 +21,8 @@ ORDER BY t.case_name, t.estimator, window_nodes
 
 ROWS = [("outage", "rms", "outage RMS h vs truth (m)"),
         ("outage", "max_rms", "RMS of outage max h vs truth (m)"),
-        ("checkpoint", "rms", "check-point RMS h (m)"),
-        ("checkpoint", "max_rms", "check-point RMS of max h (m)"),
+        ("checkpoint", "rms", "check point RMS h (m)"),
+        ("checkpoint", "max_rms", "check point RMS of max h (m)"),
         ("reference", "rms", "outage RMS h vs reference.nav (m)")]
 BEGIN, END = "<!-- window-study:begin -->", "<!-- window-study:end -->"
 

@@ -4,19 +4,9 @@
 # with EKF and RTS, ERR/DIFF against SOL_REF, and `graftnav diagnose` on the pair.
 # Usage: scripts/experiments/real_wid_car.sh [OUT_DIR]   (env: GRAFTNAV, GRAFTNAV_REAL_DATA, DOCS_IMG as in real_yandld.sh)
 set -euo pipefail
-ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
-DATA="${GRAFTNAV_REAL_DATA:-$ROOT/../shared/data/real}"
-CASE="$DATA/wid_car_trial07"
-OUT="${1:-/tmp/graftnav_real/wid_car}"
-GN="${GRAFTNAV:-$ROOT/build/graftnav}"
-PY=/usr/bin/python3; [ -x "$PY" ] || PY=python3
-if [ ! -d "$CASE" ]; then echo "real_wid_car: $CASE not found (set GRAFTNAV_REAL_DATA)" >&2; exit 2; fi
-if [ ! -x "$GN" ]; then
-  cmake -S "$ROOT" -B "$ROOT/build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build "$ROOT/build" -j2 --target graftnav
-  GN="$ROOT/build/graftnav"
-fi
-mkdir -p "$OUT"
+REAL_CASE_NAME=wid_car_trial07 DEFAULT_OUT=/tmp/graftnav_real/wid_car
+# shellcheck source=real_case_env.sh
+source "$(dirname "$0")/real_case_env.sh"
 # The DOT at standstill vibrates with the engine (gyro 0.014 rad/s, accel 0.57 m/s^2 std over 1 s):
 # detector thresholds just above that; spans with a median GNSS speed > 0.3 m/s are dropped.
 for EST in rts ekf; do

@@ -5,19 +5,9 @@
 # Usage: scripts/experiments/real_yandld.sh [OUT_DIR]   (env: GRAFTNAV=path/to/graftnav, GRAFTNAV_REAL_DATA=dir,
 #        DOCS_IMG=dir to also copy the plots, e.g. docs/img/real)
 set -euo pipefail
-ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
-DATA="${GRAFTNAV_REAL_DATA:-$ROOT/../shared/data/real}"
-CASE="$DATA/yandld_20220405_rtk"
-OUT="${1:-/tmp/graftnav_real/yandld}"
-GN="${GRAFTNAV:-$ROOT/build/graftnav}"
-PY=/usr/bin/python3; [ -x "$PY" ] || PY=python3
-if [ ! -d "$CASE" ]; then echo "real_yandld: $CASE not found (set GRAFTNAV_REAL_DATA)" >&2; exit 2; fi
-if [ ! -x "$GN" ]; then
-  cmake -S "$ROOT" -B "$ROOT/build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build "$ROOT/build" -j2 --target graftnav
-  GN="$ROOT/build/graftnav"
-fi
-mkdir -p "$OUT"
+REAL_CASE_NAME=yandld_20220405_rtk DEFAULT_OUT=/tmp/graftnav_real/yandld
+# shellcheck source=real_case_env.sh
+source "$(dirname "$0")/real_case_env.sh"
 CFG="$ROOT/configs/real/yandld.yaml"
 PROF="$ROOT/configs/real/yandld_mems.yaml"
 # 1. estimators, check points, latency scan and latency grid (tables in $OUT/real/summary.md)

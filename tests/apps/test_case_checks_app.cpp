@@ -20,22 +20,6 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-struct Output {
-  int status = -1;
-  std::string text;
-};
-
-Output run(const std::string& args) {
-  const std::string cmd = test::graftnavBinary() + " " + args + " 2>&1";
-  Output o;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return o;
-  char buf[4096];
-  for (size_t n; (n = fread(buf, 1, sizeof buf, p)) > 0;) o.text.append(buf, n);
-  o.status = pclose(p);
-  return o;
-}
-
 // A copy of a bundled sample case in a fresh folder.
 std::string copySample(const std::string& sample, const std::string& tag) {
   const std::string dir = test::makeTempDir(tag) + "/case";
@@ -46,23 +30,26 @@ std::string copySample(const std::string& sample, const std::string& tag) {
 TEST(CaseChecksApp, CaseWithOnlyTheTestedImuIsNavigatedWithIt) {
   const std::string dir = copySample("sample_mems", "one_imu");
   fs::remove(dir + "/field/ref_imu.txt");
-  const Output n = run("navigate " + dir + " --out " + dir + "/nav --estimator ekf --no-plots");
-  ASSERT_EQ(n.status, 0) << n.text;
+  const test::CommandOutput n =
+      test::runGraftnav("navigate " + dir + " --out " + dir + "/nav --estimator ekf --no-plots");
+  ASSERT_EQ(n.exit_code, 0) << n.text;
   EXPECT_THAT(n.text, HasSubstr("note: IMU: 'tested'"));
   EXPECT_THAT(n.text, Not(HasSubstr("not found")));
   EXPECT_TRUE(fs::exists(dir + "/nav/solution.nav"));
 
-  const Output r = run("real " + dir + " --out " + dir + "/real --estimator ekf --no-plots " +
-                       "--run-config " + test::sourceDir() + "/configs/navigate.yaml");
-  ASSERT_EQ(r.status, 0) << r.text;
+  const test::CommandOutput r =
+      test::runGraftnav("real " + dir + " --out " + dir + "/real --estimator ekf --no-plots " +
+                        "--run-config " + test::sourceDir() + "/configs/navigate.yaml");
+  ASSERT_EQ(r.exit_code, 0) << r.text;
   EXPECT_THAT(r.text, HasSubstr("note: IMU: 'tested'"));
   EXPECT_THAT(r.text, HasSubstr("IMU 'tested'"));
   EXPECT_TRUE(fs::exists(dir + "/real/summary.json"));
 
   // A case with both IMUs still defaults to the reference IMU, silently.
   const std::string both = copySample("sample_mems", "two_imus");
-  const Output b = run("navigate " + both + " --out " + both + "/nav --estimator ekf --no-plots");
-  ASSERT_EQ(b.status, 0) << b.text;
+  const test::CommandOutput b =
+      test::runGraftnav("navigate " + both + " --out " + both + "/nav --estimator ekf --no-plots");
+  ASSERT_EQ(b.exit_code, 0) << b.text;
   EXPECT_THAT(b.text, Not(HasSubstr("note: IMU:")));
   EXPECT_THAT(b.text, HasSubstr("reading the case and the ref IMU"));
 }
@@ -70,12 +57,14 @@ TEST(CaseChecksApp, CaseWithOnlyTheTestedImuIsNavigatedWithIt) {
 TEST(CaseChecksApp, CalibrateWarnsAboutAnUnknownCaseKey) {
   const std::string dir = copySample("sample_tactical", "calib_unknown_key");
   std::ofstream(dir + "/case.yaml", std::ios::app) << "lab_bench: 3\n";
-  const Output o = run("calibrate " + dir + " --out " + dir + "/calib --no-plots");
-  ASSERT_EQ(o.status, 0) << o.text;
+  const test::CommandOutput o =
+      test::runGraftnav("calibrate " + dir + " --out " + dir + "/calib --no-plots");
+  ASSERT_EQ(o.exit_code, 0) << o.text;
   EXPECT_THAT(o.text, HasSubstr("warning: " + dir + "/case.yaml:"));
   EXPECT_THAT(o.text, HasSubstr("unknown key 'lab_bench' ignored"));
   // The same case through navigate warns the same way.
-  const Output n = run("navigate " + dir + " --out " + dir + "/nav --estimator ekf --no-plots");
+  const test::CommandOutput n =
+      test::runGraftnav("navigate " + dir + " --out " + dir + "/nav --estimator ekf --no-plots");
   EXPECT_THAT(n.text, HasSubstr("unknown key 'lab_bench' ignored"));
 }
 
@@ -99,8 +88,9 @@ TEST(CaseChecksApp, ShortLabStaticRecordIsRefusedByEveryLabCommand) {
   }
   for (const std::string cmd : {"calibrate", "graft", "diagnose", "evaluate"}) {
     const std::string out = dir + "/out_" + cmd;
-    const Output o = run(cmd + " " + dir + " --out " + out + (cmd == "graft" ? "" : " --no-plots"));
-    EXPECT_NE(o.status, 0) << cmd << ": " << o.text;
+    const test::CommandOutput o = test::runGraftnav(cmd + " " + dir + " --out " + out +
+                                                    (cmd == "graft" ? "" : " --no-plots"));
+    EXPECT_NE(o.exit_code, 0) << cmd << ": " << o.text;
     EXPECT_THAT(
         o.text,
         HasSubstr("lab/static.txt: the lab static record lasts 0.10 s, below the 60 s floor"))

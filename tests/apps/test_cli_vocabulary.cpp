@@ -18,22 +18,6 @@ namespace {
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-struct Output {
-  int status = -1;
-  std::string text;
-};
-
-Output runCapture(const std::string& args) {
-  const std::string cmd = test::graftnavBinary() + " " + args + " 2>&1";
-  Output o;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return o;
-  char buf[4096];
-  for (size_t n; (n = fread(buf, 1, sizeof buf, p)) > 0;) o.text.append(buf, n);
-  o.status = pclose(p);
-  return o;
-}
-
 // Common flags each subcommand must offer (docs/cli.md, "Which command takes which flag").
 const std::map<std::string, std::vector<std::string>>& expectedFlags() {
   static const std::map<std::string, std::vector<std::string>> m = {
@@ -58,8 +42,8 @@ const std::map<std::string, std::vector<std::string>>& expectedFlags() {
 
 TEST(CliVocabulary, EveryHelpListsTheCommonFlagsAndNoOldSpelling) {
   for (const auto& [cmd, flags] : expectedFlags()) {
-    const Output o = runCapture(cmd + " --help");
-    ASSERT_EQ(o.status, 0) << cmd << ":\n" << o.text;
+    const test::CommandOutput o = test::runGraftnav(cmd + " --help");
+    ASSERT_EQ(o.exit_code, 0) << cmd << ":\n" << o.text;
     for (const auto& f : flags)
       EXPECT_THAT(o.text, HasSubstr(f + " ")) << cmd << " --help lacks " << f;
     EXPECT_THAT(o.text, Not(HasSubstr("--estimators"))) << cmd;
@@ -69,8 +53,8 @@ TEST(CliVocabulary, EveryHelpListsTheCommonFlagsAndNoOldSpelling) {
 }
 
 TEST(CliVocabulary, TopLevelHelpListsEverySubcommand) {
-  const Output o = runCapture("--help");
-  ASSERT_EQ(o.status, 0) << o.text;
+  const test::CommandOutput o = test::runGraftnav("--help");
+  ASSERT_EQ(o.exit_code, 0) << o.text;
   for (const auto& [cmd, flags] : expectedFlags()) {
     const std::string first = cmd.substr(0, cmd.find(' '));
     EXPECT_THAT(o.text, HasSubstr(first)) << first;
@@ -80,7 +64,7 @@ TEST(CliVocabulary, TopLevelHelpListsEverySubcommand) {
 // ref, else the case's only IMU (tests/apps/test_case_checks_app.cpp runs it).
 TEST(CliVocabulary, ImuDefaultsToRefEverywhere) {
   for (const std::string cmd : {"navigate", "compare", "real"}) {
-    const Output o = runCapture(cmd + " --help");
+    const test::CommandOutput o = test::runGraftnav(cmd + " --help");
     const size_t at = o.text.find("--imu");
     ASSERT_NE(at, std::string::npos) << cmd;
     const std::string line = o.text.substr(at, o.text.find('\n', at) - at);
@@ -92,14 +76,15 @@ TEST(CliVocabulary, ImuDefaultsToRefEverywhere) {
 TEST(CliVocabulary, OldSpellingsWarnAndStillWork) {
   const std::string sample = test::sourceDir() + "/data/sample_mems";
   const std::string out = test::makeTempDir("cli_deprecated");
-  const Output o = runCapture("navigate " + sample + " --out " + out + " --no-plots --config " +
-                              test::sourceDir() + "/configs/navigate.yaml --estimator ekf");
-  ASSERT_EQ(o.status, 0) << o.text;
+  const test::CommandOutput o =
+      test::runGraftnav("navigate " + sample + " --out " + out + " --no-plots --config " +
+                        test::sourceDir() + "/configs/navigate.yaml --estimator ekf");
+  ASSERT_EQ(o.exit_code, 0) << o.text;
   EXPECT_THAT(o.text, HasSubstr("warning: --config is deprecated, use --run-config"));
   // The config was applied: its 60 s outages every 180 s from 300 s give 3 in the 870 s sample.
   EXPECT_THAT(o.text, HasSubstr("outages (3)"));
-  const Output s = runCapture("simulate --out " + out + "/sim");
-  EXPECT_NE(s.status, 0);
+  const test::CommandOutput s = test::runGraftnav("simulate --out " + out + "/sim");
+  EXPECT_NE(s.exit_code, 0);
   EXPECT_THAT(s.text, HasSubstr("--sim-config"));
 }
 
@@ -110,9 +95,10 @@ TEST(CliVocabulary, PeerSetupGivenAsRunConfigIsRefusedWithTheImportHint) {
   ASSERT_NE(f, nullptr);
   std::fputs("imupath: imu.txt\ngnsspath: gnss.txt\nimudatarate: 200\n", f);
   std::fclose(f);
-  const Output o = runCapture("navigate " + sample + " --out " + out +
-                              "/o --no-plots --run-config " + out + "/kf-gins.yaml");
-  EXPECT_NE(o.status, 0);
+  const test::CommandOutput o =
+      test::runGraftnav("navigate " + sample + " --out " + out + "/o --no-plots --run-config " +
+                        out + "/kf-gins.yaml");
+  EXPECT_NE(o.exit_code, 0);
   EXPECT_THAT(o.text, HasSubstr("graftnav import kf-gins|ob-gins"));
   EXPECT_THAT(o.text, HasSubstr("kf-gins.yaml:1"));
 }
@@ -120,16 +106,16 @@ TEST(CliVocabulary, PeerSetupGivenAsRunConfigIsRefusedWithTheImportHint) {
 TEST(CliVocabulary, RelativePathErrorNamesEveryPathTried) {
   const std::string sample = test::sourceDir() + "/data/sample_mems";
   const std::string out = test::makeTempDir("cli_paths");
-  const Output o =
-      runCapture("navigate " + sample + " --out " + out + " --no-plots --imu no_such_imu.txt");
-  EXPECT_NE(o.status, 0);
+  const test::CommandOutput o = test::runGraftnav("navigate " + sample + " --out " + out +
+                                                  " --no-plots --imu no_such_imu.txt");
+  EXPECT_NE(o.exit_code, 0);
   EXPECT_THAT(o.text, HasSubstr("IMU file 'no_such_imu.txt' not found; tried"));
   EXPECT_THAT(o.text, HasSubstr("sample_mems/no_such_imu.txt"));
 }
 
 TEST(CliVocabulary, VersionCarriesTheGitCommit) {
-  const Output o = runCapture("--version");
-  ASSERT_EQ(o.status, 0) << o.text;
+  const test::CommandOutput o = test::runGraftnav("--version");
+  ASSERT_EQ(o.exit_code, 0) << o.text;
   EXPECT_THAT(o.text,
               ::testing::MatchesRegex(
                   "graftnav [0-9]+\\.[0-9]+\\.[0-9]+ \\(commit [0-9a-f]{12}(-dirty)?\\)\n"));

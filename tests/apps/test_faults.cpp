@@ -41,27 +41,6 @@ namespace graftnav {
 namespace {
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr
-};
-
-// Runs `graftnav ARGS` through sh, `shell_prefix` first (e.g. a ulimit). The output comes through a
-// pipe, so a file-size limit on the command does not hit its own log.
-RunResult run(const std::string& args, const std::string& shell_prefix = "") {
-  const std::string cmd =
-      "sh -c \"" + shell_prefix + " exec " + test::graftnavBinary() + " " + args + "\" 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return {};
-  RunResult r;
-  char buf[4096];
-  std::size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-  const int status = pclose(p);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  return r;
-}
-
 std::string sample(const std::string& grade) { return test::sourceDir() + "/data/sample_" + grade; }
 std::string sampleConfig() { return test::sourceDir() + "/configs/evaluate_sample.yaml"; }
 
@@ -113,11 +92,11 @@ std::string join(const std::vector<std::string>& v) {
 }
 
 // Outcome (a): failed, said why (every token appears in the output), left no file in `out`.
-void expectFailedCleanly(const RunResult& r, const std::string& out,
+void expectFailedCleanly(const test::CommandOutput& r, const std::string& out,
                          const std::vector<std::string>& tokens) {
-  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.exit_code, 0) << r.text;
   for (const auto& t : tokens)
-    EXPECT_NE(r.output.find(t), std::string::npos) << "missing '" << t << "' in:\n" << r.output;
+    EXPECT_NE(r.text.find(t), std::string::npos) << "missing '" << t << "' in:\n" << r.text;
   EXPECT_TRUE(filesIn(out).empty()) << "left in " << out << ": " << join(filesIn(out));
 }
 
@@ -162,29 +141,32 @@ TEST(Faults, NegativeOrZeroOutageOptionsAreErrorsNamingTheFlag) {
   for (const auto& [flag, value] : std::vector<std::pair<std::string, std::string>>{
            {"--outage-length", "-5"}, {"--outage-period", "0"}, {"--outage-start", "-1"}}) {
     const std::string out = test::makeTempDir("opt") + "/out";
-    const RunResult r = run("navigate " + sample("tactical") + " --out " + out + " --no-plots " +
-                            flag + " " + value);
+    const test::CommandOutput r = test::runGraftnav("navigate " + sample("tactical") + " --out " +
+                                                    out + " --no-plots " + flag + " " + value);
     expectFailedCleanly(r, out, {flag, value});
   }
   const std::string out = test::makeTempDir("opt_compare") + "/out";
-  const RunResult r = run("compare " + sample("tactical") + " --estimators ekf --out " + out +
-                          " --outage-length -5");
+  const test::CommandOutput r = test::runGraftnav(
+      "compare " + sample("tactical") + " --estimators ekf --out " + out + " --outage-length -5");
   expectFailedCleanly(r, out, {"--outage-length", "-5"});
 }
 
 TEST(Faults, UnknownEstimatorFailsBeforeEvaluateWritesAnything) {
   const std::string out = test::makeTempDir("est") + "/out";
-  const RunResult r = run("evaluate " + sample("tactical") + " --out " + out + " --config " +
-                          sampleConfig() + " --estimator kalmanish --no-plots");
+  const test::CommandOutput r =
+      test::runGraftnav("evaluate " + sample("tactical") + " --out " + out + " --config " +
+                        sampleConfig() + " --estimator kalmanish --no-plots");
   expectFailedCleanly(r, out, {"--estimator", "kalmanish"});
 }
 
 TEST(Faults, OutageStartBeyondTheDataIsAnError) {
   const std::string out = test::makeTempDir("beyond") + "/out";
-  RunResult r = run("evaluate " + sample("tactical") + " --out " + out + " --config " +
-                    sampleConfig() + " --outage-start 1000 --no-plots");
+  test::CommandOutput r =
+      test::runGraftnav("evaluate " + sample("tactical") + " --out " + out + " --config " +
+                        sampleConfig() + " --outage-start 1000 --no-plots");
   expectFailedCleanly(r, out, {"outage start 1000", "--outage-start"});
-  r = run("navigate " + sample("tactical") + " --out " + out + " --outage-start 1000 --no-plots");
+  r = test::runGraftnav("navigate " + sample("tactical") + " --out " + out +
+                        " --outage-start 1000 --no-plots");
   expectFailedCleanly(r, out, {"outage start 1000", "--outage-start"});
 }
 
@@ -197,8 +179,8 @@ TEST(Faults, TruthMissingInsideAnOutageIsAnError) {
   lines.resize(lines.size() / 3);  // 290 s of 870: the outages from 360 s on have no truth
   writeLines(truth, lines);
   const std::string out = test::makeTempDir("truth_part") + "/out";
-  const RunResult r =
-      run("evaluate " + c + " --out " + out + " --config " + sampleConfig() + " --no-plots");
+  const test::CommandOutput r = test::runGraftnav("evaluate " + c + " --out " + out + " --config " +
+                                                  sampleConfig() + " --no-plots");
   expectFailedCleanly(r, out, {"truth.nav", "no reference epoch inside the outage"});
 }
 
@@ -210,10 +192,11 @@ TEST(Faults, TruthCoveringPartOfTheSpanWarnsAndStaysFinite) {
                8);  // 761 s of 870 s; the outages (100, 300, 500, 700 s + 30 s) keep their truth
   writeLines(truth, lines);
   const std::string out = test::makeTempDir("truth_part2") + "/out";
-  const RunResult r = run("navigate " + c + " --out " + out +
-                          " --outage-start 100 --outage-length 30 --outage-period 200 --no-plots");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("warning: " + truth + " covers"), std::string::npos) << r.output;
+  const test::CommandOutput r =
+      test::runGraftnav("navigate " + c + " --out " + out +
+                        " --outage-start 100 --outage-length 30 --outage-period 200 --no-plots");
+  ASSERT_EQ(r.exit_code, 0) << r.text;
+  EXPECT_NE(r.text.find("warning: " + truth + " covers"), std::string::npos) << r.text;
   std::ifstream f(out + "/errors.json");
   const auto j = nlohmann::json::parse(f);
   EXPECT_EQ(countNonFinite(j), 0);
@@ -229,10 +212,10 @@ TEST(Faults, NoGnssEpochInsideTheImuSpanIsAnErrorUnlessFreeInertial) {
   for (std::size_t i = 0; i < lines.size(); ++i)
     setColumn(pos, static_cast<int>(i + 1), 0, std::to_string(460000.0 + static_cast<double>(i)));
   const std::string out = test::makeTempDir("gnss_out") + "/out";
-  RunResult r = run("navigate " + c + " --out " + out + " --no-plots");
+  test::CommandOutput r = test::runGraftnav("navigate " + c + " --out " + out + " --no-plots");
   expectFailedCleanly(r, out, {pos, "0 of 871 GNSS epochs", "--free-inertial"});
-  r = run("navigate " + c + " --out " + out + " --free-inertial --no-plots");
-  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = test::runGraftnav("navigate " + c + " --out " + out + " --free-inertial --no-plots");
+  EXPECT_EQ(r.exit_code, 0) << r.text;
 }
 
 TEST(Faults, AOneLineGnssFileIsAnError) {
@@ -242,9 +225,10 @@ TEST(Faults, AOneLineGnssFileIsAnError) {
   lines.resize(1);
   writeLines(pos, lines);
   const std::string out = test::makeTempDir("gnss_one") + "/out";
-  RunResult r = run("navigate " + c + " --out " + out + " --no-plots");
+  test::CommandOutput r = test::runGraftnav("navigate " + c + " --out " + out + " --no-plots");
   expectFailedCleanly(r, out, {pos, "1 of 1 GNSS epochs"});
-  r = run("evaluate " + c + " --out " + out + " --config " + sampleConfig() + " --no-plots");
+  r = test::runGraftnav("evaluate " + c + " --out " + out + " --config " + sampleConfig() +
+                        " --no-plots");
   expectFailedCleanly(r, out, {pos, "1 of 1 GNSS epochs"});
 }
 
@@ -254,20 +238,22 @@ TEST(Faults, ImuValueOutOfPhysicalRangeNamesFileAndLine) {
   const std::string c = copyCase("tactical", "imu_range");
   setColumn(c + "/field/ref_imu.txt", 1234, 2, "1e300");
   const std::string out = test::makeTempDir("imu_range") + "/out";
-  RunResult r = run("navigate " + c + " --out " + out + " --no-plots");
+  test::CommandOutput r = test::runGraftnav("navigate " + c + " --out " + out + " --no-plots");
   expectFailedCleanly(r, out, {c + "/field/ref_imu.txt:1234", "dtheta_y", "deg/s"});
   // Through grafting (the reference IMU) and in the tested IMU: the same error, nothing written.
-  r = run("evaluate " + c + " --out " + out + " --config " + sampleConfig() + " --no-plots");
+  r = test::runGraftnav("evaluate " + c + " --out " + out + " --config " + sampleConfig() +
+                        " --no-plots");
   expectFailedCleanly(r, out, {"ref_imu.txt:1234"});
   const std::string c2 = copyCase("tactical", "imu_range2");
   setColumn(c2 + "/field/tested_imu.txt", 78, 6, "1e300");
-  r = run("evaluate " + c2 + " --out " + out + " --config " + sampleConfig() + " --no-plots");
+  r = test::runGraftnav("evaluate " + c2 + " --out " + out + " --config " + sampleConfig() +
+                        " --no-plots");
   expectFailedCleanly(r, out, {"tested_imu.txt:78", "dvel_z", " g,"});
   // diagnose reads with the lenient policies: the physical range still holds (a 1e300 reaching the
   // locator makes its noise limit NaN).
   const std::string c3 = copyCase("mems", "imu_range3");
   setColumn(c3 + "/field/tested_imu.txt", 321, 1, "1e300");
-  r = run("diagnose " + c3 + " --out " + out + " --no-plots");
+  r = test::runGraftnav("diagnose " + c3 + " --out " + out + " --no-plots");
   expectFailedCleanly(r, out, {"tested_imu.txt:321", "dtheta_x"});
 }
 
@@ -316,23 +302,24 @@ TEST(Faults, ShortLabStaticRecordIsAnErrorBelowTheFloor) {
   lines.resize(20);  // 0.4 s at 50 Hz
   writeLines(st, lines);
   const std::string out = test::makeTempDir("static_short") + "/out";
-  const RunResult r =
-      run("evaluate " + c + " --out " + out + " --config " + sampleConfig() + " --no-plots");
+  const test::CommandOutput r = test::runGraftnav("evaluate " + c + " --out " + out + " --config " +
+                                                  sampleConfig() + " --no-plots");
   expectFailedCleanly(r, out, {st, "0.40 s", "60 s floor"});
 }
 
 TEST(Faults, LabStaticRecordShorterThanTheOutageSpacingWarnsAndStaysFinite) {
   // The sample's 120 s record against outages every 150 s: a warning, finite results.
   const std::string out = test::makeTempDir("static_warn") + "/out";
-  const RunResult r = run("evaluate " + sample("tactical") + " --out " + out + " --config " +
-                          sampleConfig() + " --outage-start 30 --outage-period 150 --no-plots");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const test::CommandOutput r =
+      test::runGraftnav("evaluate " + sample("tactical") + " --out " + out + " --config " +
+                        sampleConfig() + " --outage-start 30 --outage-period 150 --no-plots");
+  ASSERT_EQ(r.exit_code, 0) << r.text;
   EXPECT_NE(
-      r.output.find(
+      r.text.find(
           "static.txt: the lab static record lasts 120.0 s, shorter than the outage spacing of "
           "150.0 s"),
       std::string::npos)
-      << r.output;
+      << r.text;
   std::ifstream f(out + "/evaluation.json");
   EXPECT_EQ(countNonFinite(nlohmann::json::parse(f)), 0);
   for (const std::string name : {"evaluation.csv", "outage_drift.csv", "tables.md"})
@@ -343,12 +330,13 @@ TEST(Faults, LabStaticRecordShorterThanTheOutageSpacingWarnsAndStaysFinite) {
 
 TEST(Faults, AbsentOutageStatisticsAreNullWithAWarning) {
   const std::string out = test::makeTempDir("absent") + "/out";
-  const RunResult r = run("navigate " + sample("tactical") + " --out " + out + " --no-plots");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const test::CommandOutput r =
+      test::runGraftnav("navigate " + sample("tactical") + " --out " + out + " --no-plots");
+  ASSERT_EQ(r.exit_code, 0) << r.text;
   EXPECT_NE(
-      r.output.find("errors.json: absent (null): /outage/*, /outage_max/* (no outage statistics"),
+      r.text.find("errors.json: absent (null): /outage/*, /outage_max/* (no outage statistics"),
       std::string::npos)
-      << r.output;
+      << r.text;
   std::ifstream f(out + "/errors.json");
   const auto j = nlohmann::json::parse(f);
   EXPECT_EQ(countNonFinite(j), 0);
@@ -364,12 +352,12 @@ TEST(Faults, LenientNavigatePrintsTheReadersRepairReport) {
   lines.insert(lines.begin() + 500, lines[499]);  // an identical duplicate: repairable
   writeLines(imu, lines);
   const std::string out = test::makeTempDir("lenient") + "/out";
-  RunResult r = run("navigate " + c + " --out " + out + " --no-plots");
+  test::CommandOutput r = test::runGraftnav("navigate " + c + " --out " + out + " --no-plots");
   expectFailedCleanly(r, out, {imu + ":501"});
-  r = run("navigate " + c + " --out " + out + " --no-plots --lenient");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("warning: " + imu), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("501"), std::string::npos) << r.output;
+  r = test::runGraftnav("navigate " + c + " --out " + out + " --no-plots --lenient");
+  ASSERT_EQ(r.exit_code, 0) << r.text;
+  EXPECT_NE(r.text.find("warning: " + imu), std::string::npos) << r.text;
+  EXPECT_NE(r.text.find("501"), std::string::npos) << r.text;
 }
 
 // --- writers ------------------------------------------------------------------------------------
@@ -396,7 +384,7 @@ TEST(Faults, EveryCommandsWritersFailCleanlyWhenAWriteFails) {
        tmp + "/simulate"},
   };
   for (const Cmd& c : cmds) {
-    const RunResult r = run(c.args + c.out, limit);
+    const test::CommandOutput r = test::runGraftnav(c.args + c.out, limit);
     SCOPED_TRACE(c.args);
     expectFailedCleanly(r, c.out, {"File too large", c.out});
   }
@@ -419,8 +407,8 @@ TEST(Faults, FullDiskFailsWithErrnoTextAndLeavesNoFile) {
     prefix = "trap '' XFSZ; ulimit -f 0;";
     expected = "File too large";
   }
-  const RunResult r =
-      run("calibrate " + sample("tactical") + " --no-plots --out " + dir + "/out", prefix);
+  const test::CommandOutput r = test::runGraftnav(
+      "calibrate " + sample("tactical") + " --no-plots --out " + dir + "/out", prefix);
   expectFailedCleanly(r, dir + "/out", {expected, dir + "/out/calibration.yaml"});
 }
 
@@ -431,16 +419,19 @@ TEST(Faults, FullDiskFailsWithErrnoTextAndLeavesNoFile) {
 TEST(Faults, DiskFillingDuringTheRunLeavesOnlyCompleteFiles) {
   if (geteuid() != 0) GTEST_SKIP() << "needs root to mount a small tmpfs";
   const std::string ref = test::makeTempDir("fill_ref") + "/out";
-  ASSERT_EQ(run("calibrate " + sample("tactical") + " --no-plots --out " + ref).exit_code, 0);
+  ASSERT_EQ(
+      test::runGraftnav("calibrate " + sample("tactical") + " --no-plots --out " + ref).exit_code,
+      0);
   const std::string dir = test::makeTempDir("fill") + "/disk";
   fs::create_directories(dir);
   const TmpfsMount disk(dir, "size=64k");
   ASSERT_TRUE(disk.mounted()) << std::strerror(errno);
   fs::create_directories(dir + "/out");
   std::system(("dd if=/dev/zero of=" + dir + "/filler bs=4k count=13 > /dev/null 2>&1").c_str());
-  const RunResult r = run("calibrate " + sample("tactical") + " --no-plots --out " + dir + "/out");
-  EXPECT_NE(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("No space left on device"), std::string::npos) << r.output;
+  const test::CommandOutput r =
+      test::runGraftnav("calibrate " + sample("tactical") + " --no-plots --out " + dir + "/out");
+  EXPECT_NE(r.exit_code, 0) << r.text;
+  EXPECT_NE(r.text.find("No space left on device"), std::string::npos) << r.text;
   const std::vector<std::string> left = filesIn(dir + "/out");
   EXPECT_FALSE(left.empty()) << "nothing fitted: the test no longer fills the disk halfway";
   for (const std::string& f : left) {

@@ -141,7 +141,7 @@ TEST(RealData, WidCarGraftedDotFromItsOwnStandstill) {
 
 // `real` on the car trial with all four estimators: its 5 Hz RTK stream (stamps jittered by
 // 10-20 ms, gaps up to 0.6 s) once made the factor graphs fail with a one-sample preintegration.
-// Pinned: every estimator runs, and its check-point error stays where it is (ekf 3.3 m, rts 0.28 m,
+// Pinned: every estimator runs, and its check point error stays where it is (ekf 3.3 m, rts 0.28 m,
 // fgo 0.27 m, fgo-window 4.1 m RMS horizontal over the 300 withheld fixes of the three 20-s
 // outages).
 TEST(RealData, WidCarRealRunsEveryEstimator) {

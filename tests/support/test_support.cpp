@@ -1,5 +1,8 @@
 #include "test_support.h"
 
+#include <sys/wait.h>
+
+#include <cstdio>
 #include <cstdlib>
 
 #include <gtest/gtest.h>
@@ -20,6 +23,29 @@ std::string graftnavBinary() { return GRAFTNAV_BINARY; }
 bool sharedDataRequired() {
   const char* v = std::getenv("GRAFTNAV_REQUIRE_SHARED_DATA");
   return v != nullptr && std::string(v) == "1";
+}
+
+CommandOutput runGraftnav(const std::string& args, const std::string& shell_prefix) {
+  const std::string cmd =
+      "sh -c \"" + shell_prefix + " exec " + graftnavBinary() + " " + args + "\" 2>&1";
+  CommandOutput out;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return out;
+  char buf[4096];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) out.text.append(buf, n);
+  const int status = pclose(pipe);
+  out.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return out;
+}
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "(no error)";
 }
 
 std::string makeTempDir(const std::string& tag) {

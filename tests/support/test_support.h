@@ -18,6 +18,20 @@ std::string sourceDir();
 std::string sharedDir();
 // Path of the built graftnav executable.
 std::string graftnavBinary();
+// What a run of the graftnav command printed (stdout and stderr together) and its exit code
+// (128 + the signal's number when a signal ended it).
+struct CommandOutput {
+  int exit_code = -1;
+  std::string text;
+};
+
+// Runs `graftnav ARGS` through sh, `shell_prefix` first (e.g. a ulimit), and captures its output
+// through a pipe, so a file-size limit on the command does not hit its own log.
+CommandOutput runGraftnav(const std::string& args, const std::string& shell_prefix = "");
+
+// The message of the exception f throws, or "(no error)" when it returns.
+std::string errorOf(const std::function<void()>& f);
+
 // A fresh, empty temporary directory unique to the calling test.
 std::string makeTempDir(const std::string& tag);
 

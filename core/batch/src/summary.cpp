@@ -44,8 +44,8 @@ std::vector<Column> columnsOf(const std::string& command) {
             {"NEES", "", "overall", "mean", {"nees"}, 2}};
   if (command == "real")
     return {{"check points", "", "checkpoint", "count", {"points"}, 0},
-            {"check-point RMS h/v", "", "checkpoint", "rms", {"horizontal_m", "vertical_m"}},
-            {"check-point RMS of max h", "", "checkpoint", "max_rms", {"horizontal_m"}},
+            {"check point RMS h/v", "", "checkpoint", "rms", {"horizontal_m", "vertical_m"}},
+            {"check point RMS of max h", "", "checkpoint", "max_rms", {"horizontal_m"}},
             {"vs reference: outage RMS h", "", "reference", "rms", {"horizontal_m"}}};
   if (command == "diagnose")
     return {{"DIFF before (SG2) h/v/hdg", "SG2", "outage", "diff", hvy, 1, true},

@@ -1,5 +1,8 @@
 #pragma once
 // Helpers of the batch tests: manifests written to a temporary folder, the built binary run.
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -37,6 +40,20 @@ inline std::string readFile(const std::string& path) {
 
 inline void writeFile(const std::string& path, const std::string& text) {
   std::ofstream(path) << text;
+}
+
+// The first column of the first row of `sql` on the results database at db_path (-1 if none).
+inline long long queryInt(const std::string& db_path, const std::string& sql) {
+  sqlite3* db = nullptr;
+  EXPECT_EQ(sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+  sqlite3_stmt* st = nullptr;
+  EXPECT_EQ(sqlite3_prepare_v2(db, sql.c_str(), -1, &st, nullptr), SQLITE_OK)
+      << sqlite3_errmsg(db) << ": " << sql;
+  long long v = -1;
+  if (st && sqlite3_step(st) == SQLITE_ROW) v = sqlite3_column_int64(st, 0);
+  sqlite3_finalize(st);
+  sqlite3_close(db);
+  return v;
 }
 
 inline std::string sample(const std::string& grade) {

@@ -15,6 +15,7 @@ namespace graftnav {
 namespace {
 namespace fs = std::filesystem;
 using batch_test::graftnav;
+using batch_test::queryInt;
 using batch_test::readFile;
 using batch_test::RunResult;
 using batch_test::sample;
@@ -45,19 +46,6 @@ std::map<int, std::pair<std::string, std::string>> listTasks(const std::string& 
     if (f >> index >> id >> status) tasks[index] = {id, status};
   }
   return tasks;
-}
-
-long long queryInt(const std::string& db_path, const std::string& sql) {
-  sqlite3* db = nullptr;
-  EXPECT_EQ(sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
-  sqlite3_stmt* st = nullptr;
-  EXPECT_EQ(sqlite3_prepare_v2(db, sql.c_str(), -1, &st, nullptr), SQLITE_OK)
-      << sqlite3_errmsg(db) << ": " << sql;
-  long long v = -1;
-  if (st && sqlite3_step(st) == SQLITE_ROW) v = sqlite3_column_int64(st, 0);
-  sqlite3_finalize(st);
-  sqlite3_close(db);
-  return v;
 }
 
 TEST(BatchRuns, FinishedTasksAreSkippedForceRerunsAndTheSummaryIsTheSame) {

@@ -15,20 +15,8 @@
 namespace graftnav {
 namespace {
 namespace fs = std::filesystem;
+using batch_test::queryInt;
 using batch_test::readFile;
-
-long long queryInt(const std::string& db_path, const std::string& sql) {
-  sqlite3* db = nullptr;
-  EXPECT_EQ(sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
-  sqlite3_stmt* st = nullptr;
-  EXPECT_EQ(sqlite3_prepare_v2(db, sql.c_str(), -1, &st, nullptr), SQLITE_OK)
-      << sqlite3_errmsg(db) << ": " << sql;
-  long long v = -1;
-  if (st && sqlite3_step(st) == SQLITE_ROW) v = sqlite3_column_int64(st, 0);
-  sqlite3_finalize(st);
-  sqlite3_close(db);
-  return v;
-}
 
 std::vector<BatchTask> syntheticTasks(const std::string& dir, int n) {
   std::vector<BatchTask> tasks(n);

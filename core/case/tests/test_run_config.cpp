@@ -15,14 +15,7 @@ namespace {
 
 using ::testing::HasSubstr;
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using test::errorOf;
 
 TEST(RunConfig, TextFillsEverySectionAndLeavesTheRestAtDefaults) {
   RunConfigReport report;

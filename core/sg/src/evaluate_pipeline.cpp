@@ -6,13 +6,14 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <exception>
+#include <functional>
 #include <filesystem>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
-#include <thread>
 #include <utility>
 
+#include "graftnav/parallel/worker_pool.h"
 #include "graftnav/sg/grafting.h"
 
 namespace graftnav {
@@ -29,7 +30,7 @@ struct Unit {
 
 struct UnitResult {
   DriftStats rms, max_rms;
-  std::optional<Evaluation> full;  // kept for the representative unit only
+  std::optional<Evaluation> full;  // kept for the representative unit only (epochs when held)
   std::vector<std::string> notes;  // the navigator's, kept for the representative unit only
 };
 
@@ -81,38 +82,91 @@ std::string strategyLabels(const std::vector<SgStrategy>& strategies) {
   return out;
 }
 
-// Runs every unit on `jobs` workers; results land at the unit's index.
-template <typename NavigateUnit>
-std::vector<UnitResult> navigateAll(const std::vector<Unit>& units,
-                                    const NavigateUnit& navigate_unit, int jobs, const SgLogFn& log,
-                                    const std::string& tag) {
-  std::vector<UnitResult> results(units.size());
-  std::atomic<std::size_t> next{0}, done{0};
-  std::mutex log_mutex;
-  std::exception_ptr failure;
-  const std::size_t report_every = std::max<std::size_t>(1, units.size() / 10);
-  auto worker = [&]() {
-    for (std::size_t i = next++; i < units.size(); i = next++) {
-      try {
-        results[i] = navigate_unit(units[i]);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(log_mutex);
-        if (!failure) failure = std::current_exception();
-        next = units.size();
-        return;
-      }
-      const std::size_t d = ++done;
-      if (d % report_every == 0 || d == units.size()) {
-        std::lock_guard<std::mutex> lock(log_mutex);
-        log(fmt::format("[{}] navigated {} / {}", tag, d, units.size()));
-      }
+// The work of one worker at a time: REAL at one schedule, or realization k at every strategy and
+// schedule (they share the realization's error signal, made once).
+struct Task {
+  std::optional<int> realization;  // empty: REAL
+  std::vector<std::size_t> units;  // indices into the units
+};
+
+std::vector<Task> makeTasks(const std::vector<Unit>& units) {
+  std::vector<Task> tasks;
+  std::vector<std::size_t> of_realization;  // task index of realization k, or npos
+  for (std::size_t i = 0; i < units.size(); ++i) {
+    const Unit& u = units[i];
+    if (!u.strategy) {
+      tasks.push_back({std::nullopt, {i}});
+      continue;
     }
+    const auto k = static_cast<std::size_t>(u.realization);
+    if (k >= of_realization.size()) of_realization.resize(k + 1, std::string::npos);
+    if (of_realization[k] == std::string::npos) {
+      of_realization[k] = tasks.size();
+      tasks.push_back({u.realization, {}});
+    }
+    tasks[of_realization[k]].units.push_back(i);
+  }
+  return tasks;
+}
+
+// Keeps a representative unit's epochs in its Evaluation (when no sink is given for them).
+class KeepEpochs final : public EpochErrorSink {
+ public:
+  explicit KeepEpochs(std::vector<EpochError>* kept) : kept_(kept) {}
+  void add(const EpochError& e) override { epochs_.push_back(e); }
+  void commit() override { *kept_ = std::move(epochs_); }
+
+ private:
+  std::vector<EpochError>* kept_;
+  std::vector<EpochError> epochs_;
+};
+
+// A grafted realization as a recording: each block of the reference IMU grafted as it is read.
+ImuRecording graftedRecordingOf(const ImuRecording& ref, std::shared_ptr<const GraftSignal> sig,
+                                const GraftPlan& plan, SgStrategy strategy) {
+  const double t0 = ref.beginTime_s();
+  const SensorDynamicFit* gyro = strategy == SgStrategy::kFull ? &plan.gyro_fit : nullptr;
+  const SensorDynamicFit* accel = strategy == SgStrategy::kFull ? &plan.accel_fit : nullptr;
+  ImuRecording r;
+  ImuSeries one;
+  sig->graft({ref.first}, t0, gyro, accel, &one);
+  r.first = one.front();
+  sig->graft({ref.last}, t0, gyro, accel, &one);
+  r.last = one.front();
+  r.samples = ref.samples;
+  r.pass = [ref_pass = ref.pass, sig, t0, gyro, accel](const ImuBlockFn& block) {
+    ImuSeries out;
+    ref_pass([&](const ImuSeries& b) {
+      sig->graft(b, t0, gyro, accel, &out);
+      block(out);
+    });
   };
-  std::vector<std::thread> threads;
-  for (int j = 0; j < jobs; ++j) threads.emplace_back(worker);
-  for (auto& th : threads) th.join();
-  if (failure) std::rethrow_exception(failure);
-  return results;
+  return r;
+}
+
+// The held navigator as a streamed one: the grafted recording is collected into a series, and
+// the returned solution's epochs are handed on.
+SgStreamNavigator streamedFromHeld(const SgNavigator& held) {
+  return [&held](const SgImu& imu, const OutageScheduleConfig& schedule, const SgStartFn& start) {
+    std::optional<ImuSeries> grafted;
+    if (imu.strategy) grafted = collectRecording(imu.imu);
+    SgNavigation nav = held(std::move(grafted), schedule);
+    NavSolution& sol = nav.solution;
+    const double rate = sol.states.size() > 1 ? (sol.states.size() - 1) /
+                                                    (sol.states.back().t_s - sol.states.front().t_s)
+                                              : 0.0;
+    const SgEpochFn epochs = start(nav.outages, rate);
+    const bool has_sigma = sol.sigma.size() == sol.states.size();
+    for (std::size_t i = 0; i < sol.states.size(); ++i)
+      epochs(sol.states[i], has_sigma ? &sol.sigma[i] : nullptr);
+    NavSolution book;  // the epochs are not kept
+    book.estimator = sol.estimator;
+    book.gnss_used = sol.gnss_used;
+    book.gnss_rejected = sol.gnss_rejected;
+    book.gnss_withheld = sol.gnss_withheld;
+    sol = std::move(book);
+    return nav;
+  };
 }
 
 }  // namespace
@@ -146,15 +200,20 @@ SgEvaluationPipeline::SgEvaluationPipeline(const SgEvaluationOptions& options, G
                                            SgEvaluationInputs inputs)
     : options_(options), plan_(std::move(plan)), inputs_(std::move(inputs)) {
   options_.validate();
-  if (inputs_.reference_imu.empty())
-    throw std::invalid_argument(inputs_.case_name + ": the reference IMU series is empty");
+  if (!inputs_.reference_recording.pass) {
+    if (inputs_.reference_imu.empty())
+      throw std::invalid_argument(inputs_.case_name + ": the reference IMU series is empty");
+    inputs_.reference_recording = heldRecording(std::move(inputs_.reference_imu));
+    inputs_.reference_imu = {};
+  }
+  inputs_.has_real = inputs_.has_real || inputs_.real_recording.has_value();
   if (options_.outage_shifts > 1 && !inputs_.outages.explicit_windows.empty())
     throw std::invalid_argument(
         "SgEvaluationOptions.outage_shifts > 1 needs a periodic outage schedule; the run config "
         "lists explicit windows (outages.windows)");
   schedules_ = shiftedSchedules(inputs_.outages, options_.outage_shifts);
-  t_first_s_ = inputs_.reference_imu.front().t_s - inputs_.reference_imu.front().dt_s;
-  t_last_s_ = inputs_.reference_imu.back().t_s;
+  t_first_s_ = inputs_.reference_recording.beginTime_s();
+  t_last_s_ = inputs_.reference_recording.last.t_s;
   for (const auto& s : schedules_) {
     if (buildOutageWindows(s, t_first_s_, t_last_s_).empty()) {
       throw std::runtime_error(fmt::format(
@@ -225,10 +284,15 @@ void SgEvaluationPipeline::describeRealizations() {
   }
 }
 
-ImuSeries SgEvaluationPipeline::graft(SgStrategy strategy, int realization) const {
+ImuRecording SgEvaluationPipeline::graftedRecording(SgStrategy strategy, int realization) const {
   if (realization < 0 || realization >= static_cast<int>(draws_.size()))
     throw std::out_of_range(fmt::format("realization {} of {}", realization, draws_.size()));
-  return graftSeries(inputs_.reference_imu, plan_, strategy, graftOptionsFor(draws_[realization]));
+  auto sig = std::make_shared<const GraftSignal>(plan_.basic, graftOptionsFor(draws_[realization]));
+  return graftedRecordingOf(inputs_.reference_recording, std::move(sig), plan_, strategy);
+}
+
+ImuSeries SgEvaluationPipeline::graft(SgStrategy strategy, int realization) const {
+  return collectRecording(graftedRecording(strategy, realization));
 }
 
 namespace {
@@ -272,39 +336,103 @@ void summarize(const std::vector<Unit>& units, std::vector<UnitResult>& res,
 
 }  // namespace
 
-SgEvaluationReport SgEvaluationPipeline::run(const SolutionReference& reference,
-                                             const SgNavigator& navigate,
-                                             const std::string& estimator_name,
-                                             const SgLogFn& log_in) const {
-  const SgLogFn log = log_in ? log_in : [](const std::string&) {};
-  const std::string tag = std::filesystem::path(inputs_.case_name).filename().string();
-  const std::vector<Unit> units = makeUnits(inputs_.has_real, options_.strategies,
-                                            options_.realizations, options_.outage_shifts);
-  auto navigate_unit = [&](const Unit& u) {
-    std::optional<ImuSeries> grafted;
-    if (u.strategy) grafted = graft(*u.strategy, u.realization);
-    SgNavigation nav = navigate(std::move(grafted), schedules_[u.shift]);
+// One run's navigations: each unit navigated and evaluated against SOL_REF as its epochs come.
+struct SgEvaluationPipeline::Work {
+  const SgEvaluationPipeline& p;
+  const SolutionReference& reference;
+  const SgStreamNavigator& navigate;
+  const SgRunHooks& hooks;
+  const std::string& estimator;
+
+  std::unique_ptr<NavSource> openReference() const {
+    return reference.open ? reference.open() : seriesNavSource(reference.states);
+  }
+
+  UnitResult unit(const Unit& u, const SgImu& imu) const {
     UnitResult r;
-    Evaluation e =
-        evaluateSolution(nav.solution, reference.states, nav.outages, options_.evaluation);
+    std::vector<EpochError> kept;
+    EpochSinkFactory sinks;
+    if (u.representative()) {
+      const std::string label = u.strategy ? sgLabel(*u.strategy) : "REAL";
+      sinks = [this, label, &kept]() -> std::unique_ptr<EpochErrorSink> {
+        if (hooks.epoch_sink) return hooks.epoch_sink(label);
+        return std::make_unique<KeepEpochs>(&kept);
+      };
+    }
+    std::optional<StreamedEvaluation> ev;
+    const SgStartFn start = [&](const std::vector<TimeWindow>& outages, double rate_hz) {
+      if (ev) throw std::logic_error("SgStreamNavigator: start called twice");
+      ev.emplace(openReference(), outages, p.options_.evaluation, estimator,
+                 ExpectedRates{rate_hz, reference.rate_hz}, sinks);
+      return SgEpochFn([&ev](const NavState& s, const PvaSigma* sg) { ev->add(s, sg); });
+    };
+    SgNavigation nav = navigate(imu, p.schedules_[static_cast<std::size_t>(u.shift)], start);
+    if (!ev) throw std::logic_error("SgStreamNavigator: returned without starting");
+    Evaluation e = ev->finish();
+    ev->commitEpochs();
     r.rms = e.outage_rms;
     r.max_rms = e.outage_max_rms;
     if (u.representative()) {
+      e.epochs = std::move(kept);
       r.full = std::move(e);
       r.notes = std::move(nav.notes);
     }
     return r;
-  };
-  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const int jobs = std::max(
-      1, std::min<int>(static_cast<int>(units.size()), options_.jobs > 0 ? options_.jobs : hw));
+  }
+
+  // Every unit of a task; a realization's signal is made once for all of them.
+  void task(const Task& t, const std::vector<Unit>& units, std::vector<UnitResult>& results,
+            const std::function<void()>& done) const {
+    std::shared_ptr<const GraftSignal> sig;
+    if (t.realization)
+      sig = std::make_shared<const GraftSignal>(
+          p.plan_.basic, graftOptionsFor(p.draws_[static_cast<std::size_t>(*t.realization)]));
+    for (std::size_t i : t.units) {
+      const Unit& u = units[i];
+      SgImu imu;
+      imu.strategy = u.strategy;
+      imu.realization = u.realization;
+      if (u.strategy) {
+        imu.imu = graftedRecordingOf(p.inputs_.reference_recording, sig, p.plan_, *u.strategy);
+      } else if (p.inputs_.real_recording) {
+        imu.imu = *p.inputs_.real_recording;
+      }
+      results[i] = unit(u, imu);
+      done();
+    }
+  }
+};
+
+SgEvaluationReport SgEvaluationPipeline::run(const SolutionReference& reference,
+                                             const SgStreamNavigator& navigate,
+                                             const std::string& estimator_name,
+                                             const SgRunHooks& hooks) const {
+  const SgLogFn log = hooks.log ? hooks.log : [](const std::string&) {};
+  const std::string tag = std::filesystem::path(inputs_.case_name).filename().string();
+  const std::vector<Unit> units = makeUnits(inputs_.has_real, options_.strategies,
+                                            options_.realizations, options_.outage_shifts);
+  const std::vector<Task> tasks = makeTasks(units);
+  const int jobs = workerCount(tasks.size(), options_.jobs);
   log(
       fmt::format("[{}] navigating {} realizations of {}{} with {} at {} outage schedule(s) "
                   "({} navigations, {} in parallel)",
                   tag, options_.realizations, strategyLabels(options_.strategies),
                   inputs_.has_real ? " and REAL" : "", estimator_name, options_.outage_shifts,
                   units.size(), jobs));
-  std::vector<UnitResult> results = navigateAll(units, navigate_unit, jobs, log, tag);
+  std::vector<UnitResult> results(units.size());
+  std::atomic<std::size_t> done{0};
+  std::mutex log_mutex;
+  const std::size_t report_every = std::max<std::size_t>(1, units.size() / 10);
+  const std::function<void()> one_done = [&]() {
+    const std::size_t d = ++done;
+    if (d % report_every == 0 || d == units.size()) {
+      std::lock_guard<std::mutex> lock(log_mutex);
+      log(fmt::format("[{}] navigated {} / {}", tag, d, units.size()));
+    }
+  };
+  const Work work{*this, reference, navigate, hooks, estimator_name};
+  parallelFor(tasks.size(), jobs,
+              [&](std::size_t i) { work.task(tasks[i], units, results, one_done); });
 
   SgEvaluationReport rep = header_;
   rep.estimator = estimator_name;
@@ -316,6 +444,13 @@ SgEvaluationReport SgEvaluationPipeline::run(const SolutionReference& reference,
   rep.outage_length_s = rep.outages.front().length_s();
   summarize(units, results, inputs_, options_, &rep);
   return rep;
+}
+
+SgEvaluationReport SgEvaluationPipeline::run(const SolutionReference& reference,
+                                             const SgNavigator& navigate,
+                                             const std::string& estimator_name,
+                                             const SgLogFn& log) const {
+  return run(reference, streamedFromHeld(navigate), estimator_name, SgRunHooks{log, {}});
 }
 
 }  // namespace graftnav

@@ -147,55 +147,82 @@ double graftStartOffset(const GraftOptions& opt, const BasicErrorSignal& basic) 
   return basic.sampleStart_s(j(rng));
 }
 
-namespace {
-
-template <typename DynamicFn>
-ImuSeries graftImpl(const ImuSeries& ref, const BasicErrorSignal& record, const GraftOptions& opt,
-                    DynamicFn&& dynamic) {
-  ImuSeries out(ref.size());
-  if (ref.empty()) return out;
-  std::optional<BasicErrorSignal> surrogate;
+GraftSignal::GraftSignal(const BasicErrorSignal& record, const GraftOptions& opt)
+    : power_on_(opt.power_on) {
   if (opt.surrogate_seed) {
-    surrogate.emplace(record.phaseRandomized(
+    surrogate_.emplace(record.phaseRandomized(
         *opt.surrogate_seed, opt.surrogate_slow_noise ? &*opt.surrogate_slow_noise : nullptr));
   }
-  const BasicErrorSignal& basic = surrogate ? *surrogate : record;
-  const double offset = graftStartOffset(opt, basic);
-  // The tiling clock starts at the beginning of the first reference interval.
-  const double t0 = ref.front().t_s - ref.front().dt_s;
+  basic_ = surrogate_ ? &*surrogate_ : &record;
+  offset_s_ = graftStartOffset(opt, *basic_);
+}
+
+namespace {
+
+// One grafted sample (SG#1 when `dynamic` adds nothing): what graftBasic and graftFull did for
+// each sample of a whole series, so that a series grafted block by block is the same.
+template <typename DynamicFn>
+void graftSamples(const ImuSeries& ref, double t0, const BasicErrorSignal& basic, double offset,
+                  const PowerOnErrors& power_on, DynamicFn&& dynamic, ImuSeries* out) {
+  out->resize(ref.size());
   for (std::size_t k = 0; k < ref.size(); ++k) {
     const ImuSample& r = ref[k];
-    ImuSample& y = out[k];
+    ImuSample& y = (*out)[k];
     y = r;
     const double u1 = r.t_s - t0 + offset;
     Vec6 e = basic.integral(u1 - r.dt_s, u1);
-    if (!opt.power_on.empty()) e += opt.power_on.integral(r.t_s - t0 - r.dt_s, r.t_s - t0);
+    if (!power_on.empty()) e += power_on.integral(r.t_s - t0 - r.dt_s, r.t_s - t0);
     Eigen::Vector3d dg, da;
     dynamic(r, dg, da);
     y.dtheta_rad = r.dtheta_rad + dg + e.head<3>();
     y.dvel_m_s = r.dvel_m_s + da + e.tail<3>();
   }
-  return out;
 }
 
 }  // namespace
 
+void GraftSignal::graft(const ImuSeries& ref, double t0_s, const SensorDynamicFit* gyro,
+                        const SensorDynamicFit* accel, ImuSeries* out) const {
+  if (gyro && accel) {
+    graftSamples(
+        ref, t0_s, *basic_, offset_s_, power_on_,
+        [&](const ImuSample& r, Eigen::Vector3d& dg, Eigen::Vector3d& da) {
+          // Fitting functions act on mean rates; convert back to increments.
+          dg = gyro->dynamicError(r.dtheta_rad / r.dt_s) * r.dt_s;
+          da = accel->dynamicError(r.dvel_m_s / r.dt_s) * r.dt_s;
+        },
+        out);
+  } else {
+    graftSamples(
+        ref, t0_s, *basic_, offset_s_, power_on_,
+        [](const ImuSample&, Eigen::Vector3d& dg, Eigen::Vector3d& da) {
+          dg.setZero();
+          da.setZero();
+        },
+        out);
+  }
+}
+
+namespace {
+ImuSeries graftWhole(const ImuSeries& ref, const BasicErrorSignal& basic,
+                     const SensorDynamicFit* gyro, const SensorDynamicFit* accel,
+                     const GraftOptions& opt) {
+  ImuSeries out;
+  if (ref.empty()) return out;
+  // The tiling clock starts at the beginning of the first reference interval.
+  GraftSignal(basic, opt).graft(ref, ref.front().t_s - ref.front().dt_s, gyro, accel, &out);
+  return out;
+}
+}  // namespace
+
 ImuSeries graftBasic(const ImuSeries& ref, const BasicErrorSignal& basic, const GraftOptions& opt) {
-  return graftImpl(ref, basic, opt, [](const ImuSample&, Eigen::Vector3d& dg, Eigen::Vector3d& da) {
-    dg.setZero();
-    da.setZero();
-  });
+  return graftWhole(ref, basic, nullptr, nullptr, opt);
 }
 
 ImuSeries graftFull(const ImuSeries& ref, const BasicErrorSignal& basic,
                     const SensorDynamicFit& gyro, const SensorDynamicFit& accel,
                     const GraftOptions& opt) {
-  return graftImpl(ref, basic, opt,
-                   [&](const ImuSample& r, Eigen::Vector3d& dg, Eigen::Vector3d& da) {
-                     // Fitting functions act on mean rates; convert back to increments.
-                     dg = gyro.dynamicError(r.dtheta_rad / r.dt_s) * r.dt_s;
-                     da = accel.dynamicError(r.dvel_m_s / r.dt_s) * r.dt_s;
-                   });
+  return graftWhole(ref, basic, &gyro, &accel, opt);
 }
 
 Eigen::Vector2d referenceResidualFraction(const ImuProfile& reference, const ImuProfile& tested) {

@@ -448,11 +448,13 @@ void writePredictiveCsv(const std::string& path, const SgEvaluationReport& r) {
   writeFileAtomically(path, csv);
 }
 
-void writeSgEvaluationFiles(const std::string& out_dir, const SgEvaluationReport& rep) {
+void writeSgEvaluationFiles(const std::string& out_dir, const SgEvaluationReport& rep,
+                            bool errors_csv) {
   const std::filesystem::path out(out_dir);
-  for (const auto& s : rep.solutions) {
-    writeErrorsCsv((out / ("errors_" + s.label + ".csv")).string(), s.evaluation,
-                   1.0 / rep.csv_rate_hz);
+  if (errors_csv) {
+    for (const auto& s : rep.solutions)
+      writeErrorsCsv((out / ("errors_" + s.label + ".csv")).string(), s.evaluation,
+                     1.0 / rep.csv_rate_hz);
   }
   writeEvaluationJson((out / "evaluation.json").string(), rep);
   writeTablesMarkdown((out / "tables.md").string(), rep);

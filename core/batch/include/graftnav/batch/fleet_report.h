@@ -4,7 +4,7 @@
 // cluster run of one manifest write the same bytes.
 //   report.md                 the four sections below, the headline numbers
 //   report_estimators.csv     per group, option values, schedule, estimator and solution: each
-//                             outage, check-point and reference statistic across the cases (and
+//                             outage, check point and reference statistic across the cases (and
 //                             seeds) as a distribution: n, min, p25, median, p75, max, mean
 //   report_options.csv        per option axis and value: a statistic's mean, SD, min and max over
 //                             cases and seeds (pooled over the group's other axes)

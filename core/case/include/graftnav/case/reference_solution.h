@@ -9,6 +9,7 @@
 #include "graftnav/case/case_inputs.h"
 #include "graftnav/case/run_config.h"
 #include "graftnav/estimation/estimator_registry.h"
+#include "graftnav/nav/nav_source.h"
 
 namespace graftnav {
 
@@ -37,5 +38,24 @@ using ReferenceImuFn = std::function<ImuSelection()>;
 ReferenceSolution resolveReferenceSolution(const CaseInputs& c, const ReferenceImuFn& reference_imu,
                                            const RunConfig& rc, const EstimatorRegistry& estimators,
                                            const ReferenceSolutionOptions& options = {});
+
+// The same rule without holding SOL_REF: the case's reference file read once into a spool
+// (io/nav_spool.h), or the reference IMU smoothed by the streamed smoother into one. Every
+// evaluation then reads it as a stream, the states bit for bit those of
+// resolveReferenceSolution. `reference_imu` needs only its first and last samples (the span the
+// smoothed problem is built from); `reference_pass` reads its samples. c.reference needs only the
+// epochs makeProblem reads (readReferenceHead). Throws std::invalid_argument when the smoother has
+// no streamed form or the run config aligns from the data (the smoother would need the samples).
+struct StreamedReferenceSolution {
+  NavOpenFn open;
+  double rate_hz = 0.0;     // (count - 1) / span of its states
+  std::string description;  // as ReferenceSolution::description
+  bool smoothed = false;
+  std::vector<std::string> notes;  // what makeProblem assumed for the smoothed problem
+};
+StreamedReferenceSolution streamReferenceSolution(
+    const CaseInputs& c, const CaseReferenceFile& file, const ImuSelection& reference_imu,
+    const ImuPassFn& reference_pass, const RunConfig& rc, const EstimatorRegistry& estimators,
+    const ReferenceSolutionOptions& options = {});
 
 }  // namespace graftnav

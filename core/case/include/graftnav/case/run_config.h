@@ -98,7 +98,7 @@ struct EvaluationConfig {
 struct GnssConfig {
   bool given = false;  // a gnss: section was present
   GnssSelectionOptions selection;
-  std::vector<int> checkpoint_fix_types;  // empty: no check-point evaluation
+  std::vector<int> checkpoint_fix_types;  // empty: no check point evaluation
 };
 
 struct GraftingConfig {

@@ -6,20 +6,34 @@
 // realizations' spread gives the predictive interval in which ERR_REAL should fall when grafting
 // lacks no physics (sg/predictive.h).
 //
-// The pipeline does not know how a series is navigated: the caller injects an SgNavigator (the
-// apps build the EstimationProblem of the case and run the chosen estimator), so core/sg does not
-// depend on filters/ or graph/. Navigations run on worker threads; results land at their unit's
-// index, so the outcome does not depend on the thread schedule.
+// With a streamed navigator nothing grows with the recording: the reference IMU and REAL are read
+// in blocks (io/imu_recording.h), a realization's grafted IMU is made block by block as the
+// reference IMU plus that realization's error signal (GraftSignal: the lab record, or its
+// surrogate built once for the realization and shared by its strategies and schedules), and each
+// solution is evaluated against SOL_REF as its epochs come (StreamedEvaluation, SOL_REF read as a
+// NavSource). A worker holds one realization's signal and one navigation at a time; the lab
+// record is held once. The held form (SgNavigator) hands each grafted series whole to the
+// navigator and evaluates the solution it returns with the same code.
+//
+// The pipeline does not know how a recording is navigated: the caller injects an
+// SgStreamNavigator (the apps build the EstimationProblem of the case and run the chosen
+// estimator), so core/sg does not depend on filters/ or graph/. Navigations run on worker threads;
+// results land at their unit's index, so the outcome does not depend on the thread schedule.
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "graftnav/estimation/nav_solution.h"
 #include "graftnav/eval/evaluation.h"
 #include "graftnav/eval/outage_schedule.h"
+#include "graftnav/eval/streamed_evaluation.h"
 #include "graftnav/imu/imu_profile.h"
+#include "graftnav/io/imu_recording.h"
+#include "graftnav/nav/nav_source.h"
 #include "graftnav/nav/types.h"
 #include "graftnav/sg/graft_case.h"
 #include "graftnav/sg/realization.h"
@@ -42,7 +56,7 @@ struct SgEvaluationOptions {
   std::vector<SgStrategy> strategies{SgStrategy::kBasic, SgStrategy::kFull};
   int jobs = 0;  // navigations in parallel; 0 = all cores
   EvaluationOptions evaluation;
-  // Throws std::invalid_argument naming the field (the flag spelling of `evaluate`).
+  // Throws std::invalid_argument naming the field.
   void validate() const;
 };
 
@@ -50,32 +64,67 @@ struct SgEvaluationOptions {
 // the tested IMU's profile and the outage schedule.
 struct SgEvaluationInputs {
   std::string case_name;  // for messages and log lines (the case directory)
+  ImuRecording reference_recording;
+  // The real tested IMU (REAL), when recorded; real_imu_file names it in the report.
+  std::optional<ImuRecording> real_recording;
+  // The reference field IMU held instead (used when reference_recording.pass is not set).
   ImuSeries reference_imu;
   ImuProfile tested_profile;
   // The reference IMU's noise, when known: its share of the tested IMU's noise is noted.
   std::optional<ImuProfile> reference_noise_profile;
-  bool has_real = false;           // a real tested IMU recording is navigated too (REAL)
+  bool has_real = false;           // REAL is navigated (set when real_recording is)
   std::string real_imu_file;       // its path, for the report
   OutageScheduleConfig outages;    // the first schedule; shifts move its start
   std::vector<std::string> notes;  // leading report notes (e.g. the lab calibration's)
 };
 
-// One navigation's outcome: the solution, the outage windows it was navigated with and what was
-// assumed (kept in the report for the first unit only).
+// One navigation's outcome: the solution (its epochs only from a held navigator), the outage
+// windows it was navigated with and what was assumed (kept in the report for the first unit only).
 struct SgNavigation {
   NavSolution solution;
   std::vector<TimeWindow> outages;
   std::vector<std::string> notes;
 };
-// Navigates `grafted` (moved in), or the real tested IMU when std::nullopt, with `schedule`.
-// Called from several threads at once: it must not modify shared state.
+
+// What a navigator navigates: one realization's grafted IMU (strategy set) or REAL.
+struct SgImu {
+  ImuRecording imu;
+  std::optional<SgStrategy> strategy;  // empty: REAL
+  int realization = 0;
+};
+// Where a navigation's epochs go: the state and its PVA 1-sigma (null when none), in time order.
+using SgEpochFn = std::function<void(const NavState& state, const PvaSigma* sigma)>;
+// Called by the navigator once its problem is made, before the first epoch, with the outage
+// windows and the solution's expected output rate (Hz; 0 unknown); returns where the epochs go.
+using SgStartFn =
+    std::function<SgEpochFn(const std::vector<TimeWindow>& outages, double solution_rate_hz)>;
+// Navigates `imu` with `schedule`: calls `start` once, then hands it every epoch. Called from
+// several threads at once: it must not modify shared state.
+using SgStreamNavigator = std::function<SgNavigation(
+    const SgImu& imu, const OutageScheduleConfig& schedule, const SgStartFn& start)>;
+// The held form: navigates `grafted` (moved in), or the real tested IMU when std::nullopt, and
+// returns the solution's epochs.
 using SgNavigator = std::function<SgNavigation(std::optional<ImuSeries> grafted,
                                                const OutageScheduleConfig& schedule)>;
 using SgLogFn = std::function<void(const std::string&)>;
 
+// SOL_REF: read through `open` (each evaluation reads it once, as far as it needs), else from
+// `states`.
 struct SolutionReference {
+  SolutionReference() = default;
+  SolutionReference(NavSeries s, std::string d) : states(std::move(s)), description(std::move(d)) {}
   NavSeries states;
   std::string description;  // the report's `reference`
+  NavOpenFn open;
+  double rate_hz = 0.0;  // expected rate (0 unknown), for the choice of evaluation epochs
+};
+
+// What a run does besides navigating: log lines, and where the representative unit's per-epoch
+// errors of each solution go (label "SG1", "SG2", "REAL"; a null sink keeps them in the report's
+// Evaluation::epochs, as the held form always does).
+struct SgRunHooks {
+  SgLogFn log;
+  std::function<std::unique_ptr<EpochErrorSink>(const std::string& label)> epoch_sink;
 };
 
 class SgEvaluationPipeline {
@@ -87,15 +136,25 @@ class SgEvaluationPipeline {
                        SgEvaluationInputs inputs);
 
   const std::vector<OutageScheduleConfig>& schedules() const { return schedules_; }
-  // Realization k of one strategy: the series the navigator receives (e.g. to write IMU_SG1.txt).
+  // Realization k of one strategy as a recording: its blocks grafted as they are read (e.g. to
+  // write IMU_SG1.txt with an ImuWriter). The realization's signal is made once per recording.
+  ImuRecording graftedRecording(SgStrategy strategy, int realization) const;
+  // The same, held.
   ImuSeries graft(SgStrategy strategy, int realization) const;
-  // Navigates every unit with `navigate`, evaluates against `reference` and summarizes. Throws
-  // when a navigation throws or a realization's outage statistic is not finite.
+  // Navigates every unit with `navigate`, evaluates against `reference` as the epochs come and
+  // summarizes. Throws when a navigation throws or a realization's outage statistic is not
+  // finite.
+  SgEvaluationReport run(const SolutionReference& reference, const SgStreamNavigator& navigate,
+                         const std::string& estimator_name, const SgRunHooks& hooks = {}) const;
+  // The held form: each grafted series is held and handed to `navigate`, whose solution is then
+  // evaluated (the representative units' epochs kept in the report).
   SgEvaluationReport run(const SolutionReference& reference, const SgNavigator& navigate,
                          const std::string& estimator_name, const SgLogFn& log = {}) const;
 
  private:
   void describeRealizations();
+  const GraftPlan& plan() const { return plan_; }
+  struct Work;
 
   SgEvaluationOptions options_;
   GraftPlan plan_;

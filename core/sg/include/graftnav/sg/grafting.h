@@ -114,6 +114,30 @@ struct GraftOptions {
 // Resolves GraftOptions::start_offset_s (deterministic for a given seed).
 double graftStartOffset(const GraftOptions& opt, const BasicErrorSignal& basic);
 
+// The error signal of one grafted realization: the lab record, or its phase-randomized surrogate
+// (built here once, when GraftOptions::surrogate_seed is set), where the field test starts in its
+// tiling, and the power-on errors. It grafts any block of the reference IMU, so that a recording
+// is grafted as it is read: the samples equal graftBasic's / graftFull's on the whole series.
+class GraftSignal {
+ public:
+  // `record` must outlive the signal.
+  GraftSignal(const BasicErrorSignal& record, const GraftOptions& opt);
+  GraftSignal(const GraftSignal&) = delete;
+  GraftSignal& operator=(const GraftSignal&) = delete;
+  // Replaces *out with `ref` grafted: SG#1 without fitting functions, SG#2 with both. t0_s is the
+  // start of the whole recording's first interval (first sample's t_s - dt_s), the tiling clock's
+  // origin.
+  void graft(const ImuSeries& ref, double t0_s, const SensorDynamicFit* gyro,
+             const SensorDynamicFit* accel, ImuSeries* out) const;
+  double startOffset_s() const { return offset_s_; }
+
+ private:
+  std::optional<BasicErrorSignal> surrogate_;
+  const BasicErrorSignal* basic_ = nullptr;
+  double offset_s_ = 0.0;
+  PowerOnErrors power_on_;
+};
+
 // SG#1: reference increments plus the basic error signal.
 ImuSeries graftBasic(const ImuSeries& ref, const BasicErrorSignal& basic, const GraftOptions& opt);
 

@@ -36,7 +36,9 @@ void writePerOutageCsv(const std::string& path, const SgEvaluationReport& r);
 // and verdict.
 void writePredictiveCsv(const std::string& path, const SgEvaluationReport& r);
 
-// Every file above plus errors_<LABEL>.csv per solution (at report.csv_rate_hz) into out_dir.
-void writeSgEvaluationFiles(const std::string& out_dir, const SgEvaluationReport& report);
+// Every file above plus (errors_csv) errors_<LABEL>.csv per solution (at report.csv_rate_hz) into
+// out_dir. errors_csv false: a streamed run wrote them as the epochs came (SgRunHooks).
+void writeSgEvaluationFiles(const std::string& out_dir, const SgEvaluationReport& report,
+                            bool errors_csv = true);
 
 }  // namespace graftnav

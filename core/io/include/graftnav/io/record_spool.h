@@ -1,0 +1,43 @@
+#pragma once
+// Fixed-size records of doubles in a temporary binary file: written once, then read back in
+// passes, from several threads at once, for as long as the spool lives. A series that a run
+// reads many times (the reference IMU under every grafted realization, SOL_REF under every
+// evaluation) then costs neither memory nor a new parse of its text file per pass, and a pass
+// gives back exactly the doubles that were written. The file is unlinked as soon as it is
+// created (in std::filesystem::temp_directory_path(), i.e. TMPDIR), so nothing is left behind.
+#include <cstddef>
+#include <vector>
+
+namespace graftnav {
+
+class RecordSpool {
+ public:
+  // Throws std::runtime_error naming the directory when the file cannot be created.
+  explicit RecordSpool(std::size_t doubles_per_record);
+  ~RecordSpool();
+  RecordSpool(const RecordSpool&) = delete;
+  RecordSpool& operator=(const RecordSpool&) = delete;
+
+  // Appends one record (doubles_per_record values). Throws std::logic_error after finish(),
+  // std::runtime_error when the disk is full.
+  void append(const double* record);
+  // Writes what is buffered; the spool is read-only from now on.
+  void finish();
+
+  std::size_t size() const { return records_; }
+  std::size_t recordDoubles() const { return width_; }
+  // Reads records [first, first + count) into *out (resized). Safe from several threads at
+  // once after finish(); throws std::logic_error before it and std::out_of_range past the end.
+  void read(std::size_t first, std::size_t count, std::vector<double>* out) const;
+
+ private:
+  void flush();
+
+  int fd_ = -1;
+  std::size_t width_;
+  std::size_t records_ = 0;
+  bool finished_ = false;
+  std::vector<double> buffer_;
+};
+
+}  // namespace graftnav
