@@ -1,5 +1,7 @@
 #include "navigate.h"
 
+#include <fmt/format.h>
+
 #include <optional>
 #include <stdexcept>
 
@@ -7,6 +9,7 @@
 #include "graftnav/case/problem.h"
 #include "graftnav/estimators/estimator_table.h"
 #include "graftnav/eval/evaluation_files.h"
+#include "graftnav/io/odometer_io.h"
 
 namespace graftnav::python {
 namespace {
@@ -43,6 +46,13 @@ EstimationProblem problemOf(const PyCase& pc, const CaseInputs& c, const ImuSele
   if (pc.odometer().empty())
     throw std::invalid_argument(
         "odometer.enabled is true but the case built from arrays has no odometer array");
+  const OdometerSeries& samples = pc.odometer();
+  for (std::size_t k = 0; k < samples.size(); ++k) {  // the file reader's speed rule, per row
+    const std::string problem = odometerSpeedProblem(
+        samples[k].speed_m_s, fmt::format("{:g}", samples[k].speed_m_s), rc.aiding.odometer_read);
+    if (!problem.empty())
+      throw std::invalid_argument("odometer row " + std::to_string(k) + ": " + problem);
+  }
   RunConfig without = rc;
   without.aiding.options.odometer.enabled = false;
   EstimationProblem pr = makeProblem(c, imu, without, outages, notes);

@@ -114,6 +114,19 @@ class FromArrays(unittest.TestCase):
                                                 config=os.path.join(SAMPLES["mems"], "case.yaml"))
         with self.assertRaises(ValueError):
             graftnav.navigate(no_odometer, "ekf", options={"odometer": {"enabled": True}})
+        # The file reader's speed rule holds for arrays: a reversing sample is refused while
+        # the run config says forward only, and accepted when it allows reversing.
+        reversing = odometer.copy()
+        reversing["speed_m_s"][100] = -0.5
+        backing = graftnav.Case.from_arrays(imu=loaded.imu("tested"), gnss=loaded.gnss(),
+                                            truth=truth, odometer=reversing, config=config)
+        with self.assertRaisesRegex(ValueError, "odometer row 100: speed -0.5 m/s is negative"):
+            graftnav.navigate(backing, "ekf", run_config=NAVIGATE_CONFIG,
+                              options={"odometer": {"enabled": True}})
+        allowed = graftnav.navigate(backing, "ekf", run_config=NAVIGATE_CONFIG,
+                                    options={"odometer": {"enabled": True, "forward_only": False}})
+        self.assertLess(allowed.statistics["outage"]["horizontal_m"],
+                        0.5 * free.statistics["outage"]["horizontal_m"])
 
     def test_bad_arrays(self):
         loaded = graftnav.load_case(SAMPLES["mems"])

@@ -20,6 +20,17 @@ void OdometerReadOptions::validate() const {
                                 std::to_string(max_speed_m_s));
 }
 
+std::string odometerSpeedProblem(double speed_m_s, const std::string& speed_text,
+                                 const OdometerReadOptions& options) {
+  if (options.forward_only && speed_m_s < 0.0)
+    return "speed " + speed_text +
+           " m/s is negative, but the odometer is forward only (odometer.forward_only)";
+  if (std::abs(speed_m_s) > options.max_speed_m_s)
+    return "speed " + speed_text + " m/s is beyond " + fmt::format("{:g}", options.max_speed_m_s) +
+           " m/s (a mis-scaled column? the file is m/s)";
+  return "";
+}
+
 OdometerStreamReader::OdometerStreamReader(const std::string& path,
                                            const OdometerReadOptions& options,
                                            std::size_t chunk_bytes)
@@ -37,15 +48,8 @@ bool OdometerStreamReader::next(OdometerSample* sample) {
     reader_.requireFinite(kOdometerColumns);
     const double t = reader_.value(0), v = reader_.value(1);
     order_.accept(reader_, t, 0, report_);  // strict: throws on a repeated or earlier time
-    if (options_.forward_only && v < 0.0) {
-      reader_.fail("speed " + std::string(reader_.token(1)) +
-                   " m/s is negative, but the odometer is forward only (odometer.forward_only)");
-    }
-    if (std::abs(v) > options_.max_speed_m_s) {
-      reader_.fail("speed " + std::string(reader_.token(1)) + " m/s is beyond " +
-                   fmt::format("{:g}", options_.max_speed_m_s) +
-                   " m/s (a mis-scaled column? the file is m/s)");
-    }
+    const std::string problem = odometerSpeedProblem(v, std::string(reader_.token(1)), options_);
+    if (!problem.empty()) reader_.fail(problem);
     sample->t_s = t;
     sample->speed_m_s = v;
     ++report_.records_kept;

@@ -26,6 +26,12 @@ struct OdometerReadOptions {
   void validate() const;  // throws std::invalid_argument naming the field
 };
 
+// What is wrong with a forward speed under these options ("" when nothing is): negative when the
+// vehicle drives forward only, or beyond max_speed_m_s. `speed_text` is the speed as the user wrote
+// it, for the message. The one rule for the file reader and for odometer arrays.
+std::string odometerSpeedProblem(double speed_m_s, const std::string& speed_text,
+                                 const OdometerReadOptions& options);
+
 // The whole file. Throws as the stream reader, and "path: no odometer samples" for none.
 OdometerSeries readOdometer(const std::string& path, const OdometerReadOptions& options = {},
                             ReadReport* report = nullptr);
