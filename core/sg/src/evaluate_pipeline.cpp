@@ -343,6 +343,7 @@ struct SgEvaluationPipeline::Work {
   const SgStreamNavigator& navigate;
   const SgRunHooks& hooks;
   const std::string& estimator;
+  mutable std::mutex signal_mutex;
 
   std::unique_ptr<NavSource> openReference() const {
     return reference.open ? reference.open() : seriesNavSource(reference.states);
@@ -384,9 +385,13 @@ struct SgEvaluationPipeline::Work {
   void task(const Task& t, const std::vector<Unit>& units, std::vector<UnitResult>& results,
             const std::function<void()>& done) const {
     std::shared_ptr<const GraftSignal> sig;
-    if (t.realization)
+    if (t.realization) {
+      // One realization's signal is made at a time: a surrogate's transforms are the largest
+      // transient of the run (several arrays of twice the lab record's samples).
+      std::lock_guard<std::mutex> lock(signal_mutex);
       sig = std::make_shared<const GraftSignal>(
           p.plan_.basic, graftOptionsFor(p.draws_[static_cast<std::size_t>(*t.realization)]));
+    }
     for (std::size_t i : t.units) {
       const Unit& u = units[i];
       SgImu imu;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -44,11 +45,8 @@ BasicErrorSignal::BasicErrorSignal(const ImuSeries& e) {
         "BasicErrorSignal: the static error record needs at least 2 samples, got " +
         std::to_string(e.size()));
   }
-  tau_end_s_.reserve(e.size());
-  cum_.reserve(e.size());
-  rate_.reserve(e.size());
-  double tau = 0.0;
-  Vec6 c = Vec6::Zero();
+  inc_.reserve(e.size());
+  dt_.reserve(e.size());
   for (const ImuSample& s : e) {
     if (!(s.dt_s > 0.0)) {
       throw std::invalid_argument("BasicErrorSignal: sample at t=" + std::to_string(s.t_s) +
@@ -56,30 +54,86 @@ BasicErrorSignal::BasicErrorSignal(const ImuSeries& e) {
     }
     Vec6 inc;
     inc << s.dtheta_rad, s.dvel_m_s;
-    tau += s.dt_s;
-    c += inc;
-    tau_end_s_.push_back(tau);
-    cum_.push_back(c);
-    rate_.push_back(inc / s.dt_s);
+    inc_.push_back(inc);
+    dt_.push_back(s.dt_s);
   }
+  addCheckpoints();
+}
+
+void BasicErrorSignal::addCheckpoints() {
+  const std::size_t n = inc_.size();
+  block_cum_.clear();
+  block_tau_.clear();
+  block_cum_.reserve(n / kBlock + 1);
+  block_tau_.reserve(n / kBlock + 1);
+  double tau = 0.0;
+  Vec6 c = Vec6::Zero();
+  for (std::size_t j = 0; j < n; ++j) {
+    if (j % kBlock == 0) {
+      block_tau_.push_back(tau);
+      block_cum_.push_back(c);
+    }
+    tau += dt_[j];
+    c += inc_[j];
+  }
+  total_ = c;
   record_length_s_ = tau;
 }
 
+double BasicErrorSignal::tauEnd(std::size_t j) const {
+  const std::size_t b = j / kBlock;
+  double tau = block_tau_[b];
+  for (std::size_t i = b * kBlock; i <= j; ++i) tau += dt_[i];
+  return tau;
+}
+
+std::size_t BasicErrorSignal::firstEndAtOrAfter(double tau_s) const {
+  if (tau_s <= 0.0) return 0;
+  // The last block that starts before tau_s holds the first sample ending at or after it.
+  const auto it = std::lower_bound(block_tau_.begin(), block_tau_.end(), tau_s);
+  const auto b = static_cast<std::size_t>(it - block_tau_.begin()) - 1;
+  double tau = block_tau_[b];
+  for (std::size_t j = b * kBlock; j < dt_.size(); ++j) {
+    tau += dt_[j];
+    if (tau >= tau_s) return j;
+  }
+  return dt_.size();
+}
+
+std::size_t BasicErrorSignal::firstEndAfter(double tau_s) const {
+  if (tau_s < 0.0) return 0;
+  const auto it = std::upper_bound(block_tau_.begin(), block_tau_.end(), tau_s);
+  const auto b = static_cast<std::size_t>(it - block_tau_.begin()) - 1;
+  double tau = block_tau_[b];
+  for (std::size_t j = b * kBlock; j < dt_.size(); ++j) {
+    tau += dt_[j];
+    if (tau > tau_s) return j;
+  }
+  return dt_.size();
+}
+
 Eigen::Vector3d BasicErrorSignal::meanGyro_rad_s() const {
-  return cum_.back().head<3>() / record_length_s_;
+  return total_.head<3>() / record_length_s_;
 }
 Eigen::Vector3d BasicErrorSignal::meanAccel_m_s2() const {
-  return cum_.back().tail<3>() / record_length_s_;
+  return total_.tail<3>() / record_length_s_;
 }
 
 Vec6 BasicErrorSignal::withinRecord(double tau) const {
   if (tau <= 0.0) return Vec6::Zero();
-  if (tau >= record_length_s_) return cum_.back();
+  if (tau >= record_length_s_) return total_;
   // First sample whose end is >= tau; the rate is constant inside it.
-  const auto it = std::lower_bound(tau_end_s_.begin(), tau_end_s_.end(), tau);
-  const std::size_t j = static_cast<std::size_t>(it - tau_end_s_.begin());
-  const double over = tau_end_s_[j] - tau;  // part of sample j after tau
-  return cum_[j] - rate_[j] * over;
+  const std::size_t j = firstEndAtOrAfter(tau);
+  const std::size_t b = j / kBlock;
+  double end = block_tau_[b];
+  Vec6 cum = block_cum_[b];
+  for (std::size_t i = b * kBlock; i <= j; ++i) {
+    end += dt_[i];
+    cum += inc_[i];
+  }
+  const Vec6 rate = inc_[j] / dt_[j];
+  const double over = end - tau;  // part of sample j after tau
+  return cum - rate * over;
 }
 
 Vec6 BasicErrorSignal::cumulative(double u) const {
@@ -88,7 +142,7 @@ Vec6 BasicErrorSignal::cumulative(double u) const {
   const double m = std::floor(u / T);
   const double tau = u - m * T;
   const long tile = static_cast<long>(m);
-  const Vec6 whole = cum_.back();
+  const Vec6 whole = total_;
   // Even tiles run forward, odd tiles run the record backwards in time.
   const Vec6 part = (tile % 2 == 0) ? withinRecord(tau) : Vec6(whole - withinRecord(T - tau));
   return m * whole + part;
@@ -106,38 +160,61 @@ double BasicErrorSignal::sampleBoundaryAtOrBefore(double u) const {
   const long tile = static_cast<long>(m);
   if (tile % 2 == 0) {
     // Forward tile: the last sample end at or before tau (sample starts are the previous ends).
-    const auto it = std::upper_bound(tau_end_s_.begin(), tau_end_s_.end(), tau);
-    const double b = it == tau_end_s_.begin() ? 0.0 : *(it - 1);
+    const std::size_t j = firstEndAfter(tau);
+    const double b = j == 0 ? 0.0 : tauEnd(j - 1);
     return m * T + b;
   }
   // Mirrored tile: boundaries at T - tau_end_j; the largest one <= tau is T minus the smallest
   // tau_end_j >= T - tau.
-  const auto it = std::lower_bound(tau_end_s_.begin(), tau_end_s_.end(), T - tau);
-  const double b = it == tau_end_s_.end() ? 0.0 : T - *it;
+  const std::size_t j = firstEndAtOrAfter(T - tau);
+  const double b = j == dt_.size() ? 0.0 : T - tauEnd(j);
   return m * T + std::max(0.0, b);
 }
 
 LabErrorRates BasicErrorSignal::rates() const {
   LabErrorRates r;
-  r.rate = rate_;
-  r.dt_s.resize(tau_end_s_.size());
-  for (std::size_t j = 0; j < tau_end_s_.size(); ++j) r.dt_s[j] = tau_end_s_[j] - sampleStart_s(j);
+  r.rate.resize(inc_.size());
+  r.dt_s.resize(inc_.size());
+  double start = 0.0;
+  for (std::size_t j = 0; j < inc_.size(); ++j) {
+    r.rate[j] = inc_[j] / dt_[j];
+    const double end = tauEnd(j);
+    r.dt_s[j] = end - start;
+    start = end;
+  }
   return r;
 }
 
 BasicErrorSignal BasicErrorSignal::phaseRandomized(std::uint64_t seed,
                                                    const SlowNoiseModel* slow) const {
-  const LabErrorRates s = phaseRandomizedSurrogate(rates(), seed, slow);
-  ImuSeries inc(s.rate.size());
-  double t = 0.0;
-  for (std::size_t j = 0; j < inc.size(); ++j) {
-    t += s.dt_s[j];
-    inc[j].t_s = t;
-    inc[j].dt_s = s.dt_s[j];
-    inc[j].dtheta_rad = s.rate[j].head<3>() * s.dt_s[j];
-    inc[j].dvel_m_s = s.rate[j].tail<3>() * s.dt_s[j];
+  // The record's sample lengths as rates() gives them (differences of the sample ends).
+  const std::size_t n = inc_.size();
+  std::vector<double> length(n);
+  double start = 0.0;
+  for (std::size_t j = 0; j < n; ++j) {
+    const double end = tauEnd(j);
+    length[j] = end - start;
+    start = end;
   }
-  return BasicErrorSignal(inc);
+  BasicErrorSignal out;
+  const std::size_t m = surrogateLength(n);
+  out.inc_.assign(m, Vec6::Zero());
+  out.dt_.resize(m);
+  for (std::size_t j = 0; j < m; ++j) {
+    out.dt_[j] = length[surrogateSample(n, j)];
+    if (!(out.dt_[j] > 0.0))
+      throw std::invalid_argument("BasicErrorSignal: surrogate sample " + std::to_string(j) +
+                                  " has non-positive dt " + std::to_string(out.dt_[j]));
+  }
+  // Each surrogate rate times its sample's length: the increment of the surrogate's sample.
+  phaseRandomizedSurrogateChannels(
+      n, [this](std::size_t j, int c) { return inc_[j][c] / dt_[j]; },
+      [&length](std::size_t j) { return length[j]; }, seed, slow,
+      [&out](int c, const std::vector<std::complex<double>>& rate) {
+        for (std::size_t j = 0; j < rate.size(); ++j) out.inc_[j][c] = rate[j].real() * out.dt_[j];
+      });
+  out.addCheckpoints();
+  return out;
 }
 
 double graftStartOffset(const GraftOptions& opt, const BasicErrorSignal& basic) {

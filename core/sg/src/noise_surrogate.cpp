@@ -67,47 +67,65 @@ void SlowNoiseModel::validate() const {
   }
 }
 
+std::size_t surrogateLength(std::size_t n) { return largestFiveSmooth(2 * n); }
+
+void phaseRandomizedSurrogateChannels(std::size_t n, const RecordRateFn& rate,
+                                      const RecordLengthFn& dt_s, std::uint64_t seed,
+                                      const SlowNoiseModel* slow,
+                                      const SurrogateChannelFn& channel) {
+  if (slow) slow->validate();
+  if (n < 2)
+    throw std::invalid_argument("phaseRandomizedSurrogate: the record needs >= 2 samples, got " +
+                                std::to_string(n));
+  const std::size_t m = surrogateLength(n);
+  double span = 0.0;
+  for (std::size_t j = 0; j < m; ++j) span += dt_s(surrogateSample(n, j));
+  const double dt_mean = span / static_cast<double>(m);
+  // One random phase per frequency, the same for all channels (keeps the cross-spectra), drawn
+  // again from the seed for each channel. Bin 0 (the mean) and, for even m, the Nyquist bin stay
+  // real and unchanged.
+  auto rotate = [m, seed](std::vector<std::complex<double>>& spectrum) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 2.0 * M_PI);
+    for (std::size_t k = 1; 2 * k < m; ++k) {
+      const std::complex<double> r = std::polar(1.0, u(rng));
+      spectrum[k] *= r;
+      spectrum[m - k] *= std::conj(r);
+    }
+  };
+  Eigen::FFT<double> fft;
+  std::mt19937_64 model_rng(seed ^ 0xA5A5A5A55A5A5A5Aull);
+  std::vector<double> x(m);
+  std::vector<std::complex<double>> spectrum, back;
+  for (int c = 0; c < 6; ++c) {
+    for (std::size_t j = 0; j < m; ++j) x[j] = rate(surrogateSample(n, j), c);
+    fft.fwd(spectrum, x);
+    rotate(spectrum);
+    if (slow) drawSlowBins(*slow, c, dt_mean, model_rng, spectrum);
+    fft.inv(back, spectrum);
+    channel(c, back);
+  }
+}
+
 LabErrorRates phaseRandomizedSurrogate(const LabErrorRates& record, std::uint64_t seed,
                                        const SlowNoiseModel* slow) {
-  if (slow) slow->validate();
   const std::size_t n = record.rate.size();
   if (n < 2 || record.dt_s.size() != n) {
     throw std::invalid_argument(
         "phaseRandomizedSurrogate: the record needs >= 2 samples with one dt_s each, got " +
         std::to_string(n) + " rates and " + std::to_string(record.dt_s.size()) + " dt_s");
   }
-  // The mirrored record, cut to a fast transform length.
-  const std::size_t m = largestFiveSmooth(2 * n);
-  auto mirrored = [n](std::size_t j) { return j < n ? j : 2 * n - 1 - j; };
+  const std::size_t m = surrogateLength(n);
   LabErrorRates out;
   out.rate.assign(m, Eigen::Matrix<double, 6, 1>::Zero());
   out.dt_s.resize(m);
-  for (std::size_t j = 0; j < m; ++j) out.dt_s[j] = record.dt_s[mirrored(j)];
-
-  // One random phase per frequency, the same for all channels (keeps the cross-spectra). Bin 0
-  // (the mean) and, for even m, the Nyquist bin stay real and unchanged.
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 2.0 * M_PI);
-  std::vector<std::complex<double>> rotation(m, {1.0, 0.0});
-  for (std::size_t k = 1; 2 * k < m; ++k) {
-    rotation[k] = std::polar(1.0, u(rng));
-    rotation[m - k] = std::conj(rotation[k]);
-  }
-  thread_local Eigen::FFT<double> fft;  // keeps its plans between calls
-  double span = 0.0;
-  for (double d : out.dt_s) span += d;
-  const double dt_mean = span / static_cast<double>(m);
-  std::mt19937_64 model_rng(seed ^ 0xA5A5A5A55A5A5A5Aull);
-  std::vector<double> x(m);
-  std::vector<std::complex<double>> spectrum, back;
-  for (int c = 0; c < 6; ++c) {
-    for (std::size_t j = 0; j < m; ++j) x[j] = record.rate[mirrored(j)][c];
-    fft.fwd(spectrum, x);
-    for (std::size_t k = 0; k < m; ++k) spectrum[k] *= rotation[k];
-    if (slow) drawSlowBins(*slow, c, dt_mean, model_rng, spectrum);
-    fft.inv(back, spectrum);
-    for (std::size_t j = 0; j < m; ++j) out.rate[j][c] = back[j].real();
-  }
+  for (std::size_t j = 0; j < m; ++j) out.dt_s[j] = record.dt_s[surrogateSample(n, j)];
+  phaseRandomizedSurrogateChannels(
+      n, [&record](std::size_t j, int c) { return record.rate[j][c]; },
+      [&record](std::size_t j) { return record.dt_s[j]; }, seed, slow,
+      [&out](int c, const std::vector<std::complex<double>>& back) {
+        for (std::size_t j = 0; j < back.size(); ++j) out.rate[j][c] = back[j].real();
+      });
   return out;
 }
 

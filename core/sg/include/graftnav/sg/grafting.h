@@ -61,9 +61,9 @@ class BasicErrorSignal {
   explicit BasicErrorSignal(const ImuSeries& error_increments);
 
   double recordLength_s() const { return record_length_s_; }
-  std::size_t sampleCount() const { return tau_end_s_.size(); }
+  std::size_t sampleCount() const { return inc_.size(); }
   // Start of lab sample j, seconds from the beginning of the record (0 for j = 0).
-  double sampleStart_s(std::size_t j) const { return j == 0 ? 0.0 : tau_end_s_.at(j - 1); }
+  double sampleStart_s(std::size_t j) const { return j == 0 ? 0.0 : tauEnd(j - 1); }
   // Mean error rates over the whole record (the basic biases): gyro (rad/s), accel (m/s^2).
   Eigen::Vector3d meanGyro_rad_s() const;
   Eigen::Vector3d meanAccel_m_s2() const;
@@ -83,12 +83,25 @@ class BasicErrorSignal {
   BasicErrorSignal phaseRandomized(std::uint64_t seed, const SlowNoiseModel* slow = nullptr) const;
 
  private:
-  Eigen::Matrix<double, 6, 1> cumulative(double u_s) const;      // integral over (0, u], u >= 0
-  Eigen::Matrix<double, 6, 1> withinRecord(double tau_s) const;  // 0 <= tau <= T
+  using Vec6 = Eigen::Matrix<double, 6, 1>;
+  BasicErrorSignal() = default;
+  void addCheckpoints();                              // the running sums every kBlock samples
+  Vec6 cumulative(double u_s) const;                  // integral over (0, u], u >= 0
+  Vec6 withinRecord(double tau_s) const;              // 0 <= tau <= T
+  double tauEnd(std::size_t j) const;                 // end of sample j, from 0
+  std::size_t firstEndAtOrAfter(double tau_s) const;  // lower_bound over the sample ends
+  std::size_t firstEndAfter(double tau_s) const;      // upper_bound over the sample ends
 
-  std::vector<double> tau_end_s_;                  // end time of each lab sample, from 0
-  std::vector<Eigen::Matrix<double, 6, 1>> cum_;   // cumulative integral at tau_end_s_
-  std::vector<Eigen::Matrix<double, 6, 1>> rate_;  // rate within each lab sample
+  // Per lab sample its increment and its length; the running sums of both (sample ends, the
+  // cumulative integral) are kept every kBlock samples and summed up from there in the same order
+  // as one running sum over the record, so every value is bit for bit what stored running sums
+  // hold, at 56 bytes per sample instead of 104.
+  static constexpr std::size_t kBlock = 8;
+  std::vector<Vec6> inc_;
+  std::vector<double> dt_;
+  std::vector<Vec6> block_cum_;    // integral before sample b * kBlock
+  std::vector<double> block_tau_;  // time before sample b * kBlock
+  Vec6 total_ = Vec6::Zero();
   double record_length_s_ = 0.0;
 };
 

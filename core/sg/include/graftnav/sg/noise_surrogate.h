@@ -18,7 +18,9 @@
 // are not reproduced.
 
 #include <Eigen/Core>
+#include <complex>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace graftnav {
@@ -61,5 +63,25 @@ std::size_t largestFiveSmooth(std::size_t limit);
 // normal with the model's expected power) instead of keeping the record's amplitude.
 LabErrorRates phaseRandomizedSurrogate(const LabErrorRates& record, std::uint64_t seed,
                                        const SlowNoiseModel* slow = nullptr);
+
+// The same surrogate without copies of the record or of the result: n lab samples whose rate of
+// channel c at sample j is rate(j, c) and whose length is dt_s(j); channel(c, values) receives
+// the surrogate's surrogateLength(n) rates of channel c (values[j].real()), one channel after
+// the other. The lengths of the surrogate's samples are dt_s of the mirrored record
+// (surrogateSample). Throws std::invalid_argument when n < 2.
+using RecordRateFn = std::function<double(std::size_t j, int c)>;
+using RecordLengthFn = std::function<double(std::size_t j)>;
+using SurrogateChannelFn =
+    std::function<void(int c, const std::vector<std::complex<double>>& values)>;
+void phaseRandomizedSurrogateChannels(std::size_t n, const RecordRateFn& rate,
+                                      const RecordLengthFn& dt_s, std::uint64_t seed,
+                                      const SlowNoiseModel* slow,
+                                      const SurrogateChannelFn& channel);
+// How many samples the surrogate of n samples has (the mirrored record cut to a fast transform
+// length), and which record sample its sample j repeats.
+std::size_t surrogateLength(std::size_t n);
+inline std::size_t surrogateSample(std::size_t n, std::size_t j) {
+  return j < n ? j : 2 * n - 1 - j;
+}
 
 }  // namespace graftnav
