@@ -83,18 +83,6 @@ void addTimeRangeOptions(CLI::App* cmd, TimeRangeConfig* range) {
       "navigate up to this time (GNSS s of week; default: run config time_range, else the data end)");
 }
 
-TimeRangeConfig mergeTimeRange(const TimeRangeConfig& from_config,
-                               const TimeRangeConfig& from_cli) {
-  TimeRangeConfig r = from_config;
-  if (from_cli.start_s) r.start_s = from_cli.start_s;
-  if (from_cli.end_s) r.end_s = from_cli.end_s;
-  if (r.start_s && r.end_s && !(*r.end_s > *r.start_s)) {
-    throw std::runtime_error(
-        fmt::format("time range: end {} must be after start {}", *r.end_s, *r.start_s));
-  }
-  return r;
-}
-
 std::string resolveUserPath(const std::string& path, const std::string& case_dir,
                             const std::string& what) {
   std::vector<fs::path> tried;

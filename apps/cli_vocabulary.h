@@ -33,10 +33,9 @@ void addDeprecatedFlag(CLI::App* cmd, const std::string& old_name, const std::st
 // CLI::RequiredError naming `flag` when `value` is empty (call first in the callback).
 void requireValue(const std::string& value, const std::string& flag);
 
-// --start / --end (GNSS seconds of week) into a time range.
+// --start / --end (GNSS seconds of week) into a time range (mergeTimeRange of
+// graftnav/case/run_config.h lays it over the run config's).
 void addTimeRangeOptions(CLI::App* cmd, TimeRangeConfig* range);
-// Command-line bounds override the run config's.
-TimeRangeConfig mergeTimeRange(const TimeRangeConfig& from_config, const TimeRangeConfig& from_cli);
 
 // A path given by the user: absolute as is; relative, tried against case_dir first, then the
 // current folder. Throws std::runtime_error "<what> 'p' not found; tried 'a', 'b'".

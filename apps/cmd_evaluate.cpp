@@ -7,10 +7,14 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 
 #include "cli_vocabulary.h"
 #include "commands.h"
+#include "graftnav/case/sg_case_evaluation.h"
+#include "graftnav/estimators/estimator_table.h"
 #include "graftnav/nav/units.h"
+#include "graftnav/sg/sg_report_files.h"
 #include "sg_evaluate.h"
 
 namespace graftnav::app {
@@ -60,7 +64,9 @@ void printEvaluationSummary(const SgEvaluationReport& r) {
 }
 
 void registerEvaluate(CLI::App& app) {
-  auto o = std::make_shared<SgEvaluateOptions>();
+  auto o = std::make_shared<SgCaseEvaluationOptions>();
+  auto plots = std::make_shared<bool>(true);
+  auto sol_ref = std::make_shared<std::string>("auto");
   auto len = std::make_shared<std::optional<double>>(),
        per = std::make_shared<std::optional<double>>(),
        st = std::make_shared<std::optional<double>>();
@@ -82,7 +88,7 @@ void registerEvaluate(CLI::App& app) {
   cmd->add_option("--outage-period", *per, "outage start-to-start period (s), default 180");
   cmd->add_option("--outage-start", *st,
                   "first outage start after the first IMU epoch (s), default 300");
-  cmd->add_option("--sol-ref", o->sol_ref, "auto (truth > reference solution > smoothed) | smooth")
+  cmd->add_option("--sol-ref", *sol_ref, "auto (truth > reference solution > smoothed) | smooth")
       ->check(CLI::IsMember({"auto", "smooth"}))
       ->capture_default_str();
   cmd->add_option("--seed", o->seed, "grafting seed (realization k draws from seed and k)")
@@ -98,22 +104,29 @@ void registerEvaluate(CLI::App& app) {
       "--no-cross-axis", [o](int64_t) { o->use_cross_axis = false; },
       "SG#2 with per-axis fitting functions only, as in the seed");
   cmd->add_flag(
-      "--no-plots", [o](int64_t) { o->plots = false; }, "skip the matplotlib plots");
+      "--no-plots", [plots](int64_t) { *plots = false; }, "skip the matplotlib plots");
   cmd->add_option("--jobs", o->jobs, "solutions navigated in parallel (0: all cores)")
       ->check(CLI::Range(0, 1024));
-  cmd->callback([o, len, per, st, k, shifts]() {
+  cmd->callback([o, plots, sol_ref, len, per, st, k, shifts]() {
     o->outage_length_s = *len;
     o->outage_period_s = *per;
     o->outage_start_s = *st;
     o->realizations = *k;
     o->outage_shifts = *shifts;
+    o->always_smooth_sol_ref = *sol_ref == "smooth";  // the flag's two values
+    if (!estimatorTable().contains(o->estimator))     // named by its flag, before anything runs
+      throw std::runtime_error("--estimator '" + o->estimator +
+                               "': unknown (known: " + estimatorTable().namesText() + ")");
     const auto t0 = std::chrono::steady_clock::now();
     auto el = [&] {
       return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     };
-    const SgEvaluationReport r = runSgEvaluation(
-        *o, [&](const std::string& m) { fmt::print(stderr, "[{:6.1f} s] {}\n", el(), m); });
-    printEvaluationSummary(r);
+    const LogFn log = [&](const std::string& m) {
+      fmt::print(stderr, "[{:6.1f} s] {}\n", el(), m);
+    };
+    const SgCaseEvaluation r = runSgCaseEvaluation(*o, estimatorTable(), log);
+    writeSgOutputs(o->out_dir, r.report, *plots, log, !r.errors_csv_written);
+    printEvaluationSummary(r.report);
     fmt::print(
         "  wrote evaluation.json, tables.md, evaluation.csv, predictive.csv, outage_drift.csv, plots in {} ({:.1f} s)\n",
         o->out_dir, el());

@@ -13,18 +13,22 @@ void addFilterEstimators(EstimatorRegistry* registry) {
                  },
                  [](const EstimationProblem& p, const ImuPassFn& imu, const EstimatorOptions& o,
                     SolutionSink& sink) { return runEkfStreaming(p, o.ekf, imu, sink); }});
-  registry->add({"rts", "EKF + Rauch-Tung-Striebel smoother",
-                 [](const EstimationProblem& p, const EstimatorOptions& o, const ProgressFn& f) {
-                   return runRts(p, o.ekf, nullptr, nullptr, f);
-                 },
-                 [](const EstimationProblem& p, const ImuPassFn& imu, const EstimatorOptions& o,
-                    SolutionSink& sink) { return runRtsStreaming(p, o.ekf, imu, sink); }});
-  registry->add({"free-inertial",
-                 "mechanization from the initial state, no GNSS",
-                 [](const EstimationProblem& p, const EstimatorOptions& o, const ProgressFn& f) {
-                   return runFreeInertial(p, o.ekf.output_decimation, f);
-                 },
-                 {}});
+  EstimatorEntry rts{"rts", "EKF + Rauch-Tung-Striebel smoother",
+                     [](const EstimationProblem& p, const EstimatorOptions& o,
+                        const ProgressFn& f) { return runRts(p, o.ekf, nullptr, nullptr, f); },
+                     [](const EstimationProblem& p, const ImuPassFn& imu, const EstimatorOptions& o,
+                        SolutionSink& sink) { return runRtsStreaming(p, o.ekf, imu, sink); }};
+  rts.smooths = "ekf";
+  registry->add(std::move(rts));
+  EstimatorEntry free_inertial{
+      "free-inertial",
+      "mechanization from the initial state, no GNSS",
+      [](const EstimationProblem& p, const EstimatorOptions& o, const ProgressFn& f) {
+        return runFreeInertial(p, o.ekf.output_decimation, f);
+      },
+      {}};
+  free_inertial.uses_gnss = false;
+  registry->add(std::move(free_inertial));
 }
 
 }  // namespace graftnav

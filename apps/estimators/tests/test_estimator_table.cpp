@@ -1,5 +1,6 @@
 // The assembled table: every estimator of filters/ and graph/ by name, with the streamed forms
-// and the scale-factor flag the commands rely on, each entry running its own estimator.
+// and the scale-factor, GNSS and smoothed-filter fields the commands rely on, each entry running
+// its own estimator.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -24,6 +25,19 @@ TEST(EstimatorTable, HoldsEveryEstimatorOnceWithItsForms) {
   EXPECT_FALSE(t.find("fgo").estimates_scale_factors);
   EXPECT_FALSE(t.find("fgo-window").estimates_scale_factors);
   EXPECT_EQ(&t, &estimatorTable());  // built once
+}
+
+TEST(EstimatorTable, SaysWhichEstimatorTakesNoGnssAndWhichSmoothsAFilter) {
+  const EstimatorRegistry& t = estimatorTable();
+  for (const auto& e : t.entries()) {
+    EXPECT_EQ(e.uses_gnss, e.name != "free-inertial") << e.name;
+    if (e.name == "rts") {
+      EXPECT_EQ(e.smooths, "ekf");
+    } else {
+      EXPECT_TRUE(e.smooths.empty()) << e.name;
+    }
+  }
+  EXPECT_TRUE(t.contains(t.find("rts").smooths));
 }
 
 TEST(EstimatorTable, UnknownNameListsTheKnownOnes) {

@@ -7,6 +7,7 @@
 #include "graftnav/case/input_checks.h"
 #include "graftnav/case/problem.h"
 #include "graftnav/case/reference_solution.h"
+#include "graftnav/case/sg_case_evaluation.h"
 #include "graftnav/estimators/estimator_table.h"
 #include "graftnav/io/imu_io.h"
 #include "graftnav/sg/evaluate_pipeline.h"
@@ -22,11 +23,7 @@ double imuBegin(const ImuSeries& imu) { return imu.front().t_s - imu.front().dt_
 std::vector<std::string> checkInputs(const CaseInputs& c, const ImuSelection& ref,
                                      const OutageScheduleConfig& oc) {
   const CaseConfig& cfg = c.config;
-  if (!cfg.tested_imu || !cfg.tested_imu_noise_given)
-    throw std::runtime_error(
-        c.paths().caseYaml() +
-        ": tested_imu needs its noise parameters (arw_deg_rt_h, vrw_m_s_rt_h, "
-        "gyro_bias_instability_deg_h, accel_bias_instability_mg) to be navigated");
+  requireTestedNoise(c);
   std::vector<std::string> w = checkGnssCoverage(c.gnss, c.paths().gnssPos(), ref.imu, false);
   const double t0 = imuBegin(ref.imu), t1 = ref.imu.back().t_s;
   const std::vector<TimeWindow> windows = buildOutageWindows(oc, t0, t1);
@@ -46,26 +43,6 @@ std::vector<std::string> checkInputs(const CaseInputs& c, const ImuSelection& re
   return w;
 }
 
-// The case's navigator: makeProblem with the tested IMU's profile, then the chosen estimator.
-SgNavigator caseNavigator(const CaseInputs& c, const RunConfig& rc, const ImuSelection* real,
-                          const std::string& estimator) {
-  return [&c, &rc, real, estimator](std::optional<ImuSeries> grafted,
-                                    const OutageScheduleConfig& schedule) {
-    SgNavigation nav;
-    EstimationProblem pr;
-    if (grafted) {
-      const ImuSelection sel = graftedSelection(std::move(*grafted), *c.config.tested_imu);
-      grafted.reset();
-      pr = makeProblem(c, sel, rc, schedule, &nav.notes);
-    } else {
-      pr = makeProblem(c, *real, rc, schedule, &nav.notes);
-    }
-    nav.solution = estimatorTable().run(estimator, pr, rc);
-    nav.outages = pr.outages;
-    return nav;
-  };
-}
-
 }  // namespace
 
 EvaluateOutcome evaluateCase(const PyCase& pc, const EvaluateRequest& r) {
@@ -75,27 +52,15 @@ EvaluateOutcome evaluateCase(const PyCase& pc, const EvaluateRequest& r) {
   estimatorTable().find(r.estimator);
   const CaseInputs& c = pc.inputs();
   const RunConfig& rc = r.rc;
-  SgEvaluationOptions po;
-  po.realizations = r.realizations.value_or(rc.grafting.realizations);
-  po.outage_shifts = rc.grafting.outage_shifts;
-  po.seed = r.seed;
-  po.start_offset_s = rc.grafting.start_offset_s;
-  po.jobs = r.jobs;
-  po.evaluation = rc.evaluation.options;
+  const SgEvaluationOptions po = sgPipelineOptions(rc, r.realizations, {}, r.seed, r.jobs);
   po.validate();
 
   EvaluateOutcome out;
   const ImuSelection& ref = pc.imu("ref");
   out.warnings = checkInputs(c, ref, rc.outages);
   const LabCalibrationReport lab = calibrateLab(loadLabData(c.dir));
-  SgEvaluationInputs in;
-  in.case_name = c.dir;
-  for (const auto& n : lab.notes) in.notes.push_back("calibration: " + n);
+  SgEvaluationInputs in = sgPipelineInputs(c.dir, c, rc.outages, lab);
   in.reference_imu = ref.imu;
-  in.tested_profile = *c.config.tested_imu;
-  if (c.config.reference_imu && c.config.reference_imu_noise_given)
-    in.reference_noise_profile = *c.config.reference_imu;
-  in.outages = rc.outages;
   const ImuSelection* real = nullptr;
   if (pc.hasImu("tested")) {
     real = &pc.imu("tested");
@@ -105,8 +70,9 @@ EvaluateOutcome evaluateCase(const PyCase& pc, const EvaluateRequest& r) {
   const SgEvaluationPipeline pipeline(po, makeGraftPlan(lab, true), std::move(in));
   ReferenceSolution sol_ref = resolveReferenceSolution(
       c, [&ref] { return ref; }, rc, estimatorTable());
-  out.report = pipeline.run({std::move(sol_ref.states), sol_ref.description},
-                            caseNavigator(c, rc, real, r.estimator), r.estimator);
+  out.report =
+      pipeline.run({std::move(sol_ref.states), sol_ref.description},
+                   heldCaseNavigator(c, rc, real, estimatorTable(), r.estimator), r.estimator);
   out.report.case_name = c.config.name;
   out.report.tested_grade = c.config.tested_imu->grade;
   out.report.csv_rate_hz = rc.evaluation.csv_rate_hz;

@@ -1,5 +1,7 @@
 #include "graftnav/case/run_config.h"
 
+#include <fmt/core.h>
+
 #include <stdexcept>
 
 #include "graftnav/io/yaml_fields.h"
@@ -321,6 +323,18 @@ RunConfig applyRunConfigOverrides(const RunConfig& base,
     }
   }
   return applyRunConfigOverrides(base, nodes, source, report);
+}
+
+TimeRangeConfig mergeTimeRange(const TimeRangeConfig& from_config,
+                               const TimeRangeConfig& from_cli) {
+  TimeRangeConfig r = from_config;
+  if (from_cli.start_s) r.start_s = from_cli.start_s;
+  if (from_cli.end_s) r.end_s = from_cli.end_s;
+  if (r.start_s && r.end_s && !(*r.end_s > *r.start_s)) {
+    throw std::runtime_error(
+        fmt::format("time range: end {} must be after start {}", *r.end_s, *r.start_s));
+  }
+  return r;
 }
 
 }  // namespace graftnav

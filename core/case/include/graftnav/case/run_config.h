@@ -117,6 +117,9 @@ struct TimeRangeConfig {
   std::optional<double> start_s, end_s;
   bool empty() const { return !start_s && !end_s; }
 };
+// Command-line bounds override the run config's; throws std::runtime_error when the end is not
+// after the start.
+TimeRangeConfig mergeTimeRange(const TimeRangeConfig& from_config, const TimeRangeConfig& from_cli);
 
 // The estimators' own sections (ekf:, fgo:) are its EstimatorOptions base, so a run config is
 // handed to any estimator of the registry as it is.

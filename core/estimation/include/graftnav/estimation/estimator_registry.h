@@ -39,6 +39,11 @@ struct EstimatorEntry {
   StreamingEstimatorFn stream;  // empty when the estimator holds its input in memory
   // Whether the solution has scale-factor series (imu_errors.txt is written only then).
   bool estimates_scale_factors = true;
+  // Whether the estimator takes GNSS (false: a free-inertial run, no GNSS read or expected).
+  bool uses_gnss = true;
+  // The forward filter this estimator smooths, when it is one (rts: "ekf"); empty otherwise. The
+  // difference of the two solutions then has the variance P_filter - P_smoother (cross-check).
+  std::string smooths{};
 };
 
 class EstimatorRegistry {
