@@ -3,6 +3,7 @@
 #include "graftnav/nav/mechanization.h"
 #include "graftnav/nav/rotation.h"
 #include "graftnav/filters/ins_error_model.h"
+#include "ekf_scenario.h"
 #include "test_support.h"
 
 namespace graftnav {
@@ -10,14 +11,7 @@ namespace {
 
 using namespace ekf;
 
-NavState movingState() {
-  NavState s;
-  s.t_s = 1000.0;
-  s.pos = {30.5 * kDegToRad, 114.3 * kDegToRad, 100.0};
-  s.v_n = {15.0, 5.0, -0.5};
-  s.q_nb = quatFromEuler({0.05, -0.03, 1.0});
-  return s;
-}
+using test::movingState;
 
 const Eigen::Vector3d kOmega_b(0.01, -0.02, 0.1);
 const Eigen::Vector3d kF_b(0.5, 0.3, -9.7);
@@ -30,8 +24,7 @@ NavState mechanize(NavState s, const ErrorState& x, int steps, double h) {
     ImuSample imu;
     imu.t_s = s.t_s + k * h;
     imu.dt_s = h;
-    const Eigen::Vector3d w =
-        kOmega_b + x.segment<3>(kGyroBias) + kOmega_b.cwiseProduct(x.segment<3>(kGyroScale));
+    const Eigen::Vector3d w = test::perturbedBodyRate(kOmega_b, x);
     const Eigen::Vector3d f =
         kF_b + x.segment<3>(kAccelBias) + kF_b.cwiseProduct(x.segment<3>(kAccelScale));
     imu.dtheta_rad = w * h;
@@ -124,8 +117,7 @@ TEST(InsErrorModel, LeverArmVelocityJacobianMatchesNumeric) {
   const Eigen::Vector3d v_gnss = antennaVelocity(t, kOmega_b, l);
   auto f = [&](const Eigen::VectorXd& xv) -> Eigen::VectorXd {
     const ErrorState x = xv;
-    const Eigen::Vector3d w =
-        kOmega_b + x.segment<3>(kGyroBias) + kOmega_b.cwiseProduct(x.segment<3>(kGyroScale));
+    const Eigen::Vector3d w = test::perturbedBodyRate(kOmega_b, x);
     return antennaVelocity(perturbNavState(t, x), w, l) - v_gnss;
   };
   const Eigen::MatrixXd Hn = test::numericJacobian(f, Eigen::VectorXd::Zero(kStateDim), 1e-4);

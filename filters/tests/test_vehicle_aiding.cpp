@@ -31,14 +31,7 @@ VehicleGeometry geometry() {
   return g;
 }
 
-NavState movingState() {
-  NavState s;
-  s.t_s = 1000.0;
-  s.pos = {30.5 * kDegToRad, 114.3 * kDegToRad, 100.0};
-  s.v_n = {15.0, 5.0, -0.5};
-  s.q_nb = quatFromEuler({0.05, -0.03, 1.0});
-  return s;
-}
+using test::movingState;
 
 TEST(VehicleVelocity, JacobianMatchesNumeric) {
   const NavState t = movingState();
@@ -47,8 +40,7 @@ TEST(VehicleVelocity, JacobianMatchesNumeric) {
   const Eigen::Vector3d v_true = vehicleVelocity(t, omega, g);
   auto f = [&](const Eigen::VectorXd& xv) -> Eigen::VectorXd {
     const ErrorState x = xv;
-    const Eigen::Vector3d w =
-        omega + x.segment<3>(kGyroBias) + omega.cwiseProduct(x.segment<3>(kGyroScale));
+    const Eigen::Vector3d w = test::perturbedBodyRate(omega, x);
     return vehicleVelocity(perturbNavState(t, x), w, g) - v_true;
   };
   const Eigen::MatrixXd Hn = test::numericJacobian(f, Eigen::VectorXd::Zero(kStateDim), 1e-4);

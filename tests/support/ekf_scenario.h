@@ -16,6 +16,23 @@
 
 namespace graftnav::test {
 
+// A state at speed with a non-trivial attitude, the linearization point of the Jacobian tests.
+inline NavState movingState() {
+  NavState s;
+  s.t_s = 1000.0;
+  s.pos = {30.5 * kDegToRad, 114.3 * kDegToRad, 100.0};
+  s.v_n = {15.0, 5.0, -0.5};
+  s.q_nb = quatFromEuler({0.05, -0.03, 1.0});
+  return s;
+}
+
+// The body rate a measured `omega_ib_b` implies under the error state x: with the gyro bias and
+// scale-factor errors of x added, as the filter's measurement models see it.
+inline Eigen::Vector3d perturbedBodyRate(const Eigen::Vector3d& omega_ib_b, const ErrorState& x) {
+  return omega_ib_b + x.segment<3>(ekf::kGyroBias) +
+         omega_ib_b.cwiseProduct(x.segment<3>(ekf::kGyroScale));
+}
+
 struct Scenario {
   ImuSeries ideal;  // error-free increments
   NavSeries truth;  // at t0 and every IMU epoch

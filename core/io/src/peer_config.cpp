@@ -178,9 +178,10 @@ void readObGinsOdometer(const yf::Context& ctx, const YAML::Node& root, PeerSetu
     if (yf::present(odo["isuseodo"]))
       o.enabled = yf::asBool(ctx, odo["isuseodo"], "odometer.isuseodo");
     if (yf::present(odo["std"])) {
-      o.std_m_s = yf::asVector3(ctx, odo["std"], "odometer.std");
-      if (!(o.std_m_s.minCoeff() > 0.0))
+      const Eigen::Vector3d density = yf::asVector3(ctx, odo["std"], "odometer.std");
+      if (!(density.minCoeff() > 0.0))
         yf::fail(ctx, odo["std"], "odometer.std", "must be > 0 m/s on every axis");
+      o.std_m_s = density * std::sqrt(o.rate_hz);
     }
     if (yf::present(odo["srw"])) {
       const double ppm = yf::asDouble(ctx, odo["srw"], "odometer.srw");
@@ -198,19 +199,25 @@ void readObGinsOdometer(const yf::Context& ctx, const YAML::Node& root, PeerSetu
              "the odometer is on but imudatalen is 7: its IMU file has no odometer column");
   }
   s->odometer = o;
+  const Eigen::Vector3d density = o.std_m_s / std::sqrt(o.rate_hz);
   s->notes.push_back(fmt::format(
-      "odometer: isuseodo {} -> odometer.enabled; std [{}, {}, {}] m/s -> odometer.std_m_s "
-      "(forward, lateral, vertical: OB_GINS's odometer also says the wheels do not slide; "
-      "graftnav applies it as a vehicle-frame velocity update, OB_GINS inside its "
-      "preintegration); odolever -> odometer.lever_arm_m; bodyangle [{}, {}, {}] deg -> "
-      "odometer.mounting_deg (OB_GINS itself uses only pitch and yaw)",
-      o.enabled, o.std_m_s.x(), o.std_m_s.y(), o.std_m_s.z(), o.mounting_rad.x() / kDegToRad,
-      o.mounting_rad.y() / kDegToRad, o.mounting_rad.z() / kDegToRad));
+      "odometer: isuseodo {} -> odometer.enabled; std [{:g}, {:g}, {:g}] m/s/sqrt(Hz) -> "
+      "odometer.std_m_s [{:.4g}, {:.4g}, {:.4g}] m/s at rate_hz {:g} (OB_GINS's std is a noise "
+      "density: its preintegration grows the odometer displacement's variance by std^2 dt; one "
+      "update's 1-sigma is std * sqrt(rate_hz); forward, lateral, vertical: OB_GINS's odometer "
+      "also says the wheels do not slide; graftnav applies it as a vehicle-frame velocity "
+      "update, OB_GINS inside its preintegration); odolever -> odometer.lever_arm_m; bodyangle "
+      "[{}, {}, {}] deg -> odometer.mounting_deg (OB_GINS itself uses only pitch and yaw)",
+      o.enabled, density.x(), density.y(), density.z(), o.std_m_s.x(), o.std_m_s.y(), o.std_m_s.z(),
+      o.rate_hz, o.mounting_rad.x() / kDegToRad, o.mounting_rad.y() / kDegToRad,
+      o.mounting_rad.z() / kDegToRad));
   if (o.scale_random_walk_per_sqrt_s) {
     s->notes.push_back(fmt::format(
-        "odometer.srw {:g} ppm -> odometer.scale_random_walk_ppm_sqrt_s {:g} (OB_GINS drives "
-        "its odometer scale as a random walk of this density); OB_GINS states no initial "
-        "scale sigma: graftnav's default odometer.scale_std_ppm is used",
+        "odometer.srw {:g} ppm -> odometer.scale_random_walk_ppm_sqrt_s {:g} (OB_GINS's "
+        "preintegration grows its odometer scale's variance by (srw 1e-6)^2 dt: a random walk "
+        "of srw ppm/sqrt(s)); OB_GINS's config states no initial scale sigma (its code holds "
+        "the scale of the newest node to a fixed 2 % prior): graftnav's default "
+        "odometer.scale_std_ppm is used",
         *o.scale_random_walk_per_sqrt_s / kPpmToFraction,
         *o.scale_random_walk_per_sqrt_s / kPpmToFraction));
   }

@@ -191,6 +191,7 @@ std::string runConfigYaml(const PeerSetup& s, const std::vector<TimeWindow>& out
     out << YAML::Key << "enabled" << YAML::Value << o.enabled;
     out << YAML::Key << "std_m_s" << YAML::Value << YAML::Flow << YAML::BeginSeq << o.std_m_s.x()
         << o.std_m_s.y() << o.std_m_s.z() << YAML::EndSeq;
+    emitScalar(out, "rate_hz", o.rate_hz);
     if (o.scale_random_walk_per_sqrt_s) {
       emitScalar(out, "scale_random_walk_ppm_sqrt_s",
                  *o.scale_random_walk_per_sqrt_s / units::kPpmToFraction);

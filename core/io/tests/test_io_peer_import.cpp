@@ -187,6 +187,10 @@ TEST(PeerImport, ObGinsOdometerColumnAndKeysAreConverted) {
   EXPECT_TRUE(s.odometer->enabled);
   EXPECT_EQ(s.odometer_columns, 1);
   EXPECT_NEAR(*s.odometer->scale_random_walk_per_sqrt_s, 100e-6, 1e-15);
+  // OB_GINS's std is a density (m/s/sqrt(Hz)): one 10 Hz update's sigma is std * sqrt(10).
+  EXPECT_NEAR(s.odometer->rate_hz, 10.0, 0.0);
+  EXPECT_NEAR(s.odometer->std_m_s.x(), 0.05 * std::sqrt(10.0), 1e-12);
+  EXPECT_NEAR(s.odometer->std_m_s.z(), 0.2 * std::sqrt(10.0), 1e-12);
   EXPECT_NEAR(s.odometer->mounting_rad.z(), 1.5 * kDeg, 1e-12);
   for (const std::string& n : s.notes) EXPECT_THAT(n, ::testing::Not(HasSubstr("NOT CONVERTED")));
   importPeerSetup(s, dir + "/case");
@@ -204,6 +208,7 @@ TEST(PeerImport, ObGinsOdometerColumnAndKeysAreConverted) {
   EXPECT_THAT(ss.str(), HasSubstr("odometer:"));
   EXPECT_THAT(ss.str(), HasSubstr("enabled: true"));
   EXPECT_THAT(ss.str(), HasSubstr("scale_random_walk_ppm_sqrt_s: 100"));
+  EXPECT_THAT(ss.str(), HasSubstr("rate_hz: 10"));
   EXPECT_THAT(ss.str(), HasSubstr("mounting_deg: [0, -0.3"));
   EXPECT_THAT(ss.str(), HasSubstr("lever_arm_m: [-0.5, 0.2, 0.8]"));
 }

@@ -103,7 +103,7 @@ struct ChunkProblem {
         Eigen::VectorXd du(n);
         for (int i = 0; i < n; ++i)
           du(i) = 0.03 * (k + 1) / d.grid.bin_s * std::cos(0.03 * (k + 1) * i) + 0.1 * N(rng);
-        d.cols[c].push_back(ColumnRef{k, &u[k], du});
+        d.cols[c].push_back(ColumnRef{k, u[k].data(), du, {}});
       }
       d.rho(c) = 0.2 + 0.1 * c;
       d.w(c) = 1.0 / (0.01 + 0.002 * c);

@@ -100,9 +100,13 @@ JointLayout layoutParameters(const std::vector<CandidateTerm>& terms, const Sele
       const int k = static_cast<int>(L.theta.size());
       L.theta.push_back(L.fits[f]->theta(static_cast<Eigen::Index>(j)));
       for (int c = 0; c < kMismatchChannels; ++c)
-        if (term.columns[j].actsOn(c))
-          d->cols[c].push_back(
-              {k, &term.columns[j].channel[c], binDerivative(term.columns[j].channel[c], bin_s)});
+        if (term.columns[j].actsOn(c)) {
+          const RegressorColumn& col = term.columns[j];
+          Eigen::VectorXd whole = col.grid_rows > 0 ? col.dense(c) : Eigen::VectorXd();
+          const Eigen::VectorXd& u = col.grid_rows > 0 ? whole : col.channel[c];
+          // A moved Eigen vector keeps its buffer, so u stays valid in u_whole.
+          d->cols[c].push_back({k, u.data(), binDerivative(u, bin_s), std::move(whole)});
+        }
     }
   }
   d->P = static_cast<int>(L.theta.size());

@@ -18,9 +18,10 @@
 namespace graftnav::joint_fit_detail {
 
 struct ColumnRef {
-  int param;                 // index into theta
-  const Eigen::VectorXd* u;  // regressor values on this channel
-  Eigen::VectorXd du;        // its time derivative
+  int param;                // index into theta
+  const double* u;          // regressor values on this channel, every bin
+  Eigen::VectorXd du;       // its time derivative
+  Eigen::VectorXd u_whole;  // u's storage for a column held as a stretch (else empty)
 };
 
 // Everything the residual blocks share.
@@ -48,7 +49,7 @@ struct JointData {
       double dm_dtau = de_dtau ? dxs(c) - dK(i, c) : 0.0;
       if (de_dth) std::fill(de_dth + c * P, de_dth + (c + 1) * P, 0.0);
       for (const ColumnRef& col : cols[c]) {
-        const double u = (*col.u)(i), du = col.du(i);
+        const double u = col.u[i], du = col.du(i);
         m += theta[col.param] * (u - dtau * du);
         dm_dtau -= theta[col.param] * du;
         if (de_dth) de_dth[c * P + col.param] = -(u - dtau * du);

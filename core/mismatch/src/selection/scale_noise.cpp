@@ -84,6 +84,73 @@ std::vector<Eigen::MatrixXd> haarLevelGrams(const Eigen::MatrixXd& X) {
   return grams;
 }
 
+namespace {
+constexpr Eigen::Index kHaarBufferRows = 256;
+}
+
+// The levels of visitHaarLevels: a level pairs its rows while it has at least 4; an odd last
+// row and the final approximation's rows join the last level.
+HaarLevelGramAccumulator::HaarLevelGramAccumulator(Eigen::Index rows, Eigen::Index cols)
+    : cols_(cols), levels_(0) {
+  if (rows < 1 || cols < 1)
+    throw std::invalid_argument("HaarLevelGramAccumulator: rows and cols must be >= 1");
+  size_.push_back(rows);
+  while (size_.back() >= 4) {
+    size_.push_back(size_.back() / 2);
+    ++levels_;
+  }
+  seen_.assign(size_.size(), 0);
+  unpaired_.assign(size_.size(), Eigen::RowVectorXd::Zero(cols));
+  const int grams = std::max(1, levels_);
+  buffer_.assign(grams, Eigen::MatrixXd(kHaarBufferRows, cols));
+  buffered_.assign(grams, 0);
+  gram_.assign(grams, Eigen::MatrixXd::Zero(cols, cols));
+}
+
+void HaarLevelGramAccumulator::add(const Eigen::Ref<const Eigen::MatrixXd>& block) {
+  if (block.cols() != cols_ || added_ + block.rows() > size_[0])
+    throw std::invalid_argument("HaarLevelGramAccumulator: block beyond the rows or columns");
+  added_ += block.rows();
+  for (Eigen::Index i = 0; i < block.rows(); ++i) feed(0, block.row(i));
+}
+
+void HaarLevelGramAccumulator::feed(int level, const Eigen::Ref<const Eigen::RowVectorXd>& row) {
+  const int last = std::max(0, levels_ - 1);
+  if (level == levels_) {  // the final approximation (or X itself below 4 rows)
+    addToGram(last, row);
+    return;
+  }
+  const Eigen::Index k = seen_[level]++;
+  if (k == size_[level] - 1 && size_[level] % 2 != 0) {  // the odd row left over
+    addToGram(last, row);
+  } else if (k % 2 == 0) {
+    unpaired_[level] = row;
+  } else {
+    const double inv_sqrt2 = 1.0 / std::sqrt(2.0);
+    addToGram(level, (unpaired_[level] - row) * inv_sqrt2);
+    feed(level + 1, (unpaired_[level] + row) * inv_sqrt2);
+  }
+}
+
+void HaarLevelGramAccumulator::addToGram(int level,
+                                         const Eigen::Ref<const Eigen::RowVectorXd>& row) {
+  buffer_[level].row(buffered_[level]++) = row;
+  if (buffered_[level] == kHaarBufferRows) flush(level);
+}
+
+void HaarLevelGramAccumulator::flush(int level) {
+  const auto B = buffer_[level].topRows(buffered_[level]);
+  gram_[level] += B.transpose() * B;
+  buffered_[level] = 0;
+}
+
+std::vector<Eigen::MatrixXd> HaarLevelGramAccumulator::grams() {
+  if (added_ != size_[0])
+    throw std::logic_error("HaarLevelGramAccumulator: grams asked before every row was added");
+  for (std::size_t j = 0; j < gram_.size(); ++j) flush(static_cast<int>(j));
+  return gram_;
+}
+
 Eigen::MatrixXd haarSynthesis(const std::vector<Eigen::MatrixXd>& levels, Eigen::Index rows) {
   if (levels.empty()) throw std::invalid_argument("haarSynthesis: no levels");
   // The forward pass's sizes: rows at each step and whether a row was left over.

@@ -33,29 +33,41 @@ double whitenedRow(const Eigen::VectorXd& z, int rb, int i, double rho, double w
                 : w * (z(t) - rho * z(t - 1));
 }
 
-// The candidate columns acting on channel c: their global indices and their series there.
+double whitenedRow(const RegressorColumn& u, int c, int rb, int i, double rho, double w) {
+  const int t = rb + i;
+  return i == 0 ? w * std::sqrt(std::max(0.0, 1.0 - rho * rho)) * u.at(c, t)
+                : w * (u.at(c, t) - rho * u.at(c, t - 1));
+}
+
+// The candidate columns acting on channel c: their global indices and their columns.
 ChannelColumns channelColumns(const std::vector<CandidateTerm>& terms, const ColumnMap& map,
                               int c) {
   ChannelColumns out;
+  out.channel = c;
   for (std::size_t t = 0; t < terms.size(); ++t)
     for (int j = 0; j < map.count[t]; ++j)
       if (terms[t].columns[j].actsOn(c)) {
         out.idx.push_back(map.start[t] + j);
-        out.src.push_back(&terms[t].columns[j].channel[c]);
+        out.src.push_back(&terms[t].columns[j]);
       }
   return out;
 }
 
-// The series `src`, and `last` as one more column when given, whitened over `len` rows from
+// The columns `cols`, and `last` as one more column when given, whitened over `len` rows from
 // row rb (whitenedRow): the rows the fit sees.
-Eigen::MatrixXd whitenedColumns(const std::vector<const Eigen::VectorXd*>& src,
-                                const Eigen::VectorXd* last, int rb, int len, double rho,
-                                double w) {
-  const int m = static_cast<int>(src.size());
-  Eigen::MatrixXd X(len, m + (last ? 1 : 0));
-  for (int i = 0; i < len; ++i) {
-    for (int k = 0; k < m; ++k) X(i, k) = whitenedRow(*src[k], rb, i, rho, w);
-    if (last) X(i, m) = whitenedRow(*last, rb, i, rho, w);
+Eigen::MatrixXd whitenedColumns(const ChannelColumns& cols, const Eigen::VectorXd* last, int rb,
+                                int len, double rho, double w) {
+  return whitenedBlock(cols, last, rb, 0, len, rho, w);
+}
+
+Eigen::MatrixXd whitenedBlock(const ChannelColumns& cols, const Eigen::VectorXd* last, int rb,
+                              int a, int b, double rho, double w) {
+  const int m = static_cast<int>(cols.src.size());
+  Eigen::MatrixXd X(b - a, m + (last ? 1 : 0));
+  for (int i = a; i < b; ++i) {
+    for (int k = 0; k < m; ++k)
+      X(i - a, k) = whitenedRow(*cols.src[k], cols.channel, rb, i, rho, w);
+    if (last) X(i - a, m) = whitenedRow(*last, rb, i, rho, w);
   }
   return X;
 }
@@ -66,9 +78,43 @@ int foldStart(int len, int f, int folds) {
   return static_cast<int>(static_cast<long>(len) * f / folds);
 }
 
+namespace {
+
+// Adds rows [a, b) (counted from rb) of channel cols.channel to fold f: the whitened columns
+// non-zero on those rows or on the row before (the AR(1) whitening reads it), and the residual.
+void addBlock(const ChannelColumns& cols, const Eigen::MatrixXd& r, int rb, int a, int b,
+              double rho, double w, int f, GramSet* g) {
+  const int c = cols.channel;
+  const int t0 = rb + std::max(0, a - 1), t1 = rb + b;
+  std::vector<int> live;
+  for (std::size_t k = 0; k < cols.src.size(); ++k)
+    if (cols.src[k]->first_row < t1 && cols.src[k]->endRow(c) > t0)
+      live.push_back(static_cast<int>(k));
+  const int m = static_cast<int>(live.size()), len = b - a;
+  Eigen::MatrixXd X(len, m);
+  Eigen::VectorXd y(len);
+  for (int i = 0; i < len; ++i) {
+    for (int k = 0; k < m; ++k) X(i, k) = whitenedRow(*cols.src[live[k]], c, rb, a + i, rho, w);
+    y(i) = w * (i + a == 0 ? std::sqrt(std::max(0.0, 1.0 - rho * rho)) * r(rb, c)
+                           : r(rb + a + i, c) - rho * r(rb + a + i - 1, c));
+  }
+  const Eigen::MatrixXd Gb = X.transpose() * X;
+  const Eigen::VectorXd bb = X.transpose() * y;
+  for (int j = 0; j < m; ++j) {
+    const int gj = cols.idx[live[j]];
+    g->b[f](gj) += bb(j);
+    for (int k = 0; k < m; ++k) g->G[f](gj, cols.idx[live[k]]) += Gb(j, k);
+  }
+  g->yy[f] += y.squaredNorm();
+}
+
+}  // namespace
+
 GramSet accumulate(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
                    const ColumnMap& map, const Eigen::Matrix<double, 6, 1>& rho,
-                   const Eigen::Matrix<double, 6, 1>& weight, int rb, int re, int folds) {
+                   const Eigen::Matrix<double, 6, 1>& weight, int rb, int re, int folds,
+                   int block_rows) {
+  if (block_rows < 1) throw std::invalid_argument("accumulate: block_rows must be >= 1");
   GramSet g;
   const int P = map.total;
   g.G.assign(folds, Eigen::MatrixXd::Zero(P, P));
@@ -77,21 +123,10 @@ GramSet accumulate(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& t
   const int len = re - rb;
   for (int c = 0; c < kMismatchChannels; ++c) {
     const ChannelColumns cols = channelColumns(terms, map, c);
-    const std::vector<int>& idx = cols.idx;
-    const int m = static_cast<int>(idx.size());
-    const Eigen::VectorXd rc = r.col(c);
-    const Eigen::MatrixXd Xy = whitenedColumns(cols.src, &rc, rb, len, rho(c), weight(c));
     for (int f = 0; f < folds; ++f) {
-      const int a = foldStart(len, f, folds), b = foldStart(len, f + 1, folds);
-      const auto Xf = Xy.leftCols(m).middleRows(a, b - a);
-      const auto yf = Xy.col(m).segment(a, b - a);
-      const Eigen::MatrixXd Gf = Xf.transpose() * Xf;
-      const Eigen::VectorXd bf = Xf.transpose() * yf;
-      for (int j = 0; j < m; ++j) {
-        g.b[f](idx[j]) += bf(j);
-        for (int k = 0; k < m; ++k) g.G[f](idx[j], idx[k]) += Gf(j, k);
-      }
-      g.yy[f] += yf.squaredNorm();
+      const int fold_end = foldStart(len, f + 1, folds);
+      for (int a = foldStart(len, f, folds); a < fold_end; a += block_rows)
+        addBlock(cols, r, rb, a, std::min(fold_end, a + block_rows), rho(c), weight(c), f, &g);
     }
     g.rows += len;
   }

@@ -2,6 +2,9 @@
 // Internal to the mismatch module's term selection (term_selection.h): the AR(1)-whitened normal
 // equations of the candidate columns, accumulated once per cross-validation fold, and least
 // squares on them, so that every trial fit is a small dense solve whatever the record length.
+// The normal equations are summed block by block of rows: only one block of whitened columns
+// is made at a time, and only of the columns non-zero there (a bias_instability hat touches a
+// few blocks).
 #include <Eigen/Core>
 #include <vector>
 
@@ -31,27 +34,39 @@ ColumnMap mapColumns(const std::vector<CandidateTerm>& terms);
 // Row i (from rb) of z prewhitened by AR(1) rho and scaled by w; the first row keeps the
 // stationary variance (sqrt(1 - rho^2)).
 double whitenedRow(const Eigen::VectorXd& z, int rb, int i, double rho, double w);
+// The same for channel c of a regressor column (zero outside its stored stretch).
+double whitenedRow(const RegressorColumn& u, int c, int rb, int i, double rho, double w);
 
-// The candidate columns acting on channel c: their global indices and their series there.
+// The candidate columns acting on channel c: their global indices and their columns.
 struct ChannelColumns {
+  int channel = 0;
   std::vector<int> idx;
-  std::vector<const Eigen::VectorXd*> src;
+  std::vector<const RegressorColumn*> src;
 };
 ChannelColumns channelColumns(const std::vector<CandidateTerm>& terms, const ColumnMap& map, int c);
 
-// The series `src`, and `last` as one more column when given, whitened over `len` rows from
-// row rb (whitenedRow): the rows the fit sees.
-Eigen::MatrixXd whitenedColumns(const std::vector<const Eigen::VectorXd*>& src,
-                                const Eigen::VectorXd* last, int rb, int len, double rho, double w);
+// The columns `cols` on their channel, and `last` as one more column when given, whitened over
+// `len` rows from row rb (whitenedRow): the rows the fit sees.
+Eigen::MatrixXd whitenedColumns(const ChannelColumns& cols, const Eigen::VectorXd* last, int rb,
+                                int len, double rho, double w);
+// Rows [a, b) (counted from rb) of whitenedColumns.
+Eigen::MatrixXd whitenedBlock(const ChannelColumns& cols, const Eigen::VectorXd* last, int rb,
+                              int a, int b, double rho, double w);
 
 // First row of CV fold f of `folds` contiguous folds over `len` rows.
 int foldStart(int len, int f, int folds);
 
+// Rows per block of the normal equations' accumulation (~3.4 min of 0.05-s bins; a block of 40
+// whitened columns is 1.3 MB).
+inline constexpr int kGramBlockRows = 4096;
+
 // The whitened normal equations of all candidate columns and the residual r over rows [rb, re),
-// per fold and summed.
+// per fold and summed, accumulated over blocks of `block_rows` rows (a block never spans two
+// folds). Equal to the products of the whole whitened columns up to the order of summation.
 GramSet accumulate(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,
                    const ColumnMap& map, const Eigen::Matrix<double, 6, 1>& rho,
-                   const Eigen::Matrix<double, 6, 1>& weight, int rb, int re, int folds);
+                   const Eigen::Matrix<double, 6, 1>& weight, int rb, int re, int folds,
+                   int block_rows = kGramBlockRows);
 
 struct ModelFit {
   std::vector<int> free_cols, fixed_cols;

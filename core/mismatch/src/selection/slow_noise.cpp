@@ -52,15 +52,25 @@ const std::array<ChannelLevels, kMismatchChannels>& SlowNoiseEstimator::levelGra
       ChannelColumns cols = channelColumns(terms_, noise_.map(), c);
       cl.idx = std::move(cols.idx);
       const Eigen::VectorXd rc = noise_.residual().col(c);
-      const Eigen::MatrixXd Xy = whitenedColumns(cols.src, &rc, noise_.rowBegin(), len,
-                                                 noise_.rho()(c), 1.0 / noise_.sigma()(c));
-      cl.gram = haarLevelGrams(Xy);
+      // The whitened columns and residual (y last) a block of rows at a time, into the Haar
+      // levels of the whole record and of the fold the block lies in.
+      const Eigen::Index width = static_cast<Eigen::Index>(cols.src.size()) + 1;
+      HaarLevelGramAccumulator whole(len, width);
       const int folds = static_cast<int>(noise_.gram().G.size());
       cl.fold_gram.resize(folds);
       for (int f = 0; f < folds; ++f) {
         const int a = foldStart(len, f, folds), b = foldStart(len, f + 1, folds);
-        cl.fold_gram[f] = haarLevelGrams(Xy.middleRows(a, b - a));
+        HaarLevelGramAccumulator fold(b - a, width);
+        for (int i = a; i < b; i += kGramBlockRows) {
+          const Eigen::MatrixXd Xy =
+              whitenedBlock(cols, &rc, noise_.rowBegin(), i, std::min(b, i + kGramBlockRows),
+                            noise_.rho()(c), 1.0 / noise_.sigma()(c));
+          whole.add(Xy);
+          fold.add(Xy);
+        }
+        cl.fold_gram[f] = fold.grams();
       }
+      cl.gram = whole.grams();
     }
   }
   return *level_grams_;
@@ -150,7 +160,7 @@ SlowNoise SlowNoiseEstimator::blockMeanNoise() const {
         const int c = firstChannel(sensor) + k;
         for (const RegressorColumn& col : terms_[t].columns) {
           if (!col.actsOn(c)) continue;
-          const Eigen::VectorXd w = noise_.whitened(col.channel[c], c, noise_.rowBegin());
+          const Eigen::VectorXd w = noise_.whitened(col.dense(c), c, noise_.rowBegin());
           const double energy = w.squaredNorm();
           means[k].push_back(blockMeans(w));
           num += std::min(blockEnergy(means[k].back()), energy) * (out.slow_inflation(c) - 1.0);
@@ -255,17 +265,19 @@ Eigen::MatrixXd SlowNoiseEstimator::randomWalkMeat(const SlowNoise& sn,
   for (int c = 0; c < kMismatchChannels; ++c) {
     const ChannelColumns all = channelColumns(terms_, noise_.map(), c);
     std::vector<int> pos;  // the free columns on channel c: their places in S
-    std::vector<const Eigen::VectorXd*> src;
+    ChannelColumns free;
+    free.channel = c;
     for (std::size_t k = 0; k < all.idx.size(); ++k) {
       const auto it = std::find(S.begin(), S.end(), all.idx[k]);
       if (it == S.end()) continue;
       pos.push_back(static_cast<int>(it - S.begin()));
-      src.push_back(all.src[k]);
+      free.idx.push_back(all.idx[k]);
+      free.src.push_back(all.src[k]);
     }
-    const int m = static_cast<int>(src.size());
+    const int m = static_cast<int>(free.src.size());
     if (m == 0) continue;
     std::vector<Eigen::MatrixXd> levels = haarCoefficients(whitenedColumns(
-        src, nullptr, noise_.rowBegin(), len, noise_.rho()(c), 1.0 / noise_.sigma()(c)));
+        free, nullptr, noise_.rowBegin(), len, noise_.rho()(c), 1.0 / noise_.sigma()(c)));
     const ScaleNoiseModel& law = sn.law[c];
     Eigen::MatrixXd Bc = Eigen::MatrixXd::Zero(m, m);
     for (std::size_t j = 0; j < levels.size(); ++j) {

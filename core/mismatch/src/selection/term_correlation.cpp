@@ -18,7 +18,7 @@ Eigen::MatrixXd whitenedBasis(const CandidateTerm& term, const SelectionResult& 
   for (int j = 0; j < cols; ++j) {
     for (int c = 0; c < kMismatchChannels; ++c) {
       if (!term.columns[j].actsOn(c)) continue;
-      const Eigen::VectorXd& u = term.columns[j].channel[c];
+      const Eigen::VectorXd u = term.columns[j].dense(c);
       const double rho = sel.rho(c), sigma = sel.sigma(c) > 0.0 ? sel.sigma(c) : 1.0;
       Eigen::VectorXd w = Eigen::VectorXd::Zero(n);
       int used = 0;

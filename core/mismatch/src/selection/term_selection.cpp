@@ -181,7 +181,8 @@ void checkInputs(const Eigen::MatrixXd& residual, const std::vector<CandidateTer
   for (const CandidateTerm& t : terms)
     for (const RegressorColumn& c : t.columns)
       for (int ch = 0; ch < kMismatchChannels; ++ch)
-        if (c.actsOn(ch) && c.channel[ch].size() != residual.rows())
+        if (c.actsOn(ch) &&
+            (c.gridRows(ch) != residual.rows() || c.first_row < 0 || c.endRow(ch) > c.gridRows(ch)))
           throw std::invalid_argument("selectTerms: term " + t.key().text() +
                                       " has a regressor of the wrong length");
 }

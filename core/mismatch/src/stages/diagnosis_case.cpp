@@ -1,5 +1,7 @@
 #include "graftnav/mismatch/diagnosis_case.h"
 
+#include <utility>
+
 #include "graftnav/calibration/lab_data.h"
 #include "graftnav/case/input_checks.h"
 #include "graftnav/io/imu_profile_io.h"
@@ -37,7 +39,7 @@ DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const RunConfig& rc, ImuSelecti
     const std::string case_dir = c.dir;
     LabData lab = loadLabData(case_dir);
     if (lab.has_static) checkLabStaticRecord(lab.staticRecordSeconds(), lab.static_file, 0.0);
-    simulateFromLab(lab, rc.grafting.start_offset_s, ref_scale_std, &in,
+    simulateFromLab(std::move(lab), rc.grafting.start_offset_s, ref_scale_std, &in,
                     [case_dir] { return loadLabData(case_dir); });
   } else {
     std::vector<std::string> warnings;

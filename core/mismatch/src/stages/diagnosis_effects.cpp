@@ -56,7 +56,7 @@ void zeroMaskedRows(const std::vector<char>& masked, std::vector<CandidateTerm>*
       for (int c = 0; c < kMismatchChannels; ++c)
         if (col.actsOn(c))
           for (Eigen::Index i = 0; i < col.channel[c].size(); ++i)
-            if (masked[i]) col.channel[c](i) = 0.0;
+            if (masked[col.first_row + i]) col.channel[c](i) = 0.0;
 }
 
 // Per-channel least-squares constant + linear drift (the nuisance alone) fitted over bins
@@ -159,7 +159,7 @@ std::string limitReason(const CandidateTerm& t, const SelectionResult& sel, doub
   for (const RegressorColumn& col : t.columns)
     for (int c = 0; c < kMismatchChannels; ++c) {
       if (!col.actsOn(c)) continue;
-      const Eigen::VectorXd& u = col.channel[c];
+      const Eigen::VectorXd u = col.dense(c);
       excitation = std::max(excitation, std::sqrt((u.array() - u.mean()).square().mean()));
       noise = std::max(noise, sel.sigma(c) / (1.0 - std::min(sel.rho(c), 0.99)));
     }

@@ -85,13 +85,13 @@ SelectionResult withCalibrationErrorFitted(const Eigen::MatrixXd& r,
 }
 
 // The column of the plain term (no regressor variant) of `kind` on `sensor` that acts on channel
-// c (nullptr: no such term or column).
+// c over the whole grid (nullptr: no such term or column).
 const Eigen::VectorXd* columnOn(const std::vector<CandidateTerm>& terms, TermKind kind,
                                 Sensor sensor, int c) {
   for (const CandidateTerm& t : terms) {
     if (t.kind() != kind || t.sensor != scopeOf(sensor) || t.variant != TermVariant::none) continue;
     for (const RegressorColumn& col : t.columns)
-      if (col.actsOn(c)) return &col.channel[c];
+      if (col.actsOn(c) && col.grid_rows == 0) return &col.channel[c];
   }
   return nullptr;
 }

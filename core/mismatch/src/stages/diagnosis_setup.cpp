@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -40,16 +41,44 @@ SensorPriors labPriors(const SensorCalibration& cal) {
 
 namespace {
 
-// What SG#2 takes from the lab: the graft plan, and the priors the finder takes from the
-// calibration. The calibration report itself (its error signal as long as the lab record) is
-// gone when this returns.
+// What SG#2 takes from the lab: the graft plan, the lab record's temperature tiled as the
+// graft tiles its errors (when every sample has one), and the priors the finder takes from the
+// calibration. The calibration report itself (its error signal as long as the lab record) and
+// the lab's static record are gone when this returns.
 struct LabSimulation {
   GraftPlan plan;
+  std::optional<BasicErrorSignal> lab_temperature;
   PerSensor<SensorPriors> priors;
 };
-LabSimulation labSimulation(const LabData& lab) {
-  const LabCalibrationReport report = calibrateLab(lab);
-  LabSimulation out{makeGraftPlan(report), {}};
+
+// The lab static record's temperature as a tiled signal (its first channel), or nothing.
+std::optional<BasicErrorSignal> labTemperatureSignal(const ImuSeries& lab_static) {
+  if (lab_static.empty() || !std::all_of(lab_static.begin(), lab_static.end(),
+                                         [](const ImuSample& s) { return s.hasTemperature(); }))
+    return std::nullopt;
+  ImuSeries temp = lab_static;
+  for (ImuSample& s : temp) {
+    s.dtheta_rad = Eigen::Vector3d(s.temperature_degC * s.dt_s, 0.0, 0.0);
+    s.dvel_m_s.setZero();
+  }
+  return BasicErrorSignal(temp);
+}
+
+// Each SG#2 sample's temperature from the tiled lab temperature.
+void attachTiledTemperature(const BasicErrorSignal& tiled, double start_offset_s, ImuSeries* sg2) {
+  if (sg2->empty()) return;
+  const double t0 = sg2->front().t_s - sg2->front().dt_s;
+  for (ImuSample& s : *sg2) {
+    const double u1 = s.t_s - t0 + start_offset_s;
+    s.temperature_degC = tiled.integral(u1 - s.dt_s, u1)(0) / s.dt_s;
+  }
+}
+
+LabSimulation labSimulation(LabData* lab) {
+  const LabCalibrationReport report = calibrateLab(*lab);
+  std::optional<BasicErrorSignal> temperature = labTemperatureSignal(lab->static_imu);
+  ImuSeries().swap(lab->static_imu);  // read by the calibration; the graft tiles its errors
+  LabSimulation out{makeGraftPlan(report), std::move(temperature), {}};
   out.priors[Sensor::gyro] = labPriors(report.result.gyro);
   out.priors[Sensor::accel] = labPriors(report.result.accel);
   return out;
@@ -57,16 +86,16 @@ LabSimulation labSimulation(const LabData& lab) {
 
 // SG#2 of `reference`: graftCase's tiling and SG#2 without its SG#1, and the tiled lab
 // temperature. Sets *start_offset_s_out and *record_s_out when given.
-ImuSeries sg2FromPlan(const GraftPlan& plan, const ImuSeries& lab_static,
-                      const ImuSeries& reference, double start_offset_s,
+ImuSeries sg2FromPlan(const LabSimulation& sim, const ImuSeries& reference, double start_offset_s,
                       double* start_offset_s_out = nullptr, double* record_s_out = nullptr) {
+  const GraftPlan& plan = sim.plan;
   if (reference.empty())
     throw std::invalid_argument("simulateFromLab: the reference IMU series is empty");
   GraftOptions graft;
   graft.start_offset_s = start_offset_s;
   graft.start_offset_s = graftStartOffset(graft, plan.basic);
   ImuSeries sg2 = graftSeries(reference, plan, SgStrategy::kFull, graft);
-  attachLabTemperature(lab_static, graft.start_offset_s, &sg2);
+  if (sim.lab_temperature) attachTiledTemperature(*sim.lab_temperature, graft.start_offset_s, &sg2);
   if (start_offset_s_out) *start_offset_s_out = graft.start_offset_s;
   if (record_s_out) *record_s_out = plan.basic.recordLength_s();
   return sg2;
@@ -74,21 +103,21 @@ ImuSeries sg2FromPlan(const GraftPlan& plan, const ImuSeries& lab_static,
 
 }  // namespace
 
-void simulateFromLab(const LabData& lab, double start_offset_s,
+void simulateFromLab(LabData lab, double start_offset_s,
                      const PerSensor<double>& reference_scale_std, DiagnosisInputs* in,
                      std::function<LabData()> reload_lab) {
   {
-    const LabSimulation sim = labSimulation(lab);
-    in->simulated = sg2FromPlan(sim.plan, lab.static_imu, in->reference, start_offset_s,
-                                &in->graft_start_offset_s, &in->graft_static_record_s);
+    const LabSimulation sim = labSimulation(&lab);
+    in->simulated = sg2FromPlan(sim, in->reference, start_offset_s, &in->graft_start_offset_s,
+                                &in->graft_static_record_s);
     in->priors = sim.priors;
   }
   // Made again from the lab files, not held: the lab record and its error signal can be as long
   // as the field test.
   if (reload_lab)
     in->remake_simulated = [reload_lab, start_offset_s](const ImuSeries& reference) {
-      const LabData again = reload_lab();
-      return sg2FromPlan(labSimulation(again).plan, again.static_imu, reference, start_offset_s);
+      LabData again = reload_lab();
+      return sg2FromPlan(labSimulation(&again), reference, start_offset_s);
     };
   in->simulation_kind = "SG#2 (lab calibration + grafting)";
   for (const Sensor s : kSensors)
@@ -126,21 +155,9 @@ void simulateWithoutLab(DiagnosisInputs* in, std::vector<std::string>* notes,
 }
 
 void attachLabTemperature(const ImuSeries& lab_static, double start_offset_s, ImuSeries* sg2) {
-  if (lab_static.empty() || sg2->empty() ||
-      !std::all_of(lab_static.begin(), lab_static.end(),
-                   [](const ImuSample& s) { return s.hasTemperature(); }))
-    return;
-  ImuSeries temp = lab_static;
-  for (ImuSample& s : temp) {
-    s.dtheta_rad = Eigen::Vector3d(s.temperature_degC * s.dt_s, 0.0, 0.0);
-    s.dvel_m_s.setZero();
-  }
-  const BasicErrorSignal tiled(temp);
-  const double t0 = sg2->front().t_s - sg2->front().dt_s;
-  for (ImuSample& s : *sg2) {
-    const double u1 = s.t_s - t0 + start_offset_s;
-    s.temperature_degC = tiled.integral(u1 - s.dt_s, u1)(0) / s.dt_s;
-  }
+  if (sg2->empty()) return;
+  if (const auto tiled = labTemperatureSignal(lab_static))
+    attachTiledTemperature(*tiled, start_offset_s, sg2);
 }
 
 }  // namespace graftnav

@@ -20,16 +20,16 @@ Eigen::MatrixXd fitWander(const Eigen::MatrixXd& r, const std::vector<CandidateT
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, kMismatchChannels);
   columns->setZero();
   for (int c = 0; c < kMismatchChannels; ++c) {
-    std::vector<const Eigen::VectorXd*> cols;
+    std::vector<const RegressorColumn*> cols;
     for (const CandidateTerm& t : terms)
       if (t.kind() == TermKind::bias_instability)
         for (const RegressorColumn& col : t.columns)
-          if (col.actsOn(c)) cols.push_back(&col.channel[c]);
+          if (col.actsOn(c)) cols.push_back(&col);
     if (cols.empty()) continue;
     const int p = static_cast<int>(cols.size()) + 1;
     Eigen::MatrixXd X(n, p);
     for (int i = 0; i < n; ++i) X(i, 0) = masked[i] ? 0.0 : 1.0;
-    for (int j = 1; j < p; ++j) X.col(j) = *cols[j - 1];
+    for (int j = 1; j < p; ++j) X.col(j) = cols[j - 1]->dense(c);
     const Eigen::VectorXd coef = (X.transpose() * X).ldlt().solve(X.transpose() * r.col(c));
     out.col(c) = X.rightCols(p - 1) * coef.tail(p - 1);
     out.col(c).array() -= out.col(c).mean();

@@ -107,12 +107,20 @@ AngularAccelerationBins angularAccelerationPerBin(const ImuSeries& imu, const Gr
   return r;
 }
 
+Eigen::VectorXd RegressorColumn::dense(int c) const {
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(gridRows(c));
+  if (actsOn(c)) v.segment(first_row, channel[c].size()) = channel[c];
+  return v;
+}
+
 Eigen::MatrixXd termContribution(const CandidateTerm& term, const Eigen::VectorXd& theta, int n) {
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, kMismatchChannels);
   for (std::size_t j = 0; j < term.columns.size(); ++j) {
     const double th = term.fixed() ? 1.0 : theta(static_cast<Eigen::Index>(j));
+    const RegressorColumn& col = term.columns[j];
     for (int c = 0; c < kMismatchChannels; ++c)
-      if (term.columns[j].actsOn(c)) out.col(c) += th * term.columns[j].channel[c];
+      if (col.actsOn(c))
+        out.col(c).segment(col.first_row, col.channel[c].size()) += th * col.channel[c];
   }
   return out;
 }

@@ -60,14 +60,24 @@ void biasInstability(const TermSpec& spec, const TermBuildContext& ctx, SensorSc
   // The first knot is spanned by the nuisance constant, the last one too with a linear drift.
   const int last = opt.linear_drift_nuisance ? knots - 1 : knots;
   if (last <= 1) return;
+  // Knot k's hat is non-zero on bins whose middles lie within one spacing of it: only those bins
+  // (and one of margin on each side, where it is exactly zero) are stored.
+  const double bins_per_knot = spacing / ctx.x().grid.bin_s;
   for (int axis = 0; axis < 3; ++axis) {
     for (int k = 1; k < last; ++k) {
-      Eigen::VectorXd v(n);
-      for (int i = 0; i < n; ++i) {
+      const int lo =
+          std::clamp(static_cast<int>(std::floor((k - 1) * bins_per_knot - 0.5)) - 1, 0, n);
+      const int hi =
+          std::clamp(static_cast<int>(std::ceil((k + 1) * bins_per_knot - 0.5)) + 2, lo, n);
+      Eigen::VectorXd v(hi - lo);
+      for (int i = lo; i < hi; ++i) {
         const double u = (i + 0.5) * ctx.x().grid.bin_s / spacing - k;  // knot k at u = 0
-        v(i) = std::max(0.0, 1.0 - std::abs(u));
+        v(i - lo) = std::max(0.0, 1.0 - std::abs(u));
       }
-      t.columns.push_back(singleChannel(firstChannel(s) + axis, v));
+      RegressorColumn col = singleChannel(firstChannel(s) + axis, v);
+      col.first_row = lo;
+      col.grid_rows = n;
+      t.columns.push_back(std::move(col));
     }
   }
   out->push_back(std::move(t));

@@ -15,11 +15,12 @@
 //   initab (mGal), imudatalen, imudatarate, isearth, antlever, odolever, bodyangle,
 //   odometer: {isuseodo, std, srw}, imumodel: {arw, vrw, gbstd, abstd, corrtime} (units as above),
 //   isuseoutage, outagetime, outagelen, outageperiod (s), gnssthreshold (m). odolever (m, FRD),
-//   bodyangle (deg, roll pitch yaw of the IMU in the vehicle), odometer.std (m/s, forward lateral
-//   vertical), odometer.srw (ppm, the random-walk density of its scale state, per sqrt(s)).
+//   bodyangle (deg, roll pitch yaw of the IMU in the vehicle), odometer.std (m/s/sqrt(Hz), forward
+//   lateral vertical), odometer.srw (ppm/sqrt(s), the random-walk density of its scale state).
 // Anything that has no graftnav counterpart, or was interpreted, is recorded in PeerSetup::notes.
 
 #include <Eigen/Core>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,8 +40,12 @@ std::string peerFormatName(PeerFormat format);
 // Its IMU file carries the odometer speed (m/s, mean over the sample) in column 8, or in
 // columns 8 and 9 (two wheels, averaged) with imudatalen 9.
 struct PeerOdometer {
-  bool enabled = false;                                         // isuseodo
-  Eigen::Vector3d std_m_s = Eigen::Vector3d(0.05, 0.05, 0.05);  // std: forward, lateral, vertical
+  bool enabled = false;  // isuseodo
+  // OB_GINS's std (forward, lateral, vertical) is a noise density: its preintegration grows the
+  // variance of the odometer displacement by std^2 dt. As graftnav's 1-sigma of one update at
+  // rate_hz (the mean speed over 1 / rate_hz): std * sqrt(rate_hz).
+  double rate_hz = 10.0;
+  Eigen::Vector3d std_m_s = Eigen::Vector3d(0.05, 0.05, 0.05) * std::sqrt(10.0);
   std::optional<double> scale_random_walk_per_sqrt_s;      // srw (ppm -> fraction, per sqrt(s))
   Eigen::Vector3d lever_arm_m = Eigen::Vector3d::Zero();   // odolever, from the IMU, FRD
   Eigen::Vector3d mounting_rad = Eigen::Vector3d::Zero();  // bodyangle: IMU in the vehicle

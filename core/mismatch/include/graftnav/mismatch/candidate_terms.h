@@ -25,9 +25,26 @@ namespace graftnav {
 constexpr int kMismatchChannels = 6;  // gyro x, y, z, accel x, y, z
 
 // One regressor: its values on the channels it acts on (empty vector = 0 on that channel).
+// A column over the whole grid holds every bin (first_row 0, grid_rows 0). A column that is
+// non-zero on a few knot intervals only (bias_instability's hat functions) holds that stretch:
+// channel[c](k) is bin first_row + k of a grid of grid_rows bins, zero outside it.
 struct RegressorColumn {
   std::array<Eigen::VectorXd, kMismatchChannels> channel;
+  int first_row = 0;
+  int grid_rows = 0;  // 0: channel[c] holds every bin of the grid
   bool actsOn(int c) const { return channel[c].size() > 0; }
+  // The bins of the grid and the end of the stored stretch on channel c.
+  int gridRows(int c) const {
+    return grid_rows > 0 ? grid_rows : static_cast<int>(channel[c].size());
+  }
+  int endRow(int c) const { return first_row + static_cast<int>(channel[c].size()); }
+  // Bin i of channel c (zero outside the stored stretch).
+  double at(int c, int i) const {
+    const int k = i - first_row;
+    return k >= 0 && k < channel[c].size() ? channel[c](k) : 0.0;
+  }
+  // Channel c over the whole grid (a copy).
+  Eigen::VectorXd dense(int c) const;
 };
 
 // One term of the library: a TermSpec (term_spec.h) on a sensor scope, with its columns.

@@ -27,8 +27,10 @@ SensorPriors labPriors(const SensorCalibration& cal);
 // sensors. reference_scale_std: the reference IMU's 1-sigma scale uncertainty per sensor
 // (fraction; 0 = not stated). With reload_lab (the same lab data read again), also
 // in->remake_simulated, which calibrates and grafts again rather than holding the lab record.
-// Throws what calibrateLab and graftCase throw.
-void simulateFromLab(const LabData& lab, double start_offset_s,
+// `lab` is consumed: its static record goes once the calibration has read it (the graft holds
+// its error signal, and its temperature when it has one). Throws what calibrateLab and
+// graftCase throw.
+void simulateFromLab(LabData lab, double start_offset_s,
                      const PerSensor<double>& reference_scale_std, DiagnosisInputs* in,
                      std::function<LabData()> reload_lab = {});
 

@@ -43,6 +43,31 @@ std::vector<Eigen::MatrixXd> haarCoefficients(const Eigen::MatrixXd& X);
 // scale).
 std::vector<Eigen::MatrixXd> haarLevelGrams(const Eigen::MatrixXd& X);
 
+// haarLevelGrams of a matrix of `rows` rows handed over a block of rows at a time, holding one
+// unpaired row per level and a buffer of detail rows, never the matrix: equal to
+// haarLevelGrams(X) up to the order of summation.
+class HaarLevelGramAccumulator {
+ public:
+  HaarLevelGramAccumulator(Eigen::Index rows, Eigen::Index cols);
+  // The next rows of X, in order.
+  void add(const Eigen::Ref<const Eigen::MatrixXd>& block);
+  // After all `rows` rows: the grams per level (throws before).
+  std::vector<Eigen::MatrixXd> grams();
+
+ private:
+  void feed(int level, const Eigen::Ref<const Eigen::RowVectorXd>& row);
+  void addToGram(int level, const Eigen::Ref<const Eigen::RowVectorXd>& row);
+  void flush(int level);
+  Eigen::Index cols_;
+  Eigen::Index added_ = 0;
+  int levels_;                                // detail levels (0: X' X as one level)
+  std::vector<Eigen::Index> size_, seen_;     // rows entering each level, and so far
+  std::vector<Eigen::RowVectorXd> unpaired_;  // the even row waiting for its pair, per level
+  std::vector<Eigen::MatrixXd> buffer_;       // rows not yet in the gram, per gram
+  std::vector<int> buffered_;
+  std::vector<Eigen::MatrixXd> gram_;
+};
+
 // The inverse of haarCoefficients for `rows` rows (the transform is orthonormal, so this is its
 // transpose): X = haarSynthesis(haarCoefficients(X), X.rows()). Maps level-weighted coefficients
 // back to time, e.g. a GLS-weighted regressor whose time-domain covariance is wanted.
