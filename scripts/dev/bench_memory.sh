@@ -11,8 +11,9 @@
 # OUT_DIR/cases: another binary's run can share them), <COMMAND>_MAX_MIN (run that command only
 # up to this many minutes; defaults: COMPARE 480, REAL 480, EVALUATE 480, DIAGNOSE 480),
 # MAX_SIM_RSS_MB (skip a length whose simulation is predicted, linearly from the longest one
-# done, to need more; default 4000), DOC (a Markdown file whose "Memory against recording
-# length" table is replaced by the measured one).
+# done, to need more; default 4000), APPEND=1 (add the rows to an existing OUT_DIR/memory.tsv
+# instead of starting it: a measurement split into runs by COMMANDS), DOC (a Markdown file whose
+# "Memory against recording length" table is replaced by the measured one).
 #
 # Each length is a motion-script drive (60 s at rest, then 100 s straights and 90-degree turns at
 # 10 m/s) simulated with the POS1100-like tested IMU of mems_57min.yaml, 1 Hz GNSS, truth at
@@ -23,7 +24,7 @@
 # CPU time (user + system) and wall time come from /usr/bin/time -v; on a shared machine the CPU
 # time is the one to compare. Writes OUT_DIR/memory.tsv and OUT_DIR/memory.md.
 set -euo pipefail
-[ $# -ge 1 ] || { sed -n '2,26p' "$0"; exit 2; }
+[ $# -ge 1 ] || { sed -n '2,25p' "$0"; exit 2; }
 out="$1"
 repo="$(cd "$(dirname "$0")/../.." && pwd)"
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -38,7 +39,9 @@ cases="${CASES:-$out/cases}"
 [ -x /usr/bin/time ] || { echo "bench_memory.sh: needs /usr/bin/time (package time)" >&2; exit 1; }
 mkdir -p "$cases" "$out/runs"
 tsv="$out/memory.tsv"
-printf "length_min\tsamples\twhat\tpeak_rss_MB\tcpu_s\twall_s\n" > "$tsv"
+if [ "${APPEND:-0}" != 1 ] || [ ! -f "$tsv" ]; then
+  printf "length_min\tsamples\twhat\tpeak_rss_MB\tcpu_s\twall_s\n" > "$tsv"
+fi
 
 # sim_config MINUTES FILE: the motion-script case of that length.
 sim_config() {

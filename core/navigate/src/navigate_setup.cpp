@@ -32,7 +32,7 @@ bool streamable(const EstimatorRegistry& registry, const std::string& estimator,
   return registry.canStream(estimator) && rc.alignment.mode == "given" && range.empty();
 }
 
-// The case's GNSS read once epoch by epoch before anything is written, as scanStreamedImu reads
+// The case's GNSS read once epoch by epoch before anything is written, as scanImuFile reads
 // the IMU: its errors stop the run here, its warnings are given, the coverage check gets the
 // counts. Memory stays flat; the run reads the files again through *stream. Returns the first
 // epoch, which stands in for the series in makeProblem (it asks only whether there is GNSS).
@@ -60,23 +60,6 @@ GnssFix scanStreamedGnss(const NavigateRequest& q, const RunMessages& messages, 
   return first;
 }
 
-// A streamed IMU file read once through the block reader before anything is written, so that its
-// errors (physical range, time order, intervals) stop the run here as readImu's would, the
-// lenient repair report is known, and makeProblem and the input checks get the first and last
-// samples (initial time, span). Memory stays flat; the run reads the file again.
-ImuSeries scanStreamedImu(ImuSelection* sel, long* count) {
-  ImuBlockReader reader(sel->path, sel->read_options);
-  ImuSeries block, span;
-  *count = 0;
-  while (reader.next(&block)) {
-    if (span.empty()) span = {block.front(), block.back()};
-    span.back() = block.back();
-    *count += static_cast<long>(block.size());
-  }
-  sel->read_summary = reader.report().summary();
-  return span;
-}
-
 // The IMU and its profile, read in memory and cut to the time range, or scanned for a streamed
 // run.
 void selectNavigateImu(const NavigateRequest& q, const EstimatorRegistry& registry,
@@ -87,7 +70,7 @@ void selectNavigateImu(const NavigateRequest& q, const EstimatorRegistry& regist
   s->imu = selectImu(s->c, q.imu, q.profile_path, q.lenient, !s->stream);
   if (s->stream) {
     long count = 0;
-    s->imu.imu = scanStreamedImu(&s->imu, &count);
+    s->imu.imu = scanImuFile(&s->imu, &count);
     // The solution has an epoch per IMU sample (with a decimation the rate is left unknown: both
     // epoch sets are evaluated until the run ends).
     const double span_s = s->imu.imu.back().t_s - s->imu.imu.front().t_s;
@@ -103,7 +86,7 @@ void selectNavigateImu(const NavigateRequest& q, const EstimatorRegistry& regist
   }
 }
 
-// A streamed run's reference read once before anything is written, as scanStreamedImu reads the
+// A streamed run's reference read once before anything is written, as scanImuFile reads the
 // IMU: its errors stop the run here, its repairs are given, the coverage of the outages is
 // checked from counts, and its rate chooses the evaluation epochs (kAuto) before the run.
 void scanStreamedReference(const RunMessages& messages, NavigateSetup* s) {
@@ -214,6 +197,19 @@ NavigateSetup prepareNavigate(const NavigateRequest& q, const EstimatorRegistry&
     s.imu.imu = {};
   }
   return s;
+}
+
+ImuSeries scanImuFile(ImuSelection* sel, long* count) {
+  ImuBlockReader reader(sel->path, sel->read_options);
+  ImuSeries block, span;
+  *count = 0;
+  while (reader.next(&block)) {
+    if (span.empty()) span = {block.front(), block.back()};
+    span.back() = block.back();
+    *count += static_cast<long>(block.size());
+  }
+  sel->read_summary = reader.report().summary();
+  return span;
 }
 
 }  // namespace graftnav

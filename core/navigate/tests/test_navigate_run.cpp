@@ -11,67 +11,14 @@
 #include "graftnav/navigate/navigate_run.h"
 #include "graftnav/navigate/navigate_setup.h"
 #include "test_support.h"
+#include "toy_estimators.h"
 
 namespace graftnav {
 namespace {
 
 namespace fs = std::filesystem;
+using test::toyRegistry;
 using ::testing::HasSubstr;
-
-// One epoch per IMU sample: the initial state drifting north by 1 mm/s, a constant sigma, and
-// sensor estimates that vary with time, so every file has non-trivial columns.
-void holdEpoch(const EstimationProblem& p, const ImuSample& s, SolutionSink& sink) {
-  NavState st = p.initial;
-  const double dt_s = s.t_s - p.initial.t_s;
-  st.t_s = s.t_s;
-  st.pos.lat_rad += 1.6e-10 * dt_s;
-  PvaSigma sigma = PvaSigma::Constant(0.5);
-  ImuErrorEstimate e;
-  e.gyro_bias_rad_s.x() = 1e-6 * dt_s;
-  e.accel_scale.z() = 1e-7 * dt_s;
-  sink.add(st, &sigma, e);
-}
-
-// The toy estimator under the name "hold", with or without its streamed form.
-EstimatorRegistry toyRegistry(bool streamed, int gnss_used = 100) {
-  EstimatorEntry e{
-      "hold",
-      "the initial state, drifting",
-      [gnss_used](const EstimationProblem& p, const EstimatorOptions&, const ProgressFn&) {
-        NavSolution sol;
-        NavSolutionSink sink(&sol);
-        for (const ImuSample& s : p.imu) holdEpoch(p, s, sink);
-        sol.estimator = "hold";
-        sol.gnss_used = gnss_used;
-        return sol;
-      },
-      {}};
-  if (streamed)
-    e.stream = [gnss_used](const EstimationProblem& p, const ImuPassFn& imu,
-                           const EstimatorOptions&, SolutionSink& sink) {
-      imu([&](const ImuSeries& block) {
-        for (const ImuSample& s : block) holdEpoch(p, s, sink);
-      });
-      NavSolution book;
-      book.estimator = "hold";
-      book.gnss_used = gnss_used;
-      return book;
-    };
-  EstimatorRegistry r;
-  r.add(e);
-  EstimatorEntry free{"coast",
-                      "no GNSS",
-                      [](const EstimationProblem& p, const EstimatorOptions&, const ProgressFn&) {
-                        NavSolution sol;
-                        NavSolutionSink sink(&sol);
-                        for (const ImuSample& s : p.imu) holdEpoch(p, s, sink);
-                        return sol;
-                      },
-                      {}};
-  free.uses_gnss = false;
-  r.add(free);
-  return r;
-}
 
 NavigateRequest sampleRequest(const std::string& out) {
   NavigateRequest q;

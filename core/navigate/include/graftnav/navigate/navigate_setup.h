@@ -36,6 +36,12 @@ struct NavigateSetup {
   bool hasReference() const { return !c.reference.empty() || !streamed_reference.path.empty(); }
 };
 
+// An IMU file read once through the block reader, so that its errors (physical range, time
+// order, intervals) stop a streamed run before anything is written and the lenient repair report
+// (sel->read_summary) is known; returns its first and last samples (what makeProblem and the
+// input checks read of a streamed IMU) and the sample count in *count. Memory stays flat.
+ImuSeries scanImuFile(ImuSelection* sel, long* count);
+
 // Reads and checks everything the run needs. Throws std::runtime_error (an unknown estimator, a
 // missing file, a reader error, outages outside the data, no noise parameters for the IMU);
 // warnings and the notes a user should see go to `messages`.
