@@ -45,6 +45,7 @@ CompareRequest requestOf(const CompareArgs& a) {
   q.outage = a.outage;
   q.no_outages = a.no_outages;
   q.lenient = a.lenient;
+  q.spool_dir = a.out;  // created before the runs
   return q;
 }
 

@@ -11,7 +11,8 @@ constexpr std::size_t kSigmaDoubles = 9;
 constexpr std::size_t kBlock = 2048;
 }  // namespace
 
-SolutionSpool::SolutionSpool() : sigma_(std::make_shared<RecordSpool>(kSigmaDoubles)) {}
+SolutionSpool::SolutionSpool(const std::string& directory)
+    : states_(directory), sigma_(std::make_shared<RecordSpool>(kSigmaDoubles, directory)) {}
 
 void SolutionSpool::add(const NavState& state, const PvaSigma* sigma,
                         const ImuErrorEstimate& /*sensors*/) {

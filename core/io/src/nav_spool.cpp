@@ -55,7 +55,8 @@ class SpoolNavSource final : public NavSource {
 
 }  // namespace
 
-NavSpool::NavSpool() : spool_(std::make_shared<RecordSpool>(kNavDoubles)) {}
+NavSpool::NavSpool(const std::string& directory)
+    : spool_(std::make_shared<RecordSpool>(kNavDoubles, directory)) {}
 
 void NavSpool::add(const NavState& state) {
   if (spool_->size() == 0) first_ = state;

@@ -18,14 +18,16 @@ std::string systemError() { return std::strerror(errno); }
 
 }  // namespace
 
-RecordSpool::RecordSpool(std::size_t doubles_per_record) : width_(doubles_per_record) {
+RecordSpool::RecordSpool(std::size_t doubles_per_record, const std::string& directory)
+    : directory_(directory.empty() ? std::filesystem::temp_directory_path().string() : directory),
+      width_(doubles_per_record) {
   if (width_ == 0) throw std::invalid_argument("RecordSpool: records need at least one value");
-  const std::string dir = std::filesystem::temp_directory_path().string();
-  std::string name = dir + "/graftnav-spool-XXXXXX";
+  std::string name = directory_ + "/graftnav-spool-XXXXXX";
   fd_ = ::mkstemp(name.data());
   if (fd_ < 0)
-    throw std::runtime_error("cannot create a temporary file in '" + dir + "': " + systemError() +
-                             " (set TMPDIR to a writable directory)");
+    throw std::runtime_error("cannot create a temporary file in '" + directory_ +
+                             "': " + systemError() +
+                             (directory.empty() ? " (set TMPDIR to a writable directory)" : ""));
   ::unlink(name.c_str());
   buffer_.reserve(kBufferDoubles + width_);
 }
@@ -48,8 +50,7 @@ void RecordSpool::flush() {
     const ssize_t n = ::write(fd_, p, left);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0)
-      throw std::runtime_error("cannot write a temporary file in '" +
-                               std::filesystem::temp_directory_path().string() +
+      throw std::runtime_error("cannot write a temporary file in '" + directory_ +
                                "': " + systemError());
     p += n;
     left -= static_cast<std::size_t>(n);

@@ -207,7 +207,7 @@ CompareReport runCompare(const CompareRequest& q, const CompareInputs& in,
   report.rows.reserve(estimators.size());
   for (const CompareEstimator& e : estimators) {
     const std::vector<EpochError>* grid = report.rows.empty() ? nullptr : &report.rows[0].series;
-    spools.push_back(std::make_unique<SolutionSpool>());
+    spools.push_back(std::make_unique<SolutionSpool>(q.spool_dir));
     report.rows.push_back(runOne(e, in, registry, grid, spools.back().get()));
     if (on_row) on_row(report.rows.back());
   }

@@ -5,6 +5,7 @@
 // spooled forms of evaluateSolution and crossCheck, cross_check.h) without either being held.
 #include <cstddef>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "graftnav/estimation/nav_solution.h"
@@ -18,7 +19,8 @@ class RecordSpool;
 
 class SolutionSpool : public SolutionSink {
  public:
-  SolutionSpool();
+  // Its files in `directory` (empty: TMPDIR), io/record_spool.h.
+  explicit SolutionSpool(const std::string& directory = {});
   // The next epoch; a solution gives a sigma at every epoch or at none (std::invalid_argument
   // otherwise). The sensor estimates are not kept.
   void add(const NavState& state, const PvaSigma* sigma, const ImuErrorEstimate& sensors) override;

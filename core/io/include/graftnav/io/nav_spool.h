@@ -4,6 +4,7 @@
 // without being held or parsed again.
 #include <cstddef>
 #include <memory>
+#include <string>
 
 #include "graftnav/nav/nav_source.h"
 #include "graftnav/nav/types.h"
@@ -14,7 +15,8 @@ class RecordSpool;
 
 class NavSpool {
  public:
-  NavSpool();
+  // The file in `directory` (empty: TMPDIR), io/record_spool.h.
+  explicit NavSpool(const std::string& directory = {});
   // Appends one state (before finish()).
   void add(const NavState& state);
   // Ends the writing; opener() may be called from now on.

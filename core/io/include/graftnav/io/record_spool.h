@@ -4,8 +4,10 @@
 // reads many times (the reference IMU under every grafted realization, SOL_REF under every
 // evaluation) then costs neither memory nor a new parse of its text file per pass, and a pass
 // gives back exactly the doubles that were written. The file is unlinked as soon as it is
-// created (in std::filesystem::temp_directory_path(), i.e. TMPDIR), so nothing is left behind.
+// created (in `directory`, or std::filesystem::temp_directory_path(), i.e. TMPDIR, when none is
+// given), so nothing is left behind.
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace graftnav {
@@ -13,7 +15,7 @@ namespace graftnav {
 class RecordSpool {
  public:
   // Throws std::runtime_error naming the directory when the file cannot be created.
-  explicit RecordSpool(std::size_t doubles_per_record);
+  explicit RecordSpool(std::size_t doubles_per_record, const std::string& directory = {});
   ~RecordSpool();
   RecordSpool(const RecordSpool&) = delete;
   RecordSpool& operator=(const RecordSpool&) = delete;
@@ -33,6 +35,7 @@ class RecordSpool {
  private:
   void flush();
 
+  std::string directory_;  // where the file is, for messages
   int fd_ = -1;
   std::size_t width_;
   std::size_t records_ = 0;

@@ -30,6 +30,9 @@ struct CompareRequest {
   OutageOverrides outage;  // over the run config's outages: (default 60 s every 180 s from 300 s)
   bool no_outages = false;
   bool lenient = false;
+  // Where the solutions are spooled while the pairs are compared (~120 MB per estimator-hour at
+  // 200 Hz, unlinked at once): the command's output folder; empty: TMPDIR.
+  std::string spool_dir;
 };
 
 // The case, the run config and the outage schedule as `navigate` reads them.
