@@ -33,18 +33,12 @@ void SolutionSpool::finish() {
 }
 
 SolutionSpool::SigmaPass::SigmaPass(std::shared_ptr<const RecordSpool> spool)
-    : spool_(std::move(spool)) {}
+    : pass_(std::move(spool), kBlock) {}
 
 bool SolutionSpool::SigmaPass::next(PvaSigma* sigma) {
-  if (k_ == loaded_) {
-    if (begin_ + loaded_ >= spool_->size()) return false;
-    begin_ += loaded_;
-    loaded_ = std::min(kBlock, spool_->size() - begin_);
-    spool_->read(begin_, loaded_, &raw_);
-    k_ = 0;
-  }
-  *sigma = Eigen::Map<const PvaSigma>(&raw_[k_ * kSigmaDoubles]);
-  ++k_;
+  const double* r = pass_.next();
+  if (r == nullptr) return false;
+  *sigma = Eigen::Map<const PvaSigma>(r);
   return true;
 }
 

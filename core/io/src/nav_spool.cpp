@@ -33,24 +33,17 @@ NavState fromRecord(const double* r) {
 // One pass over the spool, read in blocks.
 class SpoolNavSource final : public NavSource {
  public:
-  explicit SpoolNavSource(std::shared_ptr<const RecordSpool> spool) : spool_(std::move(spool)) {}
+  explicit SpoolNavSource(std::shared_ptr<const RecordSpool> spool)
+      : pass_(std::move(spool), kBlock) {}
   bool next(NavState* state) override {
-    if (k_ == loaded_) {
-      if (begin_ + loaded_ >= spool_->size()) return false;
-      begin_ += loaded_;
-      loaded_ = std::min(kBlock, spool_->size() - begin_);
-      spool_->read(begin_, loaded_, &raw_);
-      k_ = 0;
-    }
-    *state = fromRecord(&raw_[k_ * kNavDoubles]);
-    ++k_;
+    const double* r = pass_.next();
+    if (r == nullptr) return false;
+    *state = fromRecord(r);
     return true;
   }
 
  private:
-  std::shared_ptr<const RecordSpool> spool_;
-  std::vector<double> raw_;
-  std::size_t begin_ = 0, loaded_ = 0, k_ = 0;
+  RecordPass pass_;
 };
 
 }  // namespace

@@ -3,11 +3,13 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace graftnav {
 namespace {
@@ -82,6 +84,20 @@ void RecordSpool::read(std::size_t first, std::size_t count, std::vector<double>
     offset += n;
     left -= static_cast<std::size_t>(n);
   }
+}
+
+RecordPass::RecordPass(std::shared_ptr<const RecordSpool> spool, std::size_t block_records)
+    : spool_(std::move(spool)), block_(block_records == 0 ? 1 : block_records) {}
+
+const double* RecordPass::next() {
+  if (k_ == loaded_) {
+    if (begin_ + loaded_ >= spool_->size()) return nullptr;
+    begin_ += loaded_;
+    loaded_ = std::min(block_, spool_->size() - begin_);
+    spool_->read(begin_, loaded_, &raw_);
+    k_ = 0;
+  }
+  return &raw_[(k_++) * spool_->recordDoubles()];
 }
 
 }  // namespace graftnav

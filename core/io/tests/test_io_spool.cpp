@@ -80,7 +80,9 @@ TEST(ImuRecording, ASpooledRecordingGivesTheSamplesBitForBitInAnyBlockSize) {
       ASSERT_EQ(back[k].dtheta_rad, s[k].dtheta_rad) << k;
       ASSERT_EQ(back[k].dvel_m_s, s[k].dvel_m_s) << k;
       ASSERT_EQ(back[k].hasTemperature(), s[k].hasTemperature()) << k;
-      if (s[k].hasTemperature()) ASSERT_EQ(back[k].temperature_degC, s[k].temperature_degC);
+      if (s[k].hasTemperature()) {
+        ASSERT_EQ(back[k].temperature_degC, s[k].temperature_degC);
+      }
     }
   }
   EXPECT_THROW(spooledRecording([](const ImuBlockFn&) {}), std::invalid_argument);

@@ -11,11 +11,10 @@
 #include "graftnav/estimation/nav_solution.h"
 #include "graftnav/estimation/solution_sink.h"
 #include "graftnav/io/nav_spool.h"
+#include "graftnav/io/record_spool.h"
 #include "graftnav/nav/nav_source.h"
 
 namespace graftnav {
-
-class RecordSpool;
 
 class SolutionSpool : public SolutionSink {
  public:
@@ -41,9 +40,7 @@ class SolutionSpool : public SolutionSink {
     bool next(PvaSigma* sigma);
 
    private:
-    std::shared_ptr<const RecordSpool> spool_;
-    std::vector<double> raw_;
-    std::size_t begin_ = 0, loaded_ = 0, k_ = 0;
+    RecordPass pass_;
   };
   SigmaPass sigmas() const { return SigmaPass(sigma_); }
 

@@ -7,6 +7,7 @@
 // created (in `directory`, or std::filesystem::temp_directory_path(), i.e. TMPDIR, when none is
 // given), so nothing is left behind.
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,21 @@ class RecordSpool {
   std::size_t records_ = 0;
   bool finished_ = false;
   std::vector<double> buffer_;
+};
+
+// One pass over a finished spool, record by record, read in blocks of `block_records`. Keeps the
+// spool alive; several passes may read one spool at once.
+class RecordPass {
+ public:
+  explicit RecordPass(std::shared_ptr<const RecordSpool> spool, std::size_t block_records = 2048);
+  // The next record (recordDoubles() values, valid until the next call), or nullptr at the end.
+  const double* next();
+
+ private:
+  std::shared_ptr<const RecordSpool> spool_;
+  std::size_t block_;
+  std::vector<double> raw_;
+  std::size_t begin_ = 0, loaded_ = 0, k_ = 0;
 };
 
 }  // namespace graftnav
