@@ -424,12 +424,7 @@ NavSolution runEkf(const EstimationProblem& problem, const EkfOptions& options,
     pass.add(problem.imu[j], keep_states ? &sink : nullptr);
   }
   const NavSolution book = pass.finish(records);
-  sol.estimator = book.estimator;
-  sol.gnss_used = book.gnss_used;
-  sol.gnss_rejected = book.gnss_rejected;
-  sol.gnss_withheld = book.gnss_withheld;
-  sol.vehicle_used = book.vehicle_used;
-  sol.vehicle_rejected = book.vehicle_rejected;
+  sol.copyBookkeeping(book);
   if (progress) progress(1.0);
   return sol;
 }

@@ -238,12 +238,8 @@ NavSolution runRts(const EstimationProblem& problem, const EkfOptions& options,
   if (progress) progress(0.7);
 
   NavSolution sol;
+  sol.copyBookkeeping(fwd);
   sol.estimator = "rts";
-  sol.gnss_used = fwd.gnss_used;
-  sol.gnss_rejected = fwd.gnss_rejected;
-  sol.gnss_withheld = fwd.gnss_withheld;
-  sol.vehicle_used = fwd.vehicle_used;
-  sol.vehicle_rejected = fwd.vehicle_rejected;
   NavSolutionSink sink(&sol);
   sink.reserve(problem.imu.size() / static_cast<size_t>(options.output_decimation) + 1);
   if (forward) *forward = std::move(fwd);

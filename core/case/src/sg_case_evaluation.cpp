@@ -224,10 +224,7 @@ SgStreamNavigator streamedCaseNavigator(const CaseInputs& c, const RunConfig& rc
                                : 0.0;
     EpochForwardSink sink(start(pr.outages, rate_hz));
     const NavSolution book = estimators.runStreaming(estimator, pr, imu.imu.pass, rc, sink);
-    nav.solution.estimator = book.estimator;
-    nav.solution.gnss_used = book.gnss_used;
-    nav.solution.gnss_rejected = book.gnss_rejected;
-    nav.solution.gnss_withheld = book.gnss_withheld;
+    nav.solution.copyBookkeeping(book);
     nav.outages = pr.outages;
     return nav;
   };

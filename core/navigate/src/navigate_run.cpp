@@ -36,12 +36,7 @@ NavSolution streamedRun(const NavigateSetup& s, const fs::path& out,
   SolutionFileSink sink(out.string(), with_imu_errors, evaluation);
   const NavSolution book = registry.runStreaming(
       s.estimator, s.pr, imuFileStream(s.imu.path, s.imu.read_options), s.rc, sink);
-  sol.estimator = book.estimator;
-  sol.gnss_used = book.gnss_used;
-  sol.gnss_rejected = book.gnss_rejected;
-  sol.gnss_withheld = book.gnss_withheld;
-  sol.vehicle_used = book.vehicle_used;
-  sol.vehicle_rejected = book.vehicle_rejected;
+  sol.copyBookkeeping(book);
   if (const auto& scale = sink.lastOdometerScale()) {
     sol.odometer_scale = {scale->scale};
     sol.odometer_scale_std = {scale->std};

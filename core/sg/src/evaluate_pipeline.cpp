@@ -160,10 +160,7 @@ SgStreamNavigator streamedFromHeld(const SgNavigator& held) {
     for (std::size_t i = 0; i < sol.states.size(); ++i)
       epochs(sol.states[i], has_sigma ? &sol.sigma[i] : nullptr);
     NavSolution book;  // the epochs are not kept
-    book.estimator = sol.estimator;
-    book.gnss_used = sol.gnss_used;
-    book.gnss_rejected = sol.gnss_rejected;
-    book.gnss_withheld = sol.gnss_withheld;
+    book.copyBookkeeping(sol);
     sol = std::move(book);
     return nav;
   };

@@ -35,6 +35,17 @@ struct NavSolution {
   // Vehicle-frame velocity (odometer / NHC) updates or factors used and rejected by the gate.
   int vehicle_used = 0;
   int vehicle_rejected = 0;
+
+  // Takes the estimator's name and the GNSS and vehicle bookkeeping of `from` (a streamed run's
+  // result, which carries no series), leaving the series as they are.
+  void copyBookkeeping(const NavSolution& from) {
+    estimator = from.estimator;
+    gnss_used = from.gnss_used;
+    gnss_rejected = from.gnss_rejected;
+    gnss_withheld = from.gnss_withheld;
+    vehicle_used = from.vehicle_used;
+    vehicle_rejected = from.vehicle_rejected;
+  }
 };
 
 // The inputs shared by all estimators.
