@@ -51,6 +51,21 @@ class GnssAfter final : public GnssSource {
   bool started_ = false;
 };
 
+// The case's GNSS file, when the run reads it as it goes.
+struct GnssFile {
+  std::string pos_path, fixtype_path;
+  explicit GnssFile(const CaseInputs& c) {
+    const CasePaths paths = c.paths();
+    if (!CasePaths::exists(paths.gnssPos()))
+      throw std::runtime_error("GNSS file '" + paths.gnssPos() + "' not found");
+    pos_path = paths.gnssPos();
+    if (CasePaths::exists(paths.gnssFixType())) fixtype_path = paths.gnssFixType();
+  }
+  GnssOpenFn stream() const {
+    return gnssFileStream(pos_path, fixtype_path, GnssReadPolicy::real());
+  }
+};
+
 // Every estimator has a streamed form, no data alignment and no latency study needs the series.
 bool streamable(const RealRequest& q, const EstimatorRegistry& registry, const RunConfig& rc) {
   if (q.latency_study || rc.alignment.mode != "given") return false;
@@ -106,9 +121,7 @@ void releaseStreamedSeries(const RunMessages& messages, RealInputs* in) {
   pr.imu = {};
   in->imu.imu = {};
   if (in->rc.gnss.given) return;
-  const CasePaths paths = in->c.paths();
-  const std::string ft = CasePaths::exists(paths.gnssFixType()) ? paths.gnssFixType() : "";
-  const GnssOpenFn file = gnssFileStream(paths.gnssPos(), ft, GnssReadPolicy::real());
+  const GnssOpenFn file = GnssFile(in->c).stream();
   pr.gnss_stream = [file, t_init]() -> std::unique_ptr<GnssSource> {
     return std::make_unique<GnssAfter>(file(), t_init + 1e-6);
   };
@@ -116,11 +129,11 @@ void releaseStreamedSeries(const RunMessages& messages, RealInputs* in) {
   in->c.gnss = {};
 }
 
-// The check points of gnss.checkpoint_fix_types and how many lie inside the outages; a streamed
-// run keeps only those.
-void selectCheckpoints(RealInputs* in) {
+// The check points of gnss.checkpoint_fix_types among `fixes` and how many lie inside the
+// outages; a streamed run keeps only those.
+void selectCheckpoints(const GnssSeries& fixes, RealInputs* in) {
   const GnssSeries all =
-      gnssOfFixTypes(in->c.gnss, in->rc.gnss.checkpoint_fix_types, in->rc.gnss.selection);
+      gnssOfFixTypes(fixes, in->rc.gnss.checkpoint_fix_types, in->rc.gnss.selection);
   in->checkpoint_epochs = static_cast<long>(all.size());
   for (const auto& f : all) {
     bool inside = false;
@@ -130,6 +143,38 @@ void selectCheckpoints(RealInputs* in) {
     }
     if (!in->stream || inside) in->checkpoints.push_back(f);
   }
+}
+
+// Without a gnss: section the check points are every fix (no selection but the time order), so
+// those inside the outages are the check points of the fixes inside the outages: the file is
+// read once for them (and its errors and repairs), never held whole.
+void selectStreamedCheckpoints(const RunMessages& messages, RealInputs* in) {
+  const GnssFile file(in->c);
+  GnssStreamReader reader(file.pos_path, file.fixtype_path, GnssReadPolicy::real());
+  GnssSeries inside;
+  GnssFix fix;
+  long count = 0;
+  while (reader.next(&fix)) {
+    ++count;
+    for (const auto& w : in->pr.outages)
+      if (w.contains(fix.t_s)) {
+        inside.push_back(fix);
+        break;
+      }
+  }
+  for (const auto& r : reader.reports())
+    if (!r.summary().empty()) noteLines("  reader/case: ", r.summary(), messages);
+  selectCheckpoints(inside, in);
+  in->checkpoint_epochs = count;
+  messages.note(
+      fmt::format("  GNSS {}: {} epochs, read as each estimator runs", file.pos_path, count));
+}
+
+// The first fix of the GNSS file: what makeProblem reads of a GNSS series it does not select.
+GnssSeries firstGnssFix(const CaseInputs& c) {
+  const auto pass = GnssFile(c).stream()();
+  GnssFix fix;
+  return pass->next(&fix) ? GnssSeries{fix} : GnssSeries{};
 }
 
 // makeRealProblem; imu_held false: `imu` is the first and last samples of a file each run reads,
@@ -151,20 +196,19 @@ EstimationProblem realProblem(const CaseInputs& c, const ImuSelection& imu, cons
 
 }  // namespace
 
-CaseInputs loadRealCase(const std::string& dir, bool load_reference, const RunMessages& messages) {
-  CaseLoadOptions lo;
+CaseInputs loadRealCase(const std::string& dir, CaseLoadOptions lo, const RunMessages& messages) {
   lo.lenient = true;
-  lo.load_reference = load_reference;
   CaseInputs c = loadCaseInputs(dir, lo);
-  if (!load_reference) {
+  if (!lo.load_reference) {
     const CaseReferenceFile f = caseReferenceFile(c, true);
     c.reference_name = f.path;
     c.reference_is_truth = f.is_truth;
   }
   messages.note(fmt::format(
-      "read {} (real read policies): {} GNSS epochs, reference {} ({})", dir, c.gnss.size(),
+      "read {} (real read policies): GNSS {}, reference {} ({})", dir,
+      lo.load_gnss ? fmt::format("{} epochs", c.gnss.size()) : "read as a stream",
       c.reference_name.empty() ? "none" : c.reference_name,
-      load_reference ? fmt::format("{} epochs", c.reference.size()) : "read as a stream"));
+      lo.load_reference ? fmt::format("{} epochs", c.reference.size()) : "read as a stream"));
   if (c.warnings.empty()) messages.note("  readers: no repair and no warning");
   for (const auto& w : c.warnings) noteLines("  reader/case: ", w, messages);
   return c;
@@ -203,7 +247,13 @@ RealInputs loadRealInputs(const RealRequest& q, const EstimatorRegistry& registr
   if (!in.rc.outages_given)
     throw std::runtime_error(q.run_config + ": an outages: section is required");
   in.stream = streamable(q, registry, in.rc);
-  in.c = loadRealCase(q.case_dir, !in.stream, messages);
+  // A streamed run reads the reference as it evaluates, and without a gnss: section the GNSS as
+  // it navigates.
+  const bool stream_gnss = in.stream && !in.rc.gnss.given;
+  CaseLoadOptions lo;
+  lo.load_reference = !in.stream;
+  lo.load_gnss = !stream_gnss;
+  in.c = loadRealCase(q.case_dir, lo, messages);
   long samples = 0;
   in.imu = selectRealImu(in.c, q.imu, q.profile_path, !in.stream, messages, &samples);
   if (!in.imu.profile_given)
@@ -216,8 +266,13 @@ RealInputs loadRealInputs(const RealRequest& q, const EstimatorRegistry& registr
   }
   // With the GNSS of a streamed run read as a file, makeProblem and startAtInitialState see it
   // held once, for the check points.
+  if (stream_gnss) in.c.gnss = firstGnssFix(in.c);
   in.pr = realProblem(in.c, in.imu, in.rc, in.rc.outages, !in.stream, messages, nullptr);
-  selectCheckpoints(&in);
+  if (stream_gnss) {
+    selectStreamedCheckpoints(messages, &in);
+  } else {
+    selectCheckpoints(in.c.gnss, &in);
+  }
   if (!in.stream) return in;
   in.c.reference = {};
   if (!in.reference.path.empty()) scanRealReference(messages, &in);

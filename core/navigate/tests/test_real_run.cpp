@@ -76,6 +76,10 @@ void expectSameRuns(const std::string& case_dir, bool reference_evaluated) {
   const RealOutcome m = runReal(case_dir, case_dir + "/memory", false);
   EXPECT_TRUE(s.in.stream);
   EXPECT_TRUE(s.in.pr.imu.empty() && s.in.c.reference.empty());
+  if (!s.in.rc.gnss.given) {  // the GNSS read as the estimator runs
+    EXPECT_TRUE(s.in.c.gnss.empty() && s.in.pr.gnss.empty());
+    EXPECT_TRUE(s.in.pr.gnss_stream);
+  }
   EXPECT_FALSE(m.in.stream);
   EXPECT_EQ(s.in.checkpoints_in_outages, m.in.checkpoints_in_outages);
   EXPECT_EQ(s.in.checkpoint_epochs, m.in.checkpoint_epochs);
@@ -149,7 +153,8 @@ TEST(RealRun, AFailedEstimatorLeavesNoFolderAndTheOthersRun) {
 
 TEST(RealRun, ANonFiniteStateFailsTheRunAsInMemory) {
   const std::string dir = test::makeTempDir("real_run_nan");
-  const std::string c = makeCase(dir + "/case", [](double) { return true; }, false);
+  const std::string c = makeCase(
+      dir + "/case", [](double) { return true; }, false);
   RealRequest q;
   q.case_dir = c;
   q.run_config = c + "/run.yaml";

@@ -21,9 +21,10 @@
 
 namespace graftnav {
 
-// Loads the case (real read policies; the reference solution too unless load_reference is false)
-// and gives every reader condition as a note.
-CaseInputs loadRealCase(const std::string& dir, bool load_reference, const RunMessages& messages);
+// Loads the case with the real read policies (what `options` asks to load; lenient always) and
+// gives every reader condition as a note.
+CaseInputs loadRealCase(const std::string& dir, CaseLoadOptions options,
+                        const RunMessages& messages);
 
 // One IMU of the case ("ref", "tested" or a file) with the profile file; notes the reader's
 // conditions. read_samples false: the file is read once through the block reader for its errors
