@@ -11,6 +11,7 @@
 #include "graftnav/case/problem.h"
 #include "graftnav/eval/gnss_selection.h"
 #include "graftnav/io/gnss_io.h"
+#include "graftnav/io/imu_io.h"
 #include "graftnav/io/nav_io.h"
 #include "graftnav/io/provenance.h"
 #include "graftnav/nav/rotation.h"
@@ -66,12 +67,32 @@ struct GnssFile {
   }
 };
 
-// Every estimator has a streamed form, no data alignment and no latency study needs the series.
+// Every estimator has a streamed form, no in-motion alignment (it may read the whole IMU) and no
+// latency study needs the series. A static alignment reads only its window (alignmentPrefix).
 bool streamable(const RealRequest& q, const EstimatorRegistry& registry, const RunConfig& rc) {
-  if (q.latency_study || rc.alignment.mode != "given") return false;
+  if (q.latency_study || rc.alignment.mode == "motion") return false;
   for (const auto& name : q.estimators)
     if (!registry.contains(name) || !registry.canStream(name)) return false;
   return true;
+}
+
+// What makeProblem reads of an IMU the estimators read as a file: with a static alignment the
+// samples through the first one after its window (alignStatic stops there), then the file's last
+// sample (`span`: its first and last, from scanImuFile).
+ImuSeries alignmentPrefix(const ImuSelection& sel, const RunConfig& rc, const ImuSeries& span) {
+  if (rc.alignment.mode != "static") return span;
+  const double t_end_s = span.front().t_s - span.front().dt_s + rc.alignment.static_duration_s;
+  ImuBlockReader reader(sel.path, sel.read_options);
+  ImuSeries block, prefix;
+  while (reader.next(&block)) {
+    for (const ImuSample& s : block) {
+      prefix.push_back(s);
+      if (s.t_s <= t_end_s + 1e-9) continue;
+      if (s.t_s < span.back().t_s) prefix.push_back(span.back());
+      return prefix;
+    }
+  }
+  return prefix;
 }
 
 // The note on the heading of a data alignment against case.yaml's (a warning beyond 5 degrees).
@@ -204,11 +225,13 @@ CaseInputs loadRealCase(const std::string& dir, CaseLoadOptions lo, const RunMes
     c.reference_name = f.path;
     c.reference_is_truth = f.is_truth;
   }
+  const std::string reference =
+      c.reference_name.empty() ? "none"
+      : lo.load_reference      ? fmt::format("{} ({} epochs)", c.reference_name, c.reference.size())
+                               : c.reference_name + " (read as a stream)";
   messages.note(fmt::format(
-      "read {} (real read policies): GNSS {}, reference {} ({})", dir,
-      lo.load_gnss ? fmt::format("{} epochs", c.gnss.size()) : "read as a stream",
-      c.reference_name.empty() ? "none" : c.reference_name,
-      lo.load_reference ? fmt::format("{} epochs", c.reference.size()) : "read as a stream"));
+      "read {} (real read policies): GNSS {}, reference {}", dir,
+      lo.load_gnss ? fmt::format("{} epochs", c.gnss.size()) : "read as a stream", reference));
   if (c.warnings.empty()) messages.note("  readers: no repair and no warning");
   for (const auto& w : c.warnings) noteLines("  reader/case: ", w, messages);
   return c;
@@ -260,6 +283,7 @@ RealInputs loadRealInputs(const RealRequest& q, const EstimatorRegistry& registr
     throw std::runtime_error("no noise parameters for the IMU: pass --profile");
   const ImuSample first = in.imu.imu.front();
   in.t_first_s = first.t_s - first.dt_s;
+  if (in.stream) in.imu.imu = alignmentPrefix(in.imu, in.rc, in.imu.imu);
   if (in.stream) {  // makeProblem reads the reference's first epochs only
     in.reference = caseReferenceFile(in.c, true);
     if (!in.reference.path.empty()) in.c.reference = readReferenceHead(in.reference, in.t_first_s);

@@ -3,10 +3,11 @@
 // reader repair and warning given, and the estimator inputs started at the initial state's epoch
 // (every estimator starts from the same state at the same sample).
 //
-// `real` streams when every estimator has a streamed form, the run config asks for no data
+// `real` streams when every estimator has a streamed form, the run config asks for no in-motion
 // alignment and no latency study needs the series: the IMU, the GNSS (without a gnss: section)
 // and the reference solution are then read once here for their errors, spans and rates, and read
-// again by each run (real_run.h); only the check points inside the outages are held.
+// again by each run (real_run.h); only the check points inside the outages are held, and for a
+// static alignment the samples of its window until the problem is made.
 #include <limits>
 #include <optional>
 #include <string>
