@@ -6,8 +6,8 @@
 // series for scripts/runtime/plot_compare.py. The runs and the pairs are core/navigate's
 // runCompare (streamed when every estimator can stream), the files core/eval's compare report.
 //
-// Estimators: every name of the estimator table plus the graph variants fgo-noearth and
-// fgo-window-noearth (Earth rotation off in the preintegration, for the Tang et al. comparison).
+// Estimators: every name of the estimator table, plus "<name>-noearth" for the graphs (Earth
+// rotation off in the preintegration, for the Tang et al. comparison).
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
@@ -92,7 +92,7 @@ void registerCompare(CLI::App& app) {
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--out", a->out, "output directory")->required();
   cmd->add_option("--estimator", a->estimators,
-                  "comma list of the estimator table's names, plus fgo-noearth, fgo-window-noearth")
+                  "comma list of " + compareEstimatorNamesText(estimatorTable()))
       ->capture_default_str();
   addDeprecatedOption(cmd, "--estimators", "--estimator", &a->estimators);
   cmd->add_option(

@@ -37,6 +37,7 @@ void addGraphEstimators(EstimatorRegistry* registry) {
                        }};
   batch.estimates_scale_factors = false;
   batch.estimates_scale_factors_when = graphEstimatesImuScale;
+  batch.earth_rotation_optional = true;
   registry->add(std::move(batch));
   EstimatorEntry window{
       "fgo-window", "factor-graph sliding window with marginalization, causal output",
@@ -49,6 +50,7 @@ void addGraphEstimators(EstimatorRegistry* registry) {
       }};
   window.estimates_scale_factors = false;
   window.estimates_scale_factors_when = graphEstimatesImuScale;
+  window.earth_rotation_optional = true;
   registry->add(std::move(window));
 }
 

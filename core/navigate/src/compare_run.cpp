@@ -27,19 +27,21 @@ struct CompareEstimator {
   bool no_earth = false;
 };
 
-// "fgo-noearth" and "fgo-window-noearth" are the graph estimators without Earth rotation; every
-// other name must be in the registry.
+// A registry name, or "<name>-noearth" for an estimator whose Earth rotation is optional
+// (EstimatorEntry::earth_rotation_optional: the factor graphs).
 CompareEstimator compareEstimator(const std::string& name, const EstimatorRegistry& registry) {
   CompareEstimator e{name, nullptr, false};
   const std::string suffix = kNoEarth;
   std::string base = name;
-  if (name.size() > suffix.size() &&
+  if (!registry.contains(name) && name.size() > suffix.size() &&
       name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
     base = name.substr(0, name.size() - suffix.size());
-    e.no_earth = base == "fgo" || base == "fgo-window";
+    e.no_earth = registry.contains(base) && registry.find(base).earth_rotation_optional;
+    if (!e.no_earth) base = name;
   }
-  if ((base != name && !e.no_earth) || !registry.contains(base))
-    throw std::runtime_error("--estimators: unknown estimator '" + name + "'");
+  if (!registry.contains(base))
+    throw std::runtime_error("--estimator: unknown estimator '" + name + "' (known: " +
+                             compareEstimatorNamesText(registry) + ")");
   e.entry = &registry.find(base);
   return e;
 }
@@ -143,6 +145,13 @@ ComparePair comparePair(const CompareEstimator& a, const SolutionSpool& sa,
 }
 
 }  // namespace
+
+std::string compareEstimatorNamesText(const EstimatorRegistry& registry) {
+  std::string text = registry.namesText();
+  for (const EstimatorEntry& e : registry.entries())
+    if (e.earth_rotation_optional) text += ", " + e.name + kNoEarth;
+  return text;
+}
 
 CompareInputs loadCompareInputs(const CompareRequest& q, const EstimatorRegistry& registry,
                                 const RunMessages& messages) {

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
+#include <vector>
 
 #include "graftnav/navigate/compare_run.h"
 #include "test_support.h"
@@ -74,6 +76,44 @@ TEST(CompareRun, UnknownNamesAndMissingFilesStopBeforeAnyRun) {
   EXPECT_THROW(loadCompareInputs(q, compareRegistry(true), RunMessages{}), std::runtime_error);
   q.estimators = {"filter-noearth"};
   EXPECT_THROW(loadCompareInputs(q, compareRegistry(true), RunMessages{}), std::runtime_error);
+}
+
+// "<name>-noearth" exists exactly for an entry whose Earth rotation is optional, and runs that
+// estimator with fgo.earth_rotation off.
+TEST(CompareRun, NoEarthVariantOnlyForEstimatorsWhoseEarthRotationIsOptional) {
+  auto seen = std::make_shared<std::vector<bool>>();  // fgo.earth_rotation of each run
+  EstimatorEntry graph = test::toyEntry("graph", 1.2e-10, 0.4, true);
+  const StreamingEstimatorFn stream = graph.stream;
+  graph.stream = [stream, seen](const EstimationProblem& p, const ImuPassFn& imu,
+                                const EstimatorOptions& o, SolutionSink& sink) {
+    seen->push_back(o.fgo.earth_rotation);
+    return stream(p, imu, o, sink);
+  };
+  graph.earth_rotation_optional = true;
+  EstimatorRegistry r;
+  r.add(test::toyEntry("filter", 1.6e-10, 0.5, true));
+  r.add(graph);
+  EXPECT_EQ(compareEstimatorNamesText(r), "filter, graph, graph-noearth");
+
+  CompareRequest q;
+  q.case_dir = test::sourceDir() + "/data/sample_tactical";
+  q.imu = "tested";
+  q.estimators = {"graph", "graph-noearth"};
+  const CompareInputs in = loadCompareInputs(q, r, RunMessages{});
+  const CompareReport report = runCompare(q, in, r);
+  ASSERT_EQ(report.rows.size(), 2u);
+  EXPECT_EQ(report.rows[1].name, "graph-noearth");
+  EXPECT_EQ(*seen, (std::vector<bool>{true, false}));
+
+  q.estimators = {"filter-noearth"};
+  try {
+    loadCompareInputs(q, r, RunMessages{});
+    ADD_FAILURE() << "filter-noearth was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("'filter-noearth' (known: filter, graph, graph-noearth)"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

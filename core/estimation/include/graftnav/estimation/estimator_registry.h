@@ -51,6 +51,9 @@ struct EstimatorEntry {
   // The forward filter this estimator smooths, when it is one (rts: "ekf"); empty otherwise. The
   // difference of the two solutions then has the variance P_filter - P_smoother (cross-check).
   std::string smooths{};
+  // Whether the estimator reads fgo.earth_rotation (FgoOptions): compare then also takes
+  // "<name>-noearth", the same estimator with Earth rotation left out of its model.
+  bool earth_rotation_optional = false;
 };
 
 class EstimatorRegistry {

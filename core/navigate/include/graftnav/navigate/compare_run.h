@@ -19,12 +19,16 @@
 
 namespace graftnav {
 
+// The names compare takes, for --help and messages: the registry's, then "<name>-noearth" for
+// each estimator whose Earth rotation is optional.
+std::string compareEstimatorNamesText(const EstimatorRegistry& registry);
+
 struct CompareRequest {
   std::string case_dir;
   std::string imu = "ref";   // "ref", "tested" or the path of an IMU file
   std::string profile_path;  // IMU profile YAML; empty: the one case.yaml names
-  // Registry names, or fgo / fgo-window with "-noearth" (Earth rotation off in the
-  // preintegration, for the Tang et al. comparison).
+  // Registry names, or "<name>-noearth" for an estimator whose Earth rotation is optional (the
+  // factor graphs: omega_ie off in the preintegration, for the Tang et al. comparison).
   std::vector<std::string> estimators{"ekf", "rts", "fgo"};
   std::string run_config;  // run config YAML (ekf:, fgo:, outages:); empty: none
   OutageOverrides outage;  // over the run config's outages: (default 60 s every 180 s from 300 s)
