@@ -78,7 +78,8 @@ void registerEvaluate(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--out", o->out_dir, "output directory")->required();
-  cmd->add_option("--estimator", o->estimator, "ekf | rts | fgo | fgo-window")
+  cmd->add_option("--estimator", o->estimator, "the estimator of every solution")
+      ->check(CLI::IsMember(estimatorTable().names()))
       ->capture_default_str();
   cmd->add_option("--run-config", o->run_config,
                   "run config YAML (outages:, ekf:, fgo:, evaluation:)")
@@ -114,9 +115,6 @@ void registerEvaluate(CLI::App& app) {
     o->realizations = *k;
     o->outage_shifts = *shifts;
     o->always_smooth_sol_ref = *sol_ref == "smooth";  // the flag's two values
-    if (!estimatorTable().contains(o->estimator))     // named by its flag, before anything runs
-      throw std::runtime_error("--estimator '" + o->estimator +
-                               "': unknown (known: " + estimatorTable().namesText() + ")");
     const auto t0 = std::chrono::steady_clock::now();
     auto el = [&] {
       return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -8,33 +8,20 @@
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
-#include <algorithm>
-#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "graftnav/case/case_inputs.h"
-#include "graftnav/case/latency_study.h"
-#include "graftnav/case/problem.h"
 #include "cli_vocabulary.h"
 #include "commands.h"
+#include "graftnav/case/latency_study.h"
 #include "graftnav/estimators/estimator_table.h"
-#include "graftnav/calibration/static_detector.h"
-#include "graftnav/nav/earth.h"
-#include "graftnav/eval/evaluation.h"
-#include "graftnav/eval/gnss_latency.h"
-#include "graftnav/eval/gnss_selection.h"
 #include "graftnav/eval/real_report.h"
-#include "graftnav/sg/grafting.h"
 #include "graftnav/io/atomic_file.h"
-#include "graftnav/io/nav_io.h"
-#include "graftnav/nav/rotation.h"
-#include "graftnav/estimation/alignment.h"
-#include "graftnav/io/provenance.h"
+#include "graftnav/navigate/real_run.h"
+#include "graftnav/navigate/real_setup.h"
 #include "real_case.h"
-#include "graftnav/case/run_config.h"
 #include "script_locator.h"
 
 namespace graftnav::app {
@@ -52,73 +39,37 @@ struct RealArgs {
   bool no_plots = false;
 };
 
-// Each estimator on the problem: solution.nav and checkpoints.csv per estimator; a failure is
-// printed and listed in *failed, the others go on.
-std::vector<EstimatorRun> runEstimators(const RealArgs& a, const CaseInputs& c, const RunConfig& rc,
-                                        const EstimationProblem& pr, const GnssSeries& checkpoints,
-                                        std::vector<std::string>* failed) {
-  std::vector<EstimatorRun> rows;
-  for (const auto& est : a.estimators) {
-    EstimatorRun r;
-    r.label = est;
-    const auto t0 = std::chrono::steady_clock::now();
-    try {
-      r.sol = estimatorTable().run(est, pr, rc);
-      for (const auto& st : r.sol.states)
-        if (!st.v_n.allFinite() || !std::isfinite(st.pos.lat_rad))
-          throw std::runtime_error("non-finite state at t=" + std::to_string(st.t_s));
-    } catch (const std::exception& e) {
-      fmt::print(stderr, "  {}: FAILED: {}\n", est, e.what());
-      failed->push_back(est + ": " + e.what());
-      continue;
-    }
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    fs::create_directories(fs::path(a.out) / est);
-    writeNav((fs::path(a.out) / est / "solution.nav").string(), r.sol.states);
-    r.cp = evaluateAtCheckpoints(r.sol.states, checkpoints, pr.outages, pr.lever_arm_b_m);
-    writeCheckpointCsv((fs::path(a.out) / est / "checkpoints.csv").string(), r.cp);
-    r.ref = evaluateAgainstReference(r.sol, c.reference, pr.outages, rc, logStderr);
-    fmt::print(stderr, "  {}: {:.1f} s, GNSS used {}, rejected by the gate {}, withheld {}\n", est,
-               r.seconds, r.sol.gnss_used, r.sol.gnss_rejected, r.sol.gnss_withheld);
-    rows.push_back(std::move(r));
-  }
-  return rows;
-}
-
 void runReal(const RealArgs& a) {
-  const CaseInputs c = loadReal(a.case_dir);
-  std::vector<std::string> warnings;
-  const RunConfig rc = loadRunConfig(a.run_config, &warnings);
-  recordConfigFile(a.run_config);
-  for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
-  if (!rc.outages_given)
-    throw std::runtime_error(a.run_config + ": an outages: section is required");
-  const ImuSelection imu = loadImuReal(c, a.imu, a.profile);
-  if (!imu.profile_given)
-    throw std::runtime_error("no noise parameters for the IMU: pass --profile");
-  const EstimationProblem pr = problemReal(c, imu, rc, rc.outages, true);
-  const GnssSeries checkpoints =
-      gnssOfFixTypes(c.gnss, rc.gnss.checkpoint_fix_types, rc.gnss.selection);
-  int checkpoints_in_outages = 0;
-  for (const auto& f : checkpoints)
-    for (const auto& w : pr.outages) checkpoints_in_outages += w.contains(f.t_s) ? 1 : 0;
+  RealRequest q;
+  q.case_dir = a.case_dir;
+  q.run_config = a.run_config;
+  q.imu = a.imu;
+  q.profile_path = a.profile;
+  q.estimators = a.estimators;
+  q.latency_study = a.latency_scan || !a.latency.grid.empty();
+  const RunMessages messages = printedMessages();
+  const RealInputs in = loadRealInputs(q, estimatorTable(), messages);
+  const EstimationProblem& pr = in.pr;
   fmt::print(stderr,
              "  {} outages; {} check points inside them (of {} epochs of the fix types in "
              "gnss.checkpoint_fix_types, time tags corrected like the navigation's), lever arm "
              "[{:.2f} {:.2f} {:.2f}] m\n",
-             pr.outages.size(), checkpoints_in_outages, checkpoints.size(), pr.lever_arm_b_m.x(),
-             pr.lever_arm_b_m.y(), pr.lever_arm_b_m.z());
+             pr.outages.size(), in.checkpoints_in_outages, in.checkpoint_epochs,
+             pr.lever_arm_b_m.x(), pr.lever_arm_b_m.y(), pr.lever_arm_b_m.z());
   fs::create_directories(a.out);
   std::vector<std::string> failed;
-  const std::vector<EstimatorRun> rows = runEstimators(a, c, rc, pr, checkpoints, &failed);
-  std::string md = realOutageTablesMd(rows, failed, pr.outages, rc.gnss.checkpoint_fix_types,
-                                      imu.imu.front().t_s - imu.imu.front().dt_s);
-  if (a.latency_scan) md += latencyScanMd(c, rc, pr, a.latency, estimatorTable(), a.out, logStderr);
+  const std::vector<EstimatorRun> rows =
+      runRealEstimators(in, a.estimators, estimatorTable(), a.out, messages, &failed);
+  const RunConfig& rc = in.rc;
+  std::string md =
+      realOutageTablesMd(rows, failed, pr.outages, rc.gnss.checkpoint_fix_types, in.t_first_s);
+  if (a.latency_scan)
+    md += latencyScanMd(in.c, rc, pr, a.latency, estimatorTable(), a.out, logStderr);
   if (!a.latency.grid.empty())
-    md += latencyGridMd(c, rc, imu, a.latency, estimatorTable(), logStderr);
+    md += latencyGridMd(in.c, rc, in.imu, a.latency, estimatorTable(), logStderr);
   writeFileAtomically((fs::path(a.out) / "summary.md").string(), md);
   writeRealSummaryJson((fs::path(a.out) / "summary.json").string(), rows, pr.outages,
-                       checkpoints_in_outages, failed);
+                       in.checkpoints_in_outages, failed);
   fmt::print("{}", md);
   fmt::print(
       "wrote {0}/summary.md, {0}/summary.json and per-estimator solution.nav/checkpoints.csv\n",

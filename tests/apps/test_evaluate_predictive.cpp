@@ -125,6 +125,9 @@ TEST(EvaluatePredictive, BadOptionsFailBeforeAnyOutput) {
   }
   const CliRun r = graftnav(evaluateArgs(base + "/late", "--outage-start 1000"));
   EXPECT_NE(r.output.find("no outage fits"), std::string::npos) << r.output;
+  const CliRun unknown = graftnav(evaluateArgs(base + "/unknown", "--estimator kalman"));
+  EXPECT_NE(unknown.output.find("--estimator: kalman not in {ekf,"), std::string::npos)
+      << unknown.output;  // the flag is named, with the estimators it takes
 }
 
 }  // namespace

@@ -9,6 +9,16 @@
 
 namespace graftnav {
 
+FixResidual fixResidual(const GnssFix& f, const NavState& s, const Eigen::Vector3d& lever_arm_b_m) {
+  FixResidual r;
+  r.t_s = f.t_s;
+  r.fix_type = f.fix_type;
+  // Fix minus antenna: (fix - IMU) - C_nb l.
+  r.r_ned_m = positionErrorNed(f.pos, s.pos) - s.q_nb.toRotationMatrix() * lever_arm_b_m;
+  r.v_ned_m_s = s.v_n;
+  return r;
+}
+
 std::vector<FixResidual> fixResiduals(const NavSeries& track, const GnssSeries& fixes,
                                       double shift_s, const Eigen::Vector3d& lever_arm_b_m) {
   std::vector<FixResidual> out;
@@ -17,14 +27,7 @@ std::vector<FixResidual> fixResiduals(const NavSeries& track, const GnssSeries& 
   NavInterpolator interp(track);
   for (const GnssFix& f : fixes) {
     const auto s = interp.at(f.t_s - shift_s);
-    if (!s) continue;
-    FixResidual r;
-    r.t_s = f.t_s;
-    r.fix_type = f.fix_type;
-    // Fix minus antenna: (fix - IMU) - C_nb l.
-    r.r_ned_m = positionErrorNed(f.pos, s->pos) - s->q_nb.toRotationMatrix() * lever_arm_b_m;
-    r.v_ned_m_s = s->v_n;
-    out.push_back(r);
+    if (s) out.push_back(fixResidual(f, *s, lever_arm_b_m));
   }
   return out;
 }
@@ -133,33 +136,26 @@ LatencyEstimate estimateGnssLatency(const NavSeries& track, const GnssSeries& fi
   return e;
 }
 
-CheckpointEvaluation evaluateAtCheckpoints(const NavSeries& solution, const GnssSeries& checkpoints,
-                                           const std::vector<TimeWindow>& windows,
-                                           const Eigen::Vector3d& lever) {
+void CheckpointWindowSums::add(const FixResidual& r) {
+  const double h = r.r_ned_m.head<2>().norm(), v = std::abs(r.r_ned_m.z());
+  sum_h2_m2 += h * h;
+  sum_v2_m2 += v * v;
+  stats.max_h_m = std::max(stats.max_h_m, h);
+  stats.max_v_m = std::max(stats.max_v_m, v);
+  stats.last_h_m = h;
+  ++stats.n;
+}
+
+CheckpointEvaluation checkpointEvaluation(const std::vector<CheckpointWindowSums>& windows) {
   CheckpointEvaluation ev;
   double sh = 0.0, sv = 0.0, smh = 0.0, smv = 0.0, mh = 0.0;
-  for (const TimeWindow& w : windows) {
-    GnssSeries inside;
-    for (const GnssFix& f : checkpoints)
-      if (f.t_s >= w.start_s && f.t_s <= w.end_s) inside.push_back(f);
-    const auto res = fixResiduals(solution, inside, 0.0, lever);
-    if (res.empty()) continue;
-    CheckpointWindowStats st;
-    st.window = w;
-    double wh = 0.0, wv = 0.0;
-    for (const auto& r : res) {
-      const double h = r.r_ned_m.head<2>().norm(), v = std::abs(r.r_ned_m.z());
-      wh += h * h;
-      wv += v * v;
-      st.max_h_m = std::max(st.max_h_m, h);
-      st.max_v_m = std::max(st.max_v_m, v);
-      st.last_h_m = h;
-    }
-    st.n = static_cast<int>(res.size());
-    st.rms_h_m = std::sqrt(wh / st.n);
-    st.rms_v_m = std::sqrt(wv / st.n);
-    sh += wh;
-    sv += wv;
+  for (const CheckpointWindowSums& w : windows) {
+    if (w.stats.n == 0) continue;
+    CheckpointWindowStats st = w.stats;
+    st.rms_h_m = std::sqrt(w.sum_h2_m2 / st.n);
+    st.rms_v_m = std::sqrt(w.sum_v2_m2 / st.n);
+    sh += w.sum_h2_m2;
+    sv += w.sum_v2_m2;
     smh += st.max_h_m * st.max_h_m;
     smv += st.max_v_m * st.max_v_m;
     mh += st.max_h_m;
@@ -175,6 +171,22 @@ CheckpointEvaluation evaluateAtCheckpoints(const NavSeries& solution, const Gnss
     ev.mean_of_max_h_m = mh / nw;
   }
   return ev;
+}
+
+CheckpointEvaluation evaluateAtCheckpoints(const NavSeries& solution, const GnssSeries& checkpoints,
+                                           const std::vector<TimeWindow>& windows,
+                                           const Eigen::Vector3d& lever) {
+  std::vector<CheckpointWindowSums> sums;
+  for (const TimeWindow& w : windows) {
+    GnssSeries inside;
+    for (const GnssFix& f : checkpoints)
+      if (f.t_s >= w.start_s && f.t_s <= w.end_s) inside.push_back(f);
+    CheckpointWindowSums s;
+    s.stats.window = w;
+    for (const FixResidual& r : fixResiduals(solution, inside, 0.0, lever)) s.add(r);
+    sums.push_back(s);
+  }
+  return checkpointEvaluation(sums);
 }
 
 }  // namespace graftnav

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "graftnav/imu/gauss_markov.h"
+#include "graftnav/sim/sampling_grid.h"
 
 namespace graftnav {
 
@@ -31,10 +32,7 @@ GnssSeries simulateGnss(const Trajectory& trj, double t_begin_s, double t_end_s,
   opt.validate();
   StandardNormalSampler rng(deriveStreamSeed(seed, 101));
   GnssSeries out;
-  const long k0 = static_cast<long>(std::ceil(t_begin_s * opt.rate_hz - 1e-9));
-  const long k1 = static_cast<long>(std::floor(t_end_s * opt.rate_hz + 1e-9));
-  for (long k = k0; k <= k1; ++k) {
-    const double t = static_cast<double>(k) / opt.rate_hz;
+  for (const double t : uniformEpochs_s(t_begin_s, t_end_s, opt.rate_hz)) {
     const TrajectoryPoint p = trj.at(t);
     Eigen::Vector3d offset_n = p.C_nb * opt.lever_arm_b_m;
     if (opt.add_noise) {

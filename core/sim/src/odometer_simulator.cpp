@@ -6,6 +6,7 @@
 #include <string>
 
 #include "graftnav/imu/gauss_markov.h"
+#include "graftnav/sim/sampling_grid.h"
 
 namespace graftnav {
 
@@ -39,10 +40,7 @@ OdometerSeries simulateOdometer(const Trajectory& trj, double t_begin_s, double 
   const Eigen::Matrix3d C_vb = geometry.C_vb();
   StandardNormalSampler rng(deriveStreamSeed(seed, 101));
   OdometerSeries out;
-  const long k0 = static_cast<long>(std::ceil(t_begin_s * opt.rate_hz - 1e-9));
-  const long k1 = static_cast<long>(std::floor(t_end_s * opt.rate_hz + 1e-9));
-  for (long k = k0; k <= k1; ++k) {
-    const double t = static_cast<double>(k) / opt.rate_hz;
+  for (const double t : uniformEpochs_s(t_begin_s, t_end_s, opt.rate_hz)) {
     const Eigen::Vector3d v_v = odometerPointVelocity_v(trj.at(t), C_vb, opt.lever_arm_b_m);
     double s = (1.0 + opt.scale_error) * v_v.x();
     const double noise = opt.add_noise ? opt.noise_std_m_s * rng.next() : 0.0;

@@ -9,6 +9,7 @@
 #include "graftnav/sim/lab_simulator.h"
 #include "graftnav/nav/mechanization.h"
 #include "graftnav/sim/motion_script.h"
+#include "graftnav/sim/sampling_grid.h"
 #include "graftnav/nav/rotation.h"
 #include "graftnav/sim/track_trajectory.h"
 #include "graftnav/nav/units.h"
@@ -272,6 +273,24 @@ TEST(SimModels, LabPosesAndRateTable) {
   // A rate that does not give whole turns on the sample grid is refused.
   opt.rate_table_rad_s = {7.0 * kDeg};
   EXPECT_THROW(simulateLabSessions(opt), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace graftnav
+
+namespace graftnav {
+namespace {
+
+TEST(SamplingGrid, WholeMultiplesOfThePeriodInsideTheSpanEndsIncluded) {
+  const std::vector<double> t = uniformEpochs_s(100.05, 101.0, 5.0);
+  ASSERT_EQ(t.size(), 5u);  // 100.2 .. 101.0; 100.0 lies before the span
+  EXPECT_DOUBLE_EQ(t.front(), 100.2);
+  EXPECT_DOUBLE_EQ(t.back(), 101.0);
+  for (std::size_t i = 1; i < t.size(); ++i) EXPECT_NEAR(t[i] - t[i - 1], 0.2, 1e-9);
+  EXPECT_EQ(uniformEpochs_s(100.0, 100.0, 1.0).size(), 1u);  // an end on the grid is kept
+  EXPECT_TRUE(uniformEpochs_s(100.1, 100.9, 1.0).empty());   // no whole second inside
+  EXPECT_THROW(uniformEpochs_s(0.0, 1.0, 0.0), std::invalid_argument);
+  EXPECT_THROW(uniformEpochs_s(0.0, std::nan(""), 1.0), std::invalid_argument);
 }
 
 }  // namespace

@@ -36,6 +36,11 @@ struct FixResidual {
   int fix_type = 0;
 };
 
+// The residual of `fix` against the antenna position of `track_state` (IMU position + C_nb lever
+// arm), the track's state at the time the fix is compared at.
+FixResidual fixResidual(const GnssFix& fix, const NavState& track_state,
+                        const Eigen::Vector3d& lever_arm_b_m);
+
 // Residuals of `fixes` against the antenna position of `track` (IMU position + C_nb lever arm)
 // evaluated at t_tag - shift_s. Fixes outside the track span are skipped.
 std::vector<FixResidual> fixResiduals(const NavSeries& track, const GnssSeries& fixes,
@@ -82,6 +87,18 @@ struct CheckpointEvaluation {
   double rms_of_max_h_m = 0.0, rms_of_max_v_m = 0.0;  // over windows, of the per-window maximum
   double mean_of_max_h_m = 0.0;
 };
+
+// One window's statistics built one residual at a time (the residuals in time order); the RMS
+// fields are set by checkpointEvaluation.
+struct CheckpointWindowSums {
+  CheckpointWindowStats stats;
+  double sum_h2_m2 = 0.0, sum_v2_m2 = 0.0;
+  void add(const FixResidual& r);
+};
+
+// The evaluation from each window's sums, in window order (windows without a check point left
+// out).
+CheckpointEvaluation checkpointEvaluation(const std::vector<CheckpointWindowSums>& windows);
 
 CheckpointEvaluation evaluateAtCheckpoints(const NavSeries& solution, const GnssSeries& checkpoints,
                                            const std::vector<TimeWindow>& windows,

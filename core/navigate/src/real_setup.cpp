@@ -1,0 +1,233 @@
+#include "graftnav/navigate/real_setup.h"
+
+#include <fmt/core.h>
+
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+#include "graftnav/case/file_streams.h"
+#include "graftnav/case/input_checks.h"
+#include "graftnav/case/problem.h"
+#include "graftnav/eval/gnss_selection.h"
+#include "graftnav/io/gnss_io.h"
+#include "graftnav/io/nav_io.h"
+#include "graftnav/io/provenance.h"
+#include "graftnav/nav/rotation.h"
+#include "graftnav/navigate/navigate_setup.h"
+
+namespace graftnav {
+namespace {
+
+// Each line of `text` as a note after `prefix`.
+void noteLines(const std::string& prefix, const std::string& text, const RunMessages& messages) {
+  std::size_t a = 0;
+  while (a < text.size()) {
+    std::size_t b = text.find('\n', a);
+    if (b == std::string::npos) b = text.size();
+    messages.note(prefix + text.substr(a, b - a));
+    a = b + 1;
+  }
+}
+
+// The fixes of a GNSS pass after t_s: startAtInitialState's cut of a held series, as the file is
+// read.
+class GnssAfter final : public GnssSource {
+ public:
+  GnssAfter(std::unique_ptr<GnssSource> fixes, double t_s) : fixes_(std::move(fixes)), t_s_(t_s) {}
+  bool next(GnssFix* fix) override {
+    while (fixes_->next(fix)) {
+      if (started_ || fix->t_s > t_s_) {
+        started_ = true;
+        return true;
+      }
+    }
+    return false;
+  }
+
+ private:
+  std::unique_ptr<GnssSource> fixes_;
+  double t_s_;
+  bool started_ = false;
+};
+
+// Every estimator has a streamed form, no data alignment and no latency study needs the series.
+bool streamable(const RealRequest& q, const EstimatorRegistry& registry, const RunConfig& rc) {
+  if (q.latency_study || rc.alignment.mode != "given") return false;
+  for (const auto& name : q.estimators)
+    if (!registry.contains(name) || !registry.canStream(name)) return false;
+  return true;
+}
+
+// The note on the heading of a data alignment against case.yaml's (a warning beyond 5 degrees).
+void noteAlignedHeading(const CaseInputs& c, const RunConfig& rc, const EstimationProblem& pr,
+                        const RunMessages& messages) {
+  if (rc.alignment.mode != "static" || !c.config.initial_state) return;
+  const double yaw_case = eulerFromQuat(c.config.initial_state->q_nb).z() * kRadToDeg;
+  const double yaw_used = eulerFromQuat(pr.initial.q_nb).z() * kRadToDeg;
+  const double d = std::remainder(yaw_used - yaw_case, 360.0);
+  messages.note(fmt::format(
+      "  {}: {} alignment from the data: yaw {:.1f} deg at t={:.3f} (case.yaml initial_state: "
+      "{:.1f} deg at t={:.3f}; difference {:.1f} deg{})",
+      std::abs(d) > 5.0 ? "WARNING" : "note", rc.alignment.mode, yaw_used, pr.initial.t_s, yaw_case,
+      c.config.initial_state->t_s, d,
+      std::abs(d) > 5.0 ? ": the case's initial heading is NOT used" : ""));
+}
+
+// The reference solution read once: its errors stop the run here, its repairs are given, and its
+// epoch count and rate are known before any estimator runs.
+void scanRealReference(const RunMessages& messages, RealInputs* in) {
+  NavStreamReader reader(in->reference.path, in->reference.policy);
+  ReferenceCoverage coverage(in->pr.outages);
+  NavState state;
+  while (reader.next(&state)) coverage.add(state.t_s);
+  in->reference_epochs = coverage.count();
+  in->expected_rates.reference_hz = coverage.rateHz();
+  messages.note(fmt::format("  reference {}: {} epochs, read as each estimator runs",
+                            in->reference.path, in->reference_epochs));
+  if (!in->reference.is_truth && !reader.report().summary().empty())
+    noteLines("  reader/case: ", reader.report().summary(), messages);
+}
+
+// What a streamed run holds of the problem: the IMU's span is dropped (each run reads the file
+// from imu_start_s), and without a gnss: section so are the GNSS fixes (each run reads the file).
+void releaseStreamedSeries(const RunMessages& messages, RealInputs* in) {
+  EstimationProblem& pr = in->pr;
+  const double t_init = pr.initial.t_s;
+  // startAtInitialState's rule on the samples (when some sample starts at or after t_init).
+  const auto starts_before = [&](const ImuSample& s) { return s.t_s - s.dt_s < t_init - 1e-6; };
+  if (starts_before(pr.imu.front()) && !starts_before(pr.imu.back())) {
+    in->imu_start_s = t_init - 1e-6;
+    messages.note(
+        fmt::format("  note: IMU samples before the initial state epoch t={:.3f} are "
+                    "skipped as the file is read (used only by the alignment)",
+                    t_init));
+  }
+  pr.imu = {};
+  in->imu.imu = {};
+  if (in->rc.gnss.given) return;
+  const CasePaths paths = in->c.paths();
+  const std::string ft = CasePaths::exists(paths.gnssFixType()) ? paths.gnssFixType() : "";
+  const GnssOpenFn file = gnssFileStream(paths.gnssPos(), ft, GnssReadPolicy::real());
+  pr.gnss_stream = [file, t_init]() -> std::unique_ptr<GnssSource> {
+    return std::make_unique<GnssAfter>(file(), t_init + 1e-6);
+  };
+  pr.gnss = {};
+  in->c.gnss = {};
+}
+
+// The check points of gnss.checkpoint_fix_types and how many lie inside the outages; a streamed
+// run keeps only those.
+void selectCheckpoints(RealInputs* in) {
+  const GnssSeries all =
+      gnssOfFixTypes(in->c.gnss, in->rc.gnss.checkpoint_fix_types, in->rc.gnss.selection);
+  in->checkpoint_epochs = static_cast<long>(all.size());
+  for (const auto& f : all) {
+    bool inside = false;
+    for (const auto& w : in->pr.outages) {
+      in->checkpoints_in_outages += w.contains(f.t_s) ? 1 : 0;
+      inside = inside || w.contains(f.t_s);
+    }
+    if (!in->stream || inside) in->checkpoints.push_back(f);
+  }
+}
+
+// makeRealProblem; imu_held false: `imu` is the first and last samples of a file each run reads,
+// and startAtInitialState cuts only the GNSS (the samples are skipped as they are read).
+EstimationProblem realProblem(const CaseInputs& c, const ImuSelection& imu, const RunConfig& rc,
+                              const std::optional<OutageScheduleConfig>& outages, bool imu_held,
+                              const RunMessages& messages, std::vector<std::string>* notes_out) {
+  std::vector<std::string> notes;
+  EstimationProblem pr = makeProblem(c, imu, rc, outages, &notes);
+  ImuSeries span;
+  if (!imu_held) std::swap(span, pr.imu);
+  startAtInitialState(&pr, &notes);
+  if (!imu_held) std::swap(span, pr.imu);
+  for (const auto& n : notes) messages.note("  note: " + n);
+  noteAlignedHeading(c, rc, pr, messages);
+  if (notes_out) notes_out->insert(notes_out->end(), notes.begin(), notes.end());
+  return pr;
+}
+
+}  // namespace
+
+CaseInputs loadRealCase(const std::string& dir, bool load_reference, const RunMessages& messages) {
+  CaseLoadOptions lo;
+  lo.lenient = true;
+  lo.load_reference = load_reference;
+  CaseInputs c = loadCaseInputs(dir, lo);
+  if (!load_reference) {
+    const CaseReferenceFile f = caseReferenceFile(c, true);
+    c.reference_name = f.path;
+    c.reference_is_truth = f.is_truth;
+  }
+  messages.note(fmt::format(
+      "read {} (real read policies): {} GNSS epochs, reference {} ({})", dir, c.gnss.size(),
+      c.reference_name.empty() ? "none" : c.reference_name,
+      load_reference ? fmt::format("{} epochs", c.reference.size()) : "read as a stream"));
+  if (c.warnings.empty()) messages.note("  readers: no repair and no warning");
+  for (const auto& w : c.warnings) noteLines("  reader/case: ", w, messages);
+  return c;
+}
+
+ImuSelection selectRealImu(const CaseInputs& c, const std::string& which,
+                           const std::string& profile, bool read_samples,
+                           const RunMessages& messages, long* count) {
+  ImuSelection s = selectImu(c, which, profile, true, read_samples);
+  long n = static_cast<long>(s.imu.size());
+  if (!read_samples) s.imu = scanImuFile(&s, &n);
+  if (count) *count = n;
+  messages.note(fmt::format("IMU '{}' {}: {} samples, profile '{}'", which, s.path, n, s.label));
+  if (s.read_summary.empty()) {
+    messages.note("  reader: no repair and no warning");
+  } else {
+    noteLines("  reader: ", s.read_summary, messages);
+  }
+  return s;
+}
+
+EstimationProblem makeRealProblem(const CaseInputs& c, const ImuSelection& imu, const RunConfig& rc,
+                                  const std::optional<OutageScheduleConfig>& outages,
+                                  const RunMessages& messages,
+                                  std::vector<std::string>* notes_out) {
+  return realProblem(c, imu, rc, outages, true, messages, notes_out);
+}
+
+RealInputs loadRealInputs(const RealRequest& q, const EstimatorRegistry& registry,
+                          const RunMessages& messages) {
+  RealInputs in;
+  std::vector<std::string> warnings;
+  in.rc = loadRunConfig(q.run_config, &warnings);
+  recordConfigFile(q.run_config);
+  for (const auto& w : warnings) messages.warning(w);
+  if (!in.rc.outages_given)
+    throw std::runtime_error(q.run_config + ": an outages: section is required");
+  in.stream = streamable(q, registry, in.rc);
+  in.c = loadRealCase(q.case_dir, !in.stream, messages);
+  long samples = 0;
+  in.imu = selectRealImu(in.c, q.imu, q.profile_path, !in.stream, messages, &samples);
+  if (!in.imu.profile_given)
+    throw std::runtime_error("no noise parameters for the IMU: pass --profile");
+  const ImuSample first = in.imu.imu.front();
+  in.t_first_s = first.t_s - first.dt_s;
+  if (in.stream) {  // makeProblem reads the reference's first epochs only
+    in.reference = caseReferenceFile(in.c, true);
+    if (!in.reference.path.empty()) in.c.reference = readReferenceHead(in.reference, in.t_first_s);
+  }
+  // With the GNSS of a streamed run read as a file, makeProblem and startAtInitialState see it
+  // held once, for the check points.
+  in.pr = realProblem(in.c, in.imu, in.rc, in.rc.outages, !in.stream, messages, nullptr);
+  selectCheckpoints(&in);
+  if (!in.stream) return in;
+  in.c.reference = {};
+  if (!in.reference.path.empty()) scanRealReference(messages, &in);
+  const double span_s = in.imu.imu.back().t_s - first.t_s;
+  if (samples > 1 && span_s > 0.0 && in.rc.ekf.output_decimation == 1)
+    in.expected_rates.solution_hz = static_cast<double>(samples - 1) / span_s;
+  releaseStreamedSeries(messages, &in);
+  if (std::isfinite(in.imu_start_s))
+    in.expected_rates.solution_hz = 0.0;  // fewer samples navigated
+  return in;
+}
+
+}  // namespace graftnav

@@ -1,0 +1,174 @@
+// `graftnav real`'s runs on a case made from the bundled sample, with toy estimators: streamed
+// (nothing held: the IMU, the GNSS and the reference read as the estimator writes) and in memory,
+// the same numbers and the same files, with the whole truth, a truth that ends before the
+// solution, and one with a gap across an outage.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "graftnav/navigate/real_run.h"
+#include "graftnav/navigate/real_setup.h"
+#include "test_support.h"
+#include "toy_estimators.h"
+
+namespace graftnav {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string fileText(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The sample with its truth.nav's lines kept where keep(time) holds; a run config with 30-s
+// outages every 120 s from 100 s, with or without a gnss: section (GNSS held or read as a file).
+std::string makeCase(const std::string& dir, bool (*keep)(double t_s), bool gnss_section) {
+  const fs::path src = fs::path(test::sourceDir()) / "data/sample_tactical";
+  fs::create_directories(fs::path(dir) / "field");
+  fs::copy_file(src / "case.yaml", fs::path(dir) / "case.yaml");
+  for (const char* f : {"tested_imu.txt", "gnss.pos"})
+    fs::copy_file(src / "field" / f, fs::path(dir) / "field" / f);
+  std::ifstream truth(src / "field/truth.nav");
+  std::ofstream cut(fs::path(dir) / "field/truth.nav");
+  std::string line;
+  while (std::getline(truth, line)) {
+    std::istringstream fields(line);
+    int week = 0;
+    double t_s = 0.0;
+    fields >> week >> t_s;
+    if (keep(t_s - 456340.0)) cut << line << "\n";
+  }
+  std::ofstream(fs::path(dir) / "run.yaml")
+      << "outages: {length_s: 30, period_s: 120, start_s: 100}\n"
+      << (gnss_section ? "gnss: {min_spacing_s: 0.05}\n" : "");
+  return dir;
+}
+
+struct RealOutcome {
+  RealInputs in;
+  std::vector<EstimatorRun> rows;
+};
+
+RealOutcome runReal(const std::string& case_dir, const std::string& out, bool streamed) {
+  RealRequest q;
+  q.case_dir = case_dir;
+  q.run_config = case_dir + "/run.yaml";
+  q.imu = "tested";
+  q.estimators = {"hold"};
+  const EstimatorRegistry registry = test::toyRegistry(streamed);
+  RealOutcome o;
+  o.in = loadRealInputs(q, registry, RunMessages{});
+  std::vector<std::string> failed;
+  o.rows = runRealEstimators(o.in, q.estimators, registry, out, RunMessages{}, &failed);
+  EXPECT_TRUE(failed.empty());
+  return o;
+}
+
+// Streamed and in memory on one case: the same numbers, the same files.
+void expectSameRuns(const std::string& case_dir, bool reference_evaluated) {
+  const RealOutcome s = runReal(case_dir, case_dir + "/streamed", true);
+  const RealOutcome m = runReal(case_dir, case_dir + "/memory", false);
+  EXPECT_TRUE(s.in.stream);
+  EXPECT_TRUE(s.in.pr.imu.empty() && s.in.c.reference.empty());
+  EXPECT_FALSE(m.in.stream);
+  EXPECT_EQ(s.in.checkpoints_in_outages, m.in.checkpoints_in_outages);
+  EXPECT_EQ(s.in.checkpoint_epochs, m.in.checkpoint_epochs);
+  ASSERT_EQ(s.rows.size(), 1u);
+  ASSERT_EQ(m.rows.size(), 1u);
+  const EstimatorRun &a = s.rows[0], &b = m.rows[0];
+  EXPECT_EQ(a.sol.gnss_used, b.sol.gnss_used);
+  EXPECT_EQ(a.cp.n, b.cp.n);
+  EXPECT_GT(a.cp.n, 100);  // 7 outages of 30 s, 1 Hz fixes
+  EXPECT_EQ(a.cp.rms_h_m, b.cp.rms_h_m);
+  EXPECT_EQ(a.cp.rms_of_max_h_m, b.cp.rms_of_max_h_m);
+  EXPECT_EQ(a.cp.rms_v_m, b.cp.rms_v_m);
+  ASSERT_EQ(a.ref.has_value(), b.ref.has_value());
+  EXPECT_EQ(a.ref.has_value(), reference_evaluated);
+  if (a.ref) {
+    EXPECT_EQ(a.ref->outage_rms.horizontal_m, b.ref->outage_rms.horizontal_m);
+    EXPECT_EQ(a.ref->outage_max_rms.horizontal_m, b.ref->outage_max_rms.horizontal_m);
+    EXPECT_EQ(a.ref->overall_rms.heading_rad, b.ref->overall_rms.heading_rad);
+    EXPECT_EQ(a.ref->outages.size(), b.ref->outages.size());
+    EXPECT_GT(a.ref->outage_rms.horizontal_m, 0.1);
+  }
+  for (const char* f : {"solution.nav", "checkpoints.csv"}) {
+    const std::string text = fileText(fs::path(case_dir) / "streamed/hold" / f);
+    EXPECT_FALSE(text.empty()) << f;
+    EXPECT_EQ(text, fileText(fs::path(case_dir) / "memory/hold" / f)) << f;
+  }
+}
+
+TEST(RealRun, StreamedRunsGiveTheInMemoryNumbersAndFiles) {
+  const std::string dir = test::makeTempDir("real_run_whole");
+  expectSameRuns(makeCase(
+                     dir + "/streamed_gnss", [](double) { return true; }, false),
+                 true);
+  expectSameRuns(makeCase(
+                     dir + "/held_gnss", [](double) { return true; }, true),
+                 true);
+}
+
+TEST(RealRun, AReferenceEndingEarlyOrWithAGapBehavesAsInMemory) {
+  const std::string dir = test::makeTempDir("real_run_cut");
+  // Ends at 600 s of 870 (the last outages have no reference epoch), and a gap from 330 to
+  // 450 s across the outage at 340-370 s.
+  expectSameRuns(makeCase(
+                     dir + "/early", [](double t) { return t < 600.0; }, false),
+                 true);
+  expectSameRuns(makeCase(
+                     dir + "/gap", [](double t) { return t < 330.0 || t > 450.0; }, false),
+                 true);
+}
+
+TEST(RealRun, AFailedEstimatorLeavesNoFolderAndTheOthersRun) {
+  const std::string dir = test::makeTempDir("real_run_failed");
+  const std::string c = makeCase(
+      dir + "/case", [](double) { return true; }, false);
+  RealRequest q;
+  q.case_dir = c;
+  q.run_config = c + "/run.yaml";
+  q.imu = "tested";
+  q.estimators = {"nope", "hold"};
+  const EstimatorRegistry registry = test::toyRegistry(true);
+  const RealInputs in = loadRealInputs(q, registry, RunMessages{});
+  EXPECT_FALSE(in.stream);  // an unknown name has no streamed form: its failure is listed
+  std::vector<std::string> failed;
+  const auto rows = runRealEstimators(in, q.estimators, registry, dir + "/out", {}, &failed);
+  ASSERT_EQ(failed.size(), 1u);
+  EXPECT_EQ(failed[0].rfind("nope: ", 0), 0u);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_FALSE(fs::exists(dir + "/out/nope"));
+  EXPECT_TRUE(fs::exists(dir + "/out/hold/solution.nav"));
+}
+
+TEST(RealRun, ANonFiniteStateFailsTheRunAsInMemory) {
+  const std::string dir = test::makeTempDir("real_run_nan");
+  const std::string c = makeCase(dir + "/case", [](double) { return true; }, false);
+  RealRequest q;
+  q.case_dir = c;
+  q.run_config = c + "/run.yaml";
+  q.imu = "tested";
+  q.estimators = {"broken", "hold"};
+  std::vector<std::string> failed[2];
+  for (int streamed : {0, 1}) {
+    EstimatorRegistry registry = test::toyRegistry(streamed);
+    registry.add(test::toyEntry("broken", std::nan(""), 0.5, streamed));
+    const RealInputs in = loadRealInputs(q, registry, RunMessages{});
+    EXPECT_EQ(in.stream, streamed == 1);
+    const std::string out = dir + "/out" + std::to_string(streamed);
+    EXPECT_EQ(runRealEstimators(in, q.estimators, registry, out, {}, &failed[streamed]).size(), 1u);
+    EXPECT_FALSE(fs::exists(out + "/broken")) << streamed;
+  }
+  ASSERT_EQ(failed[1].size(), 1u);
+  EXPECT_EQ(failed[1], failed[0]);
+  EXPECT_EQ(failed[1][0].rfind("broken: non-finite state at t=", 0), 0u) << failed[1][0];
+}
+
+}  // namespace
+}  // namespace graftnav
