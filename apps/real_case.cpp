@@ -12,7 +12,7 @@ RunMessages printedMessages() {
   return m;
 }
 
-CaseInputs loadReal(const std::string& dir) { return loadRealCase(dir, true, printedMessages()); }
+CaseInputs loadReal(const std::string& dir) { return loadRealCase(dir, {}, printedMessages()); }
 
 ImuSelection loadImuReal(const CaseInputs& c, const std::string& which,
                          const std::string& profile) {

@@ -11,6 +11,7 @@
 #include "graftnav/case/problem.h"
 #include "graftnav/eval/gnss_selection.h"
 #include "graftnav/io/gnss_io.h"
+#include "graftnav/io/imu_io.h"
 #include "graftnav/io/nav_io.h"
 #include "graftnav/io/provenance.h"
 #include "graftnav/nav/rotation.h"
@@ -51,12 +52,47 @@ class GnssAfter final : public GnssSource {
   bool started_ = false;
 };
 
-// Every estimator has a streamed form, no data alignment and no latency study needs the series.
+// The case's GNSS file, when the run reads it as it goes.
+struct GnssFile {
+  std::string pos_path, fixtype_path;
+  explicit GnssFile(const CaseInputs& c) {
+    const CasePaths paths = c.paths();
+    if (!CasePaths::exists(paths.gnssPos()))
+      throw std::runtime_error("GNSS file '" + paths.gnssPos() + "' not found");
+    pos_path = paths.gnssPos();
+    if (CasePaths::exists(paths.gnssFixType())) fixtype_path = paths.gnssFixType();
+  }
+  GnssOpenFn stream() const {
+    return gnssFileStream(pos_path, fixtype_path, GnssReadPolicy::real());
+  }
+};
+
+// Every estimator has a streamed form, no in-motion alignment (it may read the whole IMU) and no
+// latency study needs the series. A static alignment reads only its window (alignmentPrefix).
 bool streamable(const RealRequest& q, const EstimatorRegistry& registry, const RunConfig& rc) {
-  if (q.latency_study || rc.alignment.mode != "given") return false;
+  if (q.latency_study || rc.alignment.mode == "motion") return false;
   for (const auto& name : q.estimators)
     if (!registry.contains(name) || !registry.canStream(name)) return false;
   return true;
+}
+
+// What makeProblem reads of an IMU the estimators read as a file: with a static alignment the
+// samples through the first one after its window (alignStatic stops there), then the file's last
+// sample (`span`: its first and last, from scanImuFile).
+ImuSeries alignmentPrefix(const ImuSelection& sel, const RunConfig& rc, const ImuSeries& span) {
+  if (rc.alignment.mode != "static") return span;
+  const double t_end_s = span.front().t_s - span.front().dt_s + rc.alignment.static_duration_s;
+  ImuBlockReader reader(sel.path, sel.read_options);
+  ImuSeries block, prefix;
+  while (reader.next(&block)) {
+    for (const ImuSample& s : block) {
+      prefix.push_back(s);
+      if (s.t_s <= t_end_s + 1e-9) continue;
+      if (s.t_s < span.back().t_s) prefix.push_back(span.back());
+      return prefix;
+    }
+  }
+  return prefix;
 }
 
 // The note on the heading of a data alignment against case.yaml's (a warning beyond 5 degrees).
@@ -106,9 +142,7 @@ void releaseStreamedSeries(const RunMessages& messages, RealInputs* in) {
   pr.imu = {};
   in->imu.imu = {};
   if (in->rc.gnss.given) return;
-  const CasePaths paths = in->c.paths();
-  const std::string ft = CasePaths::exists(paths.gnssFixType()) ? paths.gnssFixType() : "";
-  const GnssOpenFn file = gnssFileStream(paths.gnssPos(), ft, GnssReadPolicy::real());
+  const GnssOpenFn file = GnssFile(in->c).stream();
   pr.gnss_stream = [file, t_init]() -> std::unique_ptr<GnssSource> {
     return std::make_unique<GnssAfter>(file(), t_init + 1e-6);
   };
@@ -116,11 +150,11 @@ void releaseStreamedSeries(const RunMessages& messages, RealInputs* in) {
   in->c.gnss = {};
 }
 
-// The check points of gnss.checkpoint_fix_types and how many lie inside the outages; a streamed
-// run keeps only those.
-void selectCheckpoints(RealInputs* in) {
+// The check points of gnss.checkpoint_fix_types among `fixes` and how many lie inside the
+// outages; a streamed run keeps only those.
+void selectCheckpoints(const GnssSeries& fixes, RealInputs* in) {
   const GnssSeries all =
-      gnssOfFixTypes(in->c.gnss, in->rc.gnss.checkpoint_fix_types, in->rc.gnss.selection);
+      gnssOfFixTypes(fixes, in->rc.gnss.checkpoint_fix_types, in->rc.gnss.selection);
   in->checkpoint_epochs = static_cast<long>(all.size());
   for (const auto& f : all) {
     bool inside = false;
@@ -130,6 +164,38 @@ void selectCheckpoints(RealInputs* in) {
     }
     if (!in->stream || inside) in->checkpoints.push_back(f);
   }
+}
+
+// Without a gnss: section the check points are every fix (no selection but the time order), so
+// those inside the outages are the check points of the fixes inside the outages: the file is
+// read once for them (and its errors and repairs), never held whole.
+void selectStreamedCheckpoints(const RunMessages& messages, RealInputs* in) {
+  const GnssFile file(in->c);
+  GnssStreamReader reader(file.pos_path, file.fixtype_path, GnssReadPolicy::real());
+  GnssSeries inside;
+  GnssFix fix;
+  long count = 0;
+  while (reader.next(&fix)) {
+    ++count;
+    for (const auto& w : in->pr.outages)
+      if (w.contains(fix.t_s)) {
+        inside.push_back(fix);
+        break;
+      }
+  }
+  for (const auto& r : reader.reports())
+    if (!r.summary().empty()) noteLines("  reader/case: ", r.summary(), messages);
+  selectCheckpoints(inside, in);
+  in->checkpoint_epochs = count;
+  messages.note(
+      fmt::format("  GNSS {}: {} epochs, read as each estimator runs", file.pos_path, count));
+}
+
+// The first fix of the GNSS file: what makeProblem reads of a GNSS series it does not select.
+GnssSeries firstGnssFix(const CaseInputs& c) {
+  const auto pass = GnssFile(c).stream()();
+  GnssFix fix;
+  return pass->next(&fix) ? GnssSeries{fix} : GnssSeries{};
 }
 
 // makeRealProblem; imu_held false: `imu` is the first and last samples of a file each run reads,
@@ -151,20 +217,21 @@ EstimationProblem realProblem(const CaseInputs& c, const ImuSelection& imu, cons
 
 }  // namespace
 
-CaseInputs loadRealCase(const std::string& dir, bool load_reference, const RunMessages& messages) {
-  CaseLoadOptions lo;
+CaseInputs loadRealCase(const std::string& dir, CaseLoadOptions lo, const RunMessages& messages) {
   lo.lenient = true;
-  lo.load_reference = load_reference;
   CaseInputs c = loadCaseInputs(dir, lo);
-  if (!load_reference) {
+  if (!lo.load_reference) {
     const CaseReferenceFile f = caseReferenceFile(c, true);
     c.reference_name = f.path;
     c.reference_is_truth = f.is_truth;
   }
+  const std::string reference =
+      c.reference_name.empty() ? "none"
+      : lo.load_reference      ? fmt::format("{} ({} epochs)", c.reference_name, c.reference.size())
+                               : c.reference_name + " (read as a stream)";
   messages.note(fmt::format(
-      "read {} (real read policies): {} GNSS epochs, reference {} ({})", dir, c.gnss.size(),
-      c.reference_name.empty() ? "none" : c.reference_name,
-      load_reference ? fmt::format("{} epochs", c.reference.size()) : "read as a stream"));
+      "read {} (real read policies): GNSS {}, reference {}", dir,
+      lo.load_gnss ? fmt::format("{} epochs", c.gnss.size()) : "read as a stream", reference));
   if (c.warnings.empty()) messages.note("  readers: no repair and no warning");
   for (const auto& w : c.warnings) noteLines("  reader/case: ", w, messages);
   return c;
@@ -203,21 +270,33 @@ RealInputs loadRealInputs(const RealRequest& q, const EstimatorRegistry& registr
   if (!in.rc.outages_given)
     throw std::runtime_error(q.run_config + ": an outages: section is required");
   in.stream = streamable(q, registry, in.rc);
-  in.c = loadRealCase(q.case_dir, !in.stream, messages);
+  // A streamed run reads the reference as it evaluates, and without a gnss: section the GNSS as
+  // it navigates.
+  const bool stream_gnss = in.stream && !in.rc.gnss.given;
+  CaseLoadOptions lo;
+  lo.load_reference = !in.stream;
+  lo.load_gnss = !stream_gnss;
+  in.c = loadRealCase(q.case_dir, lo, messages);
   long samples = 0;
   in.imu = selectRealImu(in.c, q.imu, q.profile_path, !in.stream, messages, &samples);
   if (!in.imu.profile_given)
     throw std::runtime_error("no noise parameters for the IMU: pass --profile");
   const ImuSample first = in.imu.imu.front();
   in.t_first_s = first.t_s - first.dt_s;
+  if (in.stream) in.imu.imu = alignmentPrefix(in.imu, in.rc, in.imu.imu);
   if (in.stream) {  // makeProblem reads the reference's first epochs only
     in.reference = caseReferenceFile(in.c, true);
     if (!in.reference.path.empty()) in.c.reference = readReferenceHead(in.reference, in.t_first_s);
   }
   // With the GNSS of a streamed run read as a file, makeProblem and startAtInitialState see it
   // held once, for the check points.
+  if (stream_gnss) in.c.gnss = firstGnssFix(in.c);
   in.pr = realProblem(in.c, in.imu, in.rc, in.rc.outages, !in.stream, messages, nullptr);
-  selectCheckpoints(&in);
+  if (stream_gnss) {
+    selectStreamedCheckpoints(messages, &in);
+  } else {
+    selectCheckpoints(in.c.gnss, &in);
+  }
   if (!in.stream) return in;
   in.c.reference = {};
   if (!in.reference.path.empty()) scanRealReference(messages, &in);

@@ -28,7 +28,8 @@ std::string fileText(const fs::path& p) {
 
 // The sample with its truth.nav's lines kept where keep(time) holds; a run config with 30-s
 // outages every 120 s from 100 s, with or without a gnss: section (GNSS held or read as a file).
-std::string makeCase(const std::string& dir, bool (*keep)(double t_s), bool gnss_section) {
+std::string makeCase(const std::string& dir, bool (*keep)(double t_s), bool gnss_section,
+                     const std::string& run_config_extra = "") {
   const fs::path src = fs::path(test::sourceDir()) / "data/sample_tactical";
   fs::create_directories(fs::path(dir) / "field");
   fs::copy_file(src / "case.yaml", fs::path(dir) / "case.yaml");
@@ -46,7 +47,7 @@ std::string makeCase(const std::string& dir, bool (*keep)(double t_s), bool gnss
   }
   std::ofstream(fs::path(dir) / "run.yaml")
       << "outages: {length_s: 30, period_s: 120, start_s: 100}\n"
-      << (gnss_section ? "gnss: {min_spacing_s: 0.05}\n" : "");
+      << (gnss_section ? "gnss: {min_spacing_s: 0.05}\n" : "") << run_config_extra;
   return dir;
 }
 
@@ -76,6 +77,10 @@ void expectSameRuns(const std::string& case_dir, bool reference_evaluated) {
   const RealOutcome m = runReal(case_dir, case_dir + "/memory", false);
   EXPECT_TRUE(s.in.stream);
   EXPECT_TRUE(s.in.pr.imu.empty() && s.in.c.reference.empty());
+  if (!s.in.rc.gnss.given) {  // the GNSS read as the estimator runs
+    EXPECT_TRUE(s.in.c.gnss.empty() && s.in.pr.gnss.empty());
+    EXPECT_TRUE(s.in.pr.gnss_stream);
+  }
   EXPECT_FALSE(m.in.stream);
   EXPECT_EQ(s.in.checkpoints_in_outages, m.in.checkpoints_in_outages);
   EXPECT_EQ(s.in.checkpoint_epochs, m.in.checkpoint_epochs);
@@ -126,6 +131,25 @@ TEST(RealRun, AReferenceEndingEarlyOrWithAGapBehavesAsInMemory) {
                  true);
 }
 
+TEST(RealRun, AStaticAlignmentStreamsFromItsWindowAndSkipsTheSamplesBefore) {
+  // The sample stands still for its first 60 s: levelled over 20 s, the runs start at t0 + 20 s,
+  // the streamed ones skipping the earlier samples as they read the file.
+  const std::string dir = test::makeTempDir("real_run_static");
+  const std::string c = makeCase(
+      dir + "/static", [](double) { return true; }, false,
+      "ekf: {alignment: static, static_alignment_s: 20}\n");
+  expectSameRuns(c, true);
+  RealRequest q;
+  q.case_dir = c;
+  q.run_config = c + "/run.yaml";
+  q.imu = "tested";
+  q.estimators = {"hold"};
+  const RealInputs in = loadRealInputs(q, test::toyRegistry(true), RunMessages{});
+  EXPECT_TRUE(in.stream);
+  EXPECT_NEAR(in.imu_start_s, 456360.0, 1e-5);
+  EXPECT_NEAR(in.pr.initial.t_s, 456360.0, 1e-9);
+}
+
 TEST(RealRun, AFailedEstimatorLeavesNoFolderAndTheOthersRun) {
   const std::string dir = test::makeTempDir("real_run_failed");
   const std::string c = makeCase(
@@ -149,7 +173,8 @@ TEST(RealRun, AFailedEstimatorLeavesNoFolderAndTheOthersRun) {
 
 TEST(RealRun, ANonFiniteStateFailsTheRunAsInMemory) {
   const std::string dir = test::makeTempDir("real_run_nan");
-  const std::string c = makeCase(dir + "/case", [](double) { return true; }, false);
+  const std::string c = makeCase(
+      dir + "/case", [](double) { return true; }, false);
   RealRequest q;
   q.case_dir = c;
   q.run_config = c + "/run.yaml";

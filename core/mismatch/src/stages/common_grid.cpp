@@ -6,6 +6,9 @@
 
 #include "graftnav/mismatch/common_grid.h"
 
+#include "cumulative_nodes.h"
+#include "graftnav/mismatch/streamed_binning.h"
+
 namespace graftnav {
 
 CumulativeImu::CumulativeImu(const ImuSeries& imu, const ImuSampleMap& map) {
@@ -39,11 +42,21 @@ CumulativeImu::CumulativeImu(const ImuSeries& imu, const ImuSampleMap& map) {
   computeIrregular();
 }
 
+// CumulativeImu's arrays as the node store of the interpolation (cumulative_nodes.h).
+struct CumulativeImu::NodeView {
+  const CumulativeImu& c;
+  std::size_t size() const { return c.t_.size(); }
+  double t(std::size_t k) const { return c.t_[k]; }
+  const Vector6d& cum(std::size_t k) const { return c.cum_[k]; }
+  double cumTemp(std::size_t k) const { return c.cum_temp_[k]; }
+  int irregular(std::size_t k) const { return c.irregular_[k]; }
+  std::size_t upperBound(double t_s) const {
+    return static_cast<std::size_t>(std::upper_bound(c.t_.begin(), c.t_.end(), t_s) - c.t_.begin());
+  }
+};
+
 std::size_t CumulativeImu::segment(double t_s) const {
-  // Index k with t_[k] <= t < t_[k+1], clamped to the first/last segment.
-  auto it = std::upper_bound(t_.begin(), t_.end(), t_s);
-  std::size_t k = it == t_.begin() ? 0 : static_cast<std::size_t>(it - t_.begin()) - 1;
-  return std::min(k, t_.size() - 2);
+  return grid_detail::segment(NodeView{*this}, t_s);
 }
 
 void CumulativeImu::computeIrregular() {
@@ -56,28 +69,11 @@ void CumulativeImu::computeIrregular() {
   }
 }
 
-// Node slopes of the cumulative integral: 5-point derivative where the four neighbouring
-// intervals are equal (to 1e-6), else 3-point; the adjacent sample's rate at the ends. Computed
-// when asked rather than stored (48 bytes a sample).
 Vector6d CumulativeImu::slope(std::size_t k) const {
-  const std::size_t N = t_.size();
-  if (k == 0 || k + 1 == N) {
-    const std::size_t a = k == 0 ? 0 : k - 1;
-    return (cum_[a + 1] - cum_[a]) / (t_[a + 1] - t_[a]);
-  }
-  if (k >= 2 && k + 2 < N) {
-    const double d = t_[k + 1] - t_[k];
-    bool uniform = true;
-    for (std::size_t j = k - 2; j < k + 2; ++j)
-      uniform &= std::abs((t_[j + 1] - t_[j]) - d) <= 1e-6 * d;
-    return uniform ? Vector6d((cum_[k - 2] - 8.0 * cum_[k - 1] + 8.0 * cum_[k + 1] - cum_[k + 2]) /
-                              (12.0 * d))
-                   : Vector6d((cum_[k + 1] - cum_[k - 1]) / (t_[k + 1] - t_[k - 1]));
-  }
-  return (cum_[k + 1] - cum_[k - 1]) / (t_[k + 1] - t_[k - 1]);
+  return grid_detail::slope(NodeView{*this}, k);
 }
 
-namespace {
+namespace grid_detail {
 
 // Kaiser-windowed sinc (half width kSincHalfWidth samples, beta 12.3) tabulated over the
 // fraction u in [0, 1] of a sample, for the taps m = 1 - kSincHalfWidth .. kSincHalfWidth: weight
@@ -86,9 +82,6 @@ namespace {
 // ~1e-4): a 3-Hz road oscillation shifted by 4 ms came out 6.7e-5 too large, which against a
 // common-random-numbers simulation showed as a -40..-60 ppm gyro scale factor next to every
 // time offset (test MismatchGrid.ShiftedBinMeansKeepTheirGain).
-constexpr int kSincHalfWidth = 32;
-constexpr int kSincTable = 512;
-
 const std::vector<double>& sincTable() {
   static const std::vector<double> table = [] {
     const double beta = 12.3, i0 = std::cyl_bessel_i(0.0, beta);
@@ -110,41 +103,10 @@ const std::vector<double>& sincTable() {
   return table;
 }
 
-}  // namespace
+}  // namespace grid_detail
 
 Vector6d CumulativeImu::at(double t_s) const {
-  if (t_.size() < 2) return Vector6d::Zero();
-  if (t_s <= t_.front()) return cum_.front() + (t_s - t_.front()) * slope(0);
-  if (t_s >= t_.back()) return cum_.back() + (t_s - t_.back()) * slope(t_.size() - 1);
-  const std::size_t k = segment(t_s);
-  const double L = t_[k + 1] - t_[k];
-  if (k >= kSincHalfWidth - 1 && k + kSincHalfWidth < t_.size() &&
-      irregular_[k + kSincHalfWidth] == irregular_[k + 1 - kSincHalfWidth]) {
-    // Uniform neighbourhood: band-limited interpolation of the integral's departure from the
-    // chord through nodes k and k + 1 (Kaiser-windowed sinc over 64 nodes). Cubic Hermite loses
-    // 0.4 % of a 15-Hz and 17 % of a 30-Hz component of a 0.05-s bin mean shifted by 14 ms at
-    // 100 Hz; this keeps the gain of 0.3-42 Hz within 1e-5 (road and engine vibration reach
-    // 40 Hz; a scale factor is resolved to ~1 ppm under common random numbers).
-    const double u = (t_s - t_[k]) / L;
-    const Vector6d chord = cum_[k + 1] - cum_[k];
-    Vector6d out = cum_[k] + u * chord;
-    const std::vector<double>& table = sincTable();
-    const double pos = u * kSincTable;
-    const int i = std::min(static_cast<int>(pos), kSincTable - 1);
-    const double f = pos - i;
-    const double* w0 = &table[i * 2 * kSincHalfWidth];
-    const double* w1 = w0 + 2 * kSincHalfWidth;
-    for (int j = 0; j < 2 * kSincHalfWidth; ++j) {
-      const int m = j + 1 - kSincHalfWidth;
-      if (m == 0 || m == 1) continue;  // the chord's own nodes: zero departure
-      const Vector6d d = cum_[k + m] - cum_[k] - m * chord;
-      out += ((1.0 - f) * w0[j] + f * w1[j]) * d;
-    }
-    return out;
-  }
-  const double s = (t_s - t_[k]) / L, s2 = s * s, s3 = s2 * s;
-  return (2.0 * s3 - 3.0 * s2 + 1.0) * cum_[k] + (s3 - 2.0 * s2 + s) * L * slope(k) +
-         (-2.0 * s3 + 3.0 * s2) * cum_[k + 1] + (s3 - s2) * L * slope(k + 1);
+  return grid_detail::integralAt(NodeView{*this}, t_s);
 }
 
 Vector6d CumulativeImu::rateAt(double t_s) const {
@@ -160,9 +122,7 @@ Vector6d CumulativeImu::rateAt(double t_s) const {
 
 double CumulativeImu::temperatureIntegralAt(double t_s) const {
   if (!has_temperature_) return std::numeric_limits<double>::quiet_NaN();
-  const std::size_t k = segment(t_s);
-  const double w = (t_s - t_[k]) / (t_[k + 1] - t_[k]);
-  return cum_temp_[k] + w * (cum_temp_[k + 1] - cum_temp_[k]);
+  return grid_detail::temperatureIntegralAt(NodeView{*this}, t_s);
 }
 
 GridSpec commonGrid(const ImuSeries& a, const ImuSeries& b, double bin_s, double margin_s) {
@@ -184,43 +144,9 @@ GridSpec commonGrid(const ImuSeries& a, const ImuSeries& b, double bin_s, double
 
 BinnedImu binImu(const ImuSeries& imu, const GridSpec& grid, double time_shift_s,
                  const ImuSampleMap& map) {
-  const CumulativeImu cum(imu, map);
-  BinnedImu out;
-  out.grid = grid;
-  const int n = grid.count;
-  out.omega_rad_s.resize(n, 3);
-  out.f_m_s2.resize(n, 3);
-  out.temperature_degC.setConstant(n, std::numeric_limits<double>::quiet_NaN());
-  out.f_within_rms_m_s2.setZero(n);
-  Vector6d prev = cum.at(grid.binStart(0) + time_shift_s);
-  double prev_temp = cum.temperatureIntegralAt(grid.binStart(0) + time_shift_s);
-  for (int i = 0; i < n; ++i) {
-    const double t_end = grid.binStart(i + 1) + time_shift_s;
-    const Vector6d next = cum.at(t_end);
-    const Vector6d mean = (next - prev) / grid.bin_s;
-    out.omega_rad_s.row(i) = mean.head<3>().transpose();
-    out.f_m_s2.row(i) = mean.tail<3>().transpose();
-    if (cum.hasTemperature()) {
-      const double next_temp = cum.temperatureIntegralAt(t_end);
-      out.temperature_degC(i) = (next_temp - prev_temp) / grid.bin_s;
-      prev_temp = next_temp;
-    }
-    prev = next;
-  }
-  // Within-bin vibration: samples whose end tag falls inside a (shifted) bin.
-  Eigen::VectorXd sum_sq = Eigen::VectorXd::Zero(n);
-  Eigen::VectorXi count = Eigen::VectorXi::Zero(n);
-  for (const ImuSample& raw : imu) {
-    const int i =
-        static_cast<int>(std::floor((raw.t_s - time_shift_s - grid.t_begin_s) / grid.bin_s));
-    if (i < 0 || i >= n || !(raw.dt_s > 0.0)) continue;
-    const Eigen::Vector3d f = (map ? map(raw) : raw).dvel_m_s / raw.dt_s;
-    sum_sq(i) += (f - out.f_m_s2.row(i).transpose()).squaredNorm();
-    ++count(i);
-  }
-  for (int i = 0; i < n; ++i)
-    out.f_within_rms_m_s2(i) = count(i) > 0 ? std::sqrt(sum_sq(i) / count(i)) : 0.0;
-  return out;
+  StreamedBinning binning(grid, time_shift_s, map);
+  binning.add(imu);
+  return binning.finish();
 }
 
 EvenPowerBins binEvenPowers(const ImuSeries& imu, const GridSpec& grid, double time_shift_s) {

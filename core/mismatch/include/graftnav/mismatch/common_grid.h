@@ -45,6 +45,7 @@ class CumulativeImu {
   Vector6d rateAt(double t_s) const;
 
  private:
+  struct NodeView;  // the arrays as cumulative_nodes.h reads them
   std::size_t segment(double t_s) const;
   void computeIrregular();
   Vector6d slope(std::size_t k) const;  // node slope of the Hermite interpolation at t_[k]

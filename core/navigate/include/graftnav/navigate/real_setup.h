@@ -3,10 +3,11 @@
 // reader repair and warning given, and the estimator inputs started at the initial state's epoch
 // (every estimator starts from the same state at the same sample).
 //
-// `real` streams when every estimator has a streamed form, the run config asks for no data
+// `real` streams when every estimator has a streamed form, the run config asks for no in-motion
 // alignment and no latency study needs the series: the IMU, the GNSS (without a gnss: section)
 // and the reference solution are then read once here for their errors, spans and rates, and read
-// again by each run (real_run.h); only the check points inside the outages are held.
+// again by each run (real_run.h); only the check points inside the outages are held, and for a
+// static alignment the samples of its window until the problem is made.
 #include <limits>
 #include <optional>
 #include <string>
@@ -21,9 +22,10 @@
 
 namespace graftnav {
 
-// Loads the case (real read policies; the reference solution too unless load_reference is false)
-// and gives every reader condition as a note.
-CaseInputs loadRealCase(const std::string& dir, bool load_reference, const RunMessages& messages);
+// Loads the case with the real read policies (what `options` asks to load; lenient always) and
+// gives every reader condition as a note.
+CaseInputs loadRealCase(const std::string& dir, CaseLoadOptions options,
+                        const RunMessages& messages);
 
 // One IMU of the case ("ref", "tested" or a file) with the profile file; notes the reader's
 // conditions. read_samples false: the file is read once through the block reader for its errors
