@@ -21,6 +21,8 @@ NodeValue NodeBlocks::value() const {
   x.bg = Eigen::Map<const Eigen::Vector3d>(bg);
   x.ba = Eigen::Map<const Eigen::Vector3d>(ba);
   x.odometer_scale = s[0];
+  x.imu_scale.gyro = Eigen::Map<const Eigen::Vector3d>(sg);
+  x.imu_scale.accel = Eigen::Map<const Eigen::Vector3d>(sa);
   return x;
 }
 
@@ -31,6 +33,8 @@ void NodeBlocks::set(const NodeValue& x) {
   Eigen::Map<Eigen::Vector3d>{bg} = x.bg;
   Eigen::Map<Eigen::Vector3d>{ba} = x.ba;
   s[0] = x.odometer_scale;
+  Eigen::Map<Eigen::Vector3d>{sg} = x.imu_scale.gyro;
+  Eigen::Map<Eigen::Vector3d>{sa} = x.imu_scale.accel;
 }
 
 FgoGraph::FgoGraph(const EstimationProblem& problem, const FgoOptions& options)
@@ -72,6 +76,12 @@ void FgoGraph::setUp() {
     aiding_.validate();
     C_vb_ = aiding_.C_vb();
   }
+  imu_scale_ = options_.imu_scale_states == ImuScaleStates::kOn ||
+               (options_.imu_scale_states == ImuScaleStates::kWithVehicleAiding && aiding_.any());
+  gyro_scale_process_.sigma = std::max(prof.gyro_scale_std, options_.min_imu_scale_std);
+  gyro_scale_process_.tau_s = prof.scale_corr_time_s;
+  accel_scale_process_.sigma = std::max(prof.accel_scale_std, options_.min_imu_scale_std);
+  accel_scale_process_.tau_s = prof.scale_corr_time_s;
   if (options_.robust_loss == "huber") {
     loss_ = std::make_unique<ceres::HuberLoss>(options_.robust_loss_scale);
   } else if (options_.robust_loss == "cauchy") {
@@ -120,11 +130,13 @@ void FgoGraph::initializeFirstNode() {
 ImuPreintegration& FgoGraph::preintegrate(size_t k) {
   if (!memory_imu_) throw std::logic_error("FgoGraph::preintegrate: no samples in memory");
   const NodeValue x = blocks(k).value();
-  std::unique_ptr<ImuPreintegration>& p = pre(k);
-  if (!p) p = std::make_unique<ImuPreintegration>(x.bg, x.ba, noise_);
-  p->reintegrate(*memory_imu_, intervalBegin(k), intervalEnd(k), x.bg, x.ba);
-  gravity_point_[k - layout_.nodes_base] = x.p_w;
-  return *p;
+  const size_t begin = intervalBegin(k), end = intervalEnd(k);
+  if (begin >= end || end > memory_imu_->size()) {
+    throw std::invalid_argument("FgoGraph::preintegrate: interval " + std::to_string(k) +
+                                " is outside the samples");
+  }
+  return preintegrateAt(k, x, memory_imu_->data() + begin, end - begin,
+                        begin > 0 ? &(*memory_imu_)[begin - 1] : nullptr);
 }
 
 ImuPreintegration& FgoGraph::preintegrate(size_t k, const ImuSampleBuffer& samples) {
@@ -135,10 +147,19 @@ ImuPreintegration& FgoGraph::preintegrate(size_t k, const ImuSampleBuffer& sampl
   }
   const ImuSample* first = &samples.at(begin);
   samples.at(end - 1);  // the whole interval is held (contiguous storage)
-  const NodeValue x = blocks(k).value();
+  return preintegrateAt(k, blocks(k).value(), first, end - begin,
+                        begin > 0 ? &samples.at(begin - 1) : nullptr);
+}
+
+ImuPreintegration& FgoGraph::preintegrateAt(size_t k, const NodeValue& x, const ImuSample* samples,
+                                            size_t count, const ImuSample* before) {
   std::unique_ptr<ImuPreintegration>& p = pre(k);
   if (!p) p = std::make_unique<ImuPreintegration>(x.bg, x.ba, noise_);
-  p->reintegrate(first, end - begin, begin > 0 ? &samples.at(begin - 1) : nullptr, x.bg, x.ba);
+  if (imu_scale_) {
+    p->reintegrate(samples, count, before, x.bg, x.ba, x.imu_scale);
+  } else {
+    p->reintegrate(samples, count, before, x.bg, x.ba);
+  }
   gravity_point_[k - layout_.nodes_base] = x.p_w;
   return *p;
 }
@@ -226,6 +247,15 @@ OdometerScalePriorFactor* FgoGraph::makeScalePrior() const {
   return new OdometerScalePriorFactor(0.0, aiding_.odometer.scale_std);
 }
 
+BiasFactor* FgoGraph::makeImuScaleFactor(size_t k) const {
+  return new BiasFactor(gyro_scale_process_, accel_scale_process_, node(k + 1).t_s - node(k).t_s);
+}
+
+ImuScalePriorFactor* FgoGraph::makeImuScalePrior() const {
+  // The EKF's initial scale sigmas: the profile's steady-state ones.
+  return new ImuScalePriorFactor(gyro_scale_process_.sigma, accel_scale_process_.sigma);
+}
+
 NodePriorFactor* FgoGraph::makeInitialPrior() const {
   NodeValue x0;  // the given initial state, whatever node 0's current value
   frame_.fromNavState(problem_.initial, &x0.p_w, &x0.v_w, &x0.q_wb);
@@ -267,12 +297,17 @@ void FgoGraph::addNodeBlocks(ceres::Problem* problem, size_t k) const {
   problem->AddParameterBlock(b.v, 3);
   problem->AddParameterBlock(b.bg, 3);
   problem->AddParameterBlock(b.ba, 3);
+  if (imu_scale_) {
+    problem->AddParameterBlock(b.sg, 3);
+    problem->AddParameterBlock(b.sa, 3);
+  }
   if (estimatesOdometerScale()) problem->AddParameterBlock(b.s, 1);
 }
 
 std::vector<double*> FgoGraph::preintegrationBlocks(size_t k) {
   NodeBlocks& i = blocks(k);
   NodeBlocks& j = blocks(k + 1);
+  if (imu_scale_) return {i.p, i.q, i.v, i.bg, i.ba, j.p, j.q, j.v, i.sg, i.sa};
   return {i.p, i.q, i.v, i.bg, i.ba, j.p, j.q, j.v};
 }
 
@@ -294,6 +329,10 @@ std::vector<double*> FgoGraph::nodeBlocks(size_t k) {
 
 std::vector<double*> FgoGraph::allBlocks(size_t k) {
   std::vector<double*> out = nodeBlocks(k);
+  if (imu_scale_) {
+    out.push_back(blocks(k).sg);
+    out.push_back(blocks(k).sa);
+  }
   if (estimatesOdometerScale()) out.push_back(blocks(k).s);
   return out;
 }
@@ -306,6 +345,12 @@ std::vector<double*> FgoGraph::vehicleBlocks(size_t k, const VehicleVelocityFact
 }
 
 std::vector<double*> FgoGraph::scaleWalkBlocks(size_t k) { return {blocks(k).s, blocks(k + 1).s}; }
+
+std::vector<double*> FgoGraph::imuScaleBlocks(size_t k) {
+  NodeBlocks& i = blocks(k);
+  NodeBlocks& j = blocks(k + 1);
+  return {i.sg, i.sa, j.sg, j.sa};
+}
 
 double FgoGraph::gnssChi2(size_t fix, size_t node) {
   std::unique_ptr<GnssPositionFactor> f(makeGnssFactor(fix));
@@ -353,10 +398,15 @@ void FgoGraph::predictNode(size_t k) {
   const NodeValue x = blocks(k - 1).value();
   std::unique_ptr<PreintegrationFactor> f(makePreintegrationFactor(k - 1));
   NodeValue y;
-  f->predict(x.p_w, x.q_wb, x.v_w, x.bg, x.ba, &y.p_w, &y.q_wb, &y.v_w);
+  if (imu_scale_) {
+    f->predict(x.p_w, x.q_wb, x.v_w, x.bg, x.ba, x.imu_scale, &y.p_w, &y.q_wb, &y.v_w);
+  } else {
+    f->predict(x.p_w, x.q_wb, x.v_w, x.bg, x.ba, &y.p_w, &y.q_wb, &y.v_w);
+  }
   y.bg = x.bg;
   y.ba = x.ba;
   y.odometer_scale = x.odometer_scale;
+  y.imu_scale = x.imu_scale;
   blocks(k).set(y);
 }
 

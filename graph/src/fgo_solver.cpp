@@ -21,7 +21,7 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 
 // Marginal covariance of p, v and attitude of every node, as NED 1-sigmas at the node.
 std::vector<PvaSigma> nodeSigmas(FgoGraph& graph, ceres::Problem& problem, int num_threads,
-                                 std::vector<double>* scale_sigma) {
+                                 std::vector<double>* scale_sigma, FgoReport* rep) {
   ceres::Covariance::Options co;
   co.algorithm_type = ceres::SPARSE_QR;
   co.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
@@ -36,8 +36,20 @@ std::vector<PvaSigma> nodeSigmas(FgoGraph& graph, ceres::Problem& problem, int n
     pairs.emplace_back(b.q, b.q);
     if (graph.estimatesOdometerScale()) pairs.emplace_back(b.s, b.s);
   }
+  const bool imu_scale = graph.estimatesImuScale() && n > 0;
+  if (imu_scale) {
+    pairs.emplace_back(graph.blocks(n - 1).sg, graph.blocks(n - 1).sg);
+    pairs.emplace_back(graph.blocks(n - 1).sa, graph.blocks(n - 1).sa);
+  }
   std::vector<PvaSigma> out(n, PvaSigma::Constant(std::nan("")));
   if (!cov.Compute(pairs, &problem)) return out;
+  if (imu_scale) {
+    Eigen::Matrix<double, 3, 3, Eigen::RowMajor> Pg, Pa;
+    cov.GetCovarianceBlock(graph.blocks(n - 1).sg, graph.blocks(n - 1).sg, Pg.data());
+    cov.GetCovarianceBlock(graph.blocks(n - 1).sa, graph.blocks(n - 1).sa, Pa.data());
+    rep->imu_scale_std_last << Pg.diagonal().cwiseMax(0.0).cwiseSqrt(),
+        Pa.diagonal().cwiseMax(0.0).cwiseSqrt();
+  }
   if (graph.estimatesOdometerScale()) {
     scale_sigma->assign(n, std::nan(""));
     for (size_t k = 0; k < n; ++k) {
@@ -80,6 +92,7 @@ NavSolution outputSolution(const FgoGraph& graph, const std::string& estimator,
     sol.states.reserve(n_out);
     sol.gyro_bias_rad_s.reserve(n_out);
     sol.accel_bias_m_s2.reserve(n_out);
+    const bool imu_scale = graph.estimatesImuScale();  // scale series only then (imu_errors.txt)
     FgoScaleFn scale;
     if (graph.estimatesOdometerScale()) {
       scale = [&](const OdometerScaleEstimate& k) {
@@ -88,11 +101,14 @@ NavSolution outputSolution(const FgoGraph& graph, const std::string& estimator,
       };
     }
     run(
-        [&](const NavState& s, const PvaSigma* sigma, const Eigen::Vector3d& bg,
-            const Eigen::Vector3d& ba) {
+        [&](const NavState& s, const PvaSigma* sigma, const ImuErrorEstimate& e) {
           sol.states.push_back(s);
-          sol.gyro_bias_rad_s.push_back(bg);
-          sol.accel_bias_m_s2.push_back(ba);
+          sol.gyro_bias_rad_s.push_back(e.gyro_bias_rad_s);
+          sol.accel_bias_m_s2.push_back(e.accel_bias_m_s2);
+          if (imu_scale) {
+            sol.gyro_scale.push_back(e.gyro_scale);
+            sol.accel_scale.push_back(e.accel_scale);
+          }
           if (sigma) sol.sigma.push_back(*sigma);
         },
         scale);
@@ -103,7 +119,8 @@ NavSolution outputSolution(const FgoGraph& graph, const std::string& estimator,
 
 bool allFinite(const NodeValue& x) {
   return x.p_w.allFinite() && x.q_wb.coeffs().allFinite() && x.v_w.allFinite() &&
-         x.bg.allFinite() && x.ba.allFinite();
+         x.bg.allFinite() && x.ba.allFinite() && x.imu_scale.gyro.allFinite() &&
+         x.imu_scale.accel.allFinite();
 }
 
 // The window estimator's output as the window goes: each node's causal value (or, fixed-lag,
@@ -164,6 +181,8 @@ class BatchSolver {
   std::vector<size_t> movedIntervals() const;
   // Odometer / NHC factors of every node, the scale's walk and prior (vehicle aiding only).
   void addVehicleFactors();
+  // The IMU scale factors' Gauss-Markov factors and prior (when the graph estimates them).
+  void addImuScaleFactors();
 
   FgoGraph& graph_;
   const ImuPassFn& imu_;
@@ -213,6 +232,7 @@ BatchSolver::BatchSolver(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions
     prob_.AddResidualBlock(pfs_[k], nullptr, graph_.preintegrationBlocks(k));
     prob_.AddResidualBlock(graph_.makeBiasFactor(k), nullptr, graph_.biasBlocks(k));
   }
+  addImuScaleFactors();
   addVehicleFactors();
   for (size_t k = 0; k < n_; ++k) {
     for (size_t fix : graph_.node(k).gnss) {
@@ -227,6 +247,15 @@ BatchSolver::BatchSolver(FgoGraph& graph, const ImuPassFn& imu, const FgoOptions
   so_.initial_trust_region_radius = options.initial_trust_region_radius;  // see sliding_window.cpp
   so_.num_threads = options.num_threads;
   so_.logging_type = ceres::SILENT;
+}
+
+void BatchSolver::addImuScaleFactors() {
+  if (!graph_.estimatesImuScale() || n_ == 0) return;
+  prob_.AddResidualBlock(graph_.makeImuScalePrior(), nullptr,
+                         {graph_.blocks(0).sg, graph_.blocks(0).sa});
+  for (size_t k = 0; k + 1 < n_; ++k) {
+    prob_.AddResidualBlock(graph_.makeImuScaleFactor(k), nullptr, graph_.imuScaleBlocks(k));
+  }
 }
 
 void BatchSolver::addVehicleFactors() {
@@ -386,7 +415,7 @@ NavSolution solveBatchFgo(const EstimationProblem& problem, const ImuPassFn& imu
   std::vector<double> scale_sig;
   if (options.compute_covariance) {
     t0 = std::chrono::steady_clock::now();
-    sig = nodeSigmas(graph, batch.problem(), options.num_threads, &scale_sig);
+    sig = nodeSigmas(graph, batch.problem(), options.num_threads, &scale_sig, &rep);
     rep.covariance_time_s = secondsSince(t0);
   }
   t0 = std::chrono::steady_clock::now();

@@ -5,15 +5,18 @@
 namespace graftnav {
 namespace {
 
-// The graph's per-epoch output as a solution sink's epochs (bias estimates, no scale factors).
+// The graph's per-epoch output as a solution sink's epochs.
 FgoEpochFn toSink(SolutionSink& sink) {
-  return [&sink](const NavState& s, const PvaSigma* sigma, const Eigen::Vector3d& bg,
-                 const Eigen::Vector3d& ba) {
-    ImuErrorEstimate e;
-    e.gyro_bias_rad_s = bg;
-    e.accel_bias_m_s2 = ba;
+  return [&sink](const NavState& s, const PvaSigma* sigma, const ImuErrorEstimate& e) {
     sink.add(s, sigma, e);
   };
+}
+
+// Whether a run has IMU scale-factor series (FgoGraph::estimatesImuScale's rule).
+bool graphEstimatesImuScale(const EstimationProblem& p, const EstimatorOptions& o) {
+  const ImuScaleStates mode = o.fgo.imu_scale_states;
+  return mode == ImuScaleStates::kOn ||
+         (mode == ImuScaleStates::kWithVehicleAiding && p.aiding.any());
 }
 
 // The odometer scale estimate of the epoch that follows, when vehicle aiding estimates it.
@@ -33,6 +36,7 @@ void addGraphEstimators(EstimatorRegistry* registry) {
                                               toScaleSink(sink));
                        }};
   batch.estimates_scale_factors = false;
+  batch.estimates_scale_factors_when = graphEstimatesImuScale;
   registry->add(std::move(batch));
   EstimatorEntry window{
       "fgo-window", "factor-graph sliding window with marginalization, causal output",
@@ -44,6 +48,7 @@ void addGraphEstimators(EstimatorRegistry* registry) {
         return solveWindowFgo(p, imu, o.fgo, nullptr, toSink(sink), toScaleSink(sink));
       }};
   window.estimates_scale_factors = false;
+  window.estimates_scale_factors_when = graphEstimatesImuScale;
   registry->add(std::move(window));
 }
 

@@ -1,5 +1,8 @@
 #include "graftnav/graph/node_prior_factor.h"
 
+#include <stdexcept>
+#include <string>
+
 #include "graftnav/nav/rotation.h"
 #include "graftnav/graph/right_quaternion_manifold.h"
 
@@ -72,6 +75,45 @@ bool NodeScalePriorFactor::Evaluate(double const* const* parameters, double* res
     Eigen::Map<Mat164R>{jacobians[1]} = J_t * tangentToAmbientJacobian(q);
   }
   if (jacobians[5]) Eigen::Map<Vector16d>{jacobians[5]} = S_.col(15);
+  return true;
+}
+
+NodeImuScalePriorFactor::NodeImuScalePriorFactor(const NodeValue& x0, const Eigen::MatrixXd& S,
+                                                 const Eigen::VectorXd& e, bool odometer_scale)
+    : x0_(x0), S_(S), e_(e), odometer_scale_(odometer_scale) {
+  const int n = odometer_scale ? 22 : 21;
+  if (S.rows() != n || S.cols() != n || e.size() != n) {
+    throw std::invalid_argument("NodeImuScalePriorFactor: S and e must have " + std::to_string(n) +
+                                " rows");
+  }
+  set_num_residuals(n);
+  *mutable_parameter_block_sizes() = {3, 4, 3, 3, 3, 3, 3};
+  if (odometer_scale) mutable_parameter_block_sizes()->push_back(1);
+}
+
+bool NodeImuScalePriorFactor::Evaluate(double const* const* parameters, double* residuals,
+                                       double** jacobians) const {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const int n = static_cast<int>(e_.size());
+  const Eigen::Map<const Eigen::Quaterniond> q(parameters[1]);
+  Eigen::Vector3d dth;
+  Eigen::VectorXd dx(n);
+  dx.head<15>() = nodeDifference(x0_, parameters, &dth);
+  dx.segment<3>(15) = Eigen::Map<const Eigen::Vector3d>(parameters[5]) - x0_.imu_scale.gyro;
+  dx.segment<3>(18) = Eigen::Map<const Eigen::Vector3d>(parameters[6]) - x0_.imu_scale.accel;
+  if (odometer_scale_) dx(21) = parameters[7][0] - x0_.odometer_scale;
+  Eigen::Map<Eigen::VectorXd>(residuals, n) = S_ * dx + e_;
+  if (jacobians == nullptr) return true;
+  const int cols[8] = {0, 3, 6, 9, 12, 15, 18, 21};  // tangent column of each block
+  for (int b = 0; b < (odometer_scale_ ? 8 : 7); ++b) {
+    if (!jacobians[b] || b == 1) continue;
+    const int w = b == 7 ? 1 : 3;
+    Eigen::Map<RowMajor>(jacobians[b], n, w) = S_.middleCols(cols[b], w);
+  }
+  if (jacobians[1]) {
+    const Eigen::MatrixXd J_t = S_.middleCols<3>(3) * rightJacobianInverseSO3(dth);
+    Eigen::Map<RowMajor>(jacobians[1], n, 4) = J_t * tangentToAmbientJacobian(q);
+  }
   return true;
 }
 

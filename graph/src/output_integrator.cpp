@@ -23,8 +23,10 @@ void OutputIntegrator::node(double t_s, const NodeValue& x, const PvaSigma* sigm
   }
   x_ = x;
   pending_.state = s;
-  pending_.bg = x.bg;
-  pending_.ba = x.ba;
+  pending_.sensors.gyro_bias_rad_s = x.bg;
+  pending_.sensors.accel_bias_m_s2 = x.ba;
+  pending_.sensors.gyro_scale = x.imu_scale.gyro;
+  pending_.sensors.accel_scale = x.imu_scale.accel;
   pending_.scale = {x.odometer_scale, scale_std};
   pending_.has_sigma = sigma != nullptr;
   if (sigma) pending_.sigma = *sigma;
@@ -35,6 +37,9 @@ void OutputIntegrator::sample(const ImuSample& raw) {
   ImuSample c = raw;
   c.dtheta_rad -= x_.bg * c.dt_s;
   c.dvel_m_s -= x_.ba * c.dt_s;
+  // (raw - b dt) / (1 + s); exact division by one when the graph has no scale factors.
+  c.dtheta_rad = c.dtheta_rad.cwiseQuotient(Eigen::Vector3d::Ones() + x_.imu_scale.gyro);
+  c.dvel_m_s = c.dvel_m_s.cwiseQuotient(Eigen::Vector3d::Ones() + x_.imu_scale.accel);
   sd_->step(c);
   emit();
   pending_.state = sd_->state();

@@ -16,7 +16,36 @@ constexpr int kR = ImuPreintegration::kR;
 PreintegrationFactor::PreintegrationFactor(const ImuPreintegration* pre,
                                            const Eigen::Vector3d& omega_ie_w,
                                            const LinearGravity& gravity)
-    : pre_(pre), omega_ie_w_(omega_ie_w), gravity_(gravity), sqrt_info_(pre->sqrtInformation()) {}
+    : pre_(pre),
+      with_scale_(pre->withScale()),
+      omega_ie_w_(omega_ie_w),
+      gravity_(gravity),
+      sqrt_info_(pre->sqrtInformation()) {
+  set_num_residuals(9);
+  *mutable_parameter_block_sizes() = {3, 4, 3, 3, 3, 3, 4, 3};
+  if (with_scale_) {
+    mutable_parameter_block_sizes()->push_back(3);
+    mutable_parameter_block_sizes()->push_back(3);
+  }
+}
+
+void PreintegrationFactor::corrected(const Eigen::Vector3d& bg, const Eigen::Vector3d& ba,
+                                     const double* sg, const double* sa, Eigen::Vector3d* phi_b,
+                                     Eigen::Vector3d* dv_hat, Eigen::Vector3d* dp_hat) const {
+  const ImuPreintegration& pre = *pre_;
+  if (!with_scale_) {
+    *phi_b = pre.dR_dbg() * (bg - pre.bgLin());
+    *dv_hat = pre.correctedDeltaV(bg, ba);
+    *dp_hat = pre.correctedDeltaP(bg, ba);
+    return;
+  }
+  ImuScaleFactors s;
+  s.gyro = Eigen::Map<const Eigen::Vector3d>(sg);
+  s.accel = Eigen::Map<const Eigen::Vector3d>(sa);
+  *phi_b = pre.rotationCorrection(bg, s);
+  *dv_hat = pre.correctedDeltaV(bg, ba, s);
+  *dp_hat = pre.correctedDeltaP(bg, ba, s);
+}
 
 bool PreintegrationFactor::Evaluate(double const* const* parameters, double* residuals,
                                     double** jacobians) const {
@@ -42,11 +71,10 @@ bool PreintegrationFactor::Evaluate(double const* const* parameters, double* res
   const Eigen::Vector3d g_p = gravity_.at((2.0 * p_i + p_j) / 3.0);
   const Eigen::Matrix3d& G = gravity_.G_w;
 
-  const Eigen::Vector3d dbg = bg_i - pre.bgLin();
-  const Eigen::Vector3d phi_b = pre.dR_dbg() * dbg;
+  Eigen::Vector3d phi_b, dv_hat, dp_hat;
+  corrected(bg_i, ba_i, with_scale_ ? parameters[8] : nullptr,
+            with_scale_ ? parameters[9] : nullptr, &phi_b, &dv_hat, &dp_hat);
   const Eigen::Matrix3d dR_hat = pre.deltaR() * dcmFromRotationVector(phi_b);
-  const Eigen::Vector3d dv_hat = pre.correctedDeltaV(bg_i, ba_i);
-  const Eigen::Vector3d dp_hat = pre.correctedDeltaP(bg_i, ba_i);
   const Eigen::Vector3d c = pre.coriolisMoment();
   const Eigen::Vector3d m1 = pre.firstMoment();
 
@@ -117,6 +145,20 @@ bool PreintegrationFactor::Evaluate(double const* const* parameters, double* res
     J.block<3, 3>(kV, 0) = R_iT;
     Eigen::Map<Mat93R>{jacobians[7]} = sqrt_info_.lazyProduct(J);
   }
+  if (!with_scale_) return true;
+  if (jacobians[8]) {  // sg_i
+    Mat93 J = Mat93::Zero();
+    J.block<3, 3>(kP, 0) = -pre.dp_dsg();
+    J.block<3, 3>(kV, 0) = -pre.dv_dsg();
+    J.block<3, 3>(kR, 0) = -Jr_inv * M.transpose() * rightJacobianSO3(phi_b) * pre.dR_dsg();
+    Eigen::Map<Mat93R>{jacobians[8]} = sqrt_info_.lazyProduct(J);
+  }
+  if (jacobians[9]) {  // sa_i
+    Mat93 J = Mat93::Zero();
+    J.block<3, 3>(kP, 0) = -pre.dp_dsa();
+    J.block<3, 3>(kV, 0) = -pre.dv_dsa();
+    Eigen::Map<Mat93R>{jacobians[9]} = sqrt_info_.lazyProduct(J);
+  }
   return true;
 }
 
@@ -124,14 +166,22 @@ void PreintegrationFactor::predict(const Eigen::Vector3d& p_i, const Eigen::Quat
                                    const Eigen::Vector3d& v_i, const Eigen::Vector3d& bg_i,
                                    const Eigen::Vector3d& ba_i, Eigen::Vector3d* p_j,
                                    Eigen::Quaterniond* q_j, Eigen::Vector3d* v_j) const {
+  predict(p_i, q_i, v_i, bg_i, ba_i, pre_->scaleLin(), p_j, q_j, v_j);
+}
+
+void PreintegrationFactor::predict(const Eigen::Vector3d& p_i, const Eigen::Quaterniond& q_i,
+                                   const Eigen::Vector3d& v_i, const Eigen::Vector3d& bg_i,
+                                   const Eigen::Vector3d& ba_i, const ImuScaleFactors& s_i,
+                                   Eigen::Vector3d* p_j, Eigen::Quaterniond* q_j,
+                                   Eigen::Vector3d* v_j) const {
   const ImuPreintegration& pre = *pre_;
   const double T = pre.dt_s();
   const Eigen::Matrix3d R_i = q_i.toRotationMatrix();
   const Eigen::Vector3d& w = omega_ie_w_;
   const Eigen::Matrix3d W = skew(w);
   const Eigen::Vector3d A = R_i.transpose() * w;
-  const Eigen::Vector3d dv_hat = pre.correctedDeltaV(bg_i, ba_i);
-  const Eigen::Vector3d dp_hat = pre.correctedDeltaP(bg_i, ba_i);
+  Eigen::Vector3d phi_b, dv_hat, dp_hat;
+  corrected(bg_i, ba_i, s_i.gyro.data(), s_i.accel.data(), &phi_b, &dv_hat, &dp_hat);
   // Solve r_p = r_v = 0 for (p_j, v_j) by fixed-point iteration (the Coriolis and gravity
   // couplings are small), and r_phi = 0 for q_j exactly.
   Eigen::Vector3d pj = p_i + v_i * T, vj = v_i;
@@ -144,7 +194,8 @@ void PreintegrationFactor::predict(const Eigen::Vector3d& p_i, const Eigen::Quat
   }
   *p_j = pj;
   *v_j = vj;
-  const Eigen::Matrix3d R_j = dcmFromRotationVector(-w * T) * R_i * pre.correctedDeltaR(bg_i);
+  const Eigen::Matrix3d R_j =
+      dcmFromRotationVector(-w * T) * R_i * (pre.deltaR() * dcmFromRotationVector(phi_b));
   *q_j = Eigen::Quaterniond(R_j).normalized();
 }
 

@@ -22,6 +22,8 @@ struct NodeResiduals {
   // Vehicle aiding: the node's odometer / NHC factor, the scale walk to the next node, and (node
   // 0) the scale's prior; null when absent.
   ceres::ResidualBlockId vehicle = nullptr, scale_out = nullptr, scale_prior = nullptr;
+  // IMU scale factors: their Gauss-Markov factor to the next node and (node 0) their prior.
+  ceres::ResidualBlockId imu_scale_out = nullptr, imu_scale_prior = nullptr;
 };
 
 ceres::Solver::Options windowSolverOptions(const FgoOptions& o) {
@@ -45,7 +47,8 @@ ceres::Solver::Options windowSolverOptions(const FgoOptions& o) {
 
 namespace {
 
-// Tangent dimensions of one node: 15 (p, q, v, bg, ba), 16 with the odometer scale s.
+// Tangent dimensions of one node: 15 (p, q, v, bg, ba), 16 with the odometer scale s, 21 with
+// the IMU scale factors sg, sa, 22 with both (s last).
 template <int N>
 using PairMatrix = Eigen::Matrix<double, 2 * N, 2 * N>;
 template <int N>
@@ -154,7 +157,11 @@ void marginalSystem(FgoGraph& graph, ceres::Problem& problem, size_t m,
     offset[b.v] = N * n + 6;
     offset[b.bg] = N * n + 9;
     offset[b.ba] = N * n + 12;
-    if (N > 15) offset[b.s] = N * n + 15;
+    if (N >= 21) {
+      offset[b.sg] = N * n + 15;
+      offset[b.sa] = N * n + 18;
+    }
+    if (N == 16 || N == 22) offset[b.s] = N * n + N - 1;
   }
   PairMatrix<N> H = PairMatrix<N>::Zero();
   PairVector<N> g = PairVector<N>::Zero();
@@ -163,10 +170,25 @@ void marginalSystem(FgoGraph& graph, ceres::Problem& problem, size_t m,
   schurOnSecondNode<N>(H, g, S, e);
 }
 
+// The marginalization prior on node m+1 when the nodes carry IMU scale factors.
+template <int N>
+ceres::CostFunction* marginalizeImuScaleNode(FgoGraph& graph, ceres::Problem& problem, size_t m,
+                                             const std::vector<ceres::ResidualBlockId>& residuals) {
+  Eigen::Matrix<double, N, N> S;
+  Eigen::Matrix<double, N, 1> e;
+  marginalSystem<N>(graph, problem, m, residuals, &S, &e);
+  return new NodeImuScalePriorFactor(graph.blocks(m + 1).value(), S, e, N == 22);
+}
+
 }  // namespace
 
 ceres::CostFunction* marginalizeNode(FgoGraph& graph, ceres::Problem& problem, size_t m,
                                      const std::vector<ceres::ResidualBlockId>& residuals) {
+  if (graph.estimatesImuScale()) {
+    return graph.estimatesOdometerScale()
+               ? marginalizeImuScaleNode<22>(graph, problem, m, residuals)
+               : marginalizeImuScaleNode<21>(graph, problem, m, residuals);
+  }
   if (graph.estimatesOdometerScale()) {
     NodeScalePriorFactor::Matrix16d S;
     NodeScalePriorFactor::Vector16d e;
@@ -242,6 +264,10 @@ SlidingWindow::SlidingWindow(FgoGraph& graph, bool keep_preintegrations, WindowL
     res_.front().scale_prior =
         problem_.AddResidualBlock(graph_.makeScalePrior(), nullptr, {graph_.blocks(0).s});
   }
+  if (graph_.estimatesImuScale()) {
+    res_.front().imu_scale_prior = problem_.AddResidualBlock(
+        graph_.makeImuScalePrior(), nullptr, {graph_.blocks(0).sg, graph_.blocks(0).sa});
+  }
   last_gnss_t_ = reacquired_t_ = graph_.node(0).t_s;
   listener_->entered(0, graph_.blocks(0).value(), ImuSampleBuffer());
 }
@@ -272,6 +298,10 @@ void SlidingWindow::addFactors(size_t k) {
   if (graph_.estimatesOdometerScale()) {
     prev.scale_out = problem_.AddResidualBlock(graph_.makeScaleWalkFactor(k - 1), nullptr,
                                                graph_.scaleWalkBlocks(k - 1));
+  }
+  if (graph_.estimatesImuScale()) {
+    prev.imu_scale_out = problem_.AddResidualBlock(graph_.makeImuScaleFactor(k - 1), nullptr,
+                                                   graph_.imuScaleBlocks(k - 1));
   }
   res_.emplace_back();
   if (VehicleVelocityFactor* vf = graph_.makeVehicleFactor(k)) {
@@ -345,7 +375,8 @@ void SlidingWindow::marginalizeOldest(const ImuSampleBuffer& samples) {
   ids.push_back(r.preint_out);
   ids.push_back(r.bias_out);
   for (const auto& gq : r.gnss) ids.push_back(gq.first);
-  for (ceres::ResidualBlockId id : {r.vehicle, r.scale_out, r.scale_prior})
+  for (ceres::ResidualBlockId id :
+       {r.vehicle, r.scale_out, r.scale_prior, r.imu_scale_out, r.imu_scale_prior})
     if (id) ids.push_back(id);
   ceres::CostFunction* prior = marginalizeNode(graph_, problem_, oldest_, ids);
   listener_->left(oldest_, graph_.blocks(oldest_).value(), samples);

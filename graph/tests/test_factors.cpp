@@ -12,6 +12,7 @@
 #include "graftnav/nav/rotation.h"
 #include "graftnav/graph/bias_factor.h"
 #include "graftnav/graph/gnss_position_factor.h"
+#include "graftnav/graph/imu_scale_prior_factor.h"
 #include "graftnav/graph/node_prior_factor.h"
 #include "graftnav/graph/odometer_scale_factor.h"
 #include "graftnav/graph/preintegration_factor.h"
@@ -149,6 +150,70 @@ TEST_F(FactorJacobians, PreintegrationFactor) {
     manifold_.PlusJacobian(q_i.coeffs().data(), P.data());
     const Eigen::MatrixXd J_tan = J_amb * P;
     EXPECT_LT((J_tan - J_num).norm(), 1e-6 * J_num.norm()) << J_tan << "\n\n" << J_num;
+  }
+}
+
+TEST_F(FactorJacobians, PreintegrationFactorWithImuScaleFactors) {
+  std::mt19937 rng(12);
+  std::normal_distribution<double> nd(0.0, 1.0);
+  const Eigen::Vector3d bg0(1e-4, 0, -1e-4), ba0(0.01, 0, 0);
+  ImuScaleFactors s0;
+  s0.gyro << 2e-3, -1e-3, 1e-3;
+  s0.accel << 1e-3, 2e-3, -3e-3;
+  ImuPreintegration pre(bg0, ba0, {1e-4, 1e-3});
+  pre.reintegrate(imu_.data() + 100, 200, &imu_[99], bg0, ba0, s0);
+  Eigen::Vector3d p_i, v_i, p_j, v_j;
+  Eigen::Quaterniond q_i, q_j;
+  frame_->fromNavState(sc_.truth[100], &p_i, &v_i, &q_i);
+  frame_->fromNavState(sc_.truth[300], &p_j, &v_j, &q_j);
+  p_j += Eigen::Vector3d(nd(rng), nd(rng), nd(rng)) * 0.3;
+  q_j = q_j * quatFromRotationVector(Eigen::Vector3d(nd(rng), nd(rng), nd(rng)) * 0.01);
+  Eigen::Vector3d bg(3e-4, -2e-4, 1e-4), ba(0.03, -0.02, 0.05);
+  Eigen::Vector3d sg = s0.gyro + Eigen::Vector3d(5e-4, -5e-4, 1e-3);
+  Eigen::Vector3d sa = s0.accel + Eigen::Vector3d(-1e-3, 5e-4, 5e-4);
+  PreintegrationFactor f(&pre, frame_->omega_ie_w(), frame_->linearGravity(p_i));
+  ASSERT_TRUE(f.usesScale());
+  ASSERT_EQ(f.parameter_block_sizes().size(), 10u);
+  std::vector<double*> params = {p_i.data(), q_i.coeffs().data(), v_i.data(), bg.data(), ba.data(),
+                                 p_j.data(), q_j.coeffs().data(), v_j.data(), sg.data(), sa.data()};
+  expectJacobiansMatch(f, params,
+                       {nullptr, &manifold_, nullptr, nullptr, nullptr, nullptr, &manifold_,
+                        nullptr, nullptr, nullptr},
+                       1e-5);
+}
+
+TEST_F(FactorJacobians, ImuScaleFactorsPriorAndNodePrior) {
+  const ImuScalePriorFactor prior(1e-3, 2e-3);
+  Eigen::Vector3d sg(1e-3, -2e-3, 5e-4), sa(2e-3, 0.0, -4e-3);
+  expectJacobiansMatch(prior, {sg.data(), sa.data()}, {nullptr, nullptr}, 1e-6);
+  double r[6];
+  const double* pa[] = {sg.data(), sa.data()};
+  prior.Evaluate(pa, r, nullptr);
+  EXPECT_NEAR(r[1], -2.0, 1e-12);
+  EXPECT_NEAR(r[5], -2.0, 1e-12);
+
+  std::mt19937 rng(7);
+  NodeValue x0;
+  x0.p_w << 1, 2, 3;
+  x0.q_wb = randomQuat(rng, 2.0);
+  x0.imu_scale.gyro << 1e-3, 0, 0;
+  x0.odometer_scale = 1e-3;
+  for (bool odo : {false, true}) {
+    const int n = odo ? 22 : 21;
+    const NodeImuScalePriorFactor f(x0, Eigen::MatrixXd::Random(n, n), Eigen::VectorXd::Random(n),
+                                    odo);
+    Eigen::Vector3d p(1.5, 2.2, 2.9), v(4.1, 4.9, 6.3), bg(1e-3, 0, 0), ba(0.1, 0.2, 0.0);
+    double s = 2e-3;
+    Eigen::Quaterniond q = x0.q_wb * quatFromRotationVector(Eigen::Vector3d(0.3, -0.2, 0.4));
+    std::vector<double*> params = {p.data(),  q.coeffs().data(), v.data(), bg.data(),
+                                   ba.data(), sg.data(),         sa.data()};
+    std::vector<const ceres::Manifold*> m = {nullptr, &manifold_, nullptr, nullptr,
+                                             nullptr, nullptr,    nullptr};
+    if (odo) {
+      params.push_back(&s);
+      m.push_back(nullptr);
+    }
+    expectJacobiansMatch(f, params, m, 1e-6);
   }
 }
 

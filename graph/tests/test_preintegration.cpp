@@ -34,6 +34,16 @@ PredictionError predictFromTruth(const test::Scenario& sc, size_t i, size_t j, b
           rotationVectorFromQuat(qp.conjugate() * q_j).norm()};
 }
 
+// [dp, dv, Log(dR_ref^T dR)] of `p`: the increments a Jacobian test differentiates.
+Eigen::VectorXd incrementsAbout(const ImuPreintegration& ref, const ImuPreintegration& p) {
+  Eigen::VectorXd out(9);
+  out.segment<3>(0) = p.deltaP();
+  out.segment<3>(3) = p.deltaV();
+  out.segment<3>(6) =
+      rotationVectorFromQuat(Eigen::Quaterniond(ref.deltaR().transpose() * p.deltaR()));
+  return out;
+}
+
 TEST(Preintegration, MatchesMechanizationOfAnalyticTrajectory) {
   const test::Scenario sc = test::makeScenario(32.0, 200.0, 20.0);
   for (size_t len : {200u, 2000u}) {  // 1 s and 10 s intervals
@@ -67,12 +77,7 @@ TEST(Preintegration, BiasJacobiansMatchReintegration) {
   auto f = [&](const Eigen::VectorXd& b) {
     ImuPreintegration p(bg0, ba0, {1e-4, 1e-3});
     p.reintegrate(sc.ideal, 1, 400, b.head<3>(), b.tail<3>());
-    Eigen::VectorXd out(9);
-    out.segment<3>(0) = p.deltaP();
-    out.segment<3>(3) = p.deltaV();
-    out.segment<3>(6) =
-        rotationVectorFromQuat(Eigen::Quaterniond(ref.deltaR().transpose() * p.deltaR()));
-    return out;
+    return incrementsAbout(ref, p);
   };
   Eigen::VectorXd b0(6);
   b0 << bg0, ba0;
@@ -96,6 +101,87 @@ TEST(Preintegration, BiasJacobiansMatchReintegration) {
                 Eigen::Quaterniond(ref.correctedDeltaR(bg0 + dbg).transpose() * moved.deltaR()))
                 .norm(),
             1e-8);
+}
+
+// The scale-factor Jacobians (and the bias ones, which the scales divide) against re-integration
+// about a non-zero linearization, and the first-order correction against re-integration.
+TEST(Preintegration, ScaleFactorJacobiansMatchReintegration) {
+  const test::Scenario sc = test::makeScenario(3.0);
+  const Eigen::Vector3d bg0(1e-4, -2e-4, 5e-5), ba0(0.02, -0.01, 0.03);
+  ImuScaleFactors s0;
+  s0.gyro << 1e-3, -2e-3, 3e-3;
+  s0.accel << -1e-3, 5e-4, 2e-3;
+  auto integrate = [&](const Eigen::VectorXd& x) {  // x = (bg, ba, sg, sa)
+    ImuScaleFactors s;
+    s.gyro = x.segment<3>(6);
+    s.accel = x.segment<3>(9);
+    ImuPreintegration p(bg0, ba0, {1e-4, 1e-3});
+    p.reintegrate(sc.ideal.data() + 1, 399, &sc.ideal[0], x.head<3>(), x.segment<3>(3), s);
+    return p;
+  };
+  Eigen::VectorXd x0(12);
+  x0 << bg0, ba0, s0.gyro, s0.accel;
+  const ImuPreintegration ref = integrate(x0);
+  ASSERT_TRUE(ref.withScale());
+  auto f = [&](const Eigen::VectorXd& x) {
+    const ImuPreintegration p = integrate(x);
+    return incrementsAbout(ref, p);
+  };
+  const Eigen::MatrixXd J_num = test::numericJacobian(f, x0, 1e-6);
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(9, 12);
+  J.block<3, 3>(0, 0) = ref.dp_dbg();
+  J.block<3, 3>(0, 3) = ref.dp_dba();
+  J.block<3, 3>(0, 6) = ref.dp_dsg();
+  J.block<3, 3>(0, 9) = ref.dp_dsa();
+  J.block<3, 3>(3, 0) = ref.dv_dbg();
+  J.block<3, 3>(3, 3) = ref.dv_dba();
+  J.block<3, 3>(3, 6) = ref.dv_dsg();
+  J.block<3, 3>(3, 9) = ref.dv_dsa();
+  J.block<3, 3>(6, 0) = ref.dR_dbg();
+  J.block<3, 3>(6, 6) = ref.dR_dsg();
+  // Column by column: the scale columns are as large as the rotation and velocity the interval
+  // holds; each must match to the coning/sculling terms neglected (1e-3 relative).
+  for (int c = 0; c < 12; ++c) {
+    EXPECT_LT((J.col(c) - J_num.col(c)).norm(), 2e-3 * J_num.col(c).norm() + 1e-12)
+        << "column " << c << "\nanalytic " << J.col(c).transpose() << "\nnumeric  "
+        << J_num.col(c).transpose();
+  }
+  // First-order correction for a 1000 ppm change of every scale factor.
+  Eigen::VectorXd x1 = x0;
+  x1.segment<6>(6) += Eigen::VectorXd::Constant(6, 1e-3);
+  const ImuPreintegration moved = integrate(x1);
+  ImuScaleFactors s1;
+  s1.gyro = x1.segment<3>(6);
+  s1.accel = x1.segment<3>(9);
+  const Eigen::Vector3d dp_first = ref.correctedDeltaP(bg0, ba0, s1);
+  const Eigen::Vector3d dv_first = ref.correctedDeltaV(bg0, ba0, s1);
+  // The correction itself is ~1e-3 of the increments; what is left is second order.
+  EXPECT_GT((moved.deltaP() - ref.deltaP()).norm(), 1e-5);
+  EXPECT_LT((dp_first - moved.deltaP()).norm(), 1e-3 * (moved.deltaP() - ref.deltaP()).norm());
+  EXPECT_LT((dv_first - moved.deltaV()).norm(), 1e-3 * (moved.deltaV() - ref.deltaV()).norm());
+  EXPECT_LT(
+      rotationVectorFromQuat(
+          Eigen::Quaterniond(ref.correctedDeltaR(bg0, s1).transpose() * moved.deltaR()))
+          .norm(),
+      1e-3 * rotationVectorFromQuat(Eigen::Quaterniond(ref.deltaR().transpose() * moved.deltaR()))
+                 .norm());
+}
+
+// Without scale factors the samples are corrected exactly as before scale states existed, and
+// zero linearization scales give the same increments.
+TEST(Preintegration, ZeroScaleFactorsGiveTheUnscaledIncrements) {
+  const test::Scenario sc = test::makeScenario(3.0);
+  const Eigen::Vector3d bg(1e-4, -2e-4, 5e-5), ba(0.02, -0.01, 0.03);
+  ImuPreintegration a(bg, ba, {1e-4, 1e-3}), b(bg, ba, {1e-4, 1e-3});
+  a.reintegrate(sc.ideal.data() + 1, 399, &sc.ideal[0], bg, ba);
+  b.reintegrate(sc.ideal.data() + 1, 399, &sc.ideal[0], bg, ba, ImuScaleFactors());
+  EXPECT_FALSE(a.withScale());
+  EXPECT_TRUE(b.withScale());
+  EXPECT_EQ(a.deltaP(), b.deltaP());
+  EXPECT_EQ(a.deltaV(), b.deltaV());
+  EXPECT_EQ(a.deltaR(), b.deltaR());
+  EXPECT_LT((a.dv_dbg() - b.dv_dbg()).norm(), 1e-12 * a.dv_dbg().norm());
+  EXPECT_GT(b.dR_dsg().norm(), 0.0);
 }
 
 TEST(Preintegration, CovarianceMatchesMonteCarlo) {

@@ -195,11 +195,7 @@ TEST_P(StreamedFactorGraph, SolutionFileByteIdenticalToInMemory) {
   const EstimationProblem header = streamedHeader(problem, c.gnss_from_file);
   NavSolution streamed;
   TeeSink sink(dir + "/streamed.nav", &streamed);
-  const FgoEpochFn out = [&](const NavState& s, const PvaSigma* sigma, const Eigen::Vector3d& bg,
-                             const Eigen::Vector3d& ba) {
-    ImuErrorEstimate e;
-    e.gyro_bias_rad_s = bg;
-    e.accel_bias_m_s2 = ba;
+  const FgoEpochFn out = [&](const NavState& s, const PvaSigma* sigma, const ImuErrorEstimate& e) {
     sink.add(s, sigma, e);
   };
   const NavSolution book = c.window ? solveWindowFgo(header, filePass(c.block), o, nullptr, out)

@@ -31,6 +31,7 @@ const KeyList kFgoKeys = {"earth_rotation",
                           "reintegrate_gyro_bias_rad_s",
                           "reintegrate_accel_bias_m_s2",
                           "max_reintegration_rounds",
+                          "imu_scale_states",
                           "robust_loss",
                           "robust_loss_scale",
                           "chi2_threshold",
@@ -160,6 +161,13 @@ void parseFgo(const yf::Context& ctx, const YAML::Node& g, FgoOptions* f) {
   field("reintegrate_gyro_bias_rad_s", &f->reintegrate_gyro_bias_rad_s);
   field("reintegrate_accel_bias_m_s2", &f->reintegrate_accel_bias_m_s2);
   field("max_reintegration_rounds", &f->max_reintegration_rounds);
+  if (g["imu_scale_states"].IsDefined()) {
+    std::string text;
+    field("imu_scale_states", &text);
+    if (!parseImuScaleStates(text, &f->imu_scale_states))
+      yf::fail(ctx, g["imu_scale_states"], "fgo.imu_scale_states",
+               "'" + text + "': expected off, with_vehicle_aiding or on");
+  }
   field("robust_loss", &f->robust_loss);
   field("robust_loss_scale", &f->robust_loss_scale);
   field("chi2_threshold", &f->chi2_threshold);

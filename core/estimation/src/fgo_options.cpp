@@ -11,6 +11,19 @@ bool fail(std::string* error, const std::string& key, double value, const char* 
 }
 }  // namespace
 
+bool parseImuScaleStates(const std::string& text, ImuScaleStates* out) {
+  if (text == "off") {
+    *out = ImuScaleStates::kOff;
+  } else if (text == "with_vehicle_aiding") {
+    *out = ImuScaleStates::kWithVehicleAiding;
+  } else if (text == "on") {
+    *out = ImuScaleStates::kOn;
+  } else {
+    return false;
+  }
+  return true;
+}
+
 bool FgoOptions::validate(std::string* error) const {
   auto positive = [](double x) { return std::isfinite(x) && x > 0.0; };
   if (!positive(max_node_spacing_s))
@@ -67,6 +80,8 @@ bool FgoOptions::validate(std::string* error) const {
   if (!positive(min_odometer_scale_random_walk_per_sqrt_s))
     return fail(error, "min_odometer_scale_random_walk_per_sqrt_s",
                 min_odometer_scale_random_walk_per_sqrt_s, "must be > 0");
+  if (!positive(min_imu_scale_std))
+    return fail(error, "min_imu_scale_std", min_imu_scale_std, "must be > 0");
   return true;
 }
 

@@ -30,9 +30,9 @@ NavSolution streamedRun(const NavigateSetup& s, const fs::path& out,
                         const EstimatorRegistry& registry, StreamedEvaluation* evaluation,
                         const BeforeCommitFn& before_commit, RunFiles* files) {
   NavSolution sol;
-  // An estimator without scale-factor series (the factor graphs) writes no imu_errors.txt, as in
-  // memory.
-  const bool with_imu_errors = registry.find(s.estimator).estimates_scale_factors;
+  // An estimator without scale-factor series (the factor graphs unless their options add them)
+  // writes no imu_errors.txt, as in memory.
+  const bool with_imu_errors = registry.find(s.estimator).estimatesScaleFactors(s.pr, s.rc);
   SolutionFileSink sink(out.string(), with_imu_errors, evaluation);
   const NavSolution book = registry.runStreaming(
       s.estimator, s.pr, imuFileStream(s.imu.path, s.imu.read_options), s.rc, sink);

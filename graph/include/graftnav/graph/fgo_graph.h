@@ -19,6 +19,7 @@
 #include "graftnav/graph/gnss_position_factor.h"
 #include "graftnav/graph/imu_preintegration.h"
 #include "graftnav/graph/imu_sample_buffer.h"
+#include "graftnav/graph/imu_scale_prior_factor.h"
 #include "graftnav/graph/local_frame.h"
 #include "graftnav/graph/node_layout.h"
 #include "graftnav/graph/node_prior_factor.h"
@@ -37,7 +38,9 @@ struct NodeBlocks {
   double v[3];
   double bg[3];
   double ba[3];
-  double s[1] = {0.0};  // odometer scale factor (a parameter block only when estimated)
+  double sg[3] = {0.0, 0.0, 0.0};  // gyro and accel scale factors (parameter blocks only when
+  double sa[3] = {0.0, 0.0, 0.0};  // the graph estimates them)
+  double s[1] = {0.0};             // odometer scale factor (a parameter block only when estimated)
   NodeValue value() const;
   void set(const NodeValue& x);
 };
@@ -106,6 +109,8 @@ class FgoGraph {
   bool aidsVehicle() const { return aiding_.any(); }
   bool estimatesOdometerScale() const { return aiding_.odometer.estimatesScale(); }
   void observeVehicle(size_t k, const ImuSampleBuffer& samples);
+  // Whether each node carries gyro and accelerometer scale factors (FgoOptions::imu_scale_states).
+  bool estimatesImuScale() const { return imu_scale_; }
 
   // Factories (the caller's Problem takes ownership of the returned cost functions).
   PreintegrationFactor* makePreintegrationFactor(size_t k) const;  // uses preintegration(k)
@@ -117,6 +122,10 @@ class FgoGraph {
   VehicleVelocityFactor* makeVehicleFactor(size_t k) const;
   OdometerScaleWalkFactor* makeScaleWalkFactor(size_t k) const;
   OdometerScalePriorFactor* makeScalePrior() const;
+  // IMU scale factors: their Gauss-Markov factor node k -> k+1 (the EKF's process, blocks
+  // imuScaleBlocks(k)), and their zero-mean prior on node 0 (blocks sg, then sa).
+  BiasFactor* makeImuScaleFactor(size_t k) const;
+  ImuScalePriorFactor* makeImuScalePrior() const;
   ceres::LossFunction* gnssLoss() const { return loss_.get(); }  // owned here; may be null
   ceres::Manifold* quaternionManifold() const { return &manifold_; }
 
@@ -127,10 +136,11 @@ class FgoGraph {
   std::vector<double*> biasBlocks(size_t k);
   std::vector<double*> poseBlocks(size_t k);  // p, q, v (GNSS)
   std::vector<double*> nodeBlocks(size_t k);  // p, q, v, bg, ba (priors)
-  // nodeBlocks and, when the scale is estimated, s: every block of node k in a problem.
+  // nodeBlocks, then sg, sa and s when estimated: every block of node k in a problem.
   std::vector<double*> allBlocks(size_t k);
   std::vector<double*> vehicleBlocks(size_t k, const VehicleVelocityFactor& f);  // q, v, bg (s)
   std::vector<double*> scaleWalkBlocks(size_t k);                                // s_k, s_k+1
+  std::vector<double*> imuScaleBlocks(size_t k);  // sg_k, sa_k, sg_k+1, sa_k+1
 
   // Whitened squared norm of GNSS observation `fix` at node k's current values, no loss.
   double gnssChi2(size_t fix, size_t node);
@@ -162,6 +172,9 @@ class FgoGraph {
   void setUp();
   // Value, preintegration and gravity slots for the nodes placed since the last call.
   void addNodeStorage();
+  // Preintegration k from `count` samples about node value x (with its scales when estimated).
+  ImuPreintegration& preintegrateAt(size_t k, const NodeValue& x, const ImuSample* samples,
+                                    size_t count, const ImuSample* before);
   std::unique_ptr<ImuPreintegration>& pre(size_t k) { return pre_[k - layout_.nodes_base]; }
   const std::unique_ptr<ImuPreintegration>& pre(size_t k) const {
     return pre_[k - layout_.nodes_base];
@@ -172,6 +185,8 @@ class FgoGraph {
   LocalFrame frame_;
   PreintegrationNoise noise_;
   BiasProcess gyro_process_, accel_process_;
+  BiasProcess gyro_scale_process_, accel_scale_process_;
+  bool imu_scale_ = false;
   NodeLayout layout_;
   std::unique_ptr<NodeLayoutBuilder> builder_;  // while placing
   const ImuSeries* memory_imu_ = nullptr;       // the first constructor's samples

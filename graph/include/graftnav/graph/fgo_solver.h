@@ -3,6 +3,7 @@
 // with marginalization ("fgo-window"). Both return the common NavSolution at the IMU rate, made
 // by strapdown integration from the optimized nodes with their biases. docs/fgo.md.
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,10 @@ struct FgoReport {
                                // its output, written as the window goes)
   double batch_time_s = 0.0;   // batch solves (not counting the window pass)
   double covariance_time_s = 0.0;
+  // Batch with compute_covariance and IMU scale states: the last node's gyro then accelerometer
+  // scale-factor 1-sigmas (fraction; NaN otherwise).
+  Eigen::Matrix<double, 6, 1> imu_scale_std_last =
+      Eigen::Matrix<double, 6, 1>::Constant(std::numeric_limits<double>::quiet_NaN());
   double output_time_s = 0.0;  // batch: IMU-rate integration of the output
   std::string summary;         // one-line text summary
 };

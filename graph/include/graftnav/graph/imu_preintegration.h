@@ -15,6 +15,15 @@
 // Error state (residual order of the factor): [dp, dv, dphi] with dR_true = dR Exp(dphi).
 // Covariance propagation from ARW (rad/sqrt(s)) and VRW (m/s/sqrt(s)); first-order bias
 // Jacobians d(dR, dv, dp)/d(bg, ba) for bias correction without re-integration.
+//
+// With scale factors (the EKF's sensor model, filters/ins_error_model.h: each increment corrected
+// as (raw - b dt) / (1 + s) per axis), the samples are corrected by the linearization scales
+// sg_lin, sa_lin too, and first-order Jacobians d(dR, dv, dp)/d(sg, sa) are carried the same way
+// as the bias ones: a parameter x entering the corrected increments as d(dtheta')/dx = G_th,
+// d(dv')/dx = G_v propagates as
+//   da/dx  = -dR [dv_fb]x dR_dx + dR (G_v + 1/2 ([dtheta']x G_v - [dv']x G_th))
+//   dp_dx += dv_dx dt + 1/2 da/dx dt,  dv_dx += da/dx,  dR_dx = Exp(phi)^T dR_dx + Jr(phi) G_th
+// with G_th = -dt diag(1/(1+sg)) for bg, -diag(dtheta') for sg, and likewise for the accelerometer.
 
 #include <Eigen/Core>
 
@@ -25,6 +34,12 @@ namespace graftnav {
 struct PreintegrationNoise {
   double arw_rad_sqrt_s = 0.0;
   double vrw_m_s_sqrt_s = 0.0;
+};
+
+// Gyro and accelerometer scale factors per axis (fractions), as the EKF's sensor model.
+struct ImuScaleFactors {
+  Eigen::Vector3d gyro = Eigen::Vector3d::Zero();
+  Eigen::Vector3d accel = Eigen::Vector3d::Zero();
 };
 
 class ImuPreintegration {
@@ -49,6 +64,11 @@ class ImuPreintegration {
   // first (coning/sculling memory), null when there is none.
   void reintegrate(const ImuSample* samples, size_t count, const ImuSample* before,
                    const Eigen::Vector3d& bg_rad_s, const Eigen::Vector3d& ba_m_s2);
+  // The same with the samples also corrected by the scale factors `scale`, whose Jacobians are
+  // then carried (withScale() true until the next reintegrate without them).
+  void reintegrate(const ImuSample* samples, size_t count, const ImuSample* before,
+                   const Eigen::Vector3d& bg_rad_s, const Eigen::Vector3d& ba_m_s2,
+                   const ImuScaleFactors& scale);
 
   double dt_s() const { return dt_s_; }
   const Eigen::Matrix3d& deltaR() const { return dR_; }
@@ -63,6 +83,13 @@ class ImuPreintegration {
   const Eigen::Matrix3d& dv_dba() const { return dv_dba_; }
   const Eigen::Matrix3d& dp_dbg() const { return dp_dbg_; }
   const Eigen::Matrix3d& dp_dba() const { return dp_dba_; }
+  bool withScale() const { return with_scale_; }
+  const ImuScaleFactors& scaleLin() const { return scale_lin_; }
+  const Eigen::Matrix3d& dR_dsg() const { return dR_dsg_; }
+  const Eigen::Matrix3d& dv_dsg() const { return dv_dsg_; }
+  const Eigen::Matrix3d& dv_dsa() const { return dv_dsa_; }
+  const Eigen::Matrix3d& dp_dsg() const { return dp_dsg_; }
+  const Eigen::Matrix3d& dp_dsa() const { return dp_dsa_; }
   const Matrix9d& covariance() const { return cov_; }
   // L^-1 with covariance = L L^T (so that r_whitened = sqrtInformation() * r).
   Matrix9d sqrtInformation() const;
@@ -71,9 +98,33 @@ class ImuPreintegration {
   Eigen::Matrix3d correctedDeltaR(const Eigen::Vector3d& bg) const;
   Eigen::Vector3d correctedDeltaV(const Eigen::Vector3d& bg, const Eigen::Vector3d& ba) const;
   Eigen::Vector3d correctedDeltaP(const Eigen::Vector3d& bg, const Eigen::Vector3d& ba) const;
+  // The same, first order also in scale - scale_lin (withScale() only).
+  Eigen::Vector3d rotationCorrection(const Eigen::Vector3d& bg, const ImuScaleFactors& s) const;
+  Eigen::Matrix3d correctedDeltaR(const Eigen::Vector3d& bg, const ImuScaleFactors& s) const;
+  Eigen::Vector3d correctedDeltaV(const Eigen::Vector3d& bg, const Eigen::Vector3d& ba,
+                                  const ImuScaleFactors& s) const;
+  Eigen::Vector3d correctedDeltaP(const Eigen::Vector3d& bg, const Eigen::Vector3d& ba,
+                                  const ImuScaleFactors& s) const;
 
  private:
   void resetTo(const Eigen::Vector3d& bg, const Eigen::Vector3d& ba);
+  // Sample pair corrected by the linearization biases (and scales, withScale()).
+  void correct(const ImuSample& s, Eigen::Vector3d* dtheta, Eigen::Vector3d* dvel) const;
+  // Bias Jacobians over one step without scale factors.
+  void propagateBiasJacobians(double dt, const Eigen::Vector3d& dth, const Eigen::Vector3d& dv_fb,
+                              const Eigen::Matrix3d& dR_skew_dv, const Eigen::Matrix3d& expPhiT,
+                              const Eigen::Matrix3d& Jr);
+  // Scale-factor Jacobians (and the bias ones, which the scales divide) over one step, before
+  // the increments move; dth, dvb the corrected step, dv_fb its sculling-corrected velocity.
+  void propagateScaledJacobians(double dt, const Eigen::Vector3d& dth, const Eigen::Vector3d& dvb,
+                                const Eigen::Vector3d& dv_fb, const Eigen::Matrix3d& expPhiT,
+                                const Eigen::Matrix3d& Jr);
+  // One parameter's Jacobians d(dR, dv, dp)/dx given its input derivatives G_th, G_v.
+  void propagateInput(double dt, const Eigen::Matrix3d& G_th, const Eigen::Matrix3d& G_v,
+                      const Eigen::Vector3d& dth, const Eigen::Vector3d& dvb,
+                      const Eigen::Vector3d& dv_fb, const Eigen::Matrix3d& expPhiT,
+                      const Eigen::Matrix3d& Jr, Eigen::Matrix3d* dR_dx, Eigen::Matrix3d* dv_dx,
+                      Eigen::Matrix3d* dp_dx) const;
 
   Eigen::Vector3d bg_lin_, ba_lin_;
   PreintegrationNoise noise_;
@@ -81,6 +132,9 @@ class ImuPreintegration {
   Eigen::Matrix3d dR_;
   Eigen::Vector3d dv_, dp_, m2_;
   Eigen::Matrix3d dR_dbg_, dv_dbg_, dv_dba_, dp_dbg_, dp_dba_;
+  bool with_scale_ = false;
+  ImuScaleFactors scale_lin_;
+  Eigen::Matrix3d dR_dsg_, dv_dsg_, dv_dsa_, dp_dsg_, dp_dsa_;
   Matrix9d cov_;
 };
 

@@ -5,10 +5,13 @@
 // marginalization prior of the sliding window (S, e from the Schur complement; docs/fgo.md).
 // Blocks: p[3], q[4], v[3], bg[3], ba[3]. Tangent order of S's columns: the same.
 
+#include <ceres/cost_function.h>
 #include <ceres/sized_cost_function.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+
+#include "graftnav/graph/imu_preintegration.h"
 
 namespace graftnav {
 
@@ -19,6 +22,7 @@ struct NodeValue {
   Eigen::Vector3d bg = Eigen::Vector3d::Zero();
   Eigen::Vector3d ba = Eigen::Vector3d::Zero();
   double odometer_scale = 0.0;  // used only when the graph estimates it (vehicle_aiding.h)
+  ImuScaleFactors imu_scale;    // used only when the graph estimates them (FgoOptions)
 };
 
 // x [-] x0 over the five blocks at `parameters` (p, q, v, bg, ba), and Log(q0^-1 q) (the q
@@ -54,6 +58,23 @@ class NodeScalePriorFactor final : public ceres::SizedCostFunction<16, 3, 4, 3, 
   NodeValue x0_;
   Matrix16d S_;
   Vector16d e_;
+};
+
+// The same on a node with its IMU scale factors sg, sa (21 tangent dims) and, with
+// `odometer_scale`, s (22): the sliding window's marginalization prior when the graph estimates
+// the IMU scale factors. Blocks: p, q, v, bg, ba, sg[3], sa[3] (, s[1]); S's columns the same.
+class NodeImuScalePriorFactor final : public ceres::CostFunction {
+ public:
+  NodeImuScalePriorFactor(const NodeValue& x0, const Eigen::MatrixXd& S, const Eigen::VectorXd& e,
+                          bool odometer_scale);
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  NodeValue x0_;
+  Eigen::MatrixXd S_;
+  Eigen::VectorXd e_;
+  bool odometer_scale_;
 };
 
 }  // namespace graftnav

@@ -1,6 +1,6 @@
 #pragma once
 // IMU-rate output of a factor graph: strapdown from each node's optimized value with its biases
-// over the node's interval, one epoch at a time. Each epoch is held back by one: a node's own
+// (and IMU scale factors, zero when not estimated) over the node's interval, one epoch at a time. Each epoch is held back by one: a node's own
 // epoch, already integrated as the end of the previous interval, is replaced by the node
 // estimate so that the solution passes exactly through the optimized nodes.
 
@@ -9,6 +9,7 @@
 #include <limits>
 #include <optional>
 
+#include "graftnav/estimation/imu_error_estimate.h"
 #include "graftnav/estimation/nav_solution.h"
 #include "graftnav/graph/local_frame.h"
 #include "graftnav/graph/node_prior_factor.h"
@@ -17,10 +18,9 @@
 namespace graftnav {
 
 // One output epoch of a factor-graph solution: state, PVA 1-sigma (null when not computed), and
-// the gyro and accelerometer bias estimates.
+// the IMU error estimates (biases; scale factors, zero when the graph has none).
 using FgoEpochFn = std::function<void(const NavState& state, const PvaSigma* sigma,
-                                      const Eigen::Vector3d& gyro_bias_rad_s,
-                                      const Eigen::Vector3d& accel_bias_m_s2)>;
+                                      const ImuErrorEstimate& sensors)>;
 
 // With an odometer scale estimated: its value (and 1-sigma, NaN when not computed) at the epoch
 // given next, called just before the FgoEpochFn of that epoch.
@@ -44,15 +44,14 @@ class OutputIntegrator {
  private:
   struct Epoch {
     NavState state;
-    Eigen::Vector3d bg, ba;
+    ImuErrorEstimate sensors;
     PvaSigma sigma;
     bool has_sigma = false;
     OdometerScaleEstimate scale;
   };
   void emit() {
     if (scale_output_) scale_output_(pending_.scale);
-    output_(pending_.state, pending_.has_sigma ? &pending_.sigma : nullptr, pending_.bg,
-            pending_.ba);
+    output_(pending_.state, pending_.has_sigma ? &pending_.sigma : nullptr, pending_.sensors);
   }
 
   const LocalFrame& frame_;

@@ -39,6 +39,13 @@ struct EstimatorEntry {
   StreamingEstimatorFn stream;  // empty when the estimator holds its input in memory
   // Whether the solution has scale-factor series (imu_errors.txt is written only then).
   bool estimates_scale_factors = true;
+  // When set, decides that per run instead (an estimator whose scale states are an option).
+  std::function<bool(const EstimationProblem&, const EstimatorOptions&)>
+      estimates_scale_factors_when{};
+  bool estimatesScaleFactors(const EstimationProblem& p, const EstimatorOptions& o) const {
+    return estimates_scale_factors_when ? estimates_scale_factors_when(p, o)
+                                        : estimates_scale_factors;
+  }
   // Whether the estimator takes GNSS (false: a free-inertial run, no GNSS read or expected).
   bool uses_gnss = true;
   // The forward filter this estimator smooths, when it is one (rts: "ekf"); empty otherwise. The

@@ -7,6 +7,13 @@
 
 namespace graftnav {
 
+// Whether the graph's nodes carry gyro and accelerometer scale factors per axis (the EKF's
+// states, with the same IMU profile): never, only when vehicle aiding (odometer or NHC) is on,
+// or always.
+enum class ImuScaleStates { kOff, kWithVehicleAiding, kOn };
+// "off" | "with_vehicle_aiding" | "on"; false for anything else.
+bool parseImuScaleStates(const std::string& text, ImuScaleStates* out);
+
 struct FgoOptions {
   // Preintegration.
   bool earth_rotation = true;                 // keep omega_ie in the preintegration factor
@@ -14,6 +21,10 @@ struct FgoOptions {
   double reintegrate_gyro_bias_rad_s = 2e-4;  // re-preintegrate when |bg - bg_lin| exceeds this
   double reintegrate_accel_bias_m_s2 = 2e-2;  // ... or |ba - ba_lin| exceeds this
   int max_reintegration_rounds = 2;           // batch: re-solve rounds after re-preintegration
+  // IMU scale-factor states. With vehicle aiding the odometer and NHC hold the along-track and
+  // heading errors that a gyro scale error makes in turns during outages; without it the graphs
+  // keep the 15-state node (docs/fgo.md).
+  ImuScaleStates imu_scale_states = ImuScaleStates::kWithVehicleAiding;
 
   // GNSS factors.
   std::string robust_loss = "huber";  // huber | cauchy | none
@@ -60,6 +71,9 @@ struct FgoOptions {
   // least this (fraction/sqrt(s); 1e-6 moves it by ~40 ppm over 25 min) so that a scale given
   // as constant stays finite.
   double min_odometer_scale_random_walk_per_sqrt_s = 1e-6;
+  // IMU scale factors (fraction): floor on the profile's steady-state sigma, which sets their
+  // Gauss-Markov factor and the first node's prior (a profile without scale errors gives 0).
+  double min_imu_scale_std = 1e-6;
 
   // True when every field is usable; otherwise false and *error names the field and value.
   bool validate(std::string* error) const;
