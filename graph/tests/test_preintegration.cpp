@@ -34,6 +34,16 @@ PredictionError predictFromTruth(const test::Scenario& sc, size_t i, size_t j, b
           rotationVectorFromQuat(qp.conjugate() * q_j).norm()};
 }
 
+// [dp, dv, Log(dR_ref^T dR)] of `p`: the increments a Jacobian test differentiates.
+Eigen::VectorXd incrementsAbout(const ImuPreintegration& ref, const ImuPreintegration& p) {
+  Eigen::VectorXd out(9);
+  out.segment<3>(0) = p.deltaP();
+  out.segment<3>(3) = p.deltaV();
+  out.segment<3>(6) =
+      rotationVectorFromQuat(Eigen::Quaterniond(ref.deltaR().transpose() * p.deltaR()));
+  return out;
+}
+
 TEST(Preintegration, MatchesMechanizationOfAnalyticTrajectory) {
   const test::Scenario sc = test::makeScenario(32.0, 200.0, 20.0);
   for (size_t len : {200u, 2000u}) {  // 1 s and 10 s intervals
@@ -67,12 +77,7 @@ TEST(Preintegration, BiasJacobiansMatchReintegration) {
   auto f = [&](const Eigen::VectorXd& b) {
     ImuPreintegration p(bg0, ba0, {1e-4, 1e-3});
     p.reintegrate(sc.ideal, 1, 400, b.head<3>(), b.tail<3>());
-    Eigen::VectorXd out(9);
-    out.segment<3>(0) = p.deltaP();
-    out.segment<3>(3) = p.deltaV();
-    out.segment<3>(6) =
-        rotationVectorFromQuat(Eigen::Quaterniond(ref.deltaR().transpose() * p.deltaR()));
-    return out;
+    return incrementsAbout(ref, p);
   };
   Eigen::VectorXd b0(6);
   b0 << bg0, ba0;
@@ -120,12 +125,7 @@ TEST(Preintegration, ScaleFactorJacobiansMatchReintegration) {
   ASSERT_TRUE(ref.withScale());
   auto f = [&](const Eigen::VectorXd& x) {
     const ImuPreintegration p = integrate(x);
-    Eigen::VectorXd out(9);
-    out.segment<3>(0) = p.deltaP();
-    out.segment<3>(3) = p.deltaV();
-    out.segment<3>(6) =
-        rotationVectorFromQuat(Eigen::Quaterniond(ref.deltaR().transpose() * p.deltaR()));
-    return out;
+    return incrementsAbout(ref, p);
   };
   const Eigen::MatrixXd J_num = test::numericJacobian(f, x0, 1e-6);
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(9, 12);

@@ -6,7 +6,8 @@
 #
 # Usage: scripts/dev/bench_memory.sh OUT_DIR [GRAFTNAV]      (GRAFTNAV default: build/graftnav)
 # Environment: LENGTHS_MIN (default "15 60 480"), RUNS (runs per measurement, the median is
-# reported; default 1), ESTIMATORS (default "ekf rts fgo-window fgo"), COMMANDS (default
+# reported; default 1), ESTIMATORS (default "ekf rts fgo-window fgo"), COMPARE_SETS (the
+# estimator lists compare runs, default "ekf ekf,rts"), COMMANDS (default
 # "navigate compare real evaluate diagnose"), CASES (folder of the simulated cases, default
 # OUT_DIR/cases: another binary's run can share them), <COMMAND>_MAX_MIN (run that command only
 # up to this many minutes; defaults: COMPARE 480, REAL 480, EVALUATE 480, DIAGNOSE 480),
@@ -18,13 +19,14 @@
 # Each length is a motion-script drive (60 s at rest, then 100 s straights and 90-degree turns at
 # 10 m/s) simulated with the POS1100-like tested IMU of mems_57min.yaml, 1 Hz GNSS, truth at
 # 200 Hz and a lab session with a 1-h static record. Every command runs on the whole case, its
-# truth.nav beside it: navigate --imu tested with each estimator; compare with ekf; real with
+# truth.nav beside it: navigate --imu tested with each estimator; compare with ekf and with
+# ekf,rts (the filter-smoother cross-check); real with
 # ekf (a run config with the same outages, written to OUT_DIR/real_run.yaml); evaluate with K = 20
 # realizations per strategy on 2 workers (EKF); diagnose. Outages of 60 s every 180 s. Peak RSS,
 # CPU time (user + system) and wall time come from /usr/bin/time -v; on a shared machine the CPU
 # time is the one to compare. Writes OUT_DIR/memory.tsv and OUT_DIR/memory.md.
 set -euo pipefail
-[ $# -ge 1 ] || { sed -n '2,25p' "$0"; exit 2; }
+[ $# -ge 1 ] || { sed -n '2,27p' "$0"; exit 2; }
 out="$1"
 repo="$(cd "$(dirname "$0")/../.." && pwd)"
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -32,6 +34,7 @@ bin="$(realpath "${2:-$repo/build/graftnav}")"
 lengths="${LENGTHS_MIN:-15 60 480}"
 runs="${RUNS:-1}"
 estimators="${ESTIMATORS:-ekf rts fgo-window fgo}"
+compare_sets="${COMPARE_SETS:-ekf ekf,rts}"
 commands="${COMMANDS:-navigate compare real evaluate diagnose}"
 max_sim_mb="${MAX_SIM_RSS_MB:-4000}"
 cases="${CASES:-$out/cases}"
@@ -114,8 +117,11 @@ for L in $lengths; do
               --estimator "$est" "${outages[@]}" --out "$out/runs/${est}_${L}" --no-plots
         done ;;
       compare)
-        row "$L" "compare --estimator ekf" "compare_${L}" compare "$case_dir" --imu tested \
-            --estimator ekf "${outages[@]}" --out "$out/runs/compare_${L}" --no-plots ;;
+        for set in $compare_sets; do
+          row "$L" "compare --estimator $set" "compare_${set/,/_}_${L}" compare "$case_dir" \
+              --imu tested --estimator "$set" "${outages[@]}" --out "$out/runs/compare_${set/,/_}_${L}" \
+              --no-plots
+        done ;;
       real)
         row "$L" "real --estimator ekf" "real_${L}" real "$case_dir" --imu tested --estimator ekf \
             --run-config "$out/real_run.yaml" --out "$out/runs/real_${L}" --no-plots ;;

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Runs two graftnav binaries on the same inputs and compares their JSON results number by number
-# (scripts/dev/compare_outputs.py): evaluate, navigate and diagnose on the bundled samples, and
-# diagnose on the concealed suite's single-seed cases with --concealed. Used to show that a
-# refactoring leaves the results unchanged.
+# (scripts/dev/compare_outputs.py): evaluate, navigate, real (four estimators, 30-s outages every
+# 120 s) and diagnose on the bundled samples, and diagnose on the concealed suite's single-seed
+# cases with --concealed. Used to show that a refactoring leaves the results unchanged.
 #
 # Usage: scripts/dev/compare_binaries.sh BINARY_A BINARY_B OUT_DIR [--concealed] [--rtol R]
 set -euo pipefail
@@ -26,10 +26,13 @@ run_both() {  # name, then the arguments after the binary with OUT standing for 
   done
 }
 mkdir -p "$out/A" "$out/B"
+printf "outages: {length_s: 30, period_s: 120, start_s: 100}\n" > "$out/real_run.yaml"
 for grade in tactical mems; do
   case_dir="$repo/data/sample_$grade"
   run_both "evaluate_$grade" evaluate "$case_dir" --out OUT --run-config "$repo/configs/evaluate_sample.yaml" --no-plots
   run_both "navigate_$grade" navigate "$case_dir" --out OUT --imu tested --no-plots
+  run_both "real_$grade" real "$case_dir" --out OUT --imu tested --run-config "$out/real_run.yaml" \
+    --estimator ekf,rts,fgo,fgo-window --no-plots
   run_both "diagnose_$grade" diagnose "$case_dir" --out OUT --no-plots
 done
 if [ "$concealed" = 1 ]; then

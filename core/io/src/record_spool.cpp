@@ -45,6 +45,10 @@ void RecordSpool::append(const double* record) {
   if (buffer_.size() >= kBufferDoubles) flush();
 }
 
+void RecordSpool::append(const double* records, std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i) append(records + i * width_);
+}
+
 void RecordSpool::flush() {
   const char* p = reinterpret_cast<const char*>(buffer_.data());
   std::size_t left = buffer_.size() * sizeof(double);

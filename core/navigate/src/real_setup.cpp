@@ -283,13 +283,13 @@ RealInputs loadRealInputs(const RealRequest& q, const EstimatorRegistry& registr
     throw std::runtime_error("no noise parameters for the IMU: pass --profile");
   const ImuSample first = in.imu.imu.front();
   in.t_first_s = first.t_s - first.dt_s;
-  if (in.stream) in.imu.imu = alignmentPrefix(in.imu, in.rc, in.imu.imu);
   if (in.stream) {  // makeProblem reads the reference's first epochs only
+    in.imu.imu = alignmentPrefix(in.imu, in.rc, in.imu.imu);
     in.reference = caseReferenceFile(in.c, true);
     if (!in.reference.path.empty()) in.c.reference = readReferenceHead(in.reference, in.t_first_s);
   }
-  // With the GNSS of a streamed run read as a file, makeProblem and startAtInitialState see it
-  // held once, for the check points.
+  // Of a GNSS series it does not select, makeProblem reads whether there is one and (a static
+  // alignment without an initial state) the first fix's position.
   if (stream_gnss) in.c.gnss = firstGnssFix(in.c);
   in.pr = realProblem(in.c, in.imu, in.rc, in.rc.outages, !in.stream, messages, nullptr);
   if (stream_gnss) {

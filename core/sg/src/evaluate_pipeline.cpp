@@ -281,10 +281,16 @@ void SgEvaluationPipeline::describeRealizations() {
   }
 }
 
+GraftOptions SgEvaluationPipeline::graftOptions(int realization) const {
+  GraftOptions g = graftOptionsFor(draws_[static_cast<std::size_t>(realization)]);
+  g.spool_surrogate = options_.spool_surrogates;
+  return g;
+}
+
 ImuRecording SgEvaluationPipeline::graftedRecording(SgStrategy strategy, int realization) const {
   if (realization < 0 || realization >= static_cast<int>(draws_.size()))
     throw std::out_of_range(fmt::format("realization {} of {}", realization, draws_.size()));
-  auto sig = std::make_shared<const GraftSignal>(plan_.basic, graftOptionsFor(draws_[realization]));
+  auto sig = std::make_shared<const GraftSignal>(plan_.basic, graftOptions(realization));
   return graftedRecordingOf(inputs_.reference_recording, std::move(sig), plan_, strategy);
 }
 
@@ -386,8 +392,7 @@ struct SgEvaluationPipeline::Work {
       // One realization's signal is made at a time: a surrogate's transforms are the largest
       // transient of the run (several arrays of twice the lab record's samples).
       std::lock_guard<std::mutex> lock(signal_mutex);
-      sig = std::make_shared<const GraftSignal>(
-          p.plan_.basic, graftOptionsFor(p.draws_[static_cast<std::size_t>(*t.realization)]));
+      sig = std::make_shared<const GraftSignal>(p.plan_.basic, p.graftOptions(*t.realization));
     }
     for (std::size_t i : t.units) {
       const Unit& u = units[i];

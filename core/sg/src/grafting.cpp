@@ -57,6 +57,7 @@ BasicErrorSignal::BasicErrorSignal(const ImuSeries& e) {
     inc_.push_back(inc);
     dt_.push_back(s.dt_s);
   }
+  count_ = inc_.size();
   addCheckpoints();
 }
 
@@ -83,8 +84,24 @@ void BasicErrorSignal::addCheckpoints() {
 double BasicErrorSignal::tauEnd(std::size_t j) const {
   const std::size_t b = j / kBlock;
   double tau = block_tau_[b];
-  for (std::size_t i = b * kBlock; i <= j; ++i) tau += dt_[i];
+  for (std::size_t i = b * kBlock; i <= j; ++i) tau += dt(i);
   return tau;
+}
+
+void BasicErrorSignal::readWindow(std::size_t j) const {
+  if (!spool_ || j >= count_)
+    throw std::out_of_range("BasicErrorSignal: sample " + std::to_string(j) + " of " +
+                            std::to_string(count_));
+  const std::size_t begin = j / kWindow * kWindow;
+  const std::size_t n = std::min(kWindow, count_ - begin);
+  inc_.resize(n);
+  std::vector<double> column;
+  for (int c = 0; c < 6; ++c) {
+    spool_->read(c * count_ + begin, n, &column);
+    for (std::size_t i = 0; i < n; ++i) inc_[i][c] = column[i];
+  }
+  spool_->read(6 * count_ + begin, n, &dt_);
+  window_begin_ = begin;
 }
 
 std::size_t BasicErrorSignal::firstEndAtOrAfter(double tau_s) const {
@@ -93,11 +110,11 @@ std::size_t BasicErrorSignal::firstEndAtOrAfter(double tau_s) const {
   const auto it = std::lower_bound(block_tau_.begin(), block_tau_.end(), tau_s);
   const auto b = static_cast<std::size_t>(it - block_tau_.begin()) - 1;
   double tau = block_tau_[b];
-  for (std::size_t j = b * kBlock; j < dt_.size(); ++j) {
-    tau += dt_[j];
+  for (std::size_t j = b * kBlock; j < count_; ++j) {
+    tau += dt(j);
     if (tau >= tau_s) return j;
   }
-  return dt_.size();
+  return count_;
 }
 
 std::size_t BasicErrorSignal::firstEndAfter(double tau_s) const {
@@ -105,11 +122,11 @@ std::size_t BasicErrorSignal::firstEndAfter(double tau_s) const {
   const auto it = std::upper_bound(block_tau_.begin(), block_tau_.end(), tau_s);
   const auto b = static_cast<std::size_t>(it - block_tau_.begin()) - 1;
   double tau = block_tau_[b];
-  for (std::size_t j = b * kBlock; j < dt_.size(); ++j) {
-    tau += dt_[j];
+  for (std::size_t j = b * kBlock; j < count_; ++j) {
+    tau += dt(j);
     if (tau > tau_s) return j;
   }
-  return dt_.size();
+  return count_;
 }
 
 Eigen::Vector3d BasicErrorSignal::meanGyro_rad_s() const {
@@ -128,10 +145,10 @@ Vec6 BasicErrorSignal::withinRecord(double tau) const {
   double end = block_tau_[b];
   Vec6 cum = block_cum_[b];
   for (std::size_t i = b * kBlock; i <= j; ++i) {
-    end += dt_[i];
-    cum += inc_[i];
+    end += dt(i);
+    cum += inc(i);
   }
-  const Vec6 rate = inc_[j] / dt_[j];
+  const Vec6 rate = inc(j) / dt(j);
   const double over = end - tau;  // part of sample j after tau
   return cum - rate * over;
 }
@@ -167,53 +184,105 @@ double BasicErrorSignal::sampleBoundaryAtOrBefore(double u) const {
   // Mirrored tile: boundaries at T - tau_end_j; the largest one <= tau is T minus the smallest
   // tau_end_j >= T - tau.
   const std::size_t j = firstEndAtOrAfter(T - tau);
-  const double b = j == dt_.size() ? 0.0 : T - tauEnd(j);
+  const double b = j == count_ ? 0.0 : T - tauEnd(j);
   return m * T + std::max(0.0, b);
 }
 
 LabErrorRates BasicErrorSignal::rates() const {
   LabErrorRates r;
-  r.rate.resize(inc_.size());
-  r.dt_s.resize(inc_.size());
-  double start = 0.0;
-  for (std::size_t j = 0; j < inc_.size(); ++j) {
-    r.rate[j] = inc_[j] / dt_[j];
-    const double end = tauEnd(j);
-    r.dt_s[j] = end - start;
-    start = end;
-  }
+  r.dt_s = sampleLengths();
+  r.rate.resize(count_);
+  for (std::size_t j = 0; j < count_; ++j) r.rate[j] = inc(j) / dt(j);
   return r;
 }
 
-BasicErrorSignal BasicErrorSignal::phaseRandomized(std::uint64_t seed,
-                                                   const SlowNoiseModel* slow) const {
-  // The record's sample lengths as rates() gives them (differences of the sample ends).
-  const std::size_t n = inc_.size();
-  std::vector<double> length(n);
+std::vector<double> BasicErrorSignal::sampleLengths() const {
+  std::vector<double> length(count_);
   double start = 0.0;
-  for (std::size_t j = 0; j < n; ++j) {
+  for (std::size_t j = 0; j < count_; ++j) {
     const double end = tauEnd(j);
     length[j] = end - start;
     start = end;
   }
+  return length;
+}
+
+namespace {
+double surrogateSampleLength(const std::vector<double>& length, std::size_t j) {
+  const double dt = length[surrogateSample(length.size(), j)];
+  if (!(dt > 0.0))
+    throw std::invalid_argument("BasicErrorSignal: surrogate sample " + std::to_string(j) +
+                                " has non-positive dt " + std::to_string(dt));
+  return dt;
+}
+}  // namespace
+
+BasicErrorSignal BasicErrorSignal::phaseRandomized(std::uint64_t seed,
+                                                   const SlowNoiseModel* slow) const {
+  const std::vector<double> length = sampleLengths();
+  const std::size_t n = count_, m = surrogateLength(n);
   BasicErrorSignal out;
-  const std::size_t m = surrogateLength(n);
+  out.count_ = m;
   out.inc_.assign(m, Vec6::Zero());
   out.dt_.resize(m);
-  for (std::size_t j = 0; j < m; ++j) {
-    out.dt_[j] = length[surrogateSample(n, j)];
-    if (!(out.dt_[j] > 0.0))
-      throw std::invalid_argument("BasicErrorSignal: surrogate sample " + std::to_string(j) +
-                                  " has non-positive dt " + std::to_string(out.dt_[j]));
-  }
+  for (std::size_t j = 0; j < m; ++j) out.dt_[j] = surrogateSampleLength(length, j);
   // Each surrogate rate times its sample's length: the increment of the surrogate's sample.
   phaseRandomizedSurrogateChannels(
-      n, [this](std::size_t j, int c) { return inc_[j][c] / dt_[j]; },
+      n, [this](std::size_t j, int c) { return inc(j)[c] / dt(j); },
       [&length](std::size_t j) { return length[j]; }, seed, slow,
       [&out](int c, const std::vector<std::complex<double>>& rate) {
         for (std::size_t j = 0; j < rate.size(); ++j) out.inc_[j][c] = rate[j].real() * out.dt_[j];
       });
   out.addCheckpoints();
+  return out;
+}
+
+BasicErrorSignal BasicErrorSignal::phaseRandomizedSpooled(std::uint64_t seed,
+                                                          const SlowNoiseModel* slow,
+                                                          const std::string& directory) const {
+  const std::vector<double> length = sampleLengths();
+  const std::size_t n = count_, m = surrogateLength(n);
+  const std::size_t blocks = (m + kBlock - 1) / kBlock;
+  BasicErrorSignal out;
+  out.count_ = m;
+  auto spool = std::make_shared<RecordSpool>(1, directory);
+  // The running sums per channel in the order of addCheckpoints' running sum over samples (a
+  // sum of six independent channels), so the checkpoints are the held surrogate's.
+  out.block_cum_.assign(blocks, Vec6::Zero());
+  phaseRandomizedSurrogateChannels(
+      n, [this](std::size_t j, int c) { return inc(j)[c] / dt(j); },
+      [&length](std::size_t j) { return length[j]; }, seed, slow,
+      [&](int c, const std::vector<std::complex<double>>& rate) {
+        std::vector<double> column(std::min(m, kWindow));
+        double sum = 0.0;
+        for (std::size_t begin = 0; begin < m; begin += column.size()) {
+          const std::size_t count = std::min(column.size(), m - begin);
+          for (std::size_t i = 0; i < count; ++i) {
+            const std::size_t j = begin + i;
+            if (j % kBlock == 0) out.block_cum_[j / kBlock][c] = sum;
+            column[i] = rate[j].real() * length[surrogateSample(n, j)];
+            sum += column[i];
+          }
+          spool->append(column.data(), count);
+        }
+        out.total_[c] = sum;
+      });
+  std::vector<double> column;
+  column.reserve(std::min(m, kWindow));
+  double tau = 0.0;
+  out.block_tau_.reserve(blocks);
+  for (std::size_t j = 0; j < m; ++j) {
+    if (j % kBlock == 0) out.block_tau_.push_back(tau);
+    column.push_back(surrogateSampleLength(length, j));
+    tau += column.back();
+    if (column.size() == kWindow || j + 1 == m) {
+      spool->append(column.data(), column.size());
+      column.clear();
+    }
+  }
+  out.record_length_s_ = tau;
+  spool->finish();
+  out.spool_ = std::move(spool);
   return out;
 }
 
@@ -227,8 +296,13 @@ double graftStartOffset(const GraftOptions& opt, const BasicErrorSignal& basic) 
 GraftSignal::GraftSignal(const BasicErrorSignal& record, const GraftOptions& opt)
     : power_on_(opt.power_on) {
   if (opt.surrogate_seed) {
-    surrogate_.emplace(record.phaseRandomized(
-        *opt.surrogate_seed, opt.surrogate_slow_noise ? &*opt.surrogate_slow_noise : nullptr));
+    const SlowNoiseModel* slow = opt.surrogate_slow_noise ? &*opt.surrogate_slow_noise : nullptr;
+    if (opt.spool_surrogate) {
+      surrogate_.emplace(
+          record.phaseRandomizedSpooled(*opt.surrogate_seed, slow, opt.spool_directory));
+    } else {
+      surrogate_.emplace(record.phaseRandomized(*opt.surrogate_seed, slow));
+    }
   }
   basic_ = surrogate_ ? &*surrogate_ : &record;
   offset_s_ = graftStartOffset(opt, *basic_);
@@ -260,6 +334,8 @@ void graftSamples(const ImuSeries& ref, double t0, const BasicErrorSignal& basic
 
 void GraftSignal::graft(const ImuSeries& ref, double t0_s, const SensorDynamicFit* gyro,
                         const SensorDynamicFit* accel, ImuSeries* out) const {
+  std::unique_lock<std::mutex> reading(read_mutex_, std::defer_lock);
+  if (basic_->spooled()) reading.lock();
   if (gyro && accel) {
     graftSamples(
         ref, t0_s, *basic_, offset_s_, power_on_,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "graftnav/sg/grafting.h"
@@ -177,6 +178,80 @@ TEST(Grafting, SeededStartKeepsEachLabSampleWhole) {
     }
     EXPECT_NEAR(sg_ms / lab_ms, 1.0, 0.25) << "seed " << seed;
   }
+}
+
+// Six channels of noise with a bias, on jittered sample lengths (n samples).
+ImuSeries jitteredNoise(std::size_t n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, 1e-3);
+  std::uniform_real_distribution<double> jitter(0.9, 1.1);
+  ImuSeries s;
+  double t = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    ImuSample x;
+    x.dt_s = 0.005 * jitter(rng);
+    t += x.dt_s;
+    x.t_s = t;
+    x.dtheta_rad = Eigen::Vector3d(2e-4 + g(rng), g(rng), g(rng)) * x.dt_s;
+    x.dvel_m_s = Eigen::Vector3d(g(rng), 0.01 + g(rng), g(rng)) * x.dt_s;
+    s.push_back(x);
+  }
+  return s;
+}
+
+TEST(Grafting, ASpooledSurrogateGivesTheHeldOnesValuesBitForBit) {
+  // 3000 samples: a surrogate of 6000, read back from its spool in windows of 4096 samples.
+  const BasicErrorSignal record(jitteredNoise(3000, 5));
+  SlowNoiseModel slow;
+  slow.white_density.setConstant(1e-4);
+  slow.wander_sigma.setConstant(1e-4);
+  slow.slow_period_s = 2.0;
+  const std::vector<const SlowNoiseModel*> models{nullptr, &slow};
+  for (const SlowNoiseModel* model : models) {
+    const BasicErrorSignal held = record.phaseRandomized(99, model);
+    const BasicErrorSignal spooled = record.phaseRandomizedSpooled(99, model);
+    EXPECT_FALSE(held.spooled());
+    ASSERT_TRUE(spooled.spooled());
+    ASSERT_EQ(spooled.sampleCount(), held.sampleCount());
+    ASSERT_GT(held.sampleCount(), BasicErrorSignal::kWindow + 1);
+    EXPECT_EQ(spooled.recordLength_s(), held.recordLength_s());
+    EXPECT_EQ(spooled.meanGyro_rad_s(), held.meanGyro_rad_s());
+    EXPECT_EQ(spooled.meanAccel_m_s2(), held.meanAccel_m_s2());
+    // Forward through three tiles (the middle one read backwards), then jumps back and forth.
+    const double T = held.recordLength_s();
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(0.0, 3.0 * T);
+    for (double u0 = 0.0; u0 < 3.0 * T; u0 += 0.0049) {
+      ASSERT_EQ(spooled.integral(u0, u0 + 0.005), held.integral(u0, u0 + 0.005)) << u0;
+    }
+    for (int i = 0; i < 2000; ++i) {
+      const double a = u(rng), b = a + 0.1 * u(rng);
+      ASSERT_EQ(spooled.integral(a, b), held.integral(a, b)) << a << " " << b;
+      ASSERT_EQ(spooled.sampleBoundaryAtOrBefore(a), held.sampleBoundaryAtOrBefore(a)) << a;
+    }
+    const LabErrorRates hr = held.rates(), sr = spooled.rates();
+    EXPECT_EQ(sr.rate, hr.rate);
+    EXPECT_EQ(sr.dt_s, hr.dt_s);
+  }
+}
+
+TEST(Grafting, ASpooledSurrogateGraftsTheHeldOnesSamples) {
+  const BasicErrorSignal record(jitteredNoise(3000, 8));
+  const ImuSeries ref = series(pseudoNoise(9000), 0.005, 50.0);
+  GraftOptions held;
+  held.seed = 17;
+  held.surrogate_seed = 1234;
+  GraftOptions spooled = held;
+  spooled.spool_surrogate = true;
+  const ImuSeries a = graftBasic(ref, record, held), b = graftBasic(ref, record, spooled);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    ASSERT_EQ(a[k].dtheta_rad, b[k].dtheta_rad) << k;
+    ASSERT_EQ(a[k].dvel_m_s, b[k].dvel_m_s) << k;
+  }
+  GraftOptions nowhere = spooled;
+  nowhere.spool_directory = "/nonexistent/graftnav";
+  EXPECT_THROW(graftBasic(ref, record, nowhere), std::runtime_error);
 }
 
 TEST(Grafting, RejectsAnEmptyRecord) {

@@ -1,7 +1,8 @@
 // The evaluate pipeline as streams against the in-memory evaluation for one seed, number by
 // number: the reference IMU and REAL read back from spools in odd-sized blocks, each realization
 // grafted block by block (a lab record shorter than the field test, so every realization grafts
-// its own surrogate, with turn-on biases, wander and SG#2's dynamic errors), SOL_REF read from a
+// its own surrogate, read back from a spool in windows against the held one, with turn-on biases,
+// wander and SG#2's dynamic errors), SOL_REF read from a
 // spool as each solution's epochs come, against each realization's series grafted whole,
 // navigated whole and evaluated by evaluateSolution. SOL_REF has a gap and ends before the
 // solution; an outage sits at each edge of the data.
@@ -51,9 +52,10 @@ ImuSeries referenceImu() {
   return s;
 }
 
-// 200 s of lab record for a 600 s field test: each realization grafts a surrogate.
+// 250 s of lab record for a 600 s field test: each realization grafts a surrogate (5000 samples,
+// more than one window of a spooled one).
 GraftPlan plan() {
-  GraftPlan p{BasicErrorSignal(noiseSeries(2000, 1e-3, 11, 0.0)), SensorDynamicFit{},
+  GraftPlan p{BasicErrorSignal(noiseSeries(2500, 1e-3, 11, 0.0)), SensorDynamicFit{},
               SensorDynamicFit{}};
   p.gyro_fit.poly[2] = {0.0, 1.002, 0.05};
   p.gyro_fit.M(0, 2) = 1e-3;
@@ -230,10 +232,13 @@ TEST(StreamedEvaluate, EveryNumberEqualsTheInMemoryEvaluationForASeed) {
   };
   const SgEvaluationReport s = streamed.run(reference, navigate, "fake", hooks);
 
-  // In memory: each realization grafted whole, navigated whole, evaluated by evaluateSolution.
+  // In memory: each realization's surrogate held, the realization grafted whole, navigated
+  // whole, evaluated by evaluateSolution.
   SgEvaluationInputs held_in = inputs();
   held_in.reference_imu = ref_imu;
-  const SgEvaluationPipeline held(o, plan(), held_in);
+  SgEvaluationOptions held_o = o;
+  held_o.spool_surrogates = false;
+  const SgEvaluationPipeline held(held_o, plan(), held_in);
   const std::vector<TimeWindow> outages =
       buildOutageWindows(inputs().outages, ref_imu.front().t_s - kDt, ref_imu.back().t_s);
   auto evaluate = [&](const ImuSeries& imu) {
@@ -271,7 +276,9 @@ TEST(StreamedEvaluate, AGraftedRecordingEqualsTheSeriesGraftedWhole) {
   o.realizations = 3;
   SgEvaluationInputs held_in = inputs();
   held_in.reference_imu = referenceImu();
-  const SgEvaluationPipeline held(o, plan(), held_in);
+  SgEvaluationOptions held_o = o;
+  held_o.spool_surrogates = false;
+  const SgEvaluationPipeline held(held_o, plan(), held_in);
   for (std::size_t block : {1u, 7u, 4096u}) {
     SgEvaluationInputs in = inputs();
     in.reference_recording = spooledRecording(blocksOf(referenceImu(), 13), block);

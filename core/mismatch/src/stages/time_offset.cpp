@@ -2,6 +2,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "graftnav/mismatch/time_offset.h"
 
@@ -27,12 +28,23 @@ struct CenteredRates {
   double bin_s = 0.0;
 };
 
+// The rates of one record on the grid, centred in place: only they are kept of its bins (the
+// fine grid has 100 bins a second; the specific force, temperature and vibration are dropped as
+// soon as the record is binned, not held next to the other record's).
+Eigen::MatrixX3d centeredRate(const ImuSeries& imu, const GridSpec& grid) {
+  Eigen::MatrixX3d w = std::move(binImu(imu, grid).omega_rad_s);
+  const Eigen::RowVector3d mean = w.colwise().mean();
+  w.rowwise() -= mean;
+  return w;
+}
+
 CenteredRates centeredRates(const ImuSeries& reference, const ImuSeries& tested, double bin_s) {
   const GridSpec grid = commonGrid(reference, tested, bin_s);
-  const BinnedImu x = binImu(reference, grid);
-  const BinnedImu y = binImu(tested, grid);
-  return {x.omega_rad_s.rowwise() - x.omega_rad_s.colwise().mean(),
-          y.omega_rad_s.rowwise() - y.omega_rad_s.colwise().mean(), bin_s};
+  CenteredRates rates;
+  rates.x = centeredRate(reference, grid);
+  rates.y = centeredRate(tested, grid);
+  rates.bin_s = bin_s;
+  return rates;
 }
 
 // Normalized cross-correlation of the centred rates at integer lags center - half .. center +

@@ -24,6 +24,8 @@ class RecordSpool {
   // Appends one record (doubles_per_record values). Throws std::logic_error after finish(),
   // std::runtime_error when the disk is full.
   void append(const double* record);
+  // Appends `count` records stored one after the other.
+  void append(const double* records, std::size_t count);
   // Writes what is buffered; the spool is read-only from now on.
   void finish();
 

@@ -43,7 +43,7 @@ class StreamedCheckpoints {
     std::vector<FixResidual> before_second;  // evaluated before the solution's second epoch
   };
   const NavState& held(std::size_t index) const;
-  // The solution's state at fix time t_s, with `count` epochs seen and the last one after t_s.
+  // The solution's state at fix time t_s, strictly inside the epochs seen (the last one after t_s).
   NavState bracketState(Window* w, double t_s) const;
   void record(Window* w, const FixResidual& r) const;
 

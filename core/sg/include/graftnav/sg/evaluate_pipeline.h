@@ -11,8 +11,9 @@
 // reference IMU plus that realization's error signal (GraftSignal: the lab record, or its
 // surrogate built once for the realization and shared by its strategies and schedules), and each
 // solution is evaluated against SOL_REF as its epochs come (StreamedEvaluation, SOL_REF read as a
-// NavSource). A worker holds one realization's signal and one navigation at a time; the lab
-// record is held once. The held form (SgNavigator) hands each grafted series whole to the
+// NavSource). A worker holds one navigation and a read window of its realization's signal at a
+// time (a surrogate is spooled as it is made, one at a time across workers); the lab record is
+// held once. The held form (SgNavigator) hands each grafted series whole to the
 // navigator and evaluates the solution it returns with the same code.
 //
 // The pipeline does not know how a recording is navigated: the caller injects an
@@ -55,6 +56,10 @@ struct SgEvaluationOptions {
   bool vary_bias_wander = true;
   std::vector<SgStrategy> strategies{SgStrategy::kBasic, SgStrategy::kFull};
   int jobs = 0;  // navigations in parallel; 0 = all cores
+  // A realization's surrogate of the lab record is written to an unlinked spool in TMPDIR and
+  // read back in windows (sg/grafting.h), so a worker holds a few MB of it instead of about
+  // twice the record (90 MB for 1 h at 200 Hz); false holds it. The same values either way.
+  bool spool_surrogates = true;
   EvaluationOptions evaluation;
   // Throws std::invalid_argument naming the field.
   void validate() const;
@@ -153,6 +158,7 @@ class SgEvaluationPipeline {
 
  private:
   void describeRealizations();
+  GraftOptions graftOptions(int realization) const;
   const GraftPlan& plan() const { return plan_; }
   struct Work;
 

@@ -26,10 +26,14 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "graftnav/imu/imu_profile.h"
+#include "graftnav/io/record_spool.h"
 #include "graftnav/sg/noise_surrogate.h"
 #include "graftnav/sg/power_on_errors.h"
 #include "graftnav/nav/types.h"
@@ -54,6 +58,12 @@ struct SensorDynamicFit {
 
 // The basic error signal: error rates (gyro rad/s, accel m/s^2) of the lab static record,
 // extended to any length by mirrored tiling, integrated exactly over requested intervals.
+//
+// Its samples are held, or (a surrogate made by phaseRandomizedSpooled) kept in an unlinked
+// spool and read back in windows of kWindow samples: the spooled signal holds its checkpoints
+// (7 bytes per sample) and one window instead of 56 bytes per sample, and gives the same values
+// bit for bit. A spooled signal moves its window as it is read, so one thread at a time reads it
+// (a copy has a window of its own); a held one may be read from any number of threads.
 class BasicErrorSignal {
  public:
   // error_increments: static lab output minus theoretical output, as increments (rad, m/s) with
@@ -61,7 +71,8 @@ class BasicErrorSignal {
   explicit BasicErrorSignal(const ImuSeries& error_increments);
 
   double recordLength_s() const { return record_length_s_; }
-  std::size_t sampleCount() const { return inc_.size(); }
+  std::size_t sampleCount() const { return count_; }
+  bool spooled() const { return spool_ != nullptr; }
   // Start of lab sample j, seconds from the beginning of the record (0 for j = 0).
   double sampleStart_s(std::size_t j) const { return j == 0 ? 0.0 : tauEnd(j - 1); }
   // Mean error rates over the whole record (the basic biases): gyro (rad/s), accel (m/s^2).
@@ -81,11 +92,28 @@ class BasicErrorSignal {
   // (sg/noise_surrogate.h), as a basic error signal of about twice the record's length.
   // With `slow`, its content slower than slow->slow_period_s is a fresh draw of that model.
   BasicErrorSignal phaseRandomized(std::uint64_t seed, const SlowNoiseModel* slow = nullptr) const;
+  // The same surrogate written to an unlinked spool in `spool_directory` (TMPDIR when empty) as
+  // its transforms come, channel by channel: neither it nor a copy of it is ever held whole.
+  BasicErrorSignal phaseRandomizedSpooled(std::uint64_t seed, const SlowNoiseModel* slow,
+                                          const std::string& spool_directory = {}) const;
+
+  static constexpr std::size_t kWindow = 4096;  // samples per read of a spooled signal
 
  private:
   using Vec6 = Eigen::Matrix<double, 6, 1>;
   BasicErrorSignal() = default;
-  void addCheckpoints();                              // the running sums every kBlock samples
+  std::vector<double> sampleLengths() const;  // per sample, as rates() gives them
+  void addCheckpoints();                      // the running sums every kBlock samples
+  // Sample j's increment and length (a spooled signal first reads the window holding j).
+  const Vec6& inc(std::size_t j) const {
+    if (j - window_begin_ >= inc_.size()) readWindow(j);
+    return inc_[j - window_begin_];
+  }
+  double dt(std::size_t j) const {
+    if (j - window_begin_ >= dt_.size()) readWindow(j);
+    return dt_[j - window_begin_];
+  }
+  void readWindow(std::size_t j) const;
   Vec6 cumulative(double u_s) const;                  // integral over (0, u], u >= 0
   Vec6 withinRecord(double tau_s) const;              // 0 <= tau <= T
   double tauEnd(std::size_t j) const;                 // end of sample j, from 0
@@ -97,8 +125,14 @@ class BasicErrorSignal {
   // as one running sum over the record, so every value is bit for bit what stored running sums
   // hold, at 56 bytes per sample instead of 104.
   static constexpr std::size_t kBlock = 8;
-  std::vector<Vec6> inc_;
-  std::vector<double> dt_;
+  static_assert(kWindow % kBlock == 0, "a window holds whole checkpoint blocks");
+  std::size_t count_ = 0;
+  // Samples [window_begin_, window_begin_ + inc_.size()): all of them when held, one window of
+  // the spool when spooled (its columns: six of increments, then the lengths).
+  mutable std::vector<Vec6> inc_;
+  mutable std::vector<double> dt_;
+  mutable std::size_t window_begin_ = 0;
+  std::shared_ptr<const RecordSpool> spool_;
   std::vector<Vec6> block_cum_;    // integral before sample b * kBlock
   std::vector<double> block_tau_;  // time before sample b * kBlock
   Vec6 total_ = Vec6::Zero();
@@ -122,6 +156,10 @@ struct GraftOptions {
   std::optional<std::uint64_t> surrogate_seed;
   // With surrogate_seed: the tested IMU's noise model for the surrogate's slow content.
   std::optional<SlowNoiseModel> surrogate_slow_noise;
+  // With surrogate_seed: keep the surrogate in a spool in spool_directory (TMPDIR when empty)
+  // instead of holding it (about twice the record's samples at 56 bytes each); same values.
+  bool spool_surrogate = false;
+  std::string spool_directory;
 };
 
 // Resolves GraftOptions::start_offset_s (deterministic for a given seed).
@@ -146,6 +184,7 @@ class GraftSignal {
 
  private:
   std::optional<BasicErrorSignal> surrogate_;
+  mutable std::mutex read_mutex_;  // a spooled surrogate is read by one graft() at a time
   const BasicErrorSignal* basic_ = nullptr;
   double offset_s_ = 0.0;
   PowerOnErrors power_on_;
