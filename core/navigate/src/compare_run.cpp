@@ -40,8 +40,8 @@ CompareEstimator compareEstimator(const std::string& name, const EstimatorRegist
     if (!e.no_earth) base = name;
   }
   if (!registry.contains(base))
-    throw std::runtime_error("--estimator: unknown estimator '" + name + "' (known: " +
-                             compareEstimatorNamesText(registry) + ")");
+    throw std::runtime_error("--estimator: unknown estimator '" + name +
+                             "' (known: " + compareEstimatorNamesText(registry) + ")");
   e.entry = &registry.find(base);
   return e;
 }
