@@ -23,7 +23,8 @@ set -euo pipefail
 repo="$(cd "$(dirname "$0")/../.." && pwd)"
 seeds=20; K=20; jobs=2; estimator=ekf; table=""; inject=""
 run_config="$repo/configs/sg/calibration_run.yaml"
-cases="$repo/configs/sim/calibration/null_tactical.yaml $repo/configs/sim/calibration/null_mems.yaml $repo/configs/sim/calibration/axis_misalignment_mems.yaml $repo/configs/sim/calibration/gsens_mems.yaml"
+default_cases="$repo/configs/sim/calibration/null_tactical.yaml $repo/configs/sim/calibration/null_mems.yaml $repo/configs/sim/calibration/axis_misalignment_mems.yaml $repo/configs/sim/calibration/gsens_mems.yaml"
+cases="$default_cases"
 pos=()
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -64,5 +65,6 @@ for s in $(seq 1 "$seeds"); do for cfg in $cases; do echo "$cfg $s"; done; done 
 echo "sg_calibration: $(( $(date +%s) - start )) s for $(ls "$out/runs" | wc -l) runs"
 rc_flag=""
 [ "$run_config" = "$repo/configs/sg/calibration_run.yaml" ] || rc_flag=" --run-config ${run_config#"$repo"/}"
+[ "$cases" = "$default_cases" ] || rc_flag="$rc_flag --cases \"${cases//"$repo"\//}\""
 /usr/bin/python3 "$repo/scripts/experiments/sg_calibration_table.py" "$out/runs" --estimator "$estimator" \
   --command "scripts/experiments/sg_calibration.sh --seeds $seeds --realizations $K --estimator $estimator${rc_flag} OUT" ${table:+--out "$table"} ${inject:+--inject "$inject"}
