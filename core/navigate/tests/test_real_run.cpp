@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include "graftnav/navigate/real_run.h"
 #include "graftnav/navigate/real_setup.h"
@@ -51,17 +52,23 @@ std::string makeCase(const std::string& dir, bool (*keep)(double t_s), bool gnss
   return dir;
 }
 
+// real on the tested IMU of a case made by makeCase, with its run config.
+RealRequest requestFor(const std::string& case_dir, std::vector<std::string> estimators) {
+  RealRequest q;
+  q.case_dir = case_dir;
+  q.run_config = case_dir + "/run.yaml";
+  q.imu = "tested";
+  q.estimators = std::move(estimators);
+  return q;
+}
+
 struct RealOutcome {
   RealInputs in;
   std::vector<EstimatorRun> rows;
 };
 
 RealOutcome runReal(const std::string& case_dir, const std::string& out, bool streamed) {
-  RealRequest q;
-  q.case_dir = case_dir;
-  q.run_config = case_dir + "/run.yaml";
-  q.imu = "tested";
-  q.estimators = {"hold"};
+  const RealRequest q = requestFor(case_dir, {"hold"});
   const EstimatorRegistry registry = test::toyRegistry(streamed);
   RealOutcome o;
   o.in = loadRealInputs(q, registry, RunMessages{});
@@ -139,11 +146,7 @@ TEST(RealRun, AStaticAlignmentStreamsFromItsWindowAndSkipsTheSamplesBefore) {
       dir + "/static", [](double) { return true; }, false,
       "ekf: {alignment: static, static_alignment_s: 20}\n");
   expectSameRuns(c, true);
-  RealRequest q;
-  q.case_dir = c;
-  q.run_config = c + "/run.yaml";
-  q.imu = "tested";
-  q.estimators = {"hold"};
+  const RealRequest q = requestFor(c, {"hold"});
   const RealInputs in = loadRealInputs(q, test::toyRegistry(true), RunMessages{});
   EXPECT_TRUE(in.stream);
   EXPECT_NEAR(in.imu_start_s, 456360.0, 1e-5);
@@ -154,11 +157,7 @@ TEST(RealRun, AFailedEstimatorLeavesNoFolderAndTheOthersRun) {
   const std::string dir = test::makeTempDir("real_run_failed");
   const std::string c = makeCase(
       dir + "/case", [](double) { return true; }, false);
-  RealRequest q;
-  q.case_dir = c;
-  q.run_config = c + "/run.yaml";
-  q.imu = "tested";
-  q.estimators = {"nope", "hold"};
+  const RealRequest q = requestFor(c, {"nope", "hold"});
   const EstimatorRegistry registry = test::toyRegistry(true);
   const RealInputs in = loadRealInputs(q, registry, RunMessages{});
   EXPECT_FALSE(in.stream);  // an unknown name has no streamed form: its failure is listed
@@ -175,11 +174,7 @@ TEST(RealRun, ANonFiniteStateFailsTheRunAsInMemory) {
   const std::string dir = test::makeTempDir("real_run_nan");
   const std::string c = makeCase(
       dir + "/case", [](double) { return true; }, false);
-  RealRequest q;
-  q.case_dir = c;
-  q.run_config = c + "/run.yaml";
-  q.imu = "tested";
-  q.estimators = {"broken", "hold"};
+  const RealRequest q = requestFor(c, {"broken", "hold"});
   std::vector<std::string> failed[2];
   for (int streamed : {0, 1}) {
     EstimatorRegistry registry = test::toyRegistry(streamed);
