@@ -34,22 +34,20 @@ struct Cells {
     ++absent;
     return absent_text;
   }
-  std::string driftMd(const DriftStats& d) {
-    Cells& c = *this;
-    return fmt::format("{} | {} | {} | {} | {}", c(d.horizontal_m, "{:.3f}", "-"),
-                       c(d.vertical_m, "{:.3f}", "-"),
-                       c(d.roll_rad * units::kRadToDeg, "{:.4f}", "-"),
-                       c(d.pitch_rad * units::kRadToDeg, "{:.4f}", "-"),
-                       c(d.heading_rad * units::kRadToDeg, "{:.4f}", "-"));
+  // The five statistics (position in m, attitude in deg) joined by `sep`.
+  std::string drift(const DriftStats& d, const char* sep, const char* position_format,
+                    const char* attitude_format, const char* absent_text) {
+    const double values[5] = {d.horizontal_m, d.vertical_m, d.roll_rad * units::kRadToDeg,
+                              d.pitch_rad * units::kRadToDeg, d.heading_rad * units::kRadToDeg};
+    std::string row;
+    for (int i = 0; i < 5; ++i) {
+      if (i > 0) row += sep;
+      row += (*this)(values[i], i < 2 ? position_format : attitude_format, absent_text);
+    }
+    return row;
   }
-  std::string driftCsv(const DriftStats& d) {
-    Cells& c = *this;
-    return fmt::format("{},{},{},{},{}", c(d.horizontal_m, "{:.6f}", ""),
-                       c(d.vertical_m, "{:.6f}", ""),
-                       c(d.roll_rad * units::kRadToDeg, "{:.6f}", ""),
-                       c(d.pitch_rad * units::kRadToDeg, "{:.6f}", ""),
-                       c(d.heading_rad * units::kRadToDeg, "{:.6f}", ""));
-  }
+  std::string driftMd(const DriftStats& d) { return drift(d, " | ", "{:.3f}", "{:.4f}", "-"); }
+  std::string driftCsv(const DriftStats& d) { return drift(d, ",", "{:.6f}", "{:.6f}", ""); }
 };
 
 // One statistic of the cross-check; `scale` turns the difference's unit into the key's.
