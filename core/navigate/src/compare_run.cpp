@@ -155,7 +155,7 @@ std::string compareEstimatorNamesText(const EstimatorRegistry& registry) {
 
 CompareInputs loadCompareInputs(const CompareRequest& q, const EstimatorRegistry& registry,
                                 const RunMessages& messages) {
-  if (q.estimators.empty()) throw std::invalid_argument("compare: --estimators is empty");
+  if (q.estimators.empty()) throw std::invalid_argument("compare: --estimator is empty");
   bool all_stream = true;
   for (const auto& n : q.estimators)
     all_stream = all_stream && compareEstimator(n, registry).entry->stream != nullptr;
