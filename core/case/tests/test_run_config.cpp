@@ -34,7 +34,7 @@ TEST(RunConfig, TextFillsEverySectionAndLeavesTheRestAtDefaults) {
   EXPECT_EQ(c.outages.start_s, OutageScheduleConfig{}.start_s);
   EXPECT_EQ(c.ekf.gate_probability, 0.99);
   EXPECT_EQ(c.ekf.record_interval_s, EkfOptions{}.record_interval_s);
-  EXPECT_EQ(c.alignment.mode, "static");
+  EXPECT_EQ(c.alignment.mode, AlignmentMode::kStatic);
   EXPECT_EQ(c.fgo.window_nodes, 7);
   EXPECT_EQ(c.fgo.robust_loss, "cauchy");
   EXPECT_TRUE(c.gnss.given);
