@@ -142,7 +142,7 @@ void runRealSg(const RealSgArgs& a) {
       pipeline.run({sol_ref.states, "RTS-smoothed reference IMU with all GNSS"},
                    realNavigator(c, rc, ref, tested, a.estimator), a.estimator, log);
   rep.case_name = c.config.name;
-  rep.tested_grade = c.config.tested_imu ? c.config.tested_imu->grade : "";
+  if (c.config.tested_imu) rep.tested_grade = c.config.tested_imu->grade;
   rep.csv_rate_hz = rc.evaluation.csv_rate_hz;
   for (auto& s : rep.solutions)
     if (s.label != "REAL") s.imu_file = "(grafted in memory, not written)";

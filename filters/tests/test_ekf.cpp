@@ -206,9 +206,10 @@ void neesCheck(const ImuProfile& p, int runs, bool smoothed = false) {
   ::testing::Test::RecordProperty("nees_mean", std::to_string(mean));
   const double lo = chiSquareQuantile(0.025, 9.0 * n) / n,
                hi = chiSquareQuantile(0.975, 9.0 * n) / n;
-  EXPECT_GT(mean, lo) << (smoothed ? "RTS " : "EKF ") << p.grade << " NEES " << mean << " band ["
-                      << lo << ", " << hi << "]";
-  EXPECT_LT(mean, hi) << p.grade << " NEES " << mean << " band [" << lo << ", " << hi << "]";
+  EXPECT_GT(mean, lo) << (smoothed ? "RTS " : "EKF ") << imuGradeName(p.grade) << " NEES " << mean
+                      << " band [" << lo << ", " << hi << "]";
+  EXPECT_LT(mean, hi) << imuGradeName(p.grade) << " NEES " << mean << " band [" << lo << ", " << hi
+                      << "]";
 }
 
 TEST(Ekf, NeesInsideChiSquareBandTactical) { neesCheck(test::tacticalProfile(), 12); }

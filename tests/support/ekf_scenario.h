@@ -150,7 +150,7 @@ inline GnssSeries makeGnss(const NavSeries& truth, const Eigen::Vector3d& lever_
 inline ImuProfile tacticalProfile() {
   ImuProfile p;
   p.name = "tactical-test";
-  p.grade = "tactical";
+  p.grade = ImuGrade::kTactical;
   p.arw_rad_sqrt_s = 0.05 * kDegToRad / 60.0;
   p.vrw_m_s_sqrt_s = 0.1 / 60.0;
   p.gyro_bias_instability_rad_s = 0.5 * kDegToRad / 3600.0;
@@ -162,7 +162,7 @@ inline ImuProfile tacticalProfile() {
 inline ImuProfile memsProfile() {
   ImuProfile p;
   p.name = "mems-test";
-  p.grade = "mems";
+  p.grade = ImuGrade::kMems;
   p.arw_rad_sqrt_s = 0.15 * kDegToRad / 60.0;
   p.vrw_m_s_sqrt_s = 0.06 / 60.0;
   p.gyro_bias_instability_rad_s = 10.0 * kDegToRad / 3600.0;

@@ -94,10 +94,8 @@ PlausibleRanges plausibleRangesForClass(const std::string& c) {
   return r;
 }
 
-std::string sensorClassForGrade(const std::string& grade) {
-  if (grade == "mems") return "consumer_mems";
-  if (grade == "tactical" || grade == "navigation") return grade;
-  throw std::invalid_argument("sensorClassForGrade: unknown grade '" + grade + "'");
+std::string sensorClassForGrade(ImuGrade grade) {
+  return grade == ImuGrade::kMems ? "consumer_mems" : imuGradeName(grade);
 }
 
 }  // namespace graftnav

@@ -38,7 +38,7 @@ std::optional<double> optionalNonNegative(const yf::Context& ctx, const YAML::No
 // The optional `plausible_ranges:` block (plausible_ranges.h): a sensor class (default: the
 // grade's) and per-term overrides in unit-named keys. The only place their units are converted.
 PlausibleRanges parsePlausibleRanges(const yf::Context& ctx, const YAML::Node& node,
-                                     const std::string& prefix, const std::string& grade) {
+                                     const std::string& prefix, ImuGrade grade) {
   const YAML::Node block = node["plausible_ranges"];
   const std::string key = yf::join(prefix, "plausible_ranges");
   std::string sensor_class = sensorClassForGrade(grade);
@@ -106,9 +106,9 @@ ImuProfileParse parseImuProfileNode(const YAML::Node& node, const std::string& f
   ImuProfileParse out;
   ImuProfile& p = out.profile;
   if (yf::present(node["name"])) p.name = yf::asString(ctx, node["name"], yf::join(prefix, "name"));
-  p.grade =
+  const std::string grade_text =
       yf::asString(ctx, yf::child(ctx, node, prefix, "grade", true), yf::join(prefix, "grade"));
-  if (p.grade != "navigation" && p.grade != "tactical" && p.grade != "mems")
+  if (!parseImuGrade(grade_text, &p.grade))
     yf::fail(ctx, node["grade"], yf::join(prefix, "grade"),
              "expected navigation, tactical or mems, got " + yf::describe(node["grade"]));
 
@@ -162,7 +162,7 @@ ImuProfile loadImuProfile(const std::string& path, std::vector<std::string>* war
 void emitImuProfile(YAML::Emitter& out, const ImuProfile& p, bool with_noise) {
   out << YAML::BeginMap;
   if (!p.name.empty()) out << YAML::Key << "name" << YAML::Value << p.name;
-  out << YAML::Key << "grade" << YAML::Value << p.grade;
+  out << YAML::Key << "grade" << YAML::Value << imuGradeName(p.grade);
   if (with_noise) {
     out << YAML::Key << "arw_deg_rt_h" << YAML::Value
         << p.arw_rad_sqrt_s / units::kDegPerSqrtHourToRadPerSqrtSec;

@@ -81,11 +81,13 @@ void readNoise(const yf::Context& ctx, const YAML::Node& sec, const std::string&
   p.accel_bias_initial_std_m_s2 = p.accel_bias_instability_m_s2;
   // The grade only labels reports; chosen from the gyro bias instability.
   const double gb_deg_h = p.gyro_bias_instability_rad_s / kDegPerHourToRadPerSec;
-  p.grade = gb_deg_h < 0.1 ? "navigation" : gb_deg_h < 5.0 ? "tactical" : "mems";
+  p.grade = gb_deg_h < 0.1   ? ImuGrade::kNavigation
+            : gb_deg_h < 5.0 ? ImuGrade::kTactical
+                             : ImuGrade::kMems;
   s->notes.push_back(
       fmt::format("grade '{}' assumed from the gyro bias instability {:.4g} deg/h "
                   "(labels only)",
-                  p.grade, gb_deg_h));
+                  imuGradeName(p.grade), gb_deg_h));
 }
 
 // A constant initial bias or scale estimate has no counterpart (graftnav starts them at zero).

@@ -59,7 +59,7 @@ TEST(IoCaseConfig, ParsesSpecExampleIntoSi) {
   EXPECT_EQ(c.reference_solution.value(), "field/reference.nav");
   ASSERT_TRUE(c.reference_imu && c.tested_imu);
   EXPECT_TRUE(c.reference_imu_noise_given && c.tested_imu_noise_given);
-  EXPECT_EQ(c.tested_imu->grade, "mems");
+  EXPECT_EQ(c.tested_imu->grade, ImuGrade::kMems);
   EXPECT_NEAR(c.tested_imu->arw_rad_sqrt_s, 0.15 * kDeg / 60.0, 1e-18);
   EXPECT_NEAR(c.tested_imu->vrw_m_s_sqrt_s, 0.06 / 60.0, 1e-18);
   EXPECT_NEAR(c.tested_imu->gyro_bias_instability_rad_s, 10.0 * kDeg / 3600.0, 1e-18);
@@ -243,7 +243,7 @@ TEST(IoCasePaths, StandardPathsAndRateNames) {
 TEST(IoImuProfile, ConfigsHoldTable1InSi) {
   const std::string dir = test::sourceDir() + "/configs/imu/";
   const ImuProfile mems = loadImuProfile(dir + "pos1100_mems.yaml");
-  EXPECT_EQ(mems.grade, "mems");
+  EXPECT_EQ(mems.grade, ImuGrade::kMems);
   EXPECT_EQ(mems.name, "POS1100-like");
   EXPECT_NEAR(mems.arw_rad_sqrt_s, 0.15 * kPi / 180.0 / 60.0, 1e-18);
   EXPECT_NEAR(mems.vrw_m_s_sqrt_s, 0.06 / 60.0, 1e-18);
@@ -255,7 +255,7 @@ TEST(IoImuProfile, ConfigsHoldTable1InSi) {
   EXPECT_DOUBLE_EQ(mems.gyro_bias_initial_std_rad_s, mems.gyro_bias_instability_rad_s);
 
   const ImuProfile tac = loadImuProfile(dir + "pos310_tactical.yaml");
-  EXPECT_EQ(tac.grade, "tactical");
+  EXPECT_EQ(tac.grade, ImuGrade::kTactical);
   EXPECT_NEAR(tac.gyro_bias_instability_rad_s, 0.5 * kPi / 180.0 / 3600.0, 1e-18);
   EXPECT_NEAR(tac.arw_rad_sqrt_s, 0.05 * kPi / 180.0 / 60.0, 1e-18);
   EXPECT_NEAR(tac.accel_bias_instability_m_s2, 0.5e-3 * 9.80665, 1e-18);
@@ -263,7 +263,7 @@ TEST(IoImuProfile, ConfigsHoldTable1InSi) {
   EXPECT_NEAR(tac.gyro_scale_std, 300e-6, 1e-18);
 
   const ImuProfile nav = loadImuProfile(dir + "pos830_navigation.yaml");
-  EXPECT_EQ(nav.grade, "navigation");
+  EXPECT_EQ(nav.grade, ImuGrade::kNavigation);
   EXPECT_NEAR(nav.gyro_bias_instability_rad_s, 0.005 * kPi / 180.0 / 3600.0, 1e-18);
   EXPECT_NEAR(nav.arw_rad_sqrt_s, 0.0022 * kPi / 180.0 / 60.0, 1e-18);
   EXPECT_NEAR(nav.accel_bias_instability_m_s2, 0.025e-3 * 9.80665, 1e-18);

@@ -102,7 +102,7 @@ TEST(MismatchClaims, ClassesAreOrderedAndUnknownOnesRefused) {
   EXPECT_GT(t.gyro_scale_max, n.gyro_scale_max);
   EXPECT_GT(c.g_sensitivity_max_rad_s_per_m_s2, t.g_sensitivity_max_rad_s_per_m_s2);
   EXPECT_THROW(plausibleRangesForClass("phone"), std::invalid_argument);
-  EXPECT_EQ(sensorClassForGrade("mems"), "consumer_mems");
+  EXPECT_EQ(sensorClassForGrade(ImuGrade::kMems), "consumer_mems");
 }
 
 TEST(MismatchClaims, LinearResponseTermHasOneColumnPerMatrixElementOfEachSensor) {

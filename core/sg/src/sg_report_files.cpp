@@ -41,7 +41,7 @@ struct SeedRow {
   const char* label;
   std::array<double, 5> v;
 };
-const std::vector<SeedRow>& seedTable(const std::string& grade) {
+const std::vector<SeedRow>& seedTable(std::optional<ImuGrade> grade) {
   static const std::vector<SeedRow> tactical{{"ERR_1", {3.758, 0.518, 0.027, 0.022, 0.066}},
                                              {"ERR_2", {4.857, 0.651, 0.029, 0.025, 0.093}},
                                              {"ERR_REAL", {4.688, 0.651, 0.029, 0.024, 0.097}},
@@ -53,8 +53,8 @@ const std::vector<SeedRow>& seedTable(const std::string& grade) {
                                          {"DIFF_1", {26.47, 52.31, 23.00, 35.71, 35.27}},
                                          {"DIFF_2", {15.66, 19.43, 13.00, 19.39, 26.74}}};
   static const std::vector<SeedRow> none;
-  if (grade == "tactical") return tactical;
-  if (grade == "mems") return mems;
+  if (grade == ImuGrade::kTactical) return tactical;
+  if (grade == ImuGrade::kMems) return mems;
   return none;
 }
 
@@ -358,9 +358,9 @@ void writeTablesMarkdown(const std::string& path, const SgEvaluationReport& r) {
   md += meanTable(r, true);
   const auto& seed = seedTable(r.tested_grade);
   if (!seed.empty()) {
-    md += fmt::format(
-        "## The seed's published table for a {} IMU (Niu et al. 2016)\n\n",
-        r.tested_grade == "mems" ? "MEMS (POS1100, Table 3)" : "tactical (POS310, Table 2)");
+    md += fmt::format("## The seed's published table for a {} IMU (Niu et al. 2016)\n\n",
+                      r.tested_grade == ImuGrade::kMems ? "MEMS (POS1100, Table 3)"
+                                                        : "tactical (POS310, Table 2)");
     md +=
         "Different field test and IMU units: read for shape (DIFF_2 vs DIFF_1), not for equality.\n\n";
     md += "| | Horizontal | Vertical | Roll | Pitch | Heading |\n|---|---|---|---|---|---|\n";

@@ -10,8 +10,8 @@
 namespace graftnav {
 
 struct ImuProfile {
-  std::string name;   // e.g. "POS310-like"
-  std::string grade;  // navigation | tactical | mems
+  std::string name;                  // e.g. "POS310-like"
+  ImuGrade grade = ImuGrade::kMems;  // a required key of every profile file
   // White noise: angle random walk (rad/sqrt(s)) and velocity random walk (m/s/sqrt(s)).
   double arw_rad_sqrt_s = 0.0;
   double vrw_m_s_sqrt_s = 0.0;

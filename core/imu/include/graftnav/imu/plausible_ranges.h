@@ -23,6 +23,8 @@
 
 #include <string>
 
+#include "graftnav/imu/imu_grade.h"
+
 namespace graftnav {
 
 struct PlausibleRanges {
@@ -43,7 +45,7 @@ struct PlausibleRanges {
 
 // The class defaults above. Throws std::invalid_argument naming the class when it is unknown.
 PlausibleRanges plausibleRangesForClass(const std::string& sensor_class);
-// The class a profile grade maps to (see above). Throws std::invalid_argument for another grade.
-std::string sensorClassForGrade(const std::string& grade);
+// The class a profile grade maps to (see above): consumer_mems for mems, else the grade's word.
+std::string sensorClassForGrade(ImuGrade grade);
 
 }  // namespace graftnav

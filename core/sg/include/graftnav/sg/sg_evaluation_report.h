@@ -10,6 +10,7 @@
 #include "graftnav/nav/time_window.h"
 #include "graftnav/sg/predictive.h"
 #include "graftnav/sg/sg_statistics.h"
+#include "graftnav/imu/imu_grade.h"
 
 namespace graftnav {
 
@@ -34,8 +35,8 @@ struct SgEvaluationReport {
   std::string estimator;
   std::string
       reference;  // what SOL_REF is: "truth", "reference_solution", "smoothed reference IMU (rts)"
-  std::string tested_grade;
-  std::vector<TimeWindow> outages;  // of the first schedule
+  std::optional<ImuGrade> tested_grade;  // case.yaml's tested_imu grade, when it has one
+  std::vector<TimeWindow> outages;       // of the first schedule
   double outage_length_s = 0.0;
   int realizations = 1;   // K per SG strategy
   int outage_shifts = 1;  // N schedules
