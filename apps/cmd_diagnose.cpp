@@ -115,7 +115,7 @@ void runDiagnose(const DiagnoseArgs& args) {
     throw std::runtime_error(c.paths().testedImu() +
                              ": diagnose needs the tested IMU's field recording");
   ImuSelection ref_imu = selectImu(c, "ref", "", true);
-  ImuSelection tested = selectImu(c, "tested", "", true);
+  ImuSelection tested = selectImu(c, "tested", "", true, false);  // the finder reads its file
   for (const ImuSelection* sel : {&ref_imu, &tested})
     if (!sel->read_summary.empty()) fmt::print(stderr, "warning: {}\n", sel->read_summary);
   const DiagnosisCaseOptions co{args.tested_profile, !args.estimator.empty()};
@@ -123,7 +123,9 @@ void runDiagnose(const DiagnoseArgs& args) {
       diagnosisInputsOf(c, rc, &ref_imu, &tested, co, &notes,
                         [](const std::string& l) { fmt::print(stderr, "{}\n", l); });
   fmt::print(stderr, "diagnose: {} reference, {} tested samples; simulation: {}\n",
-             in.reference.size(), in.real.size(), in.simulation_kind);
+             in.reference.size(),
+             in.real_recording ? in.real_recording->samples : in.real.size(),
+             in.simulation_kind);
   const auto remake_simulated = in.remake_simulated;
   // The finder releases each record once binned; the navigation level reads them again.
   DiagnosisResult res = diagnose(std::move(in), opt);

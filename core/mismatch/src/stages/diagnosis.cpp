@@ -99,6 +99,15 @@ Eigen::MatrixXd explainAndReport(DiagnosisInputs& in, const DiagnoseOptions& opt
   return sg3_contribution;
 }
 
+// The real record as the finder reads it: in.real_recording, or in.real handed over whole.
+ImuRecording realRecordingOf(DiagnosisInputs* in) {
+  if (!in->real_recording) return heldRecording(std::move(in->real));
+  ImuRecording rec = std::move(*in->real_recording);
+  in->real_recording.reset();
+  release(&in->real);
+  return rec;
+}
+
 }  // namespace
 
 DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt) {
@@ -107,21 +116,22 @@ DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt) 
 
 DiagnosisResult diagnose(DiagnosisInputs&& in, const DiagnoseOptions& opt_in) {
   opt_in.validate();
-  if (in.reference.empty() || in.simulated.empty() || in.real.empty())
+  const bool real_empty =
+      in.real_recording ? in.real_recording->samples == 0 : in.real.empty();
+  if (in.reference.empty() || in.simulated.empty() || real_empty)
     throw std::invalid_argument(
         "diagnose: reference, simulated and real records must be non-empty");
   DiagnosisResult out;
   out.case_name = in.case_name;
   out.simulation_kind = in.simulation_kind;
-  TimeAlignment alignment = alignTime(in, opt_in, &out);  // 1. align time
+  TimeAlignment alignment = alignTime(in, realRecordingOf(&in), opt_in, &out);  // 1. align time
   // 2. grid and residual
-  out.grid = finderGrid(in, alignment.real(in), alignment.pivot_s, opt_in, &out.notes);
+  out.grid = finderGrid(in, alignment.real(), alignment.pivot_s, opt_in, &out.notes);
   const DiagnoseOptions opt = optionsOnGrid(in, out.grid, opt_in);
   const ResidualBins bins = binResidual(in, alignment, out.grid, &out);
   const RawRecordChecks raw = rawRecordChecks(in, alignment, opt);
   // Past here the finder reads the real record and the simulation only as bins.
-  release(&in.real);
-  release(&alignment.realigned);
+  alignment.releaseRecords();
   if (in.remake_simulated) release(&in.simulated);
   const Eigen::MatrixXd sg3_contribution = explainAndReport(in, opt, alignment, bins, raw, &out);
   if (in.simulated.empty()) {

@@ -75,7 +75,7 @@ RawRecordChecks rawRecordChecks(const DiagnosisInputs& in, const TimeAlignment& 
   if (opt.detect_quantization)
     for (const Sensor s : kSensors)
       raw.quantization.push_back(
-          checkQuantization(alignment.real(in), in.simulated, s, opt.quantization));
+          checkQuantization(alignment.real(), viewedRecording(in.simulated), s, opt.quantization));
   return raw;
 }
 

@@ -33,18 +33,20 @@ inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // ---- 1. align time ----
 struct TimeAlignment {
-  double pivot_s = 0.0;    // pivot of the time_offset regressor (s)
-  double realign_s = 0.0;  // taken out of the real record's tags before binning (0: none)
-  ImuSeries realigned;     // the real record with its tags moved by realign_s (empty: none)
-  const ImuSeries& real(const DiagnosisInputs& in) const {
-    return realign_s != 0.0 ? realigned : in.real;
-  }
+  double pivot_s = 0.0;     // pivot of the time_offset regressor (s)
+  double realign_s = 0.0;   // taken out of the real record's tags before binning (0: none)
+  ImuRecording as_tagged;   // the real record as recorded
+  ImuRecording realigned;   // the same with its tags moved by realign_s (unset: none)
+  const ImuRecording& real() const { return realign_s != 0.0 ? realigned : as_tagged; }
+  // The real record is read only as bins from here on: its passes (and what they hold) go.
+  void releaseRecords() { as_tagged = realigned = ImuRecording(); }
 };
-TimeAlignment alignTime(const DiagnosisInputs& in, const DiagnoseOptions& opt,
+// The real record is `real` (in.real or in.real_recording, as realRecordingOf hands it over).
+TimeAlignment alignTime(const DiagnosisInputs& in, ImuRecording real, const DiagnoseOptions& opt,
                         DiagnosisResult* out);
 
 // ---- 2. grid and residual ----
-GridSpec finderGrid(const DiagnosisInputs& in, const ImuSeries& real, double pivot_s,
+GridSpec finderGrid(const DiagnosisInputs& in, const ImuRecording& real, double pivot_s,
                     const DiagnoseOptions& opt, std::vector<std::string>* notes);
 // The options with what depends on the grid and the graft (slow-noise blocks, replay period).
 DiagnoseOptions optionsOnGrid(const DiagnosisInputs& in, const GridSpec& grid,

@@ -29,6 +29,7 @@
 #include "graftnav/mismatch/candidate_terms.h"
 #include "graftnav/mismatch/common_grid.h"
 #include "graftnav/mismatch/finder_options.h"
+#include "graftnav/io/imu_recording.h"
 #include "graftnav/mismatch/joint_fit.h"
 #include "graftnav/mismatch/linear_response.h"
 #include "graftnav/mismatch/locate.h"
@@ -104,6 +105,9 @@ struct DiagnosisInputs {
                         // its temperature column, when every sample has one, is the temperature
                         // behind its own bias (see RegressorInputs::simulated_temperature_degC)
   ImuSeries real;       // the tested IMU's field recording
+  // The same record read as passes (e.g. its file, case/file_streams.h), when it is not held:
+  // then `real` is left empty and the finder holds of it only what it makes at the bin rate.
+  std::optional<ImuRecording> real_recording;
   std::string simulation_kind;  // e.g. "SG#2" or "reference + static bias", for the report
   // Initial attitude and position of the reference body (enables the earth_rotation_omitted and
   // gravity_model terms).
@@ -300,6 +304,8 @@ ImuSeries withStaticBias(const ImuSeries& reference, const Eigen::Vector3d& gyro
 // Step of a value lattice of the raw increments (rad or m/s per sample) per axis; 0 where the
 // values are not on a lattice (fewer than half of them repeat, or they miss the lattice).
 Eigen::Vector3d detectQuantizationStep(const ImuSeries& imu, Sensor sensor);
+// The same from passes of a recording (one per axis).
+Eigen::Vector3d detectQuantizationStep(const ImuRecording& imu, Sensor sensor);
 
 // SG#3: the simulation plus a per-bin contribution (n x 6, SI rates) on `grid`, added to every
 // sample as rate x dt from the bin that holds the sample's middle (clamped at the grid's ends).
