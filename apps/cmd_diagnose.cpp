@@ -30,6 +30,7 @@
 #include "graftnav/io/case_config.h"
 #include "graftnav/io/atomic_file.h"
 #include "graftnav/io/imu_io.h"
+#include "graftnav/io/imu_recording.h"
 #include "graftnav/io/imu_profile_io.h"
 #include "graftnav/io/nav_io.h"
 #include "graftnav/mismatch/diagnosis.h"
@@ -94,6 +95,16 @@ void printSummary(const std::string& case_name, const DiagnosisResult& res) {
   }
 }
 
+// IMU_SG3.txt, held or written as its recording's pass comes.
+void writeSg3(const std::string& path, const DiagnosisResult& res) {
+  if (!res.sg3_recording) return writeImu(path, res.sg3);
+  ImuWriter writer(path);
+  res.sg3_recording->pass([&writer](const ImuSeries& block) {
+    for (const ImuSample& s : block) writer.add(s);
+  });
+  writer.commit();
+}
+
 // The whole command: load, diagnose, optionally navigate, write and print.
 void runDiagnose(const DiagnoseArgs& args) {
   std::filesystem::create_directories(args.out);
@@ -136,7 +147,8 @@ void runDiagnose(const DiagnoseArgs& args) {
       fmt::print(stderr, "diagnose: navigating SG#2, SG#3 and REAL with {}\n", args.estimator);
       tested = selectImu(c, "tested", "", true);  // REAL, navigated as the tested IMU
       const ImuSeries sg2 = remake_simulated(selectImu(c, "ref", "", true).imu);
-      nav = compareNavigation(c, tested, args.estimator, rc, args.outage, sg2, res.sg3,
+      const ImuSeries sg3 = res.sg3_recording ? collectRecording(*res.sg3_recording) : res.sg3;
+      nav = compareNavigation(c, tested, args.estimator, rc, args.outage, sg2, sg3,
                               estimatorTable(), &res.notes);
     } catch (const std::exception& e) {
       res.notes.push_back(std::string("navigation level skipped: ") + e.what());
@@ -145,7 +157,7 @@ void runDiagnose(const DiagnoseArgs& args) {
   }
   writeDiagnosisFiles(args.out, res, nav ? &*nav : nullptr);
   if (nav) writeNavigationOutputs(args.out, *nav);
-  writeImu(args.out + "/IMU_SG3.txt", res.sg3);
+  writeSg3(args.out + "/IMU_SG3.txt", res);
   printSummary(c.config.name, res);
   fmt::print("  wrote {0}/diagnosis.json, {0}/diagnosis.md, {0}/residual.csv, {0}/IMU_SG3.txt\n",
              args.out);

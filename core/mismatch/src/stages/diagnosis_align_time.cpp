@@ -118,12 +118,13 @@ TimeAlignment alignTime(const DiagnosisInputs& in, ImuRecording real, const Diag
 
 // Grid inside all three records, margin_s (or the offset plus 0.5 s) from their ends: the
 // shifted reference x(t - tau) must exist on every bin.
-GridSpec finderGrid(const DiagnosisInputs& in, const ImuRecording& real, double pivot,
-                    const DiagnoseOptions& opt, std::vector<std::string>* notes) {
+GridSpec finderGrid(const DiagnosisInputs& in, const ImuRecording& simulated,
+                    const ImuRecording& real, double pivot, const DiagnoseOptions& opt,
+                    std::vector<std::string>* notes) {
   const double margin_s = std::max(opt.margin_s, std::abs(pivot) + opt.finder.pivot_margin_s);
   GridSpec grid = commonGrid(in.reference, real.span(), opt.bin_s, margin_s);
   {
-    const GridSpec gs = commonGrid(in.simulated, real.span(), opt.bin_s, margin_s);
+    const GridSpec gs = commonGrid(simulated, real, opt.bin_s, margin_s);
     const double t0 = std::max(grid.t_begin_s, gs.t_begin_s);
     const double t1 = std::min(grid.binStart(grid.count), gs.binStart(gs.count));
     grid.t_begin_s = t0;
@@ -142,8 +143,8 @@ GridSpec finderGrid(const DiagnosisInputs& in, const ImuRecording& real, double 
   return grid;
 }
 
-DiagnoseOptions optionsOnGrid(const DiagnosisInputs& in, const GridSpec& grid,
-                              const DiagnoseOptions& opt_in) {
+DiagnoseOptions optionsOnGrid(const DiagnosisInputs& in, const ImuRecording& simulated,
+                              const GridSpec& grid, const DiagnoseOptions& opt_in) {
   const int n = grid.count;
   // Slow-noise blocks: slow_block_s, shortened so that a short record still has min_slow_blocks.
   DiagnoseOptions opt = opt_in;
@@ -151,9 +152,9 @@ DiagnoseOptions optionsOnGrid(const DiagnosisInputs& in, const GridSpec& grid,
     opt.selection.slow_block_bins = std::min(
         static_cast<int>(std::round(opt.slow_block_s / opt.bin_s)), n / opt.finder.min_slow_blocks);
   opt.selection.bin_s = grid.bin_s;
-  if (in.graft_static_record_s > 0.0 && !in.simulated.empty()) {
+  if (in.graft_static_record_s > 0.0 && simulated.samples > 0) {
     // The tiling clock starts at the simulation's first interval (grafting.cpp).
-    const double t0 = in.simulated.front().t_s - in.simulated.front().dt_s;
+    const double t0 = simulated.beginTime_s();
     opt.selection.replay_period_s = in.graft_static_record_s;
     opt.selection.replay_start_s = in.graft_start_offset_s + (grid.t_begin_s - t0);
   }
@@ -162,17 +163,15 @@ DiagnoseOptions optionsOnGrid(const DiagnosisInputs& in, const GridSpec& grid,
 
 namespace {
 
-// The real record's bins, read in one pass after its median interval: as binned (realigned when
-// alignment.realign_s != 0), its gap mask, and (with a realignment) its bins as tagged.
-struct RealBins {
-  BinnedImu y;
+// A record's bins, read in one pass after its median interval: as binned (its tags moved back by
+// shift_s), its gap mask, and (with a shift) its bins as tagged.
+struct RecordBins {
+  BinnedImu binned;
   std::optional<BinnedImu> as_tagged;
   std::vector<char> gaps;
 };
 
-RealBins binReal(const TimeAlignment& alignment, const GridSpec& grid) {
-  const ImuRecording& rec = alignment.as_tagged;
-  const double shift_s = alignment.realign_s;
+RecordBins binRecording(const ImuRecording& rec, const GridSpec& grid, double shift_s = 0.0) {
   StreamedBinning y(grid);
   std::optional<StreamedBinning> y0;
   if (shift_s != 0.0) y0.emplace(grid);
@@ -187,29 +186,31 @@ RealBins binReal(const TimeAlignment& alignment, const GridSpec& grid) {
       if (y0) y0->add(s);
     }
   });
-  RealBins out{y.finish(), std::nullopt, gaps.mask()};
+  RecordBins out{y.finish(), std::nullopt, gaps.mask()};
   if (y0) out.as_tagged = y0->finish();
   return out;
 }
 
 }  // namespace
 
-ResidualBins binResidual(const DiagnosisInputs& in, const TimeAlignment& alignment,
-                         const GridSpec& grid, DiagnosisResult* out) {
+ResidualBins binResidual(const DiagnosisInputs& in, const ImuRecording& simulated,
+                         const TimeAlignment& alignment, const GridSpec& grid,
+                         DiagnosisResult* out) {
   const int n = grid.count;
   ResidualBins b;
   b.grid = grid;
   b.x = binImu(in.reference, grid);
-  b.s = binImu(in.simulated, grid);
-  RealBins real = binReal(alignment, grid);
-  b.y = std::move(real.y);
+  RecordBins sim = binRecording(simulated, grid);
+  b.s = std::move(sim.binned);
+  RecordBins real = binRecording(alignment.as_tagged, grid, alignment.realign_s);
+  b.y = std::move(real.binned);
   b.r.resize(n, kMismatchChannels);
   b.r << b.y.omega_rad_s - b.s.omega_rad_s, b.y.f_m_s2 - b.s.f_m_s2;
   out->residual_before = b.r;
   // Bins overlapping a sampling gap (lost samples) of any record carry a wrong mean rate: they
   // are left out of every fit and RMS (residual and regressors zero there) and listed. The joint
   // fit's shifted reference is not masked; a few bins pull tau negligibly.
-  maskSamplingGaps({binsOverlappingGaps(in.reference, grid), binsOverlappingGaps(in.simulated, grid),
+  maskSamplingGaps({binsOverlappingGaps(in.reference, grid), std::move(sim.gaps),
                     std::move(real.gaps)},
                    grid, out);
   zeroMaskedRows(out->masked_bins, &b.r);

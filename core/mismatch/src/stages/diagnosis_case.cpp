@@ -64,7 +64,7 @@ DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const RunConfig& rc, ImuSelecti
     LabData lab = loadLabData(case_dir);
     if (lab.has_static) checkLabStaticRecord(lab.staticRecordSeconds(), lab.static_file, 0.0);
     simulateFromLab(std::move(lab), rc.grafting.start_offset_s, ref_scale_std, &in,
-                    [case_dir] { return loadLabData(case_dir); });
+                    [case_dir] { return loadLabData(case_dir); }, true);
   } else {
     std::vector<std::string> warnings;
     if (in.real_recording) {  // the static-bias simulation reads the whole tested record

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -158,6 +159,27 @@ ImuSeries addBinnedContribution(const ImuSeries& simulated, const GridSpec& grid
                                 const Eigen::MatrixXd& c) {
   ImuSeries out = simulated;
   addBinnedContributionInPlace(grid, c, &out);
+  return out;
+}
+
+ImuRecording withBinnedContribution(ImuRecording simulated, const GridSpec& grid,
+                                    Eigen::MatrixXd contribution) {
+  if (contribution.rows() != grid.count || contribution.cols() != kMismatchChannels)
+    throw std::invalid_argument("withBinnedContribution: contribution is not grid.count x 6");
+  auto c = std::make_shared<const Eigen::MatrixXd>(std::move(contribution));
+  ImuSeries ends{simulated.first, simulated.last};
+  addBinnedContributionInPlace(grid, *c, &ends);
+  ImuRecording out = simulated;
+  out.first = ends.front();
+  out.last = ends.back();
+  out.pass = [source = std::move(simulated.pass), grid, c](const ImuBlockFn& block) {
+    ImuSeries added;
+    source([&](const ImuSeries& b) {
+      added = b;
+      addBinnedContributionInPlace(grid, *c, &added);
+      block(added);
+    });
+  };
   return out;
 }
 

@@ -30,11 +30,10 @@ struct CenteredRates {
   double bin_s = 0.0;
 };
 
-// The rates of one record on the grid, centred in place: only they are kept of its bins (the
-// fine grid has 100 bins a second; the specific force, temperature and vibration are dropped as
-// soon as the record is binned, not held next to the other record's).
+// The rates of one record on the grid, centred in place: only they are made of its bins (the
+// fine grid has 100 bins a second; the specific force, temperature and vibration are not binned).
 Eigen::MatrixX3d centeredRate(const ImuRecording& imu, const GridSpec& grid) {
-  StreamedBinning binning(grid);
+  StreamedBinning binning(grid, 0.0, {}, BinnedColumns::rates_only);
   imu.pass([&binning](const ImuSeries& block) { binning.add(block); });
   Eigen::MatrixX3d w = std::move(binning.finish().omega_rad_s);
   const Eigen::RowVector3d mean = w.colwise().mean();

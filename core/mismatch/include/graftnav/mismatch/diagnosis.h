@@ -138,6 +138,10 @@ struct DiagnosisInputs {
   // end, so the finder holds one IMU record (the reference) through selection. Empty: the
   // simulation is kept.
   std::function<ImuSeries(const ImuSeries& reference)> remake_simulated;
+  // The simulation read as passes (e.g. SG#2 grafted block by block into a spool,
+  // diagnosis_setup.h), when it is not held: then `simulated` is left empty, remake_simulated is
+  // not called, and SG#3 is this recording plus the model (DiagnosisResult::sg3_recording).
+  std::optional<ImuRecording> simulated_recording;
 };
 
 struct DiagnoseOptions {
@@ -269,6 +273,9 @@ struct DiagnosisResult {
   Eigen::MatrixXd nuisance;          // n x 6, constant + drift
   std::vector<std::string> regimes;  // per bin
   ImuSeries sg3;                     // simulated + selected terms (record mean removed)
+  // SG#3 as passes when the simulation was a recording (DiagnosisInputs::simulated_recording):
+  // each pass reads the simulation and adds the model block by block; `sg3` is then empty.
+  std::optional<ImuRecording> sg3_recording;
 };
 
 // Works on a copy of the inputs; the overload below consumes them.
@@ -314,5 +321,8 @@ ImuSeries addBinnedContribution(const ImuSeries& simulated, const GridSpec& grid
 // The same, in place.
 void addBinnedContributionInPlace(const GridSpec& grid, const Eigen::MatrixXd& contribution,
                                   ImuSeries* series);
+// The same as a recording: each pass of `simulated` with the contribution added block by block.
+ImuRecording withBinnedContribution(ImuRecording simulated, const GridSpec& grid,
+                                    Eigen::MatrixXd contribution);
 
 }  // namespace graftnav

@@ -1,5 +1,6 @@
-// The finder reading the real record as passes (DiagnosisInputs::real_recording, e.g. its file
-// spooled) gives the held record's diagnosis number for number: the same report, the same SG#3.
+// The finder reading the real record and the simulation as passes (DiagnosisInputs::
+// real_recording and simulated_recording, e.g. a file or a graft spooled) gives the held
+// records' diagnosis number for number: the same report, the same SG#3.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -28,24 +29,30 @@ ImuSeries gappedAndDelayed(const ImuSeries& real, double tag_delay_s) {
   return out;
 }
 
-// Diagnoses `p` with its real record read back in blocks of 37 samples from a spool (the 120-Hz
-// record has 6 samples a bin: block boundaries fall inside bins); `held` is its diagnosis with
-// the record held, which must agree exactly.
+// Diagnoses `p` with its real record and simulation read back in blocks of 37 and 41 samples
+// from spools (the 120-Hz record has 6 samples a bin, the 100-Hz simulation 5: block boundaries
+// fall inside bins); `held` is its diagnosis with the records held, which must agree exactly.
 void expectStreamedEqualsHeld(const Pair& p, const DiagnosisResult& held) {
   DiagnosisInputs streamed = p.in;
   streamed.real_recording = spooledRecording(viewedRecording(p.in.real).pass, 37);
   streamed.real.clear();
+  streamed.simulated_recording = spooledRecording(viewedRecording(p.in.simulated).pass, 41);
+  streamed.simulated.clear();
   const DiagnosisResult read = diagnose(std::move(streamed));
   EXPECT_EQ(diagnosisJson(held), diagnosisJson(read));
   EXPECT_EQ(held.masked_bins, read.masked_bins);
-  ASSERT_EQ(held.sg3.size(), read.sg3.size());
-  for (std::size_t i = 0; i < held.sg3.size(); ++i) {
-    ASSERT_EQ(held.sg3[i].dtheta_rad, read.sg3[i].dtheta_rad) << "sample " << i;
-    ASSERT_EQ(held.sg3[i].dvel_m_s, read.sg3[i].dvel_m_s) << "sample " << i;
+  ASSERT_TRUE(read.sg3_recording);
+  EXPECT_TRUE(read.sg3.empty());
+  const ImuSeries sg3 = collectRecording(*read.sg3_recording);
+  ASSERT_EQ(held.sg3.size(), sg3.size());
+  for (std::size_t i = 0; i < sg3.size(); ++i) {
+    ASSERT_EQ(held.sg3[i].t_s, sg3[i].t_s) << "sample " << i;
+    ASSERT_EQ(held.sg3[i].dtheta_rad, sg3[i].dtheta_rad) << "sample " << i;
+    ASSERT_EQ(held.sg3[i].dvel_m_s, sg3[i].dvel_m_s) << "sample " << i;
   }
 }
 
-TEST(MismatchStreamedReal, AGappedRecordReadInBlocksGivesTheHeldDiagnosis) {
+TEST(MismatchStreamedRecords, AGappedRecordReadInBlocksGivesTheHeldDiagnosis) {
   ImuErrorModel extra;
   extra.time_offset.tau_s = 0.018;
   extra.lever_arm.r_m << 0.5, -0.3, 0.2;
@@ -59,7 +66,7 @@ TEST(MismatchStreamedReal, AGappedRecordReadInBlocksGivesTheHeldDiagnosis) {
 
 // Tags 0.4 s late: the finder moves them back before binning (a realignment), reading the
 // record once more as tagged for the raw residual.
-TEST(MismatchStreamedReal, ARealignedRecordReadInBlocksGivesTheHeldDiagnosis) {
+TEST(MismatchStreamedRecords, ARealignedRecordReadInBlocksGivesTheHeldDiagnosis) {
   ImuErrorModel extra;
   extra.lever_arm.r_m << 0.5, -0.3, 0.2;
   Pair p = makePair(extra, 4);
