@@ -12,14 +12,18 @@
 
 namespace {
 
-// Blocks of 128 KiB and more are mapped on their own and unmapped when freed, so what a stage
+// Blocks of 512 KiB and more are mapped on their own and unmapped when freed, so what a stage
 // frees (a record, a library of regressor columns) goes back to the system before the next
 // stage allocates. glibc's default threshold grows up to 32 MiB as large blocks are freed; the
 // blocks below it then stay in the heap, fragmented: diagnose's peak RSS on a 57-min case was
-// 411 MB against 313 MB of live heap (320 MB with the fixed threshold).
+// 411 MB against 313 MB of live heap (320 MB with a fixed threshold). The threshold is not
+// lower because SuiteSparse's workspaces of a sliding-window solve with 21-state nodes are
+// 128-512 KiB: mapped and unmapped on every solve, they cost fgo-window with vehicle aiding
+// 8.7 s of system time (296 000 page faults) on a 25-min drive, against 0.5 s here. No peak RSS
+// of docs/BENCHMARKS.md's commands on the 1-h case is more than 0.3 MB higher at 512 KiB.
 void returnFreedMemoryToTheSystem() {
 #if defined(__GLIBC__)
-  mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+  mallopt(M_MMAP_THRESHOLD, 512 * 1024);
 #endif
 }
 

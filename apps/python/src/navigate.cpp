@@ -71,7 +71,7 @@ NavigateOutcome navigateCase(const PyCase& pc, const NavigateRequest& r) {
   estimatorTable().find(r.estimator);  // std::invalid_argument naming the known ones
   NavigateOutcome out;
   RunConfig rc = r.rc;
-  if (free_inertial) rc.alignment.mode = "given";
+  if (free_inertial) rc.alignment.mode = AlignmentMode::kGiven;
   RunInputs in;
   restrictInputs(pc, r, &in, &out.notes);
   const CaseInputs& c = *in.c;

@@ -142,16 +142,16 @@ EstimationProblem makeProblem(const CaseInputs& c, const ImuSelection& sel, cons
   } else if (cfg.initial_state) {
     pr.initial = *cfg.initial_state;
     notes->push_back("initial state from case.yaml initial_state");
-  } else if (rc.alignment.mode == "given") {
+  } else if (rc.alignment.mode == AlignmentMode::kGiven) {
     throw std::runtime_error("no initial state for '" + c.dir +
                              "': neither field/truth.nav nor case.yaml initial_state (set "
                              "ekf.alignment: static|motion)");
   }
   pr.initial.gnss_week = week;
 
-  if (rc.alignment.mode == "static") {
+  if (rc.alignment.mode == AlignmentMode::kStatic) {
     alignStaticInto(pr, cfg, rc, t_first, week, from_truth.has_value(), notes);
-  } else if (rc.alignment.mode == "motion") {
+  } else if (rc.alignment.mode == AlignmentMode::kMotion) {
     alignInMotionInto(pr, cfg, rc, week, notes);
   }
   // The schedule counts from the first IMU epoch, also when the filter starts later (alignment).

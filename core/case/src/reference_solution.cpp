@@ -70,7 +70,8 @@ StreamedReferenceSolution streamReferenceSolution(
     return r;
   }
   requireNoiseToSmooth(c, ref, !file.path.empty());
-  if (!estimators.canStream(o.smoother) || rc.alignment.mode != "given" || o.start_at_initial_state)
+  if (!estimators.canStream(o.smoother) || rc.alignment.mode != AlignmentMode::kGiven ||
+      o.start_at_initial_state)
     throw std::invalid_argument("streamReferenceSolution: '" + o.smoother +
                                 "' cannot smooth the reference IMU as a stream with this run "
                                 "config (an alignment from the data, or a start at the initial "

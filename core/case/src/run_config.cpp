@@ -108,16 +108,18 @@ void parseGnss(const yf::Context& ctx, const YAML::Node& g, GnssConfig* q) {
 }
 
 void parseAlignment(const yf::Context& ctx, const YAML::Node& e, AlignmentConfig* a) {
-  yf::readOptional(ctx, e, "ekf", "alignment", &a->mode);
+  if (e["alignment"].IsDefined()) {
+    std::string text;
+    yf::readOptional(ctx, e, "ekf", "alignment", &text);
+    if (!parseAlignmentMode(text, &a->mode))
+      yf::fail(ctx, e["alignment"], "ekf.alignment",
+               "'" + text + "' is not one of given, static, motion");
+  }
   yf::readOptional(ctx, e, "ekf", "static_alignment_s", &a->static_duration_s);
   yf::readOptional(ctx, e, "ekf", "motion_min_speed_m_s", &a->motion.min_speed_m_s);
   yf::readOptional(ctx, e, "ekf", "motion_max_std_m", &a->motion_max_std_m);
   if (!(a->motion_max_std_m > 0.0))
     yf::fail(ctx, e["motion_max_std_m"], "ekf.motion_max_std_m", "must be > 0");
-  if (a->mode != "given" && a->mode != "static" && a->mode != "motion") {
-    yf::fail(ctx, e["alignment"], "ekf.alignment",
-             "'" + a->mode + "' is not one of given, static, motion");
-  }
 }
 
 void parseEkf(const yf::Context& ctx, const YAML::Node& e, EkfOptions* k, AlignmentConfig* a) {
@@ -223,6 +225,28 @@ YAML::Node withoutMarks(const YAML::Node& n) {
 }
 
 }  // namespace
+
+const char* alignmentModeName(AlignmentMode mode) {
+  switch (mode) {
+    case AlignmentMode::kGiven:
+      return "given";
+    case AlignmentMode::kStatic:
+      return "static";
+    case AlignmentMode::kMotion:
+      return "motion";
+  }
+  return "given";
+}
+
+bool parseAlignmentMode(const std::string& text, AlignmentMode* out) {
+  for (const AlignmentMode m :
+       {AlignmentMode::kGiven, AlignmentMode::kStatic, AlignmentMode::kMotion})
+    if (text == alignmentModeName(m)) {
+      *out = m;
+      return true;
+    }
+  return false;
+}
 
 const std::vector<std::pair<std::string, std::vector<std::string>>>& runConfigSchema() {
   static const std::vector<std::pair<std::string, std::vector<std::string>>> schema = {

@@ -39,7 +39,7 @@ double imuBegin(const ImuSeries& imu) { return imu.front().t_s - imu.front().dt_
 bool evaluationStreams(const SgCaseEvaluationOptions& o, const RunConfig& rc,
                        const EstimatorRegistry& estimators) {
   return estimators.canStream(o.estimator) && estimators.canStream("rts") &&
-         rc.alignment.mode == "given";
+         rc.alignment.mode == AlignmentMode::kGiven;
 }
 
 // An IMU file read once in blocks: its errors (range, time order, intervals) stop the run as

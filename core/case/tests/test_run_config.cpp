@@ -34,7 +34,7 @@ TEST(RunConfig, TextFillsEverySectionAndLeavesTheRestAtDefaults) {
   EXPECT_EQ(c.outages.start_s, OutageScheduleConfig{}.start_s);
   EXPECT_EQ(c.ekf.gate_probability, 0.99);
   EXPECT_EQ(c.ekf.record_interval_s, EkfOptions{}.record_interval_s);
-  EXPECT_EQ(c.alignment.mode, "static");
+  EXPECT_EQ(c.alignment.mode, AlignmentMode::kStatic);
   EXPECT_EQ(c.fgo.window_nodes, 7);
   EXPECT_EQ(c.fgo.robust_loss, "cauchy");
   EXPECT_TRUE(c.gnss.given);
@@ -80,6 +80,23 @@ TEST(RunConfig, ErrorsNameSourceLineAndKey) {
               HasSubstr("a.yaml:2: YAML syntax error"));
   EXPECT_THAT(errorOf([] { parseRunConfigText("imupath: x.txt\n", "kf.yaml"); }),
               HasSubstr("graftnav import kf-gins|ob-gins kf.yaml"));
+}
+
+// The graphs' IMU scale-factor states: each spelling lands on its mode, the default stays when
+// the key is absent, and a wrong word is named with its line and the accepted words.
+TEST(RunConfig, FgoImuScaleStatesParseEachModeAndNameAWrongOne) {
+  EXPECT_EQ(parseRunConfigText("fgo: {window_nodes: 5}\n", "a.yaml").fgo.imu_scale_states,
+            ImuScaleStates::kWithVehicleAiding);
+  EXPECT_EQ(parseRunConfigText("fgo: {imu_scale_states: off}\n", "a.yaml").fgo.imu_scale_states,
+            ImuScaleStates::kOff);
+  EXPECT_EQ(parseRunConfigText("fgo: {imu_scale_states: on}\n", "a.yaml").fgo.imu_scale_states,
+            ImuScaleStates::kOn);
+  EXPECT_EQ(parseRunConfigText("fgo: {imu_scale_states: with_vehicle_aiding}\n", "a.yaml")
+                .fgo.imu_scale_states,
+            ImuScaleStates::kWithVehicleAiding);
+  EXPECT_THAT(errorOf([] { parseRunConfigText("fgo:\n  imu_scale_states: always\n", "a.yaml"); }),
+              HasSubstr("a.yaml:2: key 'fgo.imu_scale_states': 'always': expected off, "
+                        "with_vehicle_aiding or on"));
 }
 
 TEST(RunConfig, DottedOverridesChangeOnlyTheirKeyAndAreValidated) {

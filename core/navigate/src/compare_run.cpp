@@ -166,7 +166,7 @@ CompareInputs loadCompareInputs(const CompareRequest& q, const EstimatorRegistry
     recordConfigFile(q.run_config);
     for (const auto& w : warnings) messages.warning(w);
   }
-  in.stream = all_stream && in.cfg.alignment.mode == "given";
+  in.stream = all_stream && in.cfg.alignment.mode == AlignmentMode::kGiven;
   CaseLoadOptions lo;
   lo.lenient = q.lenient;
   lo.load_reference = false;

@@ -25,11 +25,12 @@ void warnAll(const std::vector<std::string>& warnings, const RunMessages& messag
 
 // Whether the run streams the IMU (read in blocks, the per-epoch files written as they go).
 // In memory instead when the estimator has no streamed form or something needs the samples: a
-// data alignment (rc.alignment.mode other than "given"), or a time range (restrictToTimeRange
+// data alignment (rc.alignment.mode other than kGiven), or a time range (restrictToTimeRange
 // cuts the series in memory).
 bool streamable(const EstimatorRegistry& registry, const std::string& estimator,
                 const RunConfig& rc, const TimeRangeConfig& range) {
-  return registry.canStream(estimator) && rc.alignment.mode == "given" && range.empty();
+  return registry.canStream(estimator) && rc.alignment.mode == AlignmentMode::kGiven &&
+         range.empty();
 }
 
 // The case's GNSS read once epoch by epoch before anything is written, as scanImuFile reads
@@ -154,7 +155,7 @@ NavigateSetup prepareNavigate(const NavigateRequest& q, const EstimatorRegistry&
   s.uses_gnss = registry.find(q.estimator).uses_gnss;
   loadCase(q, registry, messages, &s);  // the run config first: whether the GNSS is held
   s.rc.ekf.output_decimation = q.decimate;
-  if (!s.uses_gnss) s.rc.alignment.mode = "given";
+  if (!s.uses_gnss) s.rc.alignment.mode = AlignmentMode::kGiven;
 
   selectNavigateImu(q, registry, messages, &s);
   GnssOpenFn gnss_stream;

@@ -70,7 +70,7 @@ struct GnssFile {
 // Every estimator has a streamed form, no in-motion alignment (it may read the whole IMU) and no
 // latency study needs the series. A static alignment reads only its window (alignmentPrefix).
 bool streamable(const RealRequest& q, const EstimatorRegistry& registry, const RunConfig& rc) {
-  if (q.latency_study || rc.alignment.mode == "motion") return false;
+  if (q.latency_study || rc.alignment.mode == AlignmentMode::kMotion) return false;
   for (const auto& name : q.estimators)
     if (!registry.contains(name) || !registry.canStream(name)) return false;
   return true;
@@ -80,7 +80,7 @@ bool streamable(const RealRequest& q, const EstimatorRegistry& registry, const R
 // samples through the first one after its window (alignStatic stops there), then the file's last
 // sample (`span`: its first and last, from scanImuFile).
 ImuSeries alignmentPrefix(const ImuSelection& sel, const RunConfig& rc, const ImuSeries& span) {
-  if (rc.alignment.mode != "static") return span;
+  if (rc.alignment.mode != AlignmentMode::kStatic) return span;
   const double t_end_s = span.front().t_s - span.front().dt_s + rc.alignment.static_duration_s;
   ImuBlockReader reader(sel.path, sel.read_options);
   ImuSeries block, prefix;
@@ -98,15 +98,15 @@ ImuSeries alignmentPrefix(const ImuSelection& sel, const RunConfig& rc, const Im
 // The note on the heading of a data alignment against case.yaml's (a warning beyond 5 degrees).
 void noteAlignedHeading(const CaseInputs& c, const RunConfig& rc, const EstimationProblem& pr,
                         const RunMessages& messages) {
-  if (rc.alignment.mode != "static" || !c.config.initial_state) return;
+  if (rc.alignment.mode != AlignmentMode::kStatic || !c.config.initial_state) return;
   const double yaw_case = eulerFromQuat(c.config.initial_state->q_nb).z() * kRadToDeg;
   const double yaw_used = eulerFromQuat(pr.initial.q_nb).z() * kRadToDeg;
   const double d = std::remainder(yaw_used - yaw_case, 360.0);
   messages.note(fmt::format(
       "  {}: {} alignment from the data: yaw {:.1f} deg at t={:.3f} (case.yaml initial_state: "
       "{:.1f} deg at t={:.3f}; difference {:.1f} deg{})",
-      std::abs(d) > 5.0 ? "WARNING" : "note", rc.alignment.mode, yaw_used, pr.initial.t_s, yaw_case,
-      c.config.initial_state->t_s, d,
+      std::abs(d) > 5.0 ? "WARNING" : "note", alignmentModeName(rc.alignment.mode), yaw_used,
+      pr.initial.t_s, yaw_case, c.config.initial_state->t_s, d,
       std::abs(d) > 5.0 ? ": the case's initial heading is NOT used" : ""));
 }
 

@@ -346,7 +346,7 @@ struct SgEvaluationPipeline::Work {
   const SgStreamNavigator& navigate;
   const SgRunHooks& hooks;
   const std::string& estimator;
-  mutable std::mutex signal_mutex;
+  mutable std::mutex signal_mutex{};  // initialized here: Work is built as an aggregate without it
 
   std::unique_ptr<NavSource> openReference() const {
     return reference.open ? reference.open() : seriesNavSource(reference.states);

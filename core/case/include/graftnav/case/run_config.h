@@ -81,8 +81,17 @@
 
 namespace graftnav {
 
+// Where the filter's initial attitude comes from (run config `ekf.alignment`): the truth or
+// case.yaml's initial_state (given), a static span at the start of the IMU record (static), or
+// the GNSS velocity once the vehicle moves (motion).
+enum class AlignmentMode { kGiven, kStatic, kMotion };
+// The run config's word for a mode: "given", "static" or "motion".
+const char* alignmentModeName(AlignmentMode mode);
+// Sets *out from its run-config word; false for any other text.
+bool parseAlignmentMode(const std::string& text, AlignmentMode* out);
+
 struct AlignmentConfig {
-  std::string mode = "given";  // given | static | motion
+  AlignmentMode mode = AlignmentMode::kGiven;
   double static_duration_s = 60.0;
   MotionAlignmentOptions motion;
   // In-motion alignment uses only GNSS epochs with max(std_N, std_E) <= this (single-point fixes
