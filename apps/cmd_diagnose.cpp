@@ -134,8 +134,7 @@ void runDiagnose(const DiagnoseArgs& args) {
       diagnosisInputsOf(c, rc, &ref_imu, &tested, co, &notes,
                         [](const std::string& l) { fmt::print(stderr, "{}\n", l); });
   fmt::print(stderr, "diagnose: {} reference, {} tested samples; simulation: {}\n",
-             in.reference.size(),
-             in.real_recording ? in.real_recording->samples : in.real.size(),
+             in.reference.size(), in.real_recording ? in.real_recording->samples : in.real.size(),
              in.simulation_kind);
   const auto remake_simulated = in.remake_simulated;
   // The finder releases each record once binned; the navigation level reads them again.

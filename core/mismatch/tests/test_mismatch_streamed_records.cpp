@@ -59,8 +59,8 @@ TEST(MismatchStreamedRecords, AGappedRecordReadInBlocksGivesTheHeldDiagnosis) {
   Pair p = makePair(extra, 3);
   p.in.real = gappedAndDelayed(p.in.real, 0.0);
   const DiagnosisResult held = diagnose(p.in);
-  ASSERT_EQ(held.masked_spans.size(), 1u);    // the gap is masked
-  ASSERT_FALSE(held.effects.empty());         // and something is claimed, to compare
+  ASSERT_EQ(held.masked_spans.size(), 1u);  // the gap is masked
+  ASSERT_FALSE(held.effects.empty());       // and something is claimed, to compare
   expectStreamedEqualsHeld(p, held);
 }
 

@@ -126,8 +126,7 @@ double CumulativeImu::temperatureIntegralAt(double t_s) const {
   return grid_detail::temperatureIntegralAt(NodeView{*this}, t_s);
 }
 
-GridSpec commonGrid(const ImuRecording& a, const ImuRecording& b, double bin_s,
-                    double margin_s) {
+GridSpec commonGrid(const ImuRecording& a, const ImuRecording& b, double bin_s, double margin_s) {
   if (a.samples == 0 || b.samples == 0)
     throw std::invalid_argument("commonGrid: empty IMU recording");
   return commonGrid(a.span(), b.span(), bin_s, margin_s);

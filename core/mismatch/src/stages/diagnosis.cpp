@@ -134,8 +134,7 @@ DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt) 
 
 DiagnosisResult diagnose(DiagnosisInputs&& in, const DiagnoseOptions& opt_in) {
   opt_in.validate();
-  const bool real_empty =
-      in.real_recording ? in.real_recording->samples == 0 : in.real.empty();
+  const bool real_empty = in.real_recording ? in.real_recording->samples == 0 : in.real.empty();
   const bool simulated_empty =
       in.simulated_recording ? in.simulated_recording->samples == 0 : in.simulated.empty();
   if (in.reference.empty() || simulated_empty || real_empty)

@@ -210,9 +210,9 @@ ResidualBins binResidual(const DiagnosisInputs& in, const ImuRecording& simulate
   // Bins overlapping a sampling gap (lost samples) of any record carry a wrong mean rate: they
   // are left out of every fit and RMS (residual and regressors zero there) and listed. The joint
   // fit's shifted reference is not masked; a few bins pull tau negligibly.
-  maskSamplingGaps({binsOverlappingGaps(in.reference, grid), std::move(sim.gaps),
-                    std::move(real.gaps)},
-                   grid, out);
+  maskSamplingGaps(
+      {binsOverlappingGaps(in.reference, grid), std::move(sim.gaps), std::move(real.gaps)}, grid,
+      out);
   zeroMaskedRows(out->masked_bins, &b.r);
   // With a realignment: the residual of the record as tagged (signal_rms_raw; the evidence of
   // the realignment when its remainder is not claimed).

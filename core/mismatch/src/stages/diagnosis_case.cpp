@@ -63,8 +63,9 @@ DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const RunConfig& rc, ImuSelecti
     const std::string case_dir = c.dir;
     LabData lab = loadLabData(case_dir);
     if (lab.has_static) checkLabStaticRecord(lab.staticRecordSeconds(), lab.static_file, 0.0);
-    simulateFromLab(std::move(lab), rc.grafting.start_offset_s, ref_scale_std, &in,
-                    [case_dir] { return loadLabData(case_dir); }, true);
+    simulateFromLab(
+        std::move(lab), rc.grafting.start_offset_s, ref_scale_std, &in,
+        [case_dir] { return loadLabData(case_dir); }, true);
   } else {
     std::vector<std::string> warnings;
     if (in.real_recording) {  // the static-bias simulation reads the whole tested record

@@ -107,8 +107,8 @@ ImuSeries sg2FromPlan(const LabSimulation& sim, const ImuSeries& reference, doub
 
 // SG#2 of `reference` as sg2FromPlan makes it, grafted block by block into an unlinked spool that
 // each pass of the returned recording reads back; sets in's graft tiling.
-ImuRecording spooledSg2(const LabSimulation& sim, const ImuSeries& reference,
-                        double start_offset_s, DiagnosisInputs* in) {
+ImuRecording spooledSg2(const LabSimulation& sim, const ImuSeries& reference, double start_offset_s,
+                        DiagnosisInputs* in) {
   if (reference.empty())
     throw std::invalid_argument("simulateFromLab: the reference IMU series is empty");
   GraftOptions graft;
@@ -122,7 +122,8 @@ ImuRecording spooledSg2(const LabSimulation& sim, const ImuSeries& reference,
     constexpr std::size_t kBlock = 4096;
     ImuSeries part, sg2;
     for (std::size_t i = 0; i < reference.size(); i += kBlock) {
-      part.assign(reference.begin() + i, reference.begin() + std::min(reference.size(), i + kBlock));
+      part.assign(reference.begin() + i,
+                  reference.begin() + std::min(reference.size(), i + kBlock));
       signal.graft(part, t0, &sim.plan.gyro_fit, &sim.plan.accel_fit, &sg2);
       if (sim.lab_temperature)
         attachTiledTemperature(*sim.lab_temperature, graft.start_offset_s, t0, &sg2);

@@ -33,10 +33,10 @@ inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // ---- 1. align time ----
 struct TimeAlignment {
-  double pivot_s = 0.0;     // pivot of the time_offset regressor (s)
-  double realign_s = 0.0;   // taken out of the real record's tags before binning (0: none)
-  ImuRecording as_tagged;   // the real record as recorded
-  ImuRecording realigned;   // the same with its tags moved by realign_s (unset: none)
+  double pivot_s = 0.0;    // pivot of the time_offset regressor (s)
+  double realign_s = 0.0;  // taken out of the real record's tags before binning (0: none)
+  ImuRecording as_tagged;  // the real record as recorded
+  ImuRecording realigned;  // the same with its tags moved by realign_s (unset: none)
   const ImuRecording& real() const { return realign_s != 0.0 ? realigned : as_tagged; }
   // The real record is read only as bins from here on: its passes (and what they hold) go.
   void releaseRecords() { as_tagged = realigned = ImuRecording(); }

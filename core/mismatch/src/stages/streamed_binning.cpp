@@ -25,7 +25,9 @@ struct StreamedBinning::NodeView {
 };
 StreamedBinning::StreamedBinning(const GridSpec& grid, double time_shift_s, ImuSampleMap map,
                                  BinnedColumns columns)
-    : grid_(grid), shift_s_(time_shift_s), map_(std::move(map)),
+    : grid_(grid),
+      shift_s_(time_shift_s),
+      map_(std::move(map)),
       rates_only_(columns == BinnedColumns::rates_only) {
   const int n = grid_.count;
   out_.grid = grid_;
