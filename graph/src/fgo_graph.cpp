@@ -82,10 +82,15 @@ void FgoGraph::setUp() {
   gyro_scale_process_.tau_s = prof.scale_corr_time_s;
   accel_scale_process_.sigma = std::max(prof.accel_scale_std, options_.min_imu_scale_std);
   accel_scale_process_.tau_s = prof.scale_corr_time_s;
-  if (options_.robust_loss == "huber") {
-    loss_ = std::make_unique<ceres::HuberLoss>(options_.robust_loss_scale);
-  } else if (options_.robust_loss == "cauchy") {
-    loss_ = std::make_unique<ceres::CauchyLoss>(options_.robust_loss_scale);
+  switch (options_.robust_loss) {
+    case RobustLoss::kHuber:
+      loss_ = std::make_unique<ceres::HuberLoss>(options_.robust_loss_scale);
+      break;
+    case RobustLoss::kCauchy:
+      loss_ = std::make_unique<ceres::CauchyLoss>(options_.robust_loss_scale);
+      break;
+    case RobustLoss::kNone:
+      break;
   }
 }
 

@@ -170,7 +170,13 @@ void parseFgo(const yf::Context& ctx, const YAML::Node& g, FgoOptions* f) {
       yf::fail(ctx, g["imu_scale_states"], "fgo.imu_scale_states",
                "'" + text + "': expected off, with_vehicle_aiding or on");
   }
-  field("robust_loss", &f->robust_loss);
+  if (g["robust_loss"].IsDefined()) {
+    std::string text;
+    field("robust_loss", &text);
+    if (!parseRobustLoss(text, &f->robust_loss))
+      yf::fail(ctx, g["robust_loss"], "fgo.robust_loss",
+               "'" + text + "': expected huber, cauchy or none");
+  }
   field("robust_loss_scale", &f->robust_loss_scale);
   field("chi2_threshold", &f->chi2_threshold);
   field("culling_rounds", &f->culling_rounds);

@@ -36,7 +36,7 @@ TEST(RunConfig, TextFillsEverySectionAndLeavesTheRestAtDefaults) {
   EXPECT_EQ(c.ekf.record_interval_s, EkfOptions{}.record_interval_s);
   EXPECT_EQ(c.alignment.mode, AlignmentMode::kStatic);
   EXPECT_EQ(c.fgo.window_nodes, 7);
-  EXPECT_EQ(c.fgo.robust_loss, "cauchy");
+  EXPECT_EQ(c.fgo.robust_loss, RobustLoss::kCauchy);
   EXPECT_TRUE(c.gnss.given);
   EXPECT_EQ(c.gnss.selection.accepted_fix_types, (std::vector<int>{4, 5}));
   EXPECT_EQ(c.gnss.selection.latency_s_by_fix_type.at(4), 0.2);
@@ -74,6 +74,9 @@ TEST(RunConfig, ErrorsNameSourceLineAndKey) {
               HasSubstr("key 'ekf.alignment': 'sideways' is not one of given, static, motion"));
   EXPECT_THAT(errorOf([] { parseRunConfigText("ekf: {covariance_interval_s: -1}\n", "a.yaml"); }),
               HasSubstr("a.yaml: section ekf: "));
+  EXPECT_THAT(
+      errorOf([] { parseRunConfigText("fgo:\n  robust_loss: tukey\n", "a.yaml"); }),
+      HasSubstr("a.yaml:2: key 'fgo.robust_loss': 'tukey': expected huber, cauchy or none"));
   EXPECT_THAT(errorOf([] { parseRunConfigText("ekf: [1, 2]\n", "a.yaml"); }),
               HasSubstr("key 'ekf': expected a map"));
   EXPECT_THAT(errorOf([] { parseRunConfigText("ekf: {a: [1\n", "a.yaml"); }),

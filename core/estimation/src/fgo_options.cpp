@@ -24,6 +24,19 @@ bool parseImuScaleStates(const std::string& text, ImuScaleStates* out) {
   return true;
 }
 
+bool parseRobustLoss(const std::string& text, RobustLoss* out) {
+  if (text == "huber") {
+    *out = RobustLoss::kHuber;
+  } else if (text == "cauchy") {
+    *out = RobustLoss::kCauchy;
+  } else if (text == "none") {
+    *out = RobustLoss::kNone;
+  } else {
+    return false;
+  }
+  return true;
+}
+
 bool FgoOptions::validate(std::string* error) const {
   auto positive = [](double x) { return std::isfinite(x) && x > 0.0; };
   if (!positive(max_node_spacing_s))
@@ -34,10 +47,6 @@ bool FgoOptions::validate(std::string* error) const {
     return fail(error, "reintegrate_accel_bias_m_s2", reintegrate_accel_bias_m_s2, "must be > 0");
   if (max_reintegration_rounds < 0)
     return fail(error, "max_reintegration_rounds", max_reintegration_rounds, "must be >= 0");
-  if (robust_loss != "huber" && robust_loss != "cauchy" && robust_loss != "none") {
-    if (error) *error = "fgo.robust_loss = '" + robust_loss + "': expected huber, cauchy or none";
-    return false;
-  }
   if (!positive(robust_loss_scale))
     return fail(error, "robust_loss_scale", robust_loss_scale, "must be > 0");
   if (!positive(chi2_threshold))

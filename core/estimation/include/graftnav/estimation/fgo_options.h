@@ -14,6 +14,11 @@ enum class ImuScaleStates { kOff, kWithVehicleAiding, kOn };
 // "off" | "with_vehicle_aiding" | "on"; false for anything else.
 bool parseImuScaleStates(const std::string& text, ImuScaleStates* out);
 
+// The GNSS factors' loss on the whitened residual norm: Huber, Cauchy, or none (plain squares).
+enum class RobustLoss { kHuber, kCauchy, kNone };
+// "huber" | "cauchy" | "none"; false for anything else.
+bool parseRobustLoss(const std::string& text, RobustLoss* out);
+
 struct FgoOptions {
   // Preintegration.
   bool earth_rotation = true;                 // keep omega_ie in the preintegration factor
@@ -27,11 +32,11 @@ struct FgoOptions {
   ImuScaleStates imu_scale_states = ImuScaleStates::kWithVehicleAiding;
 
   // GNSS factors.
-  std::string robust_loss = "huber";  // huber | cauchy | none
-  double robust_loss_scale = 3.0;     // on the whitened residual norm (sigmas)
-  double chi2_threshold = 16.27;      // 3 dof, 99.9 %: cull after a first solve
-  int culling_rounds = 1;             // solve -> cull -> re-solve rounds
-  double gnss_min_std_m = 0.002;      // floor on the fix's stated 1-sigma
+  RobustLoss robust_loss = RobustLoss::kHuber;
+  double robust_loss_scale = 3.0;  // on the whitened residual norm (sigmas)
+  double chi2_threshold = 16.27;   // 3 dof, 99.9 %: cull after a first solve
+  int culling_rounds = 1;          // solve -> cull -> re-solve rounds
+  double gnss_min_std_m = 0.002;   // floor on the fix's stated 1-sigma
   // Culling guards. A solved residual is not an innovation: after an outage the first fixes
   // disagree with the drifted estimate by metres and must pull it back, not be culled.
   double cull_grace_s = 10.0;       // window: no culling this long after a GNSS gap
