@@ -30,6 +30,7 @@
 #include "graftnav/io/case_config.h"
 #include "graftnav/io/atomic_file.h"
 #include "graftnav/io/imu_io.h"
+#include "graftnav/io/imu_recording.h"
 #include "graftnav/io/imu_profile_io.h"
 #include "graftnav/io/nav_io.h"
 #include "graftnav/mismatch/diagnosis.h"
@@ -94,6 +95,16 @@ void printSummary(const std::string& case_name, const DiagnosisResult& res) {
   }
 }
 
+// IMU_SG3.txt, held or written as its recording's pass comes.
+void writeSg3(const std::string& path, const DiagnosisResult& res) {
+  if (!res.sg3_recording) return writeImu(path, res.sg3);
+  ImuWriter writer(path);
+  res.sg3_recording->pass([&writer](const ImuSeries& block) {
+    for (const ImuSample& s : block) writer.add(s);
+  });
+  writer.commit();
+}
+
 // The whole command: load, diagnose, optionally navigate, write and print.
 void runDiagnose(const DiagnoseArgs& args) {
   std::filesystem::create_directories(args.out);
@@ -115,7 +126,7 @@ void runDiagnose(const DiagnoseArgs& args) {
     throw std::runtime_error(c.paths().testedImu() +
                              ": diagnose needs the tested IMU's field recording");
   ImuSelection ref_imu = selectImu(c, "ref", "", true);
-  ImuSelection tested = selectImu(c, "tested", "", true);
+  ImuSelection tested = selectImu(c, "tested", "", true, false);  // the finder reads its file
   for (const ImuSelection* sel : {&ref_imu, &tested})
     if (!sel->read_summary.empty()) fmt::print(stderr, "warning: {}\n", sel->read_summary);
   const DiagnosisCaseOptions co{args.tested_profile, !args.estimator.empty()};
@@ -123,7 +134,8 @@ void runDiagnose(const DiagnoseArgs& args) {
       diagnosisInputsOf(c, rc, &ref_imu, &tested, co, &notes,
                         [](const std::string& l) { fmt::print(stderr, "{}\n", l); });
   fmt::print(stderr, "diagnose: {} reference, {} tested samples; simulation: {}\n",
-             in.reference.size(), in.real.size(), in.simulation_kind);
+             in.reference.size(), in.real_recording ? in.real_recording->samples : in.real.size(),
+             in.simulation_kind);
   const auto remake_simulated = in.remake_simulated;
   // The finder releases each record once binned; the navigation level reads them again.
   DiagnosisResult res = diagnose(std::move(in), opt);
@@ -134,7 +146,8 @@ void runDiagnose(const DiagnoseArgs& args) {
       fmt::print(stderr, "diagnose: navigating SG#2, SG#3 and REAL with {}\n", args.estimator);
       tested = selectImu(c, "tested", "", true);  // REAL, navigated as the tested IMU
       const ImuSeries sg2 = remake_simulated(selectImu(c, "ref", "", true).imu);
-      nav = compareNavigation(c, tested, args.estimator, rc, args.outage, sg2, res.sg3,
+      const ImuSeries sg3 = res.sg3_recording ? collectRecording(*res.sg3_recording) : res.sg3;
+      nav = compareNavigation(c, tested, args.estimator, rc, args.outage, sg2, sg3,
                               estimatorTable(), &res.notes);
     } catch (const std::exception& e) {
       res.notes.push_back(std::string("navigation level skipped: ") + e.what());
@@ -143,7 +156,7 @@ void runDiagnose(const DiagnoseArgs& args) {
   }
   writeDiagnosisFiles(args.out, res, nav ? &*nav : nullptr);
   if (nav) writeNavigationOutputs(args.out, *nav);
-  writeImu(args.out + "/IMU_SG3.txt", res.sg3);
+  writeSg3(args.out + "/IMU_SG3.txt", res);
   printSummary(c.config.name, res);
   fmt::print("  wrote {0}/diagnosis.json, {0}/diagnosis.md, {0}/residual.csv, {0}/IMU_SG3.txt\n",
              args.out);

@@ -42,6 +42,16 @@ ImuRecording heldRecording(ImuSeries series) {
   return r;
 }
 
+ImuRecording viewedRecording(const ImuSeries& series) {
+  if (series.empty()) throw std::invalid_argument("viewedRecording: the IMU series is empty");
+  ImuRecording r;
+  r.first = series.front();
+  r.last = series.back();
+  r.samples = series.size();
+  r.pass = [&series](const ImuBlockFn& block) { block(series); };
+  return r;
+}
+
 ImuSeries collectRecording(const ImuRecording& recording) {
   ImuSeries out;
   out.reserve(recording.samples);

@@ -109,6 +109,27 @@ TEST(MismatchStreamedBinning, BlocksGiveTheHeldBinsNumberByNumber) {
   }
 }
 
+// A binning of the rates only gives the whole binning's rates bit for bit and no other column.
+TEST(MismatchStreamedBinning, RatesOnlyAreTheWholeBinningsRates) {
+  const ImuSeries imu = testRecord();
+  GridSpec grid;
+  grid.bin_s = 0.01;
+  grid.t_begin_s = imu.front().t_s;
+  grid.count = static_cast<int>((imu.back().t_s - grid.t_begin_s) / grid.bin_s) - 1;
+  const BinnedImu all = binImu(imu, grid, 0.013);
+  StreamedBinning rates(grid, 0.013, {}, BinnedColumns::rates_only);
+  for (std::size_t k = 0; k < imu.size(); k += 37)
+    rates.add(ImuSeries(imu.begin() + k, imu.begin() + std::min(imu.size(), k + 37)));
+  const BinnedImu only = rates.finish();
+  ASSERT_EQ(only.omega_rad_s.rows(), grid.count);
+  for (int i = 0; i < grid.count; ++i)
+    for (int a = 0; a < 3; ++a)
+      ASSERT_EQ(only.omega_rad_s(i, a), all.omega_rad_s(i, a)) << "bin " << i << " axis " << a;
+  EXPECT_EQ(only.f_m_s2.size(), 0);
+  EXPECT_EQ(only.temperature_degC.size(), 0);
+  EXPECT_EQ(only.f_within_rms_m_s2.size(), 0);
+}
+
 // A sample without a temperature leaves every bin's temperature NaN, as in the held binning.
 TEST(MismatchStreamedBinning, ARecordWithoutTemperatureHasNone) {
   ImuSeries imu = testRecord();

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <string>
 #include <stdexcept>
 #include <vector>
 
@@ -19,12 +21,10 @@ Eigen::Vector3d increment(const ImuSample& s, Sensor sensor) {
   return sensor == Sensor::gyro ? s.dtheta_rad : s.dvel_m_s;
 }
 
-bool allOnLattice(const ImuSeries& imu, Sensor sensor, int axis, double unit) {
-  for (const ImuSample& s : imu) {
-    const double f = increment(s, sensor)(axis) / unit;
-    if (std::abs(f - std::round(f)) > 1e-6 * std::max(1.0, std::abs(f) * 1e-9)) return false;
-  }
-  return true;
+// Whether one increment is a whole multiple of `unit` (relative tolerance 1e-6 of the unit).
+bool onLattice(double value, double unit) {
+  const double f = value / unit;
+  return !(std::abs(f - std::round(f)) > 1e-6 * std::max(1.0, std::abs(f) * 1e-9));
 }
 
 }  // namespace
@@ -39,21 +39,44 @@ void QuantizationEvidenceOptions::validate() const {
 }
 
 Eigen::Vector3d printedResolution(const ImuSeries& imu, Sensor sensor) {
+  if (imu.empty()) return Eigen::Vector3d::Zero();
+  return printedResolution(viewedRecording(imu), sensor);
+}
+
+// Per axis and number of decimals d: whether every increment so far is a multiple of 10^-d.
+Eigen::Vector3d printedResolution(const ImuRecording& imu, Sensor sensor) {
   Eigen::Vector3d res = Eigen::Vector3d::Zero();
-  if (imu.empty()) return res;
-  for (int a = 0; a < 3; ++a) {
-    for (int d = 0; d <= kMaxPrintedDecimals; ++d) {
-      const double unit = std::pow(10.0, -d);
-      if (allOnLattice(imu, sensor, a, unit)) {
-        res(a) = unit;
+  if (imu.samples == 0) return res;
+  bool all_on[3][kMaxPrintedDecimals + 1];
+  double unit[kMaxPrintedDecimals + 1];
+  for (int d = 0; d <= kMaxPrintedDecimals; ++d) unit[d] = std::pow(10.0, -d);
+  for (auto& axis : all_on) std::fill(std::begin(axis), std::end(axis), true);
+  imu.pass([&](const ImuSeries& block) {
+    for (const ImuSample& s : block) {
+      const Eigen::Vector3d v = increment(s, sensor);
+      for (int a = 0; a < 3; ++a)
+        for (int d = 0; d <= kMaxPrintedDecimals; ++d)
+          if (all_on[a][d] && !onLattice(v(a), unit[d])) all_on[a][d] = false;
+    }
+  });
+  for (int a = 0; a < 3; ++a)
+    for (int d = 0; d <= kMaxPrintedDecimals; ++d)
+      if (all_on[a][d]) {
+        res(a) = unit[d];
         break;
       }
-    }
-  }
   return res;
 }
 
 QuantizationCheck checkQuantization(const ImuSeries& real, const ImuSeries& simulated,
+                                    Sensor sensor, const QuantizationEvidenceOptions& options) {
+  if (real.size() < 3 || simulated.empty())
+    throw std::invalid_argument("checkQuantization: " + std::to_string(real.size()) +
+                                " real samples, at least 3 needed, and a simulation");
+  return checkQuantization(viewedRecording(real), viewedRecording(simulated), sensor, options);
+}
+
+QuantizationCheck checkQuantization(const ImuRecording& real, const ImuRecording& simulated,
                                     Sensor sensor, const QuantizationEvidenceOptions& options) {
   options.validate();
   QuantizationCheck c;
@@ -62,14 +85,14 @@ QuantizationCheck checkQuantization(const ImuSeries& real, const ImuSeries& simu
   c.step = detectQuantizationStep(real, sensor);
   c.printed_resolution = printedResolution(real, sensor);
   // One-second blocks at the record's mean sample interval.
-  const double span_s = real.back().t_s - real.front().t_s;
+  const double span_s = real.last.t_s - real.first.t_s;
   c.white_noise_sd = blockDifferenceNoiseSd(
       real,
       sensor == Sensor::gyro ? SampleQuantity::angle_increment : SampleQuantity::velocity_increment,
-      samplesPerSecond(span_s / static_cast<double>(real.size() - 1)));
+      samplesPerSecond(span_s / static_cast<double>(real.samples - 1)));
   const Eigen::Vector3d sim_step = detectQuantizationStep(simulated, sensor);
   c.resolvable_share =
-      options.resolvable_sigmas * std::sqrt(2.0 / static_cast<double>(real.size()));
+      options.resolvable_sigmas * std::sqrt(2.0 / static_cast<double>(real.samples));
   for (int a = 0; a < 3; ++a) {
     const double q = c.step(a), var_w = c.white_noise_sd(a) * c.white_noise_sd(a);
     c.noise_share(a) = var_w > 0.0 ? q * q / 12.0 / var_w : 0.0;

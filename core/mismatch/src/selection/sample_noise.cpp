@@ -28,19 +28,36 @@ Eigen::Vector3d blockDifferenceNoiseSd(const ImuSeries& imu, SampleQuantity quan
   if (imu.size() < 3)
     throw std::invalid_argument("blockDifferenceNoiseSd: " + std::to_string(imu.size()) +
                                 " samples, at least 3 needed");
+  return blockDifferenceNoiseSd(viewedRecording(imu), quantity, block_samples);
+}
+
+Eigen::Vector3d blockDifferenceNoiseSd(const ImuRecording& imu, SampleQuantity quantity,
+                                       std::size_t block_samples) {
+  if (imu.samples < 3)
+    throw std::invalid_argument("blockDifferenceNoiseSd: " + std::to_string(imu.samples) +
+                                " samples, at least 3 needed");
   if (block_samples == 0) throw std::invalid_argument("blockDifferenceNoiseSd: block_samples = 0");
   std::vector<double> per_block[3];
   Eigen::Vector3d acc = Eigen::Vector3d::Zero();
   std::size_t count = 0;
-  for (std::size_t k = 1; k < imu.size(); ++k) {
-    const Eigen::Vector3d d = valueOf(imu[k], quantity) - valueOf(imu[k - 1], quantity);
-    acc += d.cwiseAbs2();
-    if (++count == block_samples) {
-      for (int a = 0; a < 3; ++a) per_block[a].push_back(0.5 * acc(a) / count);
-      acc.setZero();
-      count = 0;
+  bool first = true;
+  Eigen::Vector3d previous = Eigen::Vector3d::Zero();
+  imu.pass([&](const ImuSeries& block) {
+    for (const ImuSample& s : block) {
+      const Eigen::Vector3d value = valueOf(s, quantity);
+      if (!first) {
+        const Eigen::Vector3d d = value - previous;
+        acc += d.cwiseAbs2();
+        if (++count == block_samples) {
+          for (int a = 0; a < 3; ++a) per_block[a].push_back(0.5 * acc(a) / count);
+          acc.setZero();
+          count = 0;
+        }
+      }
+      previous = value;
+      first = false;
     }
-  }
+  });
   if (count > 0 && per_block[0].empty())
     for (int a = 0; a < 3; ++a) per_block[a].push_back(0.5 * acc(a) / count);
   Eigen::Vector3d sd;

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -125,6 +126,12 @@ double CumulativeImu::temperatureIntegralAt(double t_s) const {
   return grid_detail::temperatureIntegralAt(NodeView{*this}, t_s);
 }
 
+GridSpec commonGrid(const ImuRecording& a, const ImuRecording& b, double bin_s, double margin_s) {
+  if (a.samples == 0 || b.samples == 0)
+    throw std::invalid_argument("commonGrid: empty IMU recording");
+  return commonGrid(a.span(), b.span(), bin_s, margin_s);
+}
+
 GridSpec commonGrid(const ImuSeries& a, const ImuSeries& b, double bin_s, double margin_s) {
   if (!(bin_s > 0.0)) throw std::invalid_argument("commonGrid: bin_s must be > 0");
   if (a.empty() || b.empty()) throw std::invalid_argument("commonGrid: empty IMU series");
@@ -171,28 +178,43 @@ EvenPowerBins binEvenPowers(const ImuSeries& imu, const GridSpec& grid, double t
 }
 
 double medianSampleInterval(const ImuSeries& imu) {
-  if (imu.empty()) return 0.0;
-  std::vector<double> dt;
-  dt.reserve(imu.size());
-  for (const ImuSample& s : imu) dt.push_back(s.dt_s);
-  std::nth_element(dt.begin(), dt.begin() + dt.size() / 2, dt.end());
-  return dt[dt.size() / 2];
+  return imu.empty() ? 0.0 : medianSampleInterval(viewedRecording(imu));
+}
+
+double medianSampleInterval(const ImuRecording& imu) {
+  if (imu.samples == 0) return 0.0;
+  std::map<double, std::size_t> count;  // the nth_element of the sorted intervals, n = size / 2
+  std::size_t n = 0;
+  imu.pass([&](const ImuSeries& block) {
+    for (const ImuSample& s : block) ++count[s.dt_s];
+    n += block.size();
+  });
+  std::size_t below = 0;
+  for (const auto& [dt, k] : count) {
+    below += k;
+    if (below > n / 2) return dt;
+  }
+  return 0.0;
+}
+
+GapMask::GapMask(const GridSpec& grid, double median_interval_s, double gap_factor)
+    : grid_(grid), limit_s_(gap_factor * median_interval_s), mask_(std::max(0, grid.count), 0) {}
+
+void GapMask::add(const ImuSample& s) {
+  if (!(s.dt_s > limit_s_) || grid_.count <= 0) return;
+  const double a = (s.t_s - s.dt_s - grid_.t_begin_s) / grid_.bin_s;
+  const double b = (s.t_s - grid_.t_begin_s) / grid_.bin_s;
+  const int i0 = std::max(0, static_cast<int>(std::floor(a)) - 1);
+  const int i1 = std::min(grid_.count - 1, static_cast<int>(std::ceil(b)));
+  for (int i = i0; i <= i1; ++i) mask_[i] = 1;
 }
 
 std::vector<char> binsOverlappingGaps(const ImuSeries& imu, const GridSpec& grid,
                                       double gap_factor) {
-  std::vector<char> mask(std::max(0, grid.count), 0);
-  if (imu.size() < 3 || grid.count <= 0) return mask;
-  const double limit = gap_factor * medianSampleInterval(imu);
-  for (const ImuSample& s : imu) {
-    if (!(s.dt_s > limit)) continue;
-    const double a = (s.t_s - s.dt_s - grid.t_begin_s) / grid.bin_s;
-    const double b = (s.t_s - grid.t_begin_s) / grid.bin_s;
-    const int i0 = std::max(0, static_cast<int>(std::floor(a)) - 1);
-    const int i1 = std::min(grid.count - 1, static_cast<int>(std::ceil(b)));
-    for (int i = i0; i <= i1; ++i) mask[i] = 1;
-  }
-  return mask;
+  if (imu.size() < 3 || grid.count <= 0) return std::vector<char>(std::max(0, grid.count), 0);
+  GapMask gaps(grid, medianSampleInterval(imu), gap_factor);
+  gaps.add(imu);
+  return gaps.mask();
 }
 
 }  // namespace graftnav

@@ -2,6 +2,7 @@
 #include "graftnav/mismatch/diagnosis.h"
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -67,12 +68,14 @@ void release(Series* series) {
   Series().swap(*series);
 }
 
-// Stages 3-7 on the binned records (the reference record is the only one they read); returns
+// Stages 3-7 on the binned records (the reference record is the only one they read, and only
+// through selection: it is released then unless keep_reference, for SG#3 made again); returns
 // SG#3's per-bin contribution. Kept apart from diagnose() so the library, the regressors and the
 // passes are freed before SG#3 is built.
 Eigen::MatrixXd explainAndReport(DiagnosisInputs& in, const DiagnoseOptions& opt,
                                  const TimeAlignment& alignment, const ResidualBins& bins,
-                                 const RawRecordChecks& raw, DiagnosisResult* out) {
+                                 const RawRecordChecks& raw, bool keep_reference,
+                                 DiagnosisResult* out) {
   // 3. regressors
   std::vector<Eigen::Matrix3d> C_bn = attitudeOnGrid(in, bins);
   release(&in.attitude);  // now C_bn, per bin
@@ -81,6 +84,8 @@ Eigen::MatrixXd explainAndReport(DiagnosisInputs& in, const DiagnoseOptions& opt
   const ExplainInputs explain{in, opt, bins, out->masked_bins};
   const SelectionPasses passes = runSelectionPasses(explain, alignment.pivot_s, &reg, &out->notes);
   const Explanation& ex = passes.explanation;
+  release(&reg.at_tested_imu);  // past selection the reference is read only as bins
+  if (!keep_reference) release(&in.reference);
   out->notes.insert(out->notes.end(), ex.notes.begin(), ex.notes.end());
   out->notes.insert(out->notes.end(), passes.repeat_notes.begin(), passes.repeat_notes.end());
   const Vector6d bin_variance = binNoiseVariance(ex.sel);
@@ -99,6 +104,28 @@ Eigen::MatrixXd explainAndReport(DiagnosisInputs& in, const DiagnoseOptions& opt
   return sg3_contribution;
 }
 
+// The real record as the finder reads it: in.real_recording, or in.real handed over whole.
+ImuRecording realRecordingOf(DiagnosisInputs* in) {
+  if (!in->real_recording) return heldRecording(std::move(in->real));
+  ImuRecording rec = std::move(*in->real_recording);
+  in->real_recording.reset();
+  release(&in->real);
+  return rec;
+}
+
+// SG#3 from the simulation made again (remake_simulated) or held, the model added.
+void sg3FromHeldSimulation(DiagnosisInputs& in, const Eigen::MatrixXd& sg3_contribution,
+                           DiagnosisResult* out) {
+  if (in.simulated.empty()) {
+    in.simulated = in.remake_simulated(in.reference);
+    release(&in.reference);
+    if (in.simulated.empty())
+      throw std::runtime_error("diagnose: remake_simulated returned an empty record");
+  }
+  out->sg3 = std::move(in.simulated);
+  addBinnedContributionInPlace(out->grid, sg3_contribution, &out->sg3);
+}
+
 }  // namespace
 
 DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt) {
@@ -107,31 +134,39 @@ DiagnosisResult diagnose(const DiagnosisInputs& in, const DiagnoseOptions& opt) 
 
 DiagnosisResult diagnose(DiagnosisInputs&& in, const DiagnoseOptions& opt_in) {
   opt_in.validate();
-  if (in.reference.empty() || in.simulated.empty() || in.real.empty())
+  const bool real_empty = in.real_recording ? in.real_recording->samples == 0 : in.real.empty();
+  const bool simulated_empty =
+      in.simulated_recording ? in.simulated_recording->samples == 0 : in.simulated.empty();
+  if (in.reference.empty() || simulated_empty || real_empty)
     throw std::invalid_argument(
         "diagnose: reference, simulated and real records must be non-empty");
   DiagnosisResult out;
   out.case_name = in.case_name;
   out.simulation_kind = in.simulation_kind;
-  TimeAlignment alignment = alignTime(in, opt_in, &out);  // 1. align time
+  TimeAlignment alignment = alignTime(in, realRecordingOf(&in), opt_in, &out);  // 1. align time
   // 2. grid and residual
-  out.grid = finderGrid(in, alignment.real(in), alignment.pivot_s, opt_in, &out.notes);
-  const DiagnoseOptions opt = optionsOnGrid(in, out.grid, opt_in);
-  const ResidualBins bins = binResidual(in, alignment, out.grid, &out);
-  const RawRecordChecks raw = rawRecordChecks(in, alignment, opt);
+  std::optional<ImuRecording> simulated = std::move(in.simulated_recording);
+  in.simulated_recording.reset();
+  const bool simulated_held = !simulated;
+  if (simulated_held) simulated = viewedRecording(in.simulated);
+  out.grid = finderGrid(in, *simulated, alignment.real(), alignment.pivot_s, opt_in, &out.notes);
+  const DiagnoseOptions opt = optionsOnGrid(in, *simulated, out.grid, opt_in);
+  const ResidualBins bins = binResidual(in, *simulated, alignment, out.grid, &out);
+  const RawRecordChecks raw = rawRecordChecks(*simulated, alignment, opt);
   // Past here the finder reads the real record and the simulation only as bins.
-  release(&in.real);
-  release(&alignment.realigned);
-  if (in.remake_simulated) release(&in.simulated);
-  const Eigen::MatrixXd sg3_contribution = explainAndReport(in, opt, alignment, bins, raw, &out);
-  if (in.simulated.empty()) {
-    in.simulated = in.remake_simulated(in.reference);
-    release(&in.reference);
-    if (in.simulated.empty())
-      throw std::runtime_error("diagnose: remake_simulated returned an empty record");
+  alignment.releaseRecords();
+  if (simulated_held) {
+    simulated.reset();
+    if (in.remake_simulated) release(&in.simulated);
   }
-  out.sg3 = std::move(in.simulated);
-  addBinnedContributionInPlace(out.grid, sg3_contribution, &out.sg3);
+  const bool remakes = simulated_held && in.simulated.empty();  // SG#3 from the reference
+  const Eigen::MatrixXd sg3_contribution =
+      explainAndReport(in, opt, alignment, bins, raw, remakes, &out);
+  if (simulated_held) {
+    sg3FromHeldSimulation(in, sg3_contribution, &out);
+  } else {
+    out.sg3_recording = withBinnedContribution(std::move(*simulated), out.grid, sg3_contribution);
+  }
   return out;
 }
 

@@ -5,26 +5,28 @@
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
+#include <optional>
+#include <utility>
+#include <vector>
 #include <stdexcept>
 #include <string>
 
 #include "diagnosis_stages.h"
+#include "graftnav/mismatch/streamed_binning.h"
 
 namespace graftnav::diagnosis_detail {
 
 namespace {
 
-// Marks the bins of `grid` that overlap a sampling gap of any of `records` (common_grid.h
-// binsOverlappingGaps) in out->masked_bins, lists them as spans with a note, and refuses a
-// record of which more than half would be left out.
-void maskSamplingGaps(std::initializer_list<const ImuSeries*> records, const GridSpec& grid,
+// Marks the bins of `grid` that overlap a sampling gap of any record (common_grid.h
+// binsOverlappingGaps; `masks`, one per record) in out->masked_bins, lists them as spans with a
+// note, and refuses a record of which more than half would be left out.
+void maskSamplingGaps(std::initializer_list<std::vector<char>> masks, const GridSpec& grid,
                       DiagnosisResult* out) {
   const int n = grid.count;
   out->masked_bins.assign(n, 0);
-  for (const ImuSeries* rec : records) {
-    const std::vector<char> m = binsOverlappingGaps(*rec, grid);
+  for (const std::vector<char>& m : masks)
     for (int i = 0; i < n; ++i) out->masked_bins[i] |= m[i];
-  }
   int masked = 0;
   std::string spans;
   for (int i = 0; i < n; ++i) {
@@ -51,15 +53,37 @@ void maskSamplingGaps(std::initializer_list<const ImuSeries*> records, const Gri
       out->masked_spans.size() > 5 ? ", ..." : ""));
 }
 
+// The recording with every tag moved back by shift_s, handed out in blocks of at most 4096 samples
+// (a held recording is one block).
+ImuRecording withTagsMovedBack(const ImuRecording& rec, double shift_s) {
+  ImuRecording moved = rec;
+  moved.first.t_s -= shift_s;
+  moved.last.t_s -= shift_s;
+  moved.pass = [source = rec.pass, shift_s](const ImuBlockFn& block) {
+    constexpr std::size_t kBlock = 4096;
+    ImuSeries part;
+    source([&](const ImuSeries& b) {
+      for (std::size_t i = 0; i < b.size(); i += kBlock) {
+        part.assign(b.begin() + i, b.begin() + std::min(b.size(), i + kBlock));
+        for (ImuSample& smp : part) smp.t_s -= shift_s;
+        block(part);
+      }
+    });
+  };
+  return moved;
+}
+
 }  // namespace
 
 // Time offset first (pivot of the time_offset regressor): the grid must leave room for it.
-TimeAlignment alignTime(const DiagnosisInputs& in, const DiagnoseOptions& opt,
+TimeAlignment alignTime(const DiagnosisInputs& in, ImuRecording real, const DiagnoseOptions& opt,
                         DiagnosisResult* out) {
   TimeAlignment al;
+  al.as_tagged = std::move(real);
+  const ImuRecording reference = viewedRecording(in.reference);
   double pivot = 0.0;
   try {
-    out->time_offset_xcorr = estimateTimeOffset(in.reference, in.real, opt.time_offset);
+    out->time_offset_xcorr = estimateTimeOffset(reference, al.as_tagged, opt.time_offset);
     if (out->time_offset_xcorr.reliable)
       pivot = out->time_offset_xcorr.tau_s;
     else
@@ -76,12 +100,11 @@ TimeAlignment alignTime(const DiagnosisInputs& in, const DiagnoseOptions& opt,
   // remainder is estimated again; the offset reported adds both.
   if (std::abs(pivot) > opt.realign_offset_s) {
     al.realign_s = pivot;
-    al.realigned = in.real;
-    for (ImuSample& smp : al.realigned) smp.t_s -= al.realign_s;
+    al.realigned = withTagsMovedBack(al.as_tagged, al.realign_s);
     pivot = 0.0;
     TimeOffsetOptions fine_only = opt.time_offset;  // the coarse peak is already taken out
     fine_only.coarse_max_offset_s = 0.0;
-    const TimeOffsetEstimate rest = estimateTimeOffset(in.reference, al.realigned, fine_only);
+    const TimeOffsetEstimate rest = estimateTimeOffset(reference, al.realigned, fine_only);
     if (rest.reliable) pivot = rest.tau_s;
     out->notes.push_back(fmt::format(
         "time offset {:.4f} s (cross-correlation) is larger than {:.2f} s: the real record's tags "
@@ -95,12 +118,13 @@ TimeAlignment alignTime(const DiagnosisInputs& in, const DiagnoseOptions& opt,
 
 // Grid inside all three records, margin_s (or the offset plus 0.5 s) from their ends: the
 // shifted reference x(t - tau) must exist on every bin.
-GridSpec finderGrid(const DiagnosisInputs& in, const ImuSeries& real, double pivot,
-                    const DiagnoseOptions& opt, std::vector<std::string>* notes) {
+GridSpec finderGrid(const DiagnosisInputs& in, const ImuRecording& simulated,
+                    const ImuRecording& real, double pivot, const DiagnoseOptions& opt,
+                    std::vector<std::string>* notes) {
   const double margin_s = std::max(opt.margin_s, std::abs(pivot) + opt.finder.pivot_margin_s);
-  GridSpec grid = commonGrid(in.reference, real, opt.bin_s, margin_s);
+  GridSpec grid = commonGrid(in.reference, real.span(), opt.bin_s, margin_s);
   {
-    const GridSpec gs = commonGrid(in.simulated, real, opt.bin_s, margin_s);
+    const GridSpec gs = commonGrid(simulated, real, opt.bin_s, margin_s);
     const double t0 = std::max(grid.t_begin_s, gs.t_begin_s);
     const double t1 = std::min(grid.binStart(grid.count), gs.binStart(gs.count));
     grid.t_begin_s = t0;
@@ -119,8 +143,8 @@ GridSpec finderGrid(const DiagnosisInputs& in, const ImuSeries& real, double piv
   return grid;
 }
 
-DiagnoseOptions optionsOnGrid(const DiagnosisInputs& in, const GridSpec& grid,
-                              const DiagnoseOptions& opt_in) {
+DiagnoseOptions optionsOnGrid(const DiagnosisInputs& in, const ImuRecording& simulated,
+                              const GridSpec& grid, const DiagnoseOptions& opt_in) {
   const int n = grid.count;
   // Slow-noise blocks: slow_block_s, shortened so that a short record still has min_slow_blocks.
   DiagnoseOptions opt = opt_in;
@@ -128,36 +152,72 @@ DiagnoseOptions optionsOnGrid(const DiagnosisInputs& in, const GridSpec& grid,
     opt.selection.slow_block_bins = std::min(
         static_cast<int>(std::round(opt.slow_block_s / opt.bin_s)), n / opt.finder.min_slow_blocks);
   opt.selection.bin_s = grid.bin_s;
-  if (in.graft_static_record_s > 0.0 && !in.simulated.empty()) {
+  if (in.graft_static_record_s > 0.0 && simulated.samples > 0) {
     // The tiling clock starts at the simulation's first interval (grafting.cpp).
-    const double t0 = in.simulated.front().t_s - in.simulated.front().dt_s;
+    const double t0 = simulated.beginTime_s();
     opt.selection.replay_period_s = in.graft_static_record_s;
     opt.selection.replay_start_s = in.graft_start_offset_s + (grid.t_begin_s - t0);
   }
   return opt;
 }
 
-ResidualBins binResidual(const DiagnosisInputs& in, const TimeAlignment& alignment,
-                         const GridSpec& grid, DiagnosisResult* out) {
+namespace {
+
+// A record's bins, read in one pass after its median interval: as binned (its tags moved back by
+// shift_s), its gap mask, and (with a shift) its bins as tagged.
+struct RecordBins {
+  BinnedImu binned;
+  std::optional<BinnedImu> as_tagged;
+  std::vector<char> gaps;
+};
+
+RecordBins binRecording(const ImuRecording& rec, const GridSpec& grid, double shift_s = 0.0) {
+  StreamedBinning y(grid);
+  std::optional<StreamedBinning> y0;
+  if (shift_s != 0.0) y0.emplace(grid);
+  const bool gaps_possible = rec.samples >= 3 && grid.count > 0;
+  GapMask gaps(grid, gaps_possible ? medianSampleInterval(rec) : 0.0);
+  rec.pass([&](const ImuSeries& block) {
+    for (const ImuSample& s : block) {
+      ImuSample moved = s;
+      moved.t_s -= shift_s;
+      y.add(moved);
+      if (gaps_possible) gaps.add(moved);
+      if (y0) y0->add(s);
+    }
+  });
+  RecordBins out{y.finish(), std::nullopt, gaps.mask()};
+  if (y0) out.as_tagged = y0->finish();
+  return out;
+}
+
+}  // namespace
+
+ResidualBins binResidual(const DiagnosisInputs& in, const ImuRecording& simulated,
+                         const TimeAlignment& alignment, const GridSpec& grid,
+                         DiagnosisResult* out) {
   const int n = grid.count;
-  const ImuSeries& real = alignment.real(in);
   ResidualBins b;
   b.grid = grid;
   b.x = binImu(in.reference, grid);
-  b.s = binImu(in.simulated, grid);
-  b.y = binImu(real, grid);
+  RecordBins sim = binRecording(simulated, grid);
+  b.s = std::move(sim.binned);
+  RecordBins real = binRecording(alignment.as_tagged, grid, alignment.realign_s);
+  b.y = std::move(real.binned);
   b.r.resize(n, kMismatchChannels);
   b.r << b.y.omega_rad_s - b.s.omega_rad_s, b.y.f_m_s2 - b.s.f_m_s2;
   out->residual_before = b.r;
   // Bins overlapping a sampling gap (lost samples) of any record carry a wrong mean rate: they
   // are left out of every fit and RMS (residual and regressors zero there) and listed. The joint
   // fit's shifted reference is not masked; a few bins pull tau negligibly.
-  maskSamplingGaps({&in.reference, &in.simulated, &real}, grid, out);
+  maskSamplingGaps(
+      {binsOverlappingGaps(in.reference, grid), std::move(sim.gaps), std::move(real.gaps)}, grid,
+      out);
   zeroMaskedRows(out->masked_bins, &b.r);
   // With a realignment: the residual of the record as tagged (signal_rms_raw; the evidence of
   // the realignment when its remainder is not claimed).
-  if (alignment.realign_s != 0.0) {
-    const BinnedImu y0 = binImu(in.real, grid);
+  if (real.as_tagged) {
+    const BinnedImu& y0 = *real.as_tagged;
     b.r0.resize(n, kMismatchChannels);
     b.r0 << y0.omega_rad_s - b.s.omega_rad_s, y0.f_m_s2 - b.s.f_m_s2;
     zeroMaskedRows(out->masked_bins, &b.r0);

@@ -1,14 +1,34 @@
 #include "graftnav/mismatch/diagnosis_case.h"
 
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "graftnav/calibration/lab_data.h"
+#include "graftnav/case/file_streams.h"
 #include "graftnav/case/input_checks.h"
+#include "graftnav/io/imu_recording.h"
 #include "graftnav/io/imu_profile_io.h"
 #include "graftnav/io/nav_io.h"
 #include "graftnav/mismatch/diagnosis_setup.h"
 
 namespace graftnav {
+namespace {
+
+// The tested IMU's file, read once into a spool that each of the finder's passes reads back.
+ImuRecording testedRecording(const ImuSelection& tested, const DiagnosisLog& log) {
+  ReadReport report;
+  ImuRecording rec;
+  try {
+    rec = spooledRecording(imuFileStream(tested.path, tested.read_options, &report));
+  } catch (const std::invalid_argument&) {
+    throw std::runtime_error("IMU file '" + tested.path + "' holds no sample");
+  }
+  if (const std::string summary = report.summary(); !summary.empty()) log("warning: " + summary);
+  return rec;
+}
+
+}  // namespace
 
 DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const RunConfig& rc, ImuSelection* ref_imu,
                                   ImuSelection* tested, const DiagnosisCaseOptions& o,
@@ -17,7 +37,11 @@ DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const RunConfig& rc, ImuSelecti
   DiagnosisInputs in;
   in.case_name = cfg.name;
   in.reference = std::move(ref_imu->imu);
-  in.real = std::move(tested->imu);
+  if (!tested->imu.empty()) {
+    in.real = std::move(tested->imu);
+  } else {
+    in.real_recording = testedRecording(*tested, log);
+  }
   in.initial_state = cfg.initial_state;
   // The ranges a claimed value must lie in: the tested profile's (its class, or its grade's).
   if (!o.tested_profile.empty()) {
@@ -39,10 +63,15 @@ DiagnosisInputs diagnosisInputsOf(CaseInputs& c, const RunConfig& rc, ImuSelecti
     const std::string case_dir = c.dir;
     LabData lab = loadLabData(case_dir);
     if (lab.has_static) checkLabStaticRecord(lab.staticRecordSeconds(), lab.static_file, 0.0);
-    simulateFromLab(std::move(lab), rc.grafting.start_offset_s, ref_scale_std, &in,
-                    [case_dir] { return loadLabData(case_dir); });
+    simulateFromLab(
+        std::move(lab), rc.grafting.start_offset_s, ref_scale_std, &in,
+        [case_dir] { return loadLabData(case_dir); }, true);
   } else {
     std::vector<std::string> warnings;
+    if (in.real_recording) {  // the static-bias simulation reads the whole tested record
+      in.real = collectRecording(*in.real_recording);
+      in.real_recording.reset();
+    }
     simulateWithoutLab(&in, notes, &warnings);
     for (const auto& w : warnings) log("warning: " + w);
   }

@@ -69,13 +69,13 @@ void claimQuantization(const QuantizationCheck& q, DiagnosisResult* out) {
 
 }  // namespace
 
-RawRecordChecks rawRecordChecks(const DiagnosisInputs& in, const TimeAlignment& alignment,
+RawRecordChecks rawRecordChecks(const ImuRecording& simulated, const TimeAlignment& alignment,
                                 const DiagnoseOptions& opt) {
   RawRecordChecks raw;
   if (opt.detect_quantization)
     for (const Sensor s : kSensors)
       raw.quantization.push_back(
-          checkQuantization(alignment.real(in), in.simulated, s, opt.quantization));
+          checkQuantization(alignment.real(), simulated, s, opt.quantization));
   return raw;
 }
 

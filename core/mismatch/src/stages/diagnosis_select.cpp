@@ -53,6 +53,7 @@ void derivativeSecondPass(const ExplainInputs& ex, double pv, RegressorInputs* r
     const int a = std::max(0, i - 1), b = std::min(n - 1, i + 1);
     ri->time_offset_column.row(i) -= (C.row(b) - C.row(a)) / ((b - a) * ex.bins.grid.bin_s);
   }
+  std::vector<CandidateTerm>().swap(e->terms);  // not held next to the library built again
   e->terms = maskedLibrary(*ri, ex);
   std::vector<std::string> log = e->sel.log;
   e->sel = selectTerms(ex.bins.r, e->terms, ex.opt.selection);

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "graftnav/calibration/lab_calibration.h"
+#include "graftnav/io/imu_recording.h"
 #include "graftnav/nav/units.h"
 #include "graftnav/sg/graft_case.h"
 #include "graftnav/sg/grafting.h"
@@ -64,10 +65,11 @@ std::optional<BasicErrorSignal> labTemperatureSignal(const ImuSeries& lab_static
   return BasicErrorSignal(temp);
 }
 
-// Each SG#2 sample's temperature from the tiled lab temperature.
-void attachTiledTemperature(const BasicErrorSignal& tiled, double start_offset_s, ImuSeries* sg2) {
-  if (sg2->empty()) return;
-  const double t0 = sg2->front().t_s - sg2->front().dt_s;
+// Each SG#2 sample's temperature from the tiled lab temperature; t0_s: the start of the whole
+// record's first interval (the tiling clock's origin).
+void attachTiledTemperature(const BasicErrorSignal& tiled, double start_offset_s, double t0_s,
+                            ImuSeries* sg2) {
+  const double t0 = t0_s;
   for (ImuSample& s : *sg2) {
     const double u1 = s.t_s - t0 + start_offset_s;
     s.temperature_degC = tiled.integral(u1 - s.dt_s, u1)(0) / s.dt_s;
@@ -95,21 +97,54 @@ ImuSeries sg2FromPlan(const LabSimulation& sim, const ImuSeries& reference, doub
   graft.start_offset_s = start_offset_s;
   graft.start_offset_s = graftStartOffset(graft, plan.basic);
   ImuSeries sg2 = graftSeries(reference, plan, SgStrategy::kFull, graft);
-  if (sim.lab_temperature) attachTiledTemperature(*sim.lab_temperature, graft.start_offset_s, &sg2);
+  if (sim.lab_temperature && !sg2.empty())
+    attachTiledTemperature(*sim.lab_temperature, graft.start_offset_s,
+                           sg2.front().t_s - sg2.front().dt_s, &sg2);
   if (start_offset_s_out) *start_offset_s_out = graft.start_offset_s;
   if (record_s_out) *record_s_out = plan.basic.recordLength_s();
   return sg2;
+}
+
+// SG#2 of `reference` as sg2FromPlan makes it, grafted block by block into an unlinked spool that
+// each pass of the returned recording reads back; sets in's graft tiling.
+ImuRecording spooledSg2(const LabSimulation& sim, const ImuSeries& reference, double start_offset_s,
+                        DiagnosisInputs* in) {
+  if (reference.empty())
+    throw std::invalid_argument("simulateFromLab: the reference IMU series is empty");
+  GraftOptions graft;
+  graft.start_offset_s = start_offset_s;
+  graft.start_offset_s = graftStartOffset(graft, sim.plan.basic);
+  in->graft_start_offset_s = graft.start_offset_s;
+  in->graft_static_record_s = sim.plan.basic.recordLength_s();
+  const GraftSignal signal(sim.plan.basic, graft);
+  const double t0 = reference.front().t_s - reference.front().dt_s;
+  return spooledRecording([&](const ImuBlockFn& block) {
+    constexpr std::size_t kBlock = 4096;
+    ImuSeries part, sg2;
+    for (std::size_t i = 0; i < reference.size(); i += kBlock) {
+      part.assign(reference.begin() + i,
+                  reference.begin() + std::min(reference.size(), i + kBlock));
+      signal.graft(part, t0, &sim.plan.gyro_fit, &sim.plan.accel_fit, &sg2);
+      if (sim.lab_temperature)
+        attachTiledTemperature(*sim.lab_temperature, graft.start_offset_s, t0, &sg2);
+      block(sg2);
+    }
+  });
 }
 
 }  // namespace
 
 void simulateFromLab(LabData lab, double start_offset_s,
                      const PerSensor<double>& reference_scale_std, DiagnosisInputs* in,
-                     std::function<LabData()> reload_lab) {
+                     std::function<LabData()> reload_lab, bool spooled) {
   {
     const LabSimulation sim = labSimulation(&lab);
-    in->simulated = sg2FromPlan(sim, in->reference, start_offset_s, &in->graft_start_offset_s,
-                                &in->graft_static_record_s);
+    if (spooled) {
+      in->simulated_recording = spooledSg2(sim, in->reference, start_offset_s, in);
+    } else {
+      in->simulated = sg2FromPlan(sim, in->reference, start_offset_s, &in->graft_start_offset_s,
+                                  &in->graft_static_record_s);
+    }
     in->priors = sim.priors;
   }
   // Made again from the lab files, not held: the lab record and its error signal can be as long
@@ -157,7 +192,7 @@ void simulateWithoutLab(DiagnosisInputs* in, std::vector<std::string>* notes,
 void attachLabTemperature(const ImuSeries& lab_static, double start_offset_s, ImuSeries* sg2) {
   if (sg2->empty()) return;
   if (const auto tiled = labTemperatureSignal(lab_static))
-    attachTiledTemperature(*tiled, start_offset_s, sg2);
+    attachTiledTemperature(*tiled, start_offset_s, sg2->front().t_s - sg2->front().dt_s, sg2);
 }
 
 }  // namespace graftnav

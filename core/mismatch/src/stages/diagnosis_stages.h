@@ -35,20 +35,24 @@ inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 struct TimeAlignment {
   double pivot_s = 0.0;    // pivot of the time_offset regressor (s)
   double realign_s = 0.0;  // taken out of the real record's tags before binning (0: none)
-  ImuSeries realigned;     // the real record with its tags moved by realign_s (empty: none)
-  const ImuSeries& real(const DiagnosisInputs& in) const {
-    return realign_s != 0.0 ? realigned : in.real;
-  }
+  ImuRecording as_tagged;  // the real record as recorded
+  ImuRecording realigned;  // the same with its tags moved by realign_s (unset: none)
+  const ImuRecording& real() const { return realign_s != 0.0 ? realigned : as_tagged; }
+  // The real record is read only as bins from here on: its passes (and what they hold) go.
+  void releaseRecords() { as_tagged = realigned = ImuRecording(); }
 };
-TimeAlignment alignTime(const DiagnosisInputs& in, const DiagnoseOptions& opt,
+// The real record is `real` (in.real or in.real_recording, as realRecordingOf hands it over).
+TimeAlignment alignTime(const DiagnosisInputs& in, ImuRecording real, const DiagnoseOptions& opt,
                         DiagnosisResult* out);
 
 // ---- 2. grid and residual ----
-GridSpec finderGrid(const DiagnosisInputs& in, const ImuSeries& real, double pivot_s,
-                    const DiagnoseOptions& opt, std::vector<std::string>* notes);
+// `simulated`: in.simulated or in.simulated_recording, as a recording (so are all the stages').
+GridSpec finderGrid(const DiagnosisInputs& in, const ImuRecording& simulated,
+                    const ImuRecording& real, double pivot_s, const DiagnoseOptions& opt,
+                    std::vector<std::string>* notes);
 // The options with what depends on the grid and the graft (slow-noise blocks, replay period).
-DiagnoseOptions optionsOnGrid(const DiagnosisInputs& in, const GridSpec& grid,
-                              const DiagnoseOptions& opt);
+DiagnoseOptions optionsOnGrid(const DiagnosisInputs& in, const ImuRecording& simulated,
+                              const GridSpec& grid, const DiagnoseOptions& opt);
 
 struct ResidualBins {
   GridSpec grid;
@@ -58,15 +62,16 @@ struct ResidualBins {
   int n() const { return grid.count; }
 };
 // Also marks the bins overlapping sampling gaps (out->masked_bins, masked_spans, a note).
-ResidualBins binResidual(const DiagnosisInputs& in, const TimeAlignment& alignment,
-                         const GridSpec& grid, DiagnosisResult* out);
+ResidualBins binResidual(const DiagnosisInputs& in, const ImuRecording& simulated,
+                         const TimeAlignment& alignment, const GridSpec& grid,
+                         DiagnosisResult* out);
 // What the finder reads from the raw samples of the real record and the simulation besides
 // their bins: the value lattices of both triads (quantization_evidence.h), gyro then accel.
 // Taken before the records are released; claimChecks turns them into claims.
 struct RawRecordChecks {
   std::vector<QuantizationCheck> quantization;  // empty when the check is off
 };
-RawRecordChecks rawRecordChecks(const DiagnosisInputs& in, const TimeAlignment& alignment,
+RawRecordChecks rawRecordChecks(const ImuRecording& simulated, const TimeAlignment& alignment,
                                 const DiagnoseOptions& opt);
 
 // ---- 3. regressors ----

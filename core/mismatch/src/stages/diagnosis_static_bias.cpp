@@ -2,9 +2,13 @@
 // lattice of raw increments, and SG#3 from a per-bin contribution.
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "graftnav/mismatch/diagnosis.h"
 #include "graftnav/mismatch/locate.h"
@@ -65,38 +69,88 @@ ImuSeries withStaticBias(const ImuSeries& reference, const Eigen::Vector3d& gyro
   return out;
 }
 
+namespace {
+
+// The distinct values of one axis, sorted, gathered from a pass in pieces (a buffer sorted and
+// merged in), given up once they are more than `most`: then the values do not repeat enough to
+// lie on a lattice.
+class DistinctValues {
+ public:
+  explicit DistinctValues(std::size_t most) : most_(most) {}
+  void add(double v) {
+    if (too_many_) return;
+    buffer_.push_back(v);
+    if (buffer_.size() >= kBuffer) merge();
+  }
+  // The sorted distinct values; empty when there were more than `most`.
+  std::vector<double> finish() {
+    merge();
+    return too_many_ ? std::vector<double>() : std::move(distinct_);
+  }
+
+ private:
+  static constexpr std::size_t kBuffer = std::size_t{1} << 18;
+  void merge() {
+    if (too_many_) return;
+    std::sort(buffer_.begin(), buffer_.end());
+    buffer_.erase(std::unique(buffer_.begin(), buffer_.end()), buffer_.end());
+    std::vector<double> merged;
+    merged.reserve(distinct_.size() + buffer_.size());
+    std::set_union(distinct_.begin(), distinct_.end(), buffer_.begin(), buffer_.end(),
+                   std::back_inserter(merged));
+    buffer_.clear();
+    distinct_ = std::move(merged);
+    if (distinct_.size() > most_) {
+      too_many_ = true;
+      std::vector<double>().swap(distinct_);
+      std::vector<double>().swap(buffer_);
+    }
+  }
+  std::size_t most_;
+  bool too_many_ = false;
+  std::vector<double> buffer_, distinct_;
+};
+
+// The lattice step of an axis from its sorted distinct values, 0 when they are not on one.
+double latticeStep(const std::vector<double>& u) {
+  if (u.size() < 2) return 0.0;
+  double q = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 1; i < u.size(); ++i) q = std::min(q, u[i] - u[i - 1]);
+  if (!(q > 0.0)) return 0.0;
+  // Refine with the median of gap / round(gap / q) and check every value is on the lattice.
+  std::vector<double> est;
+  for (std::size_t i = 1; i < u.size(); ++i) {
+    const double m = std::round((u[i] - u[i - 1]) / q);
+    if (m >= 1.0 && m <= 1000.0) est.push_back((u[i] - u[i - 1]) / m);
+  }
+  std::nth_element(est.begin(), est.begin() + est.size() / 2, est.end());
+  q = est[est.size() / 2];
+  for (double val : u) {
+    const double f = val / q;
+    if (std::abs(f - std::round(f)) > 1e-3 && std::abs(f) < 1e12) return 0.0;
+  }
+  return q;
+}
+
+}  // namespace
+
 Eigen::Vector3d detectQuantizationStep(const ImuSeries& imu, Sensor sensor) {
+  if (imu.size() < 100) return Eigen::Vector3d::Zero();
+  return detectQuantizationStep(viewedRecording(imu), sensor);
+}
+
+// One pass per axis: the distinct values of one axis are held at a time (values must repeat:
+// at most half as many as samples).
+Eigen::Vector3d detectQuantizationStep(const ImuRecording& imu, Sensor sensor) {
   Eigen::Vector3d step = Eigen::Vector3d::Zero();
-  if (imu.size() < 100) return step;
+  if (imu.samples < 100) return step;
   for (int a = 0; a < 3; ++a) {
-    std::vector<double> v;
-    v.reserve(imu.size());
-    for (const ImuSample& s : imu)
-      v.push_back(sensor == Sensor::gyro ? s.dtheta_rad(a) : s.dvel_m_s(a));
-    std::vector<double> u = v;
-    std::sort(u.begin(), u.end());
-    u.erase(std::unique(u.begin(), u.end()), u.end());
-    if (u.size() < 2 || u.size() > v.size() / 2) continue;  // values must repeat
-    double q = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 1; i < u.size(); ++i) q = std::min(q, u[i] - u[i - 1]);
-    if (!(q > 0.0)) continue;
-    // Refine with the median of gap / round(gap / q) and check every value is on the lattice.
-    std::vector<double> est;
-    for (std::size_t i = 1; i < u.size(); ++i) {
-      const double m = std::round((u[i] - u[i - 1]) / q);
-      if (m >= 1.0 && m <= 1000.0) est.push_back((u[i] - u[i - 1]) / m);
-    }
-    std::nth_element(est.begin(), est.begin() + est.size() / 2, est.end());
-    q = est[est.size() / 2];
-    bool on_lattice = true;
-    for (double val : u) {
-      const double f = val / q;
-      if (std::abs(f - std::round(f)) > 1e-3 && std::abs(f) < 1e12) {
-        on_lattice = false;
-        break;
-      }
-    }
-    if (on_lattice) step(a) = q;
+    DistinctValues values(imu.samples / 2);
+    imu.pass([&](const ImuSeries& block) {
+      for (const ImuSample& s : block)
+        values.add(sensor == Sensor::gyro ? s.dtheta_rad(a) : s.dvel_m_s(a));
+    });
+    step(a) = latticeStep(values.finish());
   }
   return step;
 }
@@ -105,6 +159,27 @@ ImuSeries addBinnedContribution(const ImuSeries& simulated, const GridSpec& grid
                                 const Eigen::MatrixXd& c) {
   ImuSeries out = simulated;
   addBinnedContributionInPlace(grid, c, &out);
+  return out;
+}
+
+ImuRecording withBinnedContribution(ImuRecording simulated, const GridSpec& grid,
+                                    Eigen::MatrixXd contribution) {
+  if (contribution.rows() != grid.count || contribution.cols() != kMismatchChannels)
+    throw std::invalid_argument("withBinnedContribution: contribution is not grid.count x 6");
+  auto c = std::make_shared<const Eigen::MatrixXd>(std::move(contribution));
+  ImuSeries ends{simulated.first, simulated.last};
+  addBinnedContributionInPlace(grid, *c, &ends);
+  ImuRecording out = simulated;
+  out.first = ends.front();
+  out.last = ends.back();
+  out.pass = [source = std::move(simulated.pass), grid, c](const ImuBlockFn& block) {
+    ImuSeries added;
+    source([&](const ImuSeries& b) {
+      added = b;
+      addBinnedContributionInPlace(grid, *c, &added);
+      block(added);
+    });
+  };
   return out;
 }
 

@@ -23,11 +23,16 @@ struct StreamedBinning::NodeView {
   int irregular(std::size_t k) const { return b.nodeAt(k).irregular; }
   std::size_t upperBound(double t_s) const { return b.upperBound(t_s); }
 };
-StreamedBinning::StreamedBinning(const GridSpec& grid, double time_shift_s, ImuSampleMap map)
-    : grid_(grid), shift_s_(time_shift_s), map_(std::move(map)) {
+StreamedBinning::StreamedBinning(const GridSpec& grid, double time_shift_s, ImuSampleMap map,
+                                 BinnedColumns columns)
+    : grid_(grid),
+      shift_s_(time_shift_s),
+      map_(std::move(map)),
+      rates_only_(columns == BinnedColumns::rates_only) {
   const int n = grid_.count;
   out_.grid = grid_;
   out_.omega_rad_s.resize(n, 3);
+  if (rates_only_) return;
   out_.f_m_s2.resize(n, 3);
   out_.temperature_degC.setConstant(n, std::numeric_limits<double>::quiet_NaN());
   out_.f_within_rms_m_s2.setZero(n);
@@ -84,7 +89,7 @@ void StreamedBinning::add(const ImuSample& raw) {
   ++added_;
   // Within-bin vibration: samples whose end tag falls inside a (shifted) bin.
   const int i = static_cast<int>(std::floor((raw.t_s - shift_s_ - grid_.t_begin_s) / grid_.bin_s));
-  if (i >= 0 && i < grid_.count) pending_.push_back({i, s.dvel_m_s / raw.dt_s});
+  if (i >= 0 && i < grid_.count && !rates_only_) pending_.push_back({i, s.dvel_m_s / raw.dt_s});
   closeBins();
 }
 
@@ -134,6 +139,7 @@ void StreamedBinning::closeBins() {
 void StreamedBinning::closeBin(int i, const Vector6d& next, double next_temp) {
   const Vector6d mean = (next - prev_) / grid_.bin_s;
   out_.omega_rad_s.row(i) = mean.head<3>().transpose();
+  if (rates_only_) return;
   out_.f_m_s2.row(i) = mean.tail<3>().transpose();
   out_.temperature_degC(i) = (next_temp - prev_temp_) / grid_.bin_s;
   while (!pending_.empty() && pending_.front().bin <= i) {
@@ -149,6 +155,7 @@ BinnedImu StreamedBinning::finish() {
   finished_ = true;
   closeBins();
   const int n = grid_.count;
+  if (rates_only_) return std::move(out_);
   if (!all_temperature_)
     out_.temperature_degC.setConstant(n, std::numeric_limits<double>::quiet_NaN());
   for (int i = 0; i < n; ++i)

@@ -6,6 +6,8 @@
 
 #include "graftnav/mismatch/time_offset.h"
 
+#include "graftnav/mismatch/streamed_binning.h"
+
 namespace graftnav {
 
 void TimeOffsetOptions::validate() const {
@@ -28,17 +30,19 @@ struct CenteredRates {
   double bin_s = 0.0;
 };
 
-// The rates of one record on the grid, centred in place: only they are kept of its bins (the
-// fine grid has 100 bins a second; the specific force, temperature and vibration are dropped as
-// soon as the record is binned, not held next to the other record's).
-Eigen::MatrixX3d centeredRate(const ImuSeries& imu, const GridSpec& grid) {
-  Eigen::MatrixX3d w = std::move(binImu(imu, grid).omega_rad_s);
+// The rates of one record on the grid, centred in place: only they are made of its bins (the
+// fine grid has 100 bins a second; the specific force, temperature and vibration are not binned).
+Eigen::MatrixX3d centeredRate(const ImuRecording& imu, const GridSpec& grid) {
+  StreamedBinning binning(grid, 0.0, {}, BinnedColumns::rates_only);
+  imu.pass([&binning](const ImuSeries& block) { binning.add(block); });
+  Eigen::MatrixX3d w = std::move(binning.finish().omega_rad_s);
   const Eigen::RowVector3d mean = w.colwise().mean();
   w.rowwise() -= mean;
   return w;
 }
 
-CenteredRates centeredRates(const ImuSeries& reference, const ImuSeries& tested, double bin_s) {
+CenteredRates centeredRates(const ImuRecording& reference, const ImuRecording& tested,
+                            double bin_s) {
   const GridSpec grid = commonGrid(reference, tested, bin_s);
   CenteredRates rates;
   rates.x = centeredRate(reference, grid);
@@ -97,9 +101,16 @@ CorrelationPeak correlationPeak(const CenteredRates& rates, int center, int half
 TimeOffsetEstimate estimateTimeOffset(const ImuSeries& reference, const ImuSeries& tested,
                                       const TimeOffsetOptions& options) {
   options.validate();
-  const double overlap_s = std::min(reference.back().t_s, tested.back().t_s) -
-                           std::max(reference.front().t_s - reference.front().dt_s,
-                                    tested.front().t_s - tested.front().dt_s);
+  if (reference.empty() || tested.empty())
+    throw std::invalid_argument("estimateTimeOffset: empty IMU series");
+  return estimateTimeOffset(viewedRecording(reference), viewedRecording(tested), options);
+}
+
+TimeOffsetEstimate estimateTimeOffset(const ImuRecording& reference, const ImuRecording& tested,
+                                      const TimeOffsetOptions& options) {
+  options.validate();
+  const double overlap_s = std::min(reference.last.t_s, tested.last.t_s) -
+                           std::max(reference.beginTime_s(), tested.beginTime_s());
   // Coarse stage: a wide search on coarse bins, capped at a quarter of the overlap.
   double center_s = 0.0;
   const double coarse_range_s = std::min(options.coarse_max_offset_s, 0.25 * overlap_s - 1.0);

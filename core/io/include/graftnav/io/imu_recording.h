@@ -23,6 +23,9 @@ struct ImuRecording {
 
 // A recording of a held series (shared by every pass). Throws std::invalid_argument when empty.
 ImuRecording heldRecording(ImuSeries series);
+// A recording of a series the caller keeps alive and unchanged while the recording is read (no
+// copy; each pass hands out the series as one block). Throws std::invalid_argument when empty.
+ImuRecording viewedRecording(const ImuSeries& series);
 // Every sample of one pass.
 ImuSeries collectRecording(const ImuRecording& recording);
 // One pass of `source` written to a RecordSpool (io/record_spool.h); each pass of the recording

@@ -10,6 +10,7 @@
 #include <functional>
 #include <vector>
 
+#include "graftnav/io/imu_recording.h"
 #include "graftnav/nav/types.h"
 
 namespace graftnav {
@@ -68,9 +69,14 @@ struct GridSpec {
 // The largest grid inside the overlap of the records, starting margin_s after the later start.
 // Throws std::invalid_argument when bin_s <= 0 or the overlap holds fewer than 10 bins.
 GridSpec commonGrid(const ImuSeries& a, const ImuSeries& b, double bin_s, double margin_s = 0.0);
+// The same from the recordings' first and last samples.
+GridSpec commonGrid(const ImuRecording& a, const ImuRecording& b, double bin_s,
+                    double margin_s = 0.0);
 
-// Median of the records' sample intervals dt_s (0 for an empty record).
+// Median of the records' sample intervals dt_s (0 for an empty record). The recording's is
+// counted over its distinct intervals in one pass (a clock's few, not one per sample).
 double medianSampleInterval(const ImuSeries& imu);
+double medianSampleInterval(const ImuRecording& imu);
 
 // Bins of `grid` (1 = affected) that overlap a sampling gap of `imu`: a sample whose interval
 // dt_s exceeds gap_factor x the median interval (lost samples: the sample after the gap carries
@@ -78,6 +84,23 @@ double medianSampleInterval(const ImuSeries& imu);
 // (the integral's node slopes use neighbouring samples). Empty records give no mask.
 std::vector<char> binsOverlappingGaps(const ImuSeries& imu, const GridSpec& grid,
                                       double gap_factor = 1.5);
+
+// The same mask made as the samples come (in time order): after medianSampleInterval, one more
+// pass feeds add(); what it holds is the mask (one byte a bin).
+class GapMask {
+ public:
+  GapMask(const GridSpec& grid, double median_interval_s, double gap_factor = 1.5);
+  void add(const ImuSample& sample);
+  void add(const ImuSeries& block) {
+    for (const ImuSample& s : block) add(s);
+  }
+  const std::vector<char>& mask() const { return mask_; }
+
+ private:
+  GridSpec grid_;
+  double limit_s_ = 0.0;
+  std::vector<char> mask_;
+};
 
 // Mean rates of one record over the bins of a grid.
 struct BinnedImu {

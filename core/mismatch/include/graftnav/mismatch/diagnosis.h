@@ -29,6 +29,7 @@
 #include "graftnav/mismatch/candidate_terms.h"
 #include "graftnav/mismatch/common_grid.h"
 #include "graftnav/mismatch/finder_options.h"
+#include "graftnav/io/imu_recording.h"
 #include "graftnav/mismatch/joint_fit.h"
 #include "graftnav/mismatch/linear_response.h"
 #include "graftnav/mismatch/locate.h"
@@ -104,6 +105,9 @@ struct DiagnosisInputs {
                         // its temperature column, when every sample has one, is the temperature
                         // behind its own bias (see RegressorInputs::simulated_temperature_degC)
   ImuSeries real;       // the tested IMU's field recording
+  // The same record read as passes (e.g. its file, case/file_streams.h), when it is not held:
+  // then `real` is left empty and the finder holds of it only what it makes at the bin rate.
+  std::optional<ImuRecording> real_recording;
   std::string simulation_kind;  // e.g. "SG#2" or "reference + static bias", for the report
   // Initial attitude and position of the reference body (enables the earth_rotation_omitted and
   // gravity_model terms).
@@ -134,6 +138,10 @@ struct DiagnosisInputs {
   // end, so the finder holds one IMU record (the reference) through selection. Empty: the
   // simulation is kept.
   std::function<ImuSeries(const ImuSeries& reference)> remake_simulated;
+  // The simulation read as passes (e.g. SG#2 grafted block by block into a spool,
+  // diagnosis_setup.h), when it is not held: then `simulated` is left empty, remake_simulated is
+  // not called, and SG#3 is this recording plus the model (DiagnosisResult::sg3_recording).
+  std::optional<ImuRecording> simulated_recording;
 };
 
 struct DiagnoseOptions {
@@ -265,6 +273,9 @@ struct DiagnosisResult {
   Eigen::MatrixXd nuisance;          // n x 6, constant + drift
   std::vector<std::string> regimes;  // per bin
   ImuSeries sg3;                     // simulated + selected terms (record mean removed)
+  // SG#3 as passes when the simulation was a recording (DiagnosisInputs::simulated_recording):
+  // each pass reads the simulation and adds the model block by block; `sg3` is then empty.
+  std::optional<ImuRecording> sg3_recording;
 };
 
 // Works on a copy of the inputs; the overload below consumes them.
@@ -300,6 +311,8 @@ ImuSeries withStaticBias(const ImuSeries& reference, const Eigen::Vector3d& gyro
 // Step of a value lattice of the raw increments (rad or m/s per sample) per axis; 0 where the
 // values are not on a lattice (fewer than half of them repeat, or they miss the lattice).
 Eigen::Vector3d detectQuantizationStep(const ImuSeries& imu, Sensor sensor);
+// The same from passes of a recording (one per axis).
+Eigen::Vector3d detectQuantizationStep(const ImuRecording& imu, Sensor sensor);
 
 // SG#3: the simulation plus a per-bin contribution (n x 6, SI rates) on `grid`, added to every
 // sample as rate x dt from the bin that holds the sample's middle (clamped at the grid's ends).
@@ -308,5 +321,8 @@ ImuSeries addBinnedContribution(const ImuSeries& simulated, const GridSpec& grid
 // The same, in place.
 void addBinnedContributionInPlace(const GridSpec& grid, const Eigen::MatrixXd& contribution,
                                   ImuSeries* series);
+// The same as a recording: each pass of `simulated` with the contribution added block by block.
+ImuRecording withBinnedContribution(ImuRecording simulated, const GridSpec& grid,
+                                    Eigen::MatrixXd contribution);
 
 }  // namespace graftnav

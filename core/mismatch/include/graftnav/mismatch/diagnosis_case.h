@@ -18,7 +18,9 @@ using DiagnosisLog = std::function<void(const std::string&)>;
 
 // The finder's inputs from the loaded case: records, plausible ranges, and the simulation with
 // its priors (SG#2 from the lab data, or the static-bias simulation without). The records are
-// moved out of the selections, so the case holds each IMU series once. The truth (the attitude
+// moved out of the selections, so the case holds each IMU series once; a tested selection read
+// without its samples (selectImu's read_samples = false) is read from its file as passes
+// (DiagnosisInputs::real_recording, spooled once), or whole for the static-bias simulation. The truth (the attitude
 // along the record) is handed over when the finder needs it: read from its file, or copied from
 // the case when the navigation level holds it.
 // With lab data (lab/static.txt) the lab static record must pass the grafting floor

@@ -27,12 +27,14 @@ SensorPriors labPriors(const SensorCalibration& cal);
 // sensors. reference_scale_std: the reference IMU's 1-sigma scale uncertainty per sensor
 // (fraction; 0 = not stated). With reload_lab (the same lab data read again), also
 // in->remake_simulated, which calibrates and grafts again rather than holding the lab record.
+// With spooled, SG#2 is in->simulated_recording instead of in->simulated: grafted block by block
+// into an unlinked spool (TMPDIR, 72 bytes a sample) that the finder's passes read back.
 // `lab` is consumed: its static record goes once the calibration has read it (the graft holds
 // its error signal, and its temperature when it has one). Throws what calibrateLab and
 // graftCase throw.
 void simulateFromLab(LabData lab, double start_offset_s,
                      const PerSensor<double>& reference_scale_std, DiagnosisInputs* in,
-                     std::function<LabData()> reload_lab = {});
+                     std::function<LabData()> reload_lab = {}, bool spooled = false);
 
 // Sets in->simulated without lab data: the reference plus the tested IMU's static bias
 // (simulateFromReferenceAndStaticBias), or the reference alone when the field record has no

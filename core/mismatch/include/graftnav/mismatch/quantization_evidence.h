@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "graftnav/io/imu_recording.h"
 #include "graftnav/mismatch/sensor.h"
 #include "graftnav/nav/types.h"
 
@@ -51,11 +52,15 @@ struct QuantizationCheck {
 // The coarsest 10^-d (d = 0..12) of which every increment of the axis is a whole multiple
 // (relative tolerance 1e-6 of the printed unit), 0 when there is none.
 Eigen::Vector3d printedResolution(const ImuSeries& imu, Sensor sensor);
+Eigen::Vector3d printedResolution(const ImuRecording& imu, Sensor sensor);  // in one pass
 
 // The verdict for one sensor: `real` is the tested record, `simulated` the simulation (a lattice
 // both share is not missing from the simulation). Throws std::invalid_argument with fewer than
 // 3 samples.
 QuantizationCheck checkQuantization(const ImuSeries& real, const ImuSeries& simulated,
+                                    Sensor sensor, const QuantizationEvidenceOptions& options = {});
+// The same from passes of the two recordings (none is held).
+QuantizationCheck checkQuantization(const ImuRecording& real, const ImuRecording& simulated,
                                     Sensor sensor, const QuantizationEvidenceOptions& options = {});
 
 }  // namespace graftnav

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 
+#include "graftnav/io/imu_recording.h"
 #include "graftnav/nav/types.h"
 
 namespace graftnav {
@@ -22,6 +23,9 @@ enum class SampleQuantity {
 // one block is one block. Throws std::invalid_argument with fewer than 3 samples or
 // block_samples 0.
 Eigen::Vector3d blockDifferenceNoiseSd(const ImuSeries& imu, SampleQuantity quantity,
+                                       std::size_t block_samples);
+// The same over one pass of a recording.
+Eigen::Vector3d blockDifferenceNoiseSd(const ImuRecording& imu, SampleQuantity quantity,
                                        std::size_t block_samples);
 
 // The block length of the estimate: the samples in one second at sample interval dt_s, at least 8.

@@ -47,6 +47,9 @@ struct TimeOffsetEstimate {
 // Cross-correlation estimate of the offset of `tested` relative to `reference`.
 TimeOffsetEstimate estimateTimeOffset(const ImuSeries& reference, const ImuSeries& tested,
                                       const TimeOffsetOptions& options = {});
+// The same from passes of the recordings (each binning reads both once).
+TimeOffsetEstimate estimateTimeOffset(const ImuRecording& reference, const ImuRecording& tested,
+                                      const TimeOffsetOptions& options = {});
 
 // Regressor of a time offset on the grid: the residual tested - reference of a shift tau is
 // x(t - tau) - x(t) = tau u(t). With pivot_s != 0 the chord u = (x(t - pivot) - x(t)) / pivot is
