@@ -363,14 +363,17 @@ TEST(Faults, LenientNavigatePrintsTheReadersRepairReport) {
 // --- writers ------------------------------------------------------------------------------------
 
 // Each command's writers under a file-size limit of 0: every write fails with EFBIG. The command
-// must fail with errno's text and leave nothing, not even a temporary file. (SIGXFSZ is ignored
-// so the write returns the error instead of killing the process.)
+// must fail with errno's text, naming where it wrote, and leave nothing, not even a temporary
+// file. (SIGXFSZ is ignored so the write returns the error instead of killing the process.)
+// diagnose spools the tested record to TMPDIR before it writes a result, so that write fails
+// first.
 TEST(Faults, EveryCommandsWritersFailCleanlyWhenAWriteFails) {
   const std::string limit = "trap '' XFSZ; ulimit -f 0;";
   const std::string tmp = test::makeTempDir("writers");
   struct Cmd {
     std::string args;
     std::string out;
+    std::string where = {};  // named in the error when not `out`
   };
   const std::vector<Cmd> cmds = {
       {"navigate " + sample("tactical") + " --no-plots --out ", tmp + "/navigate"},
@@ -378,7 +381,8 @@ TEST(Faults, EveryCommandsWritersFailCleanlyWhenAWriteFails) {
       {"compare " + sample("tactical") + " --imu tested --estimators ekf --out ", tmp + "/compare"},
       {"evaluate " + sample("tactical") + " --config " + sampleConfig() + " --no-plots --out ",
        tmp + "/evaluate"},
-      {"diagnose " + sample("mems") + " --no-plots --out ", tmp + "/diagnose"},
+      {"diagnose " + sample("mems") + " --no-plots --out ", tmp + "/diagnose",
+       "cannot write a temporary file in"},
       {"graft " + sample("tactical") + " --out ", tmp + "/graft"},
       {"simulate --config " + test::sourceDir() + "/configs/sim/sample_tactical.yaml --out ",
        tmp + "/simulate"},
@@ -386,7 +390,7 @@ TEST(Faults, EveryCommandsWritersFailCleanlyWhenAWriteFails) {
   for (const Cmd& c : cmds) {
     const test::CommandOutput r = test::runGraftnav(c.args + c.out, limit);
     SCOPED_TRACE(c.args);
-    expectFailedCleanly(r, c.out, {"File too large", c.out});
+    expectFailedCleanly(r, c.out, {"File too large", c.where.empty() ? c.out : c.where});
   }
 }
 
