@@ -69,8 +69,8 @@ std::string estimatorsReport(const std::vector<BatchTaskResult>& rows, std::stri
     if (r.status != TaskStatus::kOk) continue;
     for (const auto& s : r.statistics) {
       if (!isFleetScope(s.scope) || s.measure == "count") continue;
-      c.add({r.grp, r.command, r.options_json, r.schedule, s.estimator, s.solution, s.scope,
-             s.statistic, s.measure, s.unit},
+      c.add({r.grp, batchCommandName(r.command), r.options_json, r.schedule, s.estimator,
+             s.solution, s.scope, s.statistic, s.measure, s.unit},
             s.value);
     }
   }
@@ -122,7 +122,7 @@ std::string optionsReport(const std::vector<BatchTaskResult>& rows, std::string*
       for (const auto& s : r.statistics) {
         if (!isFleetScope(s.scope) || s.measure == "count") continue;
         c.add({r.grp, key, value.dump(), s.estimator, s.solution, s.scope, s.statistic, s.measure,
-               s.unit, r.command},
+               s.unit, batchCommandName(r.command)},
               s.value);
       }
     }
@@ -213,9 +213,9 @@ std::string failedReport(const std::vector<BatchTaskResult>& rows, std::string* 
   for (const auto& r : rows) {
     if (r.status == TaskStatus::kOk) continue;
     ++n;
-    *csv += fmt::format("{},{},{},{},{},{},{},{},{},{}\n", r.task_index, csvField(r.grp), r.command,
-                        csvField(r.case_name), csvField(r.estimator), r.schedule,
-                        r.seed ? std::to_string(*r.seed) : "", csvField(r.options_json),
+    *csv += fmt::format("{},{},{},{},{},{},{},{},{},{}\n", r.task_index, csvField(r.grp),
+                        batchCommandName(r.command), csvField(r.case_name), csvField(r.estimator),
+                        r.schedule, r.seed ? std::to_string(*r.seed) : "", csvField(r.options_json),
                         statusName(r.status), csvField(r.error));
     std::string msg =
         r.status == TaskStatus::kMissing ? "no record (never ran or killed)" : r.error;

@@ -145,6 +145,13 @@ TaskStatus parseStatus(const std::string& word, const std::string& db_path) {
       fmt::format("SQLite database '{}': unknown run status '{}'", db_path, word));
 }
 
+BatchCommand parseCommandColumn(const std::string& word, const std::string& db_path) {
+  if (const auto c = parseBatchCommand(word)) return *c;
+  throw std::runtime_error(
+      fmt::format("SQLite database '{}': unknown command '{}' (expected one of {})", db_path, word,
+                  batchCommandList()));
+}
+
 int schemaVersion(Database& db) {
   try {
     Statement st(db, "SELECT value FROM meta WHERE key = 'schema_version'");
@@ -282,7 +289,7 @@ std::vector<BatchTaskResult> readTaskRows(Database& db, std::map<std::string, st
     r.task_id = st.text(1);
     r.name = st.text(2);
     r.grp = st.text(3);
-    r.command = st.text(4);
+    r.command = parseCommandColumn(st.text(4), db.path());
     r.case_name = st.text(5);
     r.estimator = st.text(6);
     r.schedule = st.text(7);

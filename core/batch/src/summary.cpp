@@ -27,9 +27,9 @@ struct Column {
   bool percent = false;
 };
 
-std::vector<Column> columnsOf(const std::string& command) {
+std::vector<Column> columnsOf(BatchCommand command) {
   const std::vector<std::string> hvy{"horizontal_m", "vertical_m", "heading_deg"};
-  if (command == "evaluate" || command == "real-sg") {
+  if (command == BatchCommand::kEvaluate || command == BatchCommand::kRealSg) {
     std::vector<Column> c;
     for (const char* s : {"SG1", "SG2", "REAL"})
       c.push_back({fmt::format("ERR_{} h/v/hdg", s), s, "outage", "rms", hvy});
@@ -37,17 +37,17 @@ std::vector<Column> columnsOf(const std::string& command) {
       c.push_back({fmt::format("DIFF_{} h/v/hdg", s + 2), s, "outage", "diff", hvy, 1, true});
     return c;
   }
-  if (command == "navigate")
+  if (command == BatchCommand::kNavigate)
     return {{"outage RMS h/v/hdg", "", "outage", "rms", hvy},
             {"RMS of outage max h", "", "outage", "max_rms", {"horizontal_m"}},
             {"overall RMS h", "", "overall", "rms", {"horizontal_m"}},
             {"NEES", "", "overall", "mean", {"nees"}, 2}};
-  if (command == "real")
+  if (command == BatchCommand::kReal)
     return {{"check points", "", "checkpoint", "count", {"points"}, 0},
             {"check point RMS h/v", "", "checkpoint", "rms", {"horizontal_m", "vertical_m"}},
             {"check point RMS of max h", "", "checkpoint", "max_rms", {"horizontal_m"}},
             {"vs reference: outage RMS h", "", "reference", "rms", {"horizontal_m"}}};
-  if (command == "diagnose")
+  if (command == BatchCommand::kDiagnose)
     return {{"DIFF before (SG2) h/v/hdg", "SG2", "outage", "diff", hvy, 1, true},
             {"DIFF after (SG3) h/v/hdg", "SG3", "outage", "diff", hvy, 1, true}};
   return {};  // compare: its own cells (compareCells)
@@ -104,16 +104,18 @@ std::string groupTable(const std::vector<BatchTaskResult>& rows, const std::stri
   const BatchTaskResult* first = nullptr;
   for (const auto& r : rows)
     if (r.grp == grp) first = first ? first : &r;
-  const std::string command = first->command;
+  const BatchCommand command = first->command;
+  const std::string command_name = batchCommandName(command);
   const std::vector<Column> cols = columnsOf(command);
   std::string md = fmt::format("## {}{}\n\n| case | estimator | outages | seed | options | n |",
-                               grp, grp == command ? "" : " (" + command + ")");
+                               grp, grp == command_name ? "" : " (" + command_name + ")");
   std::string rule = "|---|---|---|---|---|---|";
   for (const auto& c : cols) md += " " + c.header + " |";
-  if (command == "compare") md += " outage RMS h | cross-check max |d|/sigma |";
-  if (command == "diagnose") md += " effect parameters |";
+  if (command == BatchCommand::kCompare) md += " outage RMS h | cross-check max |d|/sigma |";
+  if (command == BatchCommand::kDiagnose) md += " effect parameters |";
   md += " status |\n";
-  const std::size_t extra = cols.size() + (command == "compare" ? 2 : 0) + (command == "diagnose");
+  const std::size_t extra = cols.size() + (command == BatchCommand::kCompare ? 2 : 0) +
+                            (command == BatchCommand::kDiagnose);
   for (std::size_t i = 0; i <= extra; ++i) rule += "---|";
   md += rule + "\n";
   for (const auto& r : rows) {
@@ -123,11 +125,11 @@ std::string groupTable(const std::vector<BatchTaskResult>& rows, const std::stri
                       r.options_json == "{}" ? "-" : r.options_json,
                       r.outage_count ? std::to_string(*r.outage_count) : "-");
     for (const auto& c : cols) md += " " + cellOf(r, c) + " |";
-    if (command == "compare") {
+    if (command == BatchCommand::kCompare) {
       const auto [est, pairs] = compareCells(r);
       md += " " + est + " | " + pairs + " |";
     }
-    if (command == "diagnose") md += fmt::format(" {} |", r.effects);
+    if (command == BatchCommand::kDiagnose) md += fmt::format(" {} |", r.effects);
     md += " " + statusText(r) + " |\n";
   }
   return md + "\n";
@@ -139,7 +141,7 @@ void writeTaskSummaries(const std::string& out_dir, const std::vector<BatchTaskR
       "statistic,measure,value,unit,error\n";
   for (const auto& r : rows) {
     const std::string head = fmt::format(
-        "{},{},{},{},{},{},{},{},{}", r.task_index, csvField(r.grp), r.command,
+        "{},{},{},{},{},{},{},{},{}", r.task_index, csvField(r.grp), batchCommandName(r.command),
         csvField(r.case_name), csvField(r.estimator), r.schedule,
         r.seed ? std::to_string(*r.seed) : "", csvField(r.options_json), statusName(r.status));
     if (r.statistics.empty() || r.status != TaskStatus::kOk)
@@ -176,7 +178,8 @@ std::vector<Experiment> groupExperiments(const std::vector<BatchTaskResult>& row
   std::map<std::string, std::size_t> index;
   std::vector<Experiment> groups;
   for (const auto& r : rows) {
-    if (r.status != TaskStatus::kOk || (r.command != "evaluate" && r.command != "real-sg"))
+    if (r.status != TaskStatus::kOk ||
+        (r.command != BatchCommand::kEvaluate && r.command != BatchCommand::kRealSg))
       continue;
     const std::string exp = experimentName(r.case_name);
     const std::string key =

@@ -46,7 +46,8 @@ CollectCounts collectTaskDatabases(const std::string& out_db_path,
 // One task of a collected database, with what the summaries and reports read of it.
 struct BatchTaskResult {
   int task_index = 0;
-  std::string task_id, name, grp, command, case_name, estimator, schedule, options_json;
+  std::string task_id, name, grp, case_name, estimator, schedule, options_json;
+  BatchCommand command = BatchCommand::kEvaluate;
   std::optional<unsigned long long> seed;
   TaskStatus status = TaskStatus::kMissing;
   std::string error;
