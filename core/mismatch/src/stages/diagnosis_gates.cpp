@@ -1,5 +1,5 @@
 // The lab gates of the finder's selection: what the lab calibration's own uncertainty explains is
-// not claimed (docs/mismatch.md, Method, gates a, b, d).
+// not claimed (docs/mismatch-method.md, gates a, b, d).
 #include <fmt/core.h>
 
 #include <Eigen/QR>
@@ -325,8 +325,8 @@ void holdBack(const GateContext& g, const TermFit& tf, const HoldBack& why, Gate
 
 }  // namespace
 
-// Gates against claiming what the lab calibration's own uncertainty explains (docs/mismatch.md,
-// Method, gates a, b, d). A gated term leaves the model, the rest is refitted, and the gates run
+// Gates against claiming what the lab calibration's own uncertainty explains
+// (docs/mismatch-method.md, gates a, b, d). A gated term leaves the model, the rest is refitted, and the gates run
 // again on the refit (a term fitted to compensate the gated one, e.g. a gyro non-orthogonality
 // cancelling a misalignment's gyro part, then shrinks and may be gated in turn).
 SelectionResult applyLabGates(const Eigen::MatrixXd& r, const std::vector<CandidateTerm>& terms,

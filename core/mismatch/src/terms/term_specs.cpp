@@ -167,7 +167,7 @@ const std::vector<TermSpec>& rows() {
        LibraryGroup::pair,
        b::timeOffset,
        "tau u, u the chord (M x(t - p) - M x(t)) / p of the lab-calibrated response at the "
-       "pivot p (Method 3)",
+       "pivot p (mismatch-method.md, step 3)",
        {{"tau_s", L::scalar, {nullptr, nullptr, "s"}, {}, false, "late when positive"}}},
       {TermKind::lever_arm,
        "lever_arm",

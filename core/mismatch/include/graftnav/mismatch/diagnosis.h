@@ -1,7 +1,7 @@
 #pragma once
 // The mismatch finder: given the reference signals x, a simulation of the tested IMU and the
 // tested IMU's real recording, diagnose() runs seven stages (src/stages/diagnosis_stages.h,
-// docs/mismatch.md "Method", in the same order and numbering):
+// docs/mismatch-method.md, in the same order and numbering):
 //   1. align time: the real record's time offset by cross-correlation (time_offset.h), taken out
 //      of its tags when large; the pivot of the time_offset regressor;
 //   2. grid and residual: all three records binned on one grid (common_grid.h), the residual

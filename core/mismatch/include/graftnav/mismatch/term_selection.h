@@ -71,7 +71,7 @@
 //    (n_eff / its information net of the nuisance), so both pay about ln(n_eff) for every axis
 //    the rest of the model leaves informative. The term-isotropic prior of step 2 let a term whose columns differ in scale
 //    (x^2 with gyro z or f_z ~ -g dominant) pay little for its small columns: about 8 units in
-//    favour of x^2 on car motion (docs/mismatch.md, Method 3 (h)).
+//    favour of x^2 on car motion (docs/mismatch-method.md, step 3 (h)).
 // Everything works on Gram matrices accumulated once per fold, so each trial fit costs a small
 // dense solve, independent of the record length.
 

@@ -2,7 +2,7 @@
 // Slow bias wander of a residual against the lab's noise figures. Two independent realizations
 // of a tested IMU's bias (the lab record grafted into the simulation, and the field) differ by a
 // slow wander the lab's Allan fit predicts; within it, a residual's wander is noise, not missing
-// physics (docs/mismatch.md, Method 4 and gate b).
+// physics (docs/mismatch-method.md, step 4 and gate b).
 
 #include <Eigen/Core>
 #include <optional>
