@@ -163,20 +163,17 @@ void parseFgo(const yf::Context& ctx, const YAML::Node& g, FgoOptions* f) {
   field("reintegrate_gyro_bias_rad_s", &f->reintegrate_gyro_bias_rad_s);
   field("reintegrate_accel_bias_m_s2", &f->reintegrate_accel_bias_m_s2);
   field("max_reintegration_rounds", &f->max_reintegration_rounds);
-  if (g["imu_scale_states"].IsDefined()) {
+  // A key whose value is one of a few words, turned into its enum by `parse`.
+  const auto word = [&](const char* key, auto parse, auto* out, const char* expected) {
+    if (!g[key].IsDefined()) return;
     std::string text;
-    field("imu_scale_states", &text);
-    if (!parseImuScaleStates(text, &f->imu_scale_states))
-      yf::fail(ctx, g["imu_scale_states"], "fgo.imu_scale_states",
-               "'" + text + "': expected off, with_vehicle_aiding or on");
-  }
-  if (g["robust_loss"].IsDefined()) {
-    std::string text;
-    field("robust_loss", &text);
-    if (!parseRobustLoss(text, &f->robust_loss))
-      yf::fail(ctx, g["robust_loss"], "fgo.robust_loss",
-               "'" + text + "': expected huber, cauchy or none");
-  }
+    field(key, &text);
+    if (!parse(text, out))
+      yf::fail(ctx, g[key], std::string("fgo.") + key, "'" + text + "': expected " + expected);
+  };
+  word("imu_scale_states", parseImuScaleStates, &f->imu_scale_states,
+       "off, with_vehicle_aiding or on");
+  word("robust_loss", parseRobustLoss, &f->robust_loss, "huber, cauchy or none");
   field("robust_loss_scale", &f->robust_loss_scale);
   field("chi2_threshold", &f->chi2_threshold);
   field("culling_rounds", &f->culling_rounds);
