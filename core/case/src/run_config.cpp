@@ -107,14 +107,21 @@ void parseGnss(const yf::Context& ctx, const YAML::Node& g, GnssConfig* q) {
   yf::warnUnknownKeys(ctx, g, "gnss", kGnssKeys);
 }
 
+// Reads section.key, a word that `parse` turns into its enum (false for any other text), when the
+// key is there; another word fails naming the key and its line, with `complaint(text)` after.
+template <typename Enum, typename Parse, typename Complaint>
+void readWord(const yf::Context& ctx, const YAML::Node& map, const char* section, const char* key,
+              Parse parse, Enum* out, Complaint complaint) {
+  if (!map[key].IsDefined()) return;
+  std::string text;
+  yf::readOptional(ctx, map, section, key, &text);
+  if (!parse(text, out)) yf::fail(ctx, map[key], yf::join(section, key), complaint(text));
+}
+
 void parseAlignment(const yf::Context& ctx, const YAML::Node& e, AlignmentConfig* a) {
-  if (e["alignment"].IsDefined()) {
-    std::string text;
-    yf::readOptional(ctx, e, "ekf", "alignment", &text);
-    if (!parseAlignmentMode(text, &a->mode))
-      yf::fail(ctx, e["alignment"], "ekf.alignment",
-               "'" + text + "' is not one of given, static, motion");
-  }
+  readWord(ctx, e, "ekf", "alignment", parseAlignmentMode, &a->mode, [](const std::string& text) {
+    return "'" + text + "' is not one of given, static, motion";
+  });
   yf::readOptional(ctx, e, "ekf", "static_alignment_s", &a->static_duration_s);
   yf::readOptional(ctx, e, "ekf", "motion_min_speed_m_s", &a->motion.min_speed_m_s);
   yf::readOptional(ctx, e, "ekf", "motion_max_std_m", &a->motion_max_std_m);
@@ -163,17 +170,13 @@ void parseFgo(const yf::Context& ctx, const YAML::Node& g, FgoOptions* f) {
   field("reintegrate_gyro_bias_rad_s", &f->reintegrate_gyro_bias_rad_s);
   field("reintegrate_accel_bias_m_s2", &f->reintegrate_accel_bias_m_s2);
   field("max_reintegration_rounds", &f->max_reintegration_rounds);
-  // A key whose value is one of a few words, turned into its enum by `parse`.
-  const auto word = [&](const char* key, auto parse, auto* out, const char* expected) {
-    if (!g[key].IsDefined()) return;
-    std::string text;
-    field(key, &text);
-    if (!parse(text, out))
-      yf::fail(ctx, g[key], std::string("fgo.") + key, "'" + text + "': expected " + expected);
+  const auto expected = [](const char* words) {
+    return [words](const std::string& text) { return "'" + text + "': expected " + words; };
   };
-  word("imu_scale_states", parseImuScaleStates, &f->imu_scale_states,
-       "off, with_vehicle_aiding or on");
-  word("robust_loss", parseRobustLoss, &f->robust_loss, "huber, cauchy or none");
+  readWord(ctx, g, "fgo", "imu_scale_states", parseImuScaleStates, &f->imu_scale_states,
+           expected("off, with_vehicle_aiding or on"));
+  readWord(ctx, g, "fgo", "robust_loss", parseRobustLoss, &f->robust_loss,
+           expected("huber, cauchy or none"));
   field("robust_loss_scale", &f->robust_loss_scale);
   field("chi2_threshold", &f->chi2_threshold);
   field("culling_rounds", &f->culling_rounds);
