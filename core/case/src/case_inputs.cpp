@@ -58,7 +58,13 @@ NavSeries readReferenceHead(const CaseReferenceFile& f, double t_s) {
   NavState s;
   int after = 0;
   while (after < 2 && reader.next(&s)) {
-    head.push_back(s);
+    // An epoch at or before t_s replaces the previous one unless that is the first.
+    const bool replaces = s.t_s <= t_s && head.size() >= 2;
+    if (replaces) {
+      head.back() = s;
+    } else {
+      head.push_back(s);
+    }
     if (s.t_s > t_s) ++after;
   }
   return head;
@@ -131,24 +137,33 @@ ImuSelection selectImu(const CaseInputs& c, const std::string& which,
 void restrictToTimeRange(const TimeRangeConfig& range, CaseInputs* c, ImuSelection* imu,
                          std::vector<std::string>* notes) {
   if (range.empty()) return;
-  const double t0 = range.start_s.value_or(-1e300), t1 = range.end_s.value_or(1e300);
   ImuSeries kept;
   for (const auto& s : imu->imu)
-    if (s.t_s - s.dt_s >= t0 - 1e-6 && s.t_s <= t1) kept.push_back(s);
-  if (kept.empty()) {
-    throw std::runtime_error(
-        fmt::format("time range [{}, {}] holds no sample of '{}' ({:.3f} .. {:.3f})", t0, t1,
-                    imu->path, imu->imu.front().t_s, imu->imu.back().t_s));
-  }
+    if (range.keepsImuSample(s.t_s, s.dt_s)) kept.push_back(s);
+  if (kept.empty())
+    throw timeRangeWithoutSamples(range, imu->path, imu->imu.front(), imu->imu.back());
   GnssSeries gnss;
   for (const auto& f : c->gnss)
-    if (f.t_s >= t0 && f.t_s <= t1) gnss.push_back(f);
-  notes->push_back(
-      fmt::format("time range {:.3f} .. {:.3f}: {} of {} IMU samples, {} of {} GNSS epochs",
-                  kept.front().t_s - kept.front().dt_s, kept.back().t_s, kept.size(),
-                  imu->imu.size(), gnss.size(), c->gnss.size()));
+    if (range.keepsGnssEpoch(f.t_s)) gnss.push_back(f);
+  notes->push_back(timeRangeNote({kept.front(), kept.back()}, static_cast<long>(kept.size()),
+                                 static_cast<long>(imu->imu.size()), static_cast<long>(gnss.size()),
+                                 static_cast<long>(c->gnss.size())));
   imu->imu = std::move(kept);
   c->gnss = std::move(gnss);
+}
+
+std::runtime_error timeRangeWithoutSamples(const TimeRangeConfig& range, const std::string& path,
+                                           const ImuSample& first, const ImuSample& last) {
+  return std::runtime_error(
+      fmt::format("time range [{}, {}] holds no sample of '{}' ({:.3f} .. {:.3f})", range.startS(),
+                  range.endS(), path, first.t_s, last.t_s));
+}
+
+std::string timeRangeNote(const ImuSeries& kept_span, long imu_kept, long imu_total, long gnss_kept,
+                          long gnss_total) {
+  return fmt::format("time range {:.3f} .. {:.3f}: {} of {} IMU samples, {} of {} GNSS epochs",
+                     kept_span.front().t_s - kept_span.front().dt_s, kept_span.back().t_s, imu_kept,
+                     imu_total, gnss_kept, gnss_total);
 }
 
 ImuSelection graftedSelection(ImuSeries imu, const ImuProfile& tested_profile,

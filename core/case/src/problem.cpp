@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "graftnav/estimation/alignment.h"
 #include "graftnav/eval/gnss_selection.h"
@@ -107,14 +108,14 @@ void addVehicleAiding(const CaseInputs& c, const RunConfig& rc, EstimationProble
 
 }  // namespace
 
-EstimationProblem makeProblem(const CaseInputs& c, const ImuSelection& sel, const RunConfig& rc,
+EstimationProblem makeProblem(const CaseInputs& c, ImuSelection sel, const RunConfig& rc,
                               const std::optional<OutageScheduleConfig>& outages,
                               std::vector<std::string>* notes) {
   std::vector<std::string> local;
   if (!notes) notes = &local;
   const CaseConfig& cfg = c.config;
   EstimationProblem pr;
-  pr.imu = sel.imu;
+  pr.imu = std::move(sel.imu);
   pr.imu_profile = sel.profile;
   pr.gnss = c.gnss;
   if (rc.gnss.given && !c.gnss.empty()) {

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <memory>
 #include <stdexcept>
+#include <utility>
 
 #include "graftnav/case/file_streams.h"
 #include "graftnav/case/input_checks.h"
@@ -13,7 +14,7 @@
 #include "graftnav/io/nav_io.h"
 #include "graftnav/io/provenance.h"
 #include "graftnav/eval/spooled_comparison.h"
-#include "graftnav/navigate/navigate_setup.h"
+#include "graftnav/navigate/streamed_imu_file.h"
 
 namespace graftnav {
 namespace {
@@ -62,7 +63,9 @@ void scanReference(const CompareInputs& in, const RunMessages& messages) {
 void selectCompareImu(const CompareRequest& q, const RunMessages& messages, CompareInputs* in) {
   in->imu = selectImu(in->c, q.imu, q.profile_path, q.lenient, !in->stream);
   if (in->stream) {
-    in->imu.imu = scanImuFile(&in->imu, &in->imu_samples);
+    const ImuFileScan scan = scanImuFile(&in->imu);
+    in->imu.imu = scan.span;
+    in->imu_samples = scan.total;
   } else {
     in->imu_samples = static_cast<long>(in->imu.imu.size());
   }
@@ -166,7 +169,8 @@ CompareInputs loadCompareInputs(const CompareRequest& q, const EstimatorRegistry
     recordConfigFile(q.run_config);
     for (const auto& w : warnings) messages.warning(w);
   }
-  in.stream = all_stream && in.cfg.alignment.mode == AlignmentMode::kGiven;
+  // A static alignment reads its window (alignmentPrefix); one in motion may read the whole IMU.
+  in.stream = all_stream && in.cfg.alignment.mode != AlignmentMode::kMotion;
   CaseLoadOptions lo;
   lo.lenient = q.lenient;
   lo.load_reference = false;
@@ -185,8 +189,10 @@ CompareInputs loadCompareInputs(const CompareRequest& q, const EstimatorRegistry
     messages.warning(w);
   // makeProblem reads the reference's first epochs only (the week, the initial state).
   in.c.reference = readReferenceHead(in.reference, imu.front().t_s - imu.front().dt_s);
+  ImuSelection problem_imu = in.imu;  // a streamed run's: the span or the alignment's samples
+  if (in.stream) problem_imu.imu = alignmentPrefix(in.imu, in.cfg, in.imu.imu);
   std::vector<std::string> notes;
-  in.p = makeProblem(in.c, in.imu, in.cfg, in.schedule, &notes);
+  in.p = makeProblem(in.c, std::move(problem_imu), in.cfg, in.schedule, &notes);
   in.c.reference = {};
   for (const auto& n : notes) messages.note(n);
   const EstimationProblem& p = in.p;

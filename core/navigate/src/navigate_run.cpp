@@ -34,8 +34,8 @@ NavSolution streamedRun(const NavigateSetup& s, const fs::path& out,
   // writes no imu_errors.txt, as in memory.
   const bool with_imu_errors = registry.find(s.estimator).estimatesScaleFactors(s.pr, s.rc);
   SolutionFileSink sink(out.string(), with_imu_errors, evaluation);
-  const NavSolution book = registry.runStreaming(
-      s.estimator, s.pr, imuFileStream(s.imu.path, s.imu.read_options), s.rc, sink);
+  const NavSolution book =
+      registry.runStreaming(s.estimator, s.pr, imuRangeStream(s.imu, s.time_range), s.rc, sink);
   sol.copyBookkeeping(book);
   if (const auto& scale = sink.lastOdometerScale()) {
     sol.odometer_scale = {scale->scale};

@@ -2,6 +2,7 @@
 
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include "graftnav/case/file_streams.h"
 #include "graftnav/case/input_checks.h"
@@ -10,6 +11,7 @@
 #include "graftnav/io/imu_io.h"
 #include "graftnav/io/nav_io.h"
 #include "graftnav/io/provenance.h"
+#include "graftnav/navigate/streamed_imu_file.h"
 
 namespace graftnav {
 namespace {
@@ -24,13 +26,21 @@ void warnAll(const std::vector<std::string>& warnings, const RunMessages& messag
 }
 
 // Whether the run streams the IMU (read in blocks, the per-epoch files written as they go).
-// In memory instead when the estimator has no streamed form or something needs the samples: a
-// data alignment (rc.alignment.mode other than kGiven), or a time range (restrictToTimeRange
-// cuts the series in memory).
+// In memory instead when the estimator has no streamed form or the alignment needs samples
+// without a bound (in motion). A static alignment reads its window (alignmentPrefix); a time
+// range is kept as the files are read (streamed_imu_file.h).
 bool streamable(const EstimatorRegistry& registry, const std::string& estimator,
-                const RunConfig& rc, const TimeRangeConfig& range) {
-  return registry.canStream(estimator) && rc.alignment.mode == AlignmentMode::kGiven &&
-         range.empty();
+                const RunConfig& rc) {
+  return registry.canStream(estimator) && rc.alignment.mode != AlignmentMode::kMotion;
+}
+
+// The note of a streamed run's time range, where restrictToTimeRange would have put it, once the
+// GNSS epochs are counted.
+void noteTimeRange(long gnss_kept, long gnss_total, NavigateSetup* s) {
+  if (!s->stream || s->time_range.empty()) return;
+  const auto at = s->notes.begin() + static_cast<std::ptrdiff_t>(s->time_range_note_at);
+  s->notes.insert(at, timeRangeNote(s->imu_scan.span, s->imu_scan.kept, s->imu_scan.total,
+                                    gnss_kept, gnss_total));
 }
 
 // The case's GNSS read once epoch by epoch before anything is written, as scanImuFile reads
@@ -49,7 +59,10 @@ GnssFix scanStreamedGnss(const NavigateRequest& q, const RunMessages& messages, 
   coverage.imu_t0_s = s->imu.imu.front().t_s - s->imu.imu.front().dt_s;
   coverage.imu_t1_s = s->imu.imu.back().t_s;
   GnssFix fix, first;
+  long total = 0;
   while (reader.next(&fix)) {
+    ++total;
+    if (!s->time_range.keepsGnssEpoch(fix.t_s)) continue;
     if (coverage.total == 0) first = fix;
     coverage.add(fix.t_s);
   }
@@ -57,7 +70,8 @@ GnssFix scanStreamedGnss(const NavigateRequest& q, const RunMessages& messages, 
     if (!r.summary().empty()) messages.warning(r.summary());
   warnAll(checkGnssCoverage(coverage, paths.gnssPos(), false), messages, &s->notes);
   s->gnss_count = coverage.total;
-  *stream = gnssFileStream(paths.gnssPos(), ft, policy);
+  noteTimeRange(coverage.total, total, s);
+  *stream = gnssRangeStream(gnssFileStream(paths.gnssPos(), ft, policy), s->time_range);
   return first;
 }
 
@@ -66,19 +80,20 @@ GnssFix scanStreamedGnss(const NavigateRequest& q, const RunMessages& messages, 
 void selectNavigateImu(const NavigateRequest& q, const EstimatorRegistry& registry,
                        const RunMessages& messages, NavigateSetup* s) {
   if (!q.profile_path.empty()) recordConfigFile(q.profile_path);
-  const TimeRangeConfig range = mergeTimeRange(s->rc.time_range, q.time_range);
-  s->stream = streamable(registry, s->estimator, s->rc, range);
+  s->stream = streamable(registry, s->estimator, s->rc);
   s->imu = selectImu(s->c, q.imu, q.profile_path, q.lenient, !s->stream);
   if (s->stream) {
-    long count = 0;
-    s->imu.imu = scanImuFile(&s->imu, &count);
+    s->imu_scan = scanImuFile(&s->imu, s->time_range);
+    s->imu.imu = s->imu_scan.span;
+    s->time_range_note_at = s->notes.size();
     // The solution has an epoch per IMU sample (with a decimation the rate is left unknown: both
     // epoch sets are evaluated until the run ends).
+    const long count = s->imu_scan.kept;
     const double span_s = s->imu.imu.back().t_s - s->imu.imu.front().t_s;
     if (count > 1 && span_s > 0.0 && s->rc.ekf.output_decimation == 1)
       s->expected_rates.solution_hz = static_cast<double>(count - 1) / span_s;
   } else {
-    restrictToTimeRange(range, &s->c, &s->imu, &s->notes);
+    restrictToTimeRange(s->time_range, &s->c, &s->imu, &s->notes);
   }
   if (!s->imu.read_summary.empty()) warnAll({s->imu.read_summary}, messages, &s->notes);
   if (s->uses_gnss && !s->imu.profile_given) {
@@ -107,8 +122,8 @@ void loadCase(const NavigateRequest& q, const EstimatorRegistry& registry,
               const RunMessages& messages, NavigateSetup* s) {
   std::vector<std::string> config_warnings;
   if (!q.run_config.empty()) s->rc = loadRunConfig(q.run_config, &config_warnings);
-  const bool stream =
-      streamable(registry, s->estimator, s->rc, mergeTimeRange(s->rc.time_range, q.time_range));
+  s->time_range = mergeTimeRange(s->rc.time_range, q.time_range);
+  const bool stream = streamable(registry, s->estimator, s->rc);
   // Unless the run config selects GNSS epochs (selectGnss re-sorts and spaces the whole series).
   s->stream_gnss = s->uses_gnss && stream && !s->rc.gnss.given;
   CaseLoadOptions lo;
@@ -131,6 +146,17 @@ void loadCase(const NavigateRequest& q, const EstimatorRegistry& registry,
     if (q.run_config_from_case) messages.note("using the case's run config " + q.run_config);
   }
   for (const auto& w : warnings) messages.warning(w);
+}
+
+// A streamed run's GNSS held (a gnss: section selects epochs, or none is read): the epochs the
+// time range keeps, as restrictToTimeRange keeps them.
+void keepGnssInRange(NavigateSetup* s) {
+  if (!s->stream || s->time_range.empty()) return;
+  GnssSeries kept;
+  for (const GnssFix& f : s->c.gnss)
+    if (s->time_range.keepsGnssEpoch(f.t_s)) kept.push_back(f);
+  noteTimeRange(static_cast<long>(kept.size()), static_cast<long>(s->c.gnss.size()), s);
+  s->c.gnss = std::move(kept);
 }
 
 // The notes of makeProblem a user should see (alignment, lever arm, GNSS selection, time range,
@@ -161,7 +187,10 @@ NavigateSetup prepareNavigate(const NavigateRequest& q, const EstimatorRegistry&
   GnssOpenFn gnss_stream;
   if (s.stream_gnss) {
     s.c.gnss = {scanStreamedGnss(q, messages, &s, &gnss_stream)};
-  } else if (s.uses_gnss) {
+  } else {
+    keepGnssInRange(&s);
+  }
+  if (!s.stream_gnss && s.uses_gnss) {
     warnAll(checkGnssCoverage(s.c.gnss, s.c.paths().gnssPos(), s.imu.imu, false), messages,
             &s.notes);
   }
@@ -173,7 +202,9 @@ NavigateSetup prepareNavigate(const NavigateRequest& q, const EstimatorRegistry&
   if (!s.streamed_reference.path.empty())  // what makeProblem reads of the reference
     s.c.reference =
         readReferenceHead(s.streamed_reference, s.imu.imu.front().t_s - s.imu.imu.front().dt_s);
-  s.pr = makeProblem(s.c, s.imu, s.rc, outages, &s.notes);
+  ImuSelection problem_imu = s.imu;  // a streamed run's: the span or the alignment's samples
+  if (s.stream) problem_imu.imu = alignmentPrefix(s.imu, s.rc, s.imu.imu, s.time_range);
+  s.pr = makeProblem(s.c, std::move(problem_imu), s.rc, outages, &s.notes);
   if (!s.streamed_reference.path.empty()) s.c.reference = {};
   if (s.stream_gnss) {  // makeProblem saw the first epoch only; the run reads the files
     s.pr.gnss = {};
@@ -198,19 +229,6 @@ NavigateSetup prepareNavigate(const NavigateRequest& q, const EstimatorRegistry&
     s.imu.imu = {};
   }
   return s;
-}
-
-ImuSeries scanImuFile(ImuSelection* sel, long* count) {
-  ImuBlockReader reader(sel->path, sel->read_options);
-  ImuSeries block, span;
-  *count = 0;
-  while (reader.next(&block)) {
-    if (span.empty()) span = {block.front(), block.back()};
-    span.back() = block.back();
-    *count += static_cast<long>(block.size());
-  }
-  sel->read_summary = reader.report().summary();
-  return span;
 }
 
 }  // namespace graftnav

@@ -15,7 +15,7 @@
 #include "graftnav/io/nav_io.h"
 #include "graftnav/io/provenance.h"
 #include "graftnav/nav/rotation.h"
-#include "graftnav/navigate/navigate_setup.h"
+#include "graftnav/navigate/streamed_imu_file.h"
 
 namespace graftnav {
 namespace {
@@ -68,31 +68,13 @@ struct GnssFile {
 };
 
 // Every estimator has a streamed form, no in-motion alignment (it may read the whole IMU) and no
-// latency study needs the series. A static alignment reads only its window (alignmentPrefix).
+// latency study needs the series. A static alignment reads only its window (alignmentPrefix,
+// streamed_imu_file.h).
 bool streamable(const RealRequest& q, const EstimatorRegistry& registry, const RunConfig& rc) {
   if (q.latency_study || rc.alignment.mode == AlignmentMode::kMotion) return false;
   for (const auto& name : q.estimators)
     if (!registry.contains(name) || !registry.canStream(name)) return false;
   return true;
-}
-
-// What makeProblem reads of an IMU the estimators read as a file: with a static alignment the
-// samples through the first one after its window (alignStatic stops there), then the file's last
-// sample (`span`: its first and last, from scanImuFile).
-ImuSeries alignmentPrefix(const ImuSelection& sel, const RunConfig& rc, const ImuSeries& span) {
-  if (rc.alignment.mode != AlignmentMode::kStatic) return span;
-  const double t_end_s = span.front().t_s - span.front().dt_s + rc.alignment.static_duration_s;
-  ImuBlockReader reader(sel.path, sel.read_options);
-  ImuSeries block, prefix;
-  while (reader.next(&block)) {
-    for (const ImuSample& s : block) {
-      prefix.push_back(s);
-      if (s.t_s <= t_end_s + 1e-9) continue;
-      if (s.t_s < span.back().t_s) prefix.push_back(span.back());
-      return prefix;
-    }
-  }
-  return prefix;
 }
 
 // The note on the heading of a data alignment against case.yaml's (a warning beyond 5 degrees).
@@ -242,7 +224,11 @@ ImuSelection selectRealImu(const CaseInputs& c, const std::string& which,
                            const RunMessages& messages, long* count) {
   ImuSelection s = selectImu(c, which, profile, true, read_samples);
   long n = static_cast<long>(s.imu.size());
-  if (!read_samples) s.imu = scanImuFile(&s, &n);
+  if (!read_samples) {
+    const ImuFileScan scan = scanImuFile(&s);
+    s.imu = scan.span;
+    n = scan.total;
+  }
   if (count) *count = n;
   messages.note(fmt::format("IMU '{}' {}: {} samples, profile '{}'", which, s.path, n, s.label));
   if (s.read_summary.empty()) {

@@ -2,6 +2,7 @@
 // One place that turns a case directory into estimator inputs: case.yaml, GNSS, the truth or
 // reference solution, and which IMU of the case is navigated with which profile. Used by every
 // command that navigates a case, by the batch and by the Python module.
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -41,9 +42,10 @@ struct CaseReferenceFile {
   NavReadPolicy policy;
 };
 CaseReferenceFile caseReferenceFile(const CaseInputs& c, bool lenient);
-// The first epochs of the reference file, through the second one after t_s (all when fewer):
-// what makeProblem reads of CaseInputs::reference (the week, the initial state interpolated at
-// the IMU's start), so that a run reading the reference as a stream need not hold it.
+// Of the reference file, the first epoch, the last one at or before t_s and the two after it
+// (all when fewer): what makeProblem reads of CaseInputs::reference (the week, the initial state
+// interpolated at the IMU's start: the same bracket as in the whole series), so that a run
+// reading the reference as a stream need not hold it, even when t_s lies hours into it.
 NavSeries readReferenceHead(const CaseReferenceFile& f, double t_s);
 // Reads the case's reference solution into c (reference, reference_name, reference_is_truth);
 // nothing when it has none.
@@ -76,9 +78,15 @@ ImuSelection selectImu(const CaseInputs& c, const std::string& which,
                        const std::string& profile_file = "", bool lenient = false,
                        bool read_samples = true);
 
-// Keeps the IMU samples whose interval lies in the range (end time > start, <= end) and the GNSS
-// epochs inside it. Throws std::runtime_error naming the range when no IMU sample is left.
+// Keeps the IMU samples whose interval lies in the range (TimeRangeConfig::keepsImuSample) and
+// the GNSS epochs inside it. Throws std::runtime_error naming the range when no IMU sample is left.
 void restrictToTimeRange(const TimeRangeConfig& range, CaseInputs* c, ImuSelection* imu,
                          std::vector<std::string>* notes);
+// The error when a time range keeps no sample of the IMU file `path` (first and last: its span).
+std::runtime_error timeRangeWithoutSamples(const TimeRangeConfig& range, const std::string& path,
+                                           const ImuSample& first, const ImuSample& last);
+// The note of a time range: the span kept (its first and last samples) and the counts.
+std::string timeRangeNote(const ImuSeries& kept_span, long imu_kept, long imu_total, long gnss_kept,
+                          long gnss_total);
 
 }  // namespace graftnav

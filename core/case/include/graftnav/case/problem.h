@@ -14,8 +14,9 @@ namespace graftnav {
 // Initial state from truth (at the start of the first IMU interval), else case.yaml
 // initial_state, else data alignment (rc.alignment); the run config's GNSS selection; outages
 // from `outages` when given (counted from the first IMU epoch). Notes on what was assumed are
-// appended to *notes.
-EstimationProblem makeProblem(const CaseInputs& c, const ImuSelection& imu, const RunConfig& rc,
+// appended to *notes. `imu` is taken by value: a caller that needs its samples no more moves
+// them into the problem instead of holding two copies.
+EstimationProblem makeProblem(const CaseInputs& c, ImuSelection imu, const RunConfig& rc,
                               const std::optional<OutageScheduleConfig>& outages,
                               std::vector<std::string>* notes);
 

@@ -125,6 +125,14 @@ struct GraftingConfig {
 struct TimeRangeConfig {
   std::optional<double> start_s, end_s;
   bool empty() const { return !start_s && !end_s; }
+  double startS() const { return start_s.value_or(-1e300); }
+  double endS() const { return end_s.value_or(1e300); }
+  // An IMU sample is kept when its interval [t_s - dt_s, t_s] lies in the range (its start within
+  // 1 us of the range's start); a GNSS epoch when its time does.
+  bool keepsImuSample(double t_s, double dt_s) const {
+    return t_s - dt_s >= startS() - 1e-6 && t_s <= endS();
+  }
+  bool keepsGnssEpoch(double t_s) const { return t_s >= startS() && t_s <= endS(); }
 };
 // Command-line bounds override the run config's; throws std::runtime_error when the end is not
 // after the start.

@@ -1,9 +1,12 @@
 #pragma once
 // The inputs of one navigation run, read and checked before any output is written: the case,
 // the run config, the IMU and its profile, the GNSS, the outages and the reference. A run that
-// can stream (the estimator has a streamed form, no data alignment, no time range) holds none of
+// can stream (the estimator has a streamed form, the alignment is given or static) holds none of
 // the series: the IMU, the GNSS and the reference are read once here, as streams, for their
-// errors, spans and coverage, and read again by the run.
+// errors, spans and coverage, and read again by the run, keeping what the time range keeps
+// (restrictToTimeRange's rule). A static alignment holds the samples of its window until the
+// problem is made (alignmentPrefix).
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -14,6 +17,7 @@
 #include "graftnav/eval/outage_schedule.h"
 #include "graftnav/eval/streamed_evaluation.h"
 #include "graftnav/navigate/navigate_request.h"
+#include "graftnav/navigate/streamed_imu_file.h"
 
 namespace graftnav {
 
@@ -32,15 +36,12 @@ struct NavigateSetup {
   // A streamed run's reference: not held (c.reference empty), read again as the run evaluates
   // (streamed_reference.path empty: none, or the reference is held in c.reference).
   CaseReferenceFile streamed_reference;
-  ExpectedRates expected_rates;  // from the first passes over the IMU and the reference
+  ExpectedRates expected_rates;        // from the first passes over the IMU and the reference
+  TimeRangeConfig time_range;          // the run config's, with the command line's bounds over it
+  ImuFileScan imu_scan;                // a streamed run's: the span and counts the time range keeps
+  std::size_t time_range_note_at = 0;  // where a streamed run's time-range note goes in `notes`
   bool hasReference() const { return !c.reference.empty() || !streamed_reference.path.empty(); }
 };
-
-// An IMU file read once through the block reader, so that its errors (physical range, time
-// order, intervals) stop a streamed run before anything is written and the lenient repair report
-// (sel->read_summary) is known; returns its first and last samples (what makeProblem and the
-// input checks read of a streamed IMU) and the sample count in *count. Memory stays flat.
-ImuSeries scanImuFile(ImuSelection* sel, long* count);
 
 // Reads and checks everything the run needs. Throws std::runtime_error (an unknown estimator, a
 // missing file, a reader error, outages outside the data, no noise parameters for the IMU);
