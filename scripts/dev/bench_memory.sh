@@ -14,7 +14,10 @@
 # MAX_SIM_RSS_MB (skip a length whose simulation is predicted, linearly from the longest one
 # done, to need more; default 4000), APPEND=1 (add the rows to an existing OUT_DIR/memory.tsv
 # instead of starting it: a measurement split into runs by COMMANDS), DOC (a Markdown file whose
-# "Memory against recording length" table is replaced by the measured one).
+# "Memory against recording length" table is replaced by the measured one), NAVIGATE_RUN_CONFIG
+# (a run config FILE: the navigate rows are measured with `--run-config FILE` instead, labelled
+# with its name; the outages stay the command line's), NAVIGATE_RANGE_S ("A B": the navigate rows
+# are measured again with --start A s after the IMU's first sample and --end B s before its last).
 #
 # Each length is a motion-script drive (60 s at rest, then 100 s straights and 90-degree turns at
 # 10 m/s) simulated with the POS1100-like tested IMU of mems_57min.yaml, 1 Hz GNSS, truth at
@@ -26,7 +29,7 @@
 # CPU time (user + system) and wall time come from /usr/bin/time -v; on a shared machine the CPU
 # time is the one to compare. Writes OUT_DIR/memory.tsv and OUT_DIR/memory.md.
 set -euo pipefail
-[ $# -ge 1 ] || { sed -n '2,27p' "$0"; exit 2; }
+[ $# -ge 1 ] || { sed -n '2,31p' "$0"; exit 2; }
 out="$1"
 repo="$(cd "$(dirname "$0")/../.." && pwd)"
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -112,9 +115,34 @@ for L in $lengths; do
     fi
     case "$cmd" in
       navigate)
-        for est in $estimators; do
-          row "$L" "navigate --estimator $est" "${est}_${L}" navigate "$case_dir" --imu tested \
-              --estimator "$est" "${outages[@]}" --out "$out/runs/${est}_${L}" --no-plots
+        nav_config=() nav_label="" nav_tag=""
+        if [ -n "${NAVIGATE_RUN_CONFIG:-}" ]; then
+          nav_config=(--run-config "$(realpath "$NAVIGATE_RUN_CONFIG")")
+          nav_label=" --run-config $(basename "$NAVIGATE_RUN_CONFIG")"
+          nav_tag="_$(basename "$NAVIGATE_RUN_CONFIG" .yaml)"
+        fi
+        ranges=("")
+        if [ -n "${NAVIGATE_RANGE_S:-}" ]; then
+          read -r after before <<< "$NAVIGATE_RANGE_S"
+          first=$(head -1 "$case_dir/field/tested_imu.txt" | awk '{print $1}')
+          last=$(tail -1 "$case_dir/field/tested_imu.txt" | awk '{print $1}')
+          ranges+=("$(awk -v f="$first" -v l="$last" -v a="$after" -v b="$before" \
+            'BEGIN {printf "%.3f %.3f", f + a, l - b}')")
+        fi
+        for range in "${ranges[@]}"; do
+          range_args=() range_label="" range_tag=""
+          if [ -n "$range" ]; then
+            read -r t0 t1 <<< "$range"
+            range_args=(--start "$t0" --end "$t1")
+            range_label=" --start +$after s --end -$before s"
+            range_tag="_range"
+          fi
+          for est in $estimators; do
+            name="${est}${nav_tag}${range_tag}_${L}"
+            row "$L" "navigate --estimator $est$nav_label$range_label" "$name" navigate "$case_dir" \
+                --imu tested --estimator "$est" "${outages[@]}" "${nav_config[@]}" "${range_args[@]}" \
+                --out "$out/runs/$name" --no-plots
+          done
         done ;;
       compare)
         for set in $compare_sets; do
