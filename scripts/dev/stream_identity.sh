@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs two graftnav binaries on the same navigate and compare inputs and compares every file they
 # write with `cmp` (run_info.json with its timing lines left out): the bundled samples with a
-# static alignment, a time range alone, and both (outages at the range's edges), and the real
+# static alignment, a time range alone, and both (outages at the range's edges), an in-motion
+# alignment with and without a range, and the real
 # recordings with their run configs. Used to show that the streamed inputs of a data alignment
 # or a time range write what the in-memory ones write.
 #
@@ -30,6 +31,8 @@ config range given 60 "time_range:\n  start_s: 456430\n  end_s: 457150\n"
 config static_range static 30 \
   "time_range:\n  start_s: 456430\n  end_s: 457150\n"
 sed -i -e "s/^  # windows: .*/  windows: [[456470, 456530], [457090, 457150]]/" "$out/static_range.yaml"
+config motion motion 60 ""
+config motion_range motion 60 "time_range:\n  start_s: 456430\n  end_s: 457150\n"
 
 failures=0
 # A file with what differs between two runs of the same inputs taken out: the binary's and the
@@ -76,7 +79,7 @@ run_both() {  # name, then the arguments after the binary with OUT standing for 
 }
 mkdir -p "$out/A" "$out/B"
 for grade in mems tactical; do
-  for cfg in static range static_range; do
+  for cfg in static range static_range motion motion_range; do
     for e in $estimators; do
       run_both "navigate_${grade}_${cfg}_$e" navigate "$repo/data/sample_$grade" --out OUT \
         --imu tested --estimator "$e" --run-config "$out/$cfg.yaml" --no-plots

@@ -15,6 +15,7 @@
 #include "graftnav/io/provenance.h"
 #include "graftnav/eval/spooled_comparison.h"
 #include "graftnav/navigate/streamed_imu_file.h"
+#include "graftnav/navigate/streamed_problem.h"
 
 namespace graftnav {
 namespace {
@@ -169,8 +170,8 @@ CompareInputs loadCompareInputs(const CompareRequest& q, const EstimatorRegistry
     recordConfigFile(q.run_config);
     for (const auto& w : warnings) messages.warning(w);
   }
-  // A static alignment reads its window (alignmentPrefix); one in motion may read the whole IMU.
-  in.stream = all_stream && in.cfg.alignment.mode != AlignmentMode::kMotion;
+  // makeProblem sees the samples the alignment reads (streamed_problem.h).
+  in.stream = all_stream;
   CaseLoadOptions lo;
   lo.lenient = q.lenient;
   lo.load_reference = false;
@@ -189,10 +190,9 @@ CompareInputs loadCompareInputs(const CompareRequest& q, const EstimatorRegistry
     messages.warning(w);
   // makeProblem reads the reference's first epochs only (the week, the initial state).
   in.c.reference = readReferenceHead(in.reference, imu.front().t_s - imu.front().dt_s);
-  ImuSelection problem_imu = in.imu;  // a streamed run's: the span or the alignment's samples
-  if (in.stream) problem_imu.imu = alignmentPrefix(in.imu, in.cfg, in.imu.imu);
   std::vector<std::string> notes;
-  in.p = makeProblem(in.c, std::move(problem_imu), in.cfg, in.schedule, &notes);
+  in.p = in.stream ? makeStreamedProblem(in.c, in.imu, in.cfg, in.schedule, {}, &notes)
+                   : makeProblem(in.c, in.imu, in.cfg, in.schedule, &notes);
   in.c.reference = {};
   for (const auto& n : notes) messages.note(n);
   const EstimationProblem& p = in.p;

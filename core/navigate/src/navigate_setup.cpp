@@ -12,6 +12,7 @@
 #include "graftnav/io/nav_io.h"
 #include "graftnav/io/provenance.h"
 #include "graftnav/navigate/streamed_imu_file.h"
+#include "graftnav/navigate/streamed_problem.h"
 
 namespace graftnav {
 namespace {
@@ -25,13 +26,11 @@ void warnAll(const std::vector<std::string>& warnings, const RunMessages& messag
   }
 }
 
-// Whether the run streams the IMU (read in blocks, the per-epoch files written as they go).
-// In memory instead when the estimator has no streamed form or the alignment needs samples
-// without a bound (in motion). A static alignment reads its window (alignmentPrefix); a time
-// range is kept as the files are read (streamed_imu_file.h).
-bool streamable(const EstimatorRegistry& registry, const std::string& estimator,
-                const RunConfig& rc) {
-  return registry.canStream(estimator) && rc.alignment.mode != AlignmentMode::kMotion;
+// Whether the run streams the IMU (read in blocks, the per-epoch files written as they go): when
+// the estimator has a streamed form. makeProblem sees the samples its alignment reads
+// (streamed_problem.h); a time range is kept as the files are read (streamed_imu_file.h).
+bool streamable(const EstimatorRegistry& registry, const std::string& estimator) {
+  return registry.canStream(estimator);
 }
 
 // The note of a streamed run's time range, where restrictToTimeRange would have put it, once the
@@ -80,7 +79,7 @@ GnssFix scanStreamedGnss(const NavigateRequest& q, const RunMessages& messages, 
 void selectNavigateImu(const NavigateRequest& q, const EstimatorRegistry& registry,
                        const RunMessages& messages, NavigateSetup* s) {
   if (!q.profile_path.empty()) recordConfigFile(q.profile_path);
-  s->stream = streamable(registry, s->estimator, s->rc);
+  s->stream = streamable(registry, s->estimator);
   s->imu = selectImu(s->c, q.imu, q.profile_path, q.lenient, !s->stream);
   if (s->stream) {
     s->imu_scan = scanImuFile(&s->imu, s->time_range);
@@ -123,9 +122,11 @@ void loadCase(const NavigateRequest& q, const EstimatorRegistry& registry,
   std::vector<std::string> config_warnings;
   if (!q.run_config.empty()) s->rc = loadRunConfig(q.run_config, &config_warnings);
   s->time_range = mergeTimeRange(s->rc.time_range, q.time_range);
-  const bool stream = streamable(registry, s->estimator, s->rc);
-  // Unless the run config selects GNSS epochs (selectGnss re-sorts and spaces the whole series).
-  s->stream_gnss = s->uses_gnss && stream && !s->rc.gnss.given;
+  const bool stream = streamable(registry, s->estimator);
+  // Unless the run config selects GNSS epochs (selectGnss re-sorts and spaces the whole series)
+  // or an in-motion alignment reads them.
+  s->stream_gnss =
+      s->uses_gnss && stream && !s->rc.gnss.given && s->rc.alignment.mode != AlignmentMode::kMotion;
   CaseLoadOptions lo;
   lo.load_gnss = s->uses_gnss && !s->stream_gnss;
   lo.lenient = q.lenient;
@@ -202,9 +203,8 @@ NavigateSetup prepareNavigate(const NavigateRequest& q, const EstimatorRegistry&
   if (!s.streamed_reference.path.empty())  // what makeProblem reads of the reference
     s.c.reference =
         readReferenceHead(s.streamed_reference, s.imu.imu.front().t_s - s.imu.imu.front().dt_s);
-  ImuSelection problem_imu = s.imu;  // a streamed run's: the span or the alignment's samples
-  if (s.stream) problem_imu.imu = alignmentPrefix(s.imu, s.rc, s.imu.imu, s.time_range);
-  s.pr = makeProblem(s.c, std::move(problem_imu), s.rc, outages, &s.notes);
+  s.pr = s.stream ? makeStreamedProblem(s.c, s.imu, s.rc, outages, s.time_range, &s.notes)
+                  : makeProblem(s.c, s.imu, s.rc, outages, &s.notes);
   if (!s.streamed_reference.path.empty()) s.c.reference = {};
   if (s.stream_gnss) {  // makeProblem saw the first epoch only; the run reads the files
     s.pr.gnss = {};
@@ -212,6 +212,7 @@ NavigateSetup prepareNavigate(const NavigateRequest& q, const EstimatorRegistry&
     s.pr.gnss_stream = gnss_stream;
   } else {
     s.gnss_count = static_cast<long>(s.pr.gnss.size());
+    if (s.stream) s.c.gnss = {};  // a streamed run holds the problem's fixes only
   }
   noteProblem(s.notes, messages);
   if (outages) {

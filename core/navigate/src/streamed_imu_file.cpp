@@ -5,6 +5,7 @@
 #include <string>
 #include <utility>
 
+#include "graftnav/case/file_streams.h"
 #include "graftnav/io/imu_io.h"
 
 namespace graftnav {
@@ -53,45 +54,58 @@ ImuFileScan scanImuFile(ImuSelection* sel, const TimeRangeConfig& range) {
 }
 
 ImuPassFn imuRangeStream(const ImuSelection& sel, const TimeRangeConfig& range) {
+  if (range.empty()) return imuFileStream(sel.path, sel.read_options);
   const std::string path = sel.path;
   const ImuReadOptions options = sel.read_options;
   return [path, options, range](const ImuBlockFn& emit) {
     ImuBlockReader reader(path, options);
     ImuSeries block, kept;
     while (reader.next(&block)) {
-      kept.clear();
-      bool past_end = false;
-      for (const ImuSample& s : block) {
-        if (range.keepsImuSample(s.t_s, s.dt_s)) kept.push_back(s);
-        past_end = past_end || s.t_s > range.endS();
+      std::size_t n_kept = 0;
+      for (const ImuSample& s : block) n_kept += range.keepsImuSample(s.t_s, s.dt_s) ? 1 : 0;
+      if (n_kept == block.size()) {  // inside the range: the block as it was read
+        emit(block);
+        continue;
       }
+      kept.clear();
+      for (const ImuSample& s : block)
+        if (range.keepsImuSample(s.t_s, s.dt_s)) kept.push_back(s);
       if (!kept.empty()) emit(kept);
-      if (past_end) return;
+      if (block.back().t_s > range.endS()) return;
     }
   };
+}
+
+ImuSeries imuPrefix(const ImuSelection& sel, const ImuSeries& span, const TimeRangeConfig& range,
+                    double t_end_s, bool* complete) {
+  ImuBlockReader reader(sel.path, sel.read_options);
+  ImuSeries block, prefix;
+  // The samples through t_end_s at the nominal rate: no doubling of the capacity past them.
+  const double rate_hz = sel.read_options.nominal_rate_hz;
+  const double length_s = t_end_s - (span.front().t_s - span.front().dt_s);
+  if (rate_hz > 0.0 && length_s > 0.0 && length_s < 1e6)
+    prefix.reserve(static_cast<std::size_t>(length_s * rate_hz * 1.01) + 8);
+  *complete = true;
+  while (reader.next(&block)) {
+    for (const ImuSample& s : block) {
+      if (s.t_s > range.endS()) return prefix;  // a range that ends first
+      if (!range.keepsImuSample(s.t_s, s.dt_s)) continue;
+      prefix.push_back(s);
+      if (s.t_s <= t_end_s + 1e-9) continue;
+      *complete = !(s.t_s < span.back().t_s);
+      if (!*complete) prefix.push_back(span.back());
+      return prefix;
+    }
+  }
+  return prefix;
 }
 
 ImuSeries alignmentPrefix(const ImuSelection& sel, const RunConfig& rc, const ImuSeries& span,
                           const TimeRangeConfig& range) {
   if (rc.alignment.mode != AlignmentMode::kStatic) return span;
   const double t_end_s = span.front().t_s - span.front().dt_s + rc.alignment.static_duration_s;
-  ImuBlockReader reader(sel.path, sel.read_options);
-  ImuSeries block, prefix;
-  // The window's samples at the nominal rate: no doubling of the capacity past them.
-  const double rate_hz = sel.read_options.nominal_rate_hz;
-  if (rate_hz > 0.0)
-    prefix.reserve(static_cast<std::size_t>(rc.alignment.static_duration_s * rate_hz * 1.01) + 8);
-  while (reader.next(&block)) {
-    for (const ImuSample& s : block) {
-      if (s.t_s > range.endS()) return prefix;  // a range shorter than the window
-      if (!range.keepsImuSample(s.t_s, s.dt_s)) continue;
-      prefix.push_back(s);
-      if (s.t_s <= t_end_s + 1e-9) continue;
-      if (s.t_s < span.back().t_s) prefix.push_back(span.back());
-      return prefix;
-    }
-  }
-  return prefix;
+  bool complete = false;
+  return imuPrefix(sel, span, range, t_end_s, &complete);
 }
 
 GnssOpenFn gnssRangeStream(GnssOpenFn fixes, const TimeRangeConfig& range) {

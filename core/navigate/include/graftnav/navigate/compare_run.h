@@ -1,8 +1,8 @@
 #pragma once
 // `graftnav compare`: several estimators on one case, each evaluated against the reference and
 // each pair compared inside the outages (the difference and the cross-check weighed by sigma).
-// When every estimator has a streamed form and the run config asks for no in-motion alignment
-// (a static one reads the samples of its window: alignmentPrefix), the IMU is read in blocks,
+// When every estimator has a streamed form (a data alignment reads the samples it needs:
+// streamed_problem.h), the IMU is read in blocks,
 // each solution is evaluated as it comes and written once to a temporary binary spool
 // (eval/solution_spool.h), and the pairs are joined from the spools: no solution is held whole.
 // Otherwise the IMU is held and the estimators run in memory; the numbers are the same either

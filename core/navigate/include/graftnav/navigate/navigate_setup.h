@@ -1,11 +1,11 @@
 #pragma once
 // The inputs of one navigation run, read and checked before any output is written: the case,
 // the run config, the IMU and its profile, the GNSS, the outages and the reference. A run that
-// can stream (the estimator has a streamed form, the alignment is given or static) holds none of
-// the series: the IMU, the GNSS and the reference are read once here, as streams, for their
-// errors, spans and coverage, and read again by the run, keeping what the time range keeps
-// (restrictToTimeRange's rule). A static alignment holds the samples of its window until the
-// problem is made (alignmentPrefix).
+// can stream (the estimator has a streamed form) holds none of the series: the IMU, the GNSS and
+// the reference are read once here, as streams, for their errors, spans and coverage, and read
+// again by the run, keeping what the time range keeps (restrictToTimeRange's rule). A data
+// alignment holds the samples it reads until the problem is made (streamed_problem.h); an
+// in-motion alignment holds the GNSS.
 #include <cstddef>
 #include <string>
 #include <vector>

@@ -27,6 +27,12 @@ ImuFileScan scanImuFile(ImuSelection* sel, const TimeRangeConfig& range = {});
 // first sample after the range's end).
 ImuPassFn imuRangeStream(const ImuSelection& sel, const TimeRangeConfig& range);
 
+// The kept samples of the file through the first one after t_end_s, then the last kept sample
+// (`span`: scanImuFile's), so that the series spans what the run navigates; *complete is set
+// when no kept sample is left out (the file or the range ended first).
+ImuSeries imuPrefix(const ImuSelection& sel, const ImuSeries& span, const TimeRangeConfig& range,
+                    double t_end_s, bool* complete);
+
 // What makeProblem reads of an IMU the estimators read as a file (`span`: scanImuFile's). With a
 // static alignment: the kept samples through the first one after the alignment window
 // (alignStatic stops there), then the last kept sample, so the problem's span is the run's.
