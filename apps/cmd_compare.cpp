@@ -1,5 +1,6 @@
 // graftnav compare CASE_DIR --out OUT_DIR [--estimator ekf,rts,fgo] [--imu ref|tested|FILE]
 //                  [--outage-length S --outage-period S --outage-start S] [--run-config FILE]
+//                  [--start T --end T]
 // Runs several estimators on one case and writes a side-by-side table of their outage errors
 // (seed: RMS over outage epochs; peers: RMS of per-outage maxima) and of their differences from
 // each other (the filter-versus-smoother cross-check), as Markdown and CSV, plus a 1 Hz error
@@ -30,6 +31,7 @@ struct CompareArgs {
   std::string estimators = "ekf,rts,fgo";
   std::string run_config, profile;
   OutageOverrides outage;  // over the run config's outages: (default 60 s every 180 s from 300 s)
+  TimeRangeConfig time_range;  // over the run config's time_range:
   bool no_outages = false;
   bool lenient = false;
   bool no_plots = false;
@@ -43,6 +45,7 @@ CompareRequest requestOf(const CompareArgs& a) {
   q.estimators = splitEstimatorList(a.estimators);
   q.run_config = a.run_config;
   q.outage = a.outage;
+  q.time_range = a.time_range;
   q.no_outages = a.no_outages;
   q.lenient = a.lenient;
   q.spool_dir = a.out;  // created before the runs
@@ -108,10 +111,11 @@ void registerCompare(CLI::App& app) {
                   "else 300)");
   cmd->add_flag("--no-outages", a->no_outages, "use every GNSS fix");
   cmd->add_option("--run-config", a->run_config,
-                  "run config YAML (ekf:, fgo:, outages: sections; the outage flags override "
-                  "its outages:)")
+                  "run config YAML (ekf:, fgo:, outages:, time_range: sections; the outage "
+                  "and range flags override its sections)")
       ->check(CLI::ExistingFile);
   addDeprecatedOption(cmd, "--config", "--run-config", &a->run_config);
+  addTimeRangeOptions(cmd, &a->time_range);
   cmd->add_option("--profile", a->profile, "IMU profile YAML (default: from case.yaml)")
       ->check(CLI::ExistingFile);
   cmd->add_flag("--no-plots", a->no_plots, "do not call scripts/runtime/plot_compare.py");

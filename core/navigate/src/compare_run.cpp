@@ -60,14 +60,19 @@ void scanReference(const CompareInputs& in, const RunMessages& messages) {
   for (const auto& w : coverage.check(in.reference.path, in.p.imu)) messages.warning(w);
 }
 
-// The IMU: held, or scanned once for its errors and its span when every run streams it.
-void selectCompareImu(const CompareRequest& q, const RunMessages& messages, CompareInputs* in) {
+// The IMU: held and cut to the time range with the GNSS, or scanned once for its errors and the
+// span the range keeps when every run streams it (the GNSS held and cut as navigate cuts it).
+void selectCompareImu(const CompareRequest& q, const RunMessages& messages, CompareInputs* in,
+                      std::vector<std::string>* notes) {
   in->imu = selectImu(in->c, q.imu, q.profile_path, q.lenient, !in->stream);
   if (in->stream) {
-    const ImuFileScan scan = scanImuFile(&in->imu);
+    const ImuFileScan scan = scanImuFile(&in->imu, in->time_range);
     in->imu.imu = scan.span;
-    in->imu_samples = scan.total;
+    in->imu_samples = scan.kept;
+    if (!in->time_range.empty())
+      notes->push_back(keepHeldGnssInRange(in->time_range, scan, &in->c.gnss));
   } else {
+    restrictToTimeRange(in->time_range, &in->c, &in->imu, notes);
     in->imu_samples = static_cast<long>(in->imu.imu.size());
   }
   if (!in->imu.read_summary.empty()) messages.warning(in->imu.read_summary);
@@ -108,8 +113,8 @@ CompareRow runOne(const CompareEstimator& e, const CompareInputs& in,
   NavSolution book;
   if (in.stream) {
     CompareSink sink(spool, &ev);
-    book = registry.runStreaming(e.entry->name, in.p,
-                                 imuFileStream(in.imu.path, in.imu.read_options), cfg, sink);
+    book = registry.runStreaming(e.entry->name, in.p, imuRangeStream(in.imu, in.time_range), cfg,
+                                 sink);
   } else {
     book = registry.run(e.entry->name, in.p, cfg);
     const bool has_sigma = book.sigma.size() == book.states.size();
@@ -170,6 +175,7 @@ CompareInputs loadCompareInputs(const CompareRequest& q, const EstimatorRegistry
     recordConfigFile(q.run_config);
     for (const auto& w : warnings) messages.warning(w);
   }
+  in.time_range = mergeTimeRange(in.cfg.time_range, q.time_range);
   // makeProblem sees the samples the alignment reads (streamed_problem.h).
   in.stream = all_stream;
   CaseLoadOptions lo;
@@ -184,14 +190,14 @@ CompareInputs loadCompareInputs(const CompareRequest& q, const EstimatorRegistry
     throw std::runtime_error(q.case_dir + ": compare needs truth.nav or a reference");
   in.schedule = q.outage.appliedTo(in.cfg.outages);
   in.schedule.enabled = in.schedule.enabled && !q.no_outages;
-  selectCompareImu(q, messages, &in);
+  std::vector<std::string> notes;
+  selectCompareImu(q, messages, &in, &notes);
   const ImuSeries& imu = in.imu.imu;
   for (const auto& w : checkGnssCoverage(in.c.gnss, in.c.paths().gnssPos(), imu, false))
     messages.warning(w);
   // makeProblem reads the reference's first epochs only (the week, the initial state).
   in.c.reference = readReferenceHead(in.reference, imu.front().t_s - imu.front().dt_s);
-  std::vector<std::string> notes;
-  in.p = in.stream ? makeStreamedProblem(in.c, in.imu, in.cfg, in.schedule, {}, &notes)
+  in.p = in.stream ? makeStreamedProblem(in.c, in.imu, in.cfg, in.schedule, in.time_range, &notes)
                    : makeProblem(in.c, in.imu, in.cfg, in.schedule, &notes);
   in.c.reference = {};
   for (const auto& n : notes) messages.note(n);

@@ -153,11 +153,8 @@ void loadCase(const NavigateRequest& q, const EstimatorRegistry& registry,
 // time range keeps, as restrictToTimeRange keeps them.
 void keepGnssInRange(NavigateSetup* s) {
   if (!s->stream || s->time_range.empty()) return;
-  GnssSeries kept;
-  for (const GnssFix& f : s->c.gnss)
-    if (s->time_range.keepsGnssEpoch(f.t_s)) kept.push_back(f);
-  noteTimeRange(static_cast<long>(kept.size()), static_cast<long>(s->c.gnss.size()), s);
-  s->c.gnss = std::move(kept);
+  const auto at = s->notes.begin() + static_cast<std::ptrdiff_t>(s->time_range_note_at);
+  s->notes.insert(at, keepHeldGnssInRange(s->time_range, s->imu_scan, &s->c.gnss));
 }
 
 // The notes of makeProblem a user should see (alignment, lever arm, GNSS selection, time range,

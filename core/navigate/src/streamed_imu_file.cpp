@@ -108,6 +108,18 @@ ImuSeries alignmentPrefix(const ImuSelection& sel, const RunConfig& rc, const Im
   return imuPrefix(sel, span, range, t_end_s, &complete);
 }
 
+std::string keepHeldGnssInRange(const TimeRangeConfig& range, const ImuFileScan& scan,
+                                GnssSeries* fixes) {
+  GnssSeries kept;
+  for (const GnssFix& f : *fixes)
+    if (range.keepsGnssEpoch(f.t_s)) kept.push_back(f);
+  const std::string note =
+      timeRangeNote(scan.span, scan.kept, scan.total, static_cast<long>(kept.size()),
+                    static_cast<long>(fixes->size()));
+  *fixes = std::move(kept);
+  return note;
+}
+
 GnssOpenFn gnssRangeStream(GnssOpenFn fixes, const TimeRangeConfig& range) {
   if (range.empty()) return fixes;
   return [fixes, range]() -> std::unique_ptr<GnssSource> {

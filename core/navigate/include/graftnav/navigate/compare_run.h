@@ -6,7 +6,8 @@
 // each solution is evaluated as it comes and written once to a temporary binary spool
 // (eval/solution_spool.h), and the pairs are joined from the spools: no solution is held whole.
 // Otherwise the IMU is held and the estimators run in memory; the numbers are the same either
-// way. compare navigates the whole recording: it takes no time range.
+// way. A time range (the run config's, with the request's bounds over it) keeps what navigate
+// keeps of the IMU and the GNSS (restrictToTimeRange's rule, streamed_imu_file.h when streamed).
 #include <functional>
 #include <string>
 #include <vector>
@@ -33,6 +34,7 @@ struct CompareRequest {
   std::vector<std::string> estimators{"ekf", "rts", "fgo"};
   std::string run_config;  // run config YAML (ekf:, fgo:, outages:); empty: none
   OutageOverrides outage;  // over the run config's outages: (default 60 s every 180 s from 300 s)
+  TimeRangeConfig time_range;  // over the run config's time_range: section
   bool no_outages = false;
   bool lenient = false;
   // Where the solutions are spooled while the pairs are compared (~120 MB per estimator-hour at
@@ -47,7 +49,8 @@ struct CompareInputs {
   CaseReferenceFile reference;
   ImuSelection imu;
   long imu_samples = 0;
-  bool stream = false;  // the IMU read in blocks by each run (imu.imu and p.imu not held)
+  bool stream = false;         // the IMU read in blocks by each run (imu.imu and p.imu not held)
+  TimeRangeConfig time_range;  // the run config's, with the request's bounds over it
   OutageScheduleConfig schedule;
   EstimationProblem p;
 };

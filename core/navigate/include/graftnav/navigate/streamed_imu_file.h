@@ -2,6 +2,8 @@
 // The IMU file of a streamed run and what the run config keeps of it, never held whole: the
 // samples of a time range (TimeRangeConfig::keepsImuSample, the rule of restrictToTimeRange) read
 // in blocks, and for makeProblem only the samples a static alignment reads.
+#include <string>
+
 #include "graftnav/case/case_inputs.h"
 #include "graftnav/case/run_config.h"
 #include "graftnav/estimation/gnss_source.h"
@@ -39,6 +41,11 @@ ImuSeries imuPrefix(const ImuSelection& sel, const ImuSeries& span, const TimeRa
 // Otherwise `span`.
 ImuSeries alignmentPrefix(const ImuSelection& sel, const RunConfig& rc, const ImuSeries& span,
                           const TimeRangeConfig& range = {});
+
+// The held fixes a range keeps, as restrictToTimeRange keeps them, and the range's note (`scan`:
+// scanImuFile's) for a run that streams the IMU and holds the GNSS.
+std::string keepHeldGnssInRange(const TimeRangeConfig& range, const ImuFileScan& scan,
+                                GnssSeries* fixes);
 
 // The fixes of `fixes`' passes that the range keeps (TimeRangeConfig::keepsGnssEpoch).
 GnssOpenFn gnssRangeStream(GnssOpenFn fixes, const TimeRangeConfig& range);
