@@ -107,6 +107,12 @@ void writeSg3(const std::string& path, const DiagnosisResult& res) {
 
 // The whole command: load, diagnose, optionally navigate, write and print.
 void runDiagnose(const DiagnoseArgs& args) {
+  // The run config, read once before any output: its grafting section for SG#2, the rest for the
+  // navigation level.
+  RunConfig rc;
+  std::vector<std::string> notes;
+  if (!args.run_config.empty()) rc = loadRunConfig(args.run_config, &notes);
+  requireTimeRangeUnset(rc.time_range, args.run_config, "graftnav diagnose");
   std::filesystem::create_directories(args.out);
   // One load of the case for both levels: GNSS only when the navigation level runs.
   CaseLoadOptions lo;
@@ -118,10 +124,6 @@ void runDiagnose(const DiagnoseArgs& args) {
   DiagnoseOptions opt;
   if (!args.options.empty()) opt = loadDiagnoseConfig(args.options, &warnings);
   for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
-  // The run config, read once: its grafting section for SG#2, the rest for the navigation level.
-  RunConfig rc;
-  std::vector<std::string> notes;
-  if (!args.run_config.empty()) rc = loadRunConfig(args.run_config, &notes);
   if (!CasePaths::exists(c.paths().testedImu()))
     throw std::runtime_error(c.paths().testedImu() +
                              ": diagnose needs the tested IMU's field recording");

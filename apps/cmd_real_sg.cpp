@@ -106,6 +106,7 @@ void runRealSg(const RealSgArgs& a) {
   const CaseInputs c = loadReal(a.case_dir);
   std::vector<std::string> warnings;
   const RunConfig rc = loadRunConfig(a.run_config, &warnings);
+  requireTimeRangeUnset(rc.time_range, a.run_config, "graftnav real-sg");
   for (const auto& w : warnings) fmt::print(stderr, "warning: {}\n", w);
   if (!rc.outages_given)
     throw std::runtime_error(a.run_config + ": an outages: section is required");

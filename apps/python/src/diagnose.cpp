@@ -49,7 +49,8 @@ DiagnoseOutcome diagnoseCase(const PyCase& pc, const RunConfig& rc,
 py::dict diagnosePy(const std::shared_ptr<PyCase>& c, const std::string& diagnose_config,
                     const std::string& run_config, const py::object& options) {
   std::vector<std::string> warnings;
-  const RunConfig rc = runConfigFor(c->inputs().dir, run_config, options, &warnings);
+  const RunConfig rc =
+      runConfigFor(c->inputs().dir, run_config, options, &warnings, "graftnav.diagnose");
   DiagnoseOptions opt;
   if (!diagnose_config.empty()) {
     try {

@@ -34,7 +34,8 @@ py::dict evaluate(const std::shared_ptr<PyCase>& c, const std::string& estimator
   request.seed = seed;
   request.jobs = jobs;
   std::vector<std::string> warnings;
-  request.rc = runConfigFor(c->hasFolder() ? c->inputs().dir : "", run_config, options, &warnings);
+  request.rc = runConfigFor(c->hasFolder() ? c->inputs().dir : "", run_config, options, &warnings,
+                            "graftnav.evaluate");
   EvaluateOutcome out;
   {
     py::gil_scoped_release release;

@@ -30,13 +30,23 @@ YAML::Node toYaml(const py::handle& value) {
 }
 
 RunConfig runConfigFor(const std::string& case_dir, const std::string& run_config_path,
-                       const py::object& options, std::vector<std::string>* warnings) {
+                       const py::object& options, std::vector<std::string>* warnings,
+                       const std::string& command_without_time_range) {
   std::string path = run_config_path;
   if (path.empty() && !case_dir.empty()) {
     const auto own = std::filesystem::path(case_dir) / "run.yaml";
     if (std::filesystem::is_regular_file(own)) path = own.string();
   }
   RunConfig rc;
+  // A time range the call does not apply, named with the file or the options that set it.
+  const auto refuse_time_range = [&](const std::string& source) {
+    if (command_without_time_range.empty()) return;
+    try {
+      requireTimeRangeUnset(rc.time_range, source, command_without_time_range);
+    } catch (const std::exception& e) {
+      throw OptionError(e.what());
+    }
+  };
   try {
     if (!path.empty()) rc = loadRunConfig(path, warnings);
   } catch (const MissingFileError&) {
@@ -44,6 +54,7 @@ RunConfig runConfigFor(const std::string& case_dir, const std::string& run_confi
   } catch (const std::exception& e) {
     throw OptionError(e.what());
   }
+  refuse_time_range(path);
   if (options.is_none()) return rc;
   if (!py::isinstance<py::dict>(options))
     throw OptionError("options: expected a dict of run-config sections or dotted keys");
@@ -62,6 +73,7 @@ RunConfig runConfigFor(const std::string& case_dir, const std::string& run_confi
     throw OptionError("options: unknown key " + keys +
                       " (run-config sections: " + "see configs/navigate.yaml)");
   }
+  refuse_time_range("options");
   return rc;
 }
 

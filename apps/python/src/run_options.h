@@ -27,7 +27,10 @@ struct OptionError : std::invalid_argument {
 
 // Throws OptionError for a bad option value or an unknown key; MissingFileError for a run-config
 // file that does not exist. Warnings (unknown keys of the file) are appended to *warnings.
+// `command_without_time_range` (e.g. "graftnav.evaluate"): the call does not apply a time range,
+// and a time_range in the file or the options is an OptionError (requireTimeRangeUnset).
 RunConfig runConfigFor(const std::string& case_dir, const std::string& run_config_path,
-                       const py::object& options, std::vector<std::string>* warnings);
+                       const py::object& options, std::vector<std::string>* warnings,
+                       const std::string& command_without_time_range = "");
 
 }  // namespace graftnav::python

@@ -65,6 +65,29 @@ class BadOptions(unittest.TestCase):
             graftnav.navigate(self.case, "ekf", imu="lab")
 
 
+class TimeRangeNotApplied(unittest.TestCase):
+    """evaluate and diagnose do not apply a time range: one in the run config or the options is
+    refused before they start, naming the key, the call and where it was set."""
+
+    def test_evaluate_and_diagnose_refuse_a_time_range(self):
+        case = graftnav.load_case(SAMPLES["mems"])
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "ranged.yaml")
+            with open(path, "w") as f:
+                f.write("time_range: {start_s: 456400, end_s: 456600}\n")
+            calls = {"graftnav.evaluate": lambda: graftnav.evaluate(case, "ekf", run_config=path),
+                     "graftnav.diagnose": lambda: graftnav.diagnose(case, run_config=path)}
+            for name, call in calls.items():
+                with self.assertRaises(ValueError) as raised:
+                    call()
+                self.assertIn(f"time_range is not applied by {name}: the run config '{path}' sets "
+                              "time_range (start_s 456400, end_s 456600)", str(raised.exception))
+        with self.assertRaises(ValueError) as raised:
+            graftnav.evaluate(case, "ekf", options={"time_range.end_s": 456600})
+        self.assertIn("time_range is not applied by graftnav.evaluate: the run config 'options' "
+                      "sets time_range (end_s 456600)", str(raised.exception))
+
+
 class MissingFiles(unittest.TestCase):
     def test_missing_case_folder(self):
         path = os.path.join(tempfile.gettempdir(), "graftnav-no-such-case")

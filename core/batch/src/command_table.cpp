@@ -14,14 +14,16 @@ std::vector<BatchCommandSpec> makeTable() {
   navigate.flags = {{"imu", K::kImu},        {"profile", K::kPath}, {"decimate", K::kValue},
                     {"lenient", K::kSwitch}, {"start", K::kValue},  {"end", K::kValue}};
   navigate.default_estimators = {"ekf"};
+  navigate.applies_time_range = true;
   navigate.result_files = {"errors.json", "run_info.json", "outage_drift.csv"};
   t.push_back(navigate);
 
   BatchCommandSpec compare;
   compare.command = BatchCommand::kCompare;
-  compare.flags = {
-      {"imu", K::kImu}, {"profile", K::kPath}, {"lenient", K::kSwitch}, {"no-outages", K::kSwitch}};
+  compare.flags = {{"imu", K::kImu},           {"profile", K::kPath}, {"lenient", K::kSwitch},
+                   {"no-outages", K::kSwitch}, {"start", K::kValue},  {"end", K::kValue}};
   compare.default_estimators = {"ekf", "rts"};
+  compare.applies_time_range = true;
   compare.estimators_in_one_task = true;
   compare.result_files = {"compare.json"};
   t.push_back(compare);

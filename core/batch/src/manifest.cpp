@@ -202,9 +202,20 @@ std::string yamlText(const YAML::Node& n) {
   return e.c_str();
 }
 
+// The group's run config, or the options that set a time_range its command does not apply.
+void refuseTimeRange(const Where& w, const YAML::Node& n, const TimeRangeConfig& range,
+                     const std::string& source, BatchCommand command) {
+  if (batchCommandSpec(command).applies_time_range) return;
+  try {
+    requireTimeRangeUnset(range, source, std::string("graftnav ") + batchCommandName(command));
+  } catch (const std::exception& e) {
+    w.fail(n, e.what());
+  }
+}
+
 // Each key's values, checked against the run-config schema with the group's run config.
 std::vector<OptionAxis> parseOptions(const Where& w, const YAML::Node& v,
-                                     const std::string& run_config) {
+                                     const std::string& run_config, BatchCommand command) {
   if (!v.IsMap()) yf::fail(w.ctx, v, "options", "expected a map of run-config key: [values]");
   std::vector<OptionAxis> out;
   for (const auto& kv : v) {
@@ -223,12 +234,16 @@ std::vector<OptionAxis> parseOptions(const Where& w, const YAML::Node& v,
       a.values.push_back(yamlText(e));
       a.lines.push_back(w.line(e));
       requireUnique(seen, a.values.back(), w, e, "options." + a.key);
+      const YAML::Node& at = e.Mark().is_null() ? kv.first : e;
+      RunConfig rc;
       try {
-        checkRunConfigOption(run_config, a.key, a.values.back());
+        rc = checkRunConfigOption(run_config, a.key, a.values.back());
       } catch (const std::exception& ex) {
-        w.fail(e.Mark().is_null() ? kv.first : e,
-               fmt::format("options.{}: value '{}': {}", a.key, a.values.back(), ex.what()));
+        w.fail(at, fmt::format("options.{}: value '{}': {}", a.key, a.values.back(), ex.what()));
       }
+      refuseTimeRange(w, at, rc.time_range,
+                      (run_config.empty() ? "" : run_config + " with ") + "options." + a.key,
+                      command);
     }
     out.push_back(std::move(a));
   }
@@ -335,7 +350,10 @@ BatchGroup parseGroup(const Where& w, const YAML::Node& g, bool legacy) {
                                             "options, plots)"));
     }
   }
-  if (has_options) group.options = parseOptions(w, options, group.run_config);
+  if (!group.run_config.empty())
+    refuseTimeRange(w, g["run_config"].IsDefined() ? g["run_config"] : g["config"],
+                    loadRunConfig(group.run_config).time_range, group.run_config, group.command);
+  if (has_options) group.options = parseOptions(w, options, group.run_config, group.command);
   checkGroup(w, g, group, seeds_given);
   return group;
 }

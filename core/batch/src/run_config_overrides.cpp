@@ -89,16 +89,17 @@ std::string composeRunConfig(const std::string& base_path,
   return text + "\n" + out.c_str() + "\n";
 }
 
-void checkRunConfigOption(const std::string& base_path, const std::string& key,
-                          const std::string& value_yaml) {
+RunConfig checkRunConfigOption(const std::string& base_path, const std::string& key,
+                               const std::string& value_yaml) {
   const RunConfig base = parseBase(base_path);
   RunConfigReport report;
   const std::string source =
       "the run config " + (base_path.empty() ? std::string("(none)") : base_path) + " with it";
-  applyRunConfigOverrides(base, {{key, value_yaml}}, source, &report);
+  RunConfig rc = applyRunConfigOverrides(base, {{key, value_yaml}}, source, &report);
   if (!report.unknown_keys.empty())
     throw std::runtime_error("unknown run-config key '" + report.unknown_keys.front() + "' (" +
                              knownKeys(report.unknown_keys.front()) + ")");
+  return rc;
 }
 
 bool runConfigListsOutageWindows(const std::string& base_path) {

@@ -292,5 +292,35 @@ TEST(BatchManifest, ABadValueNamesFileLineAndKey) {
   }
 }
 
+// A run config or an options value that sets time_range is refused, before any task runs, for a
+// command that does not apply it (requireTimeRangeUnset's text, the manifest's line); navigate
+// and compare take it.
+TEST(BatchManifest, ATimeRangeIsRefusedForTheCommandsThatDoNotApplyIt) {
+  const std::string dir = setUp("manifest_time_range", "out: out\n");
+  writeFile(dir + "/ranged.yaml", "time_range: {start_s: 456400, end_s: 456600}\n");
+  const std::string m = dir + "/m.yaml";
+  const std::string head = "out: out\ngroups:\n";
+  for (const std::string cmd : {"evaluate", "diagnose"}) {
+    expectRefused(errorOf(dir, head + "  - command: " + cmd +
+                                   "\n    cases: [cases/other]\n    run_config: ranged.yaml\n"),
+                  m + ":5",
+                  "time_range is not applied by graftnav " + cmd + ": the run config '" + dir +
+                      "/ranged.yaml' sets time_range (start_s 456400, end_s 456600)");
+  }
+  expectRefused(errorOf(dir, head + "  - command: evaluate\n    cases: [cases/other]\n"
+                                    "    run_config: run.yaml\n"
+                                    "    options: {time_range.start_s: [456400]}\n"),
+                m + ":6",
+                "time_range is not applied by graftnav evaluate: the run config '" + dir +
+                    "/run.yaml with options.time_range.start_s' sets time_range (start_s 456400)");
+  for (const std::string cmd : {"navigate", "compare"}) {
+    EXPECT_EQ(errorOf(dir, head + "  - command: " + cmd +
+                               "\n    cases: [cases/other]\n    run_config: ranged.yaml\n"
+                               "    options: {time_range.end_s: [456500]}\n"),
+              "")
+        << cmd;
+  }
+}
+
 }  // namespace
 }  // namespace graftnav

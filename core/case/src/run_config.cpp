@@ -375,4 +375,16 @@ TimeRangeConfig mergeTimeRange(const TimeRangeConfig& from_config,
   return r;
 }
 
+void requireTimeRangeUnset(const TimeRangeConfig& range, const std::string& source,
+                           const std::string& command) {
+  if (range.empty()) return;
+  std::string bounds;
+  if (range.start_s) bounds = fmt::format("start_s {}", *range.start_s);
+  if (range.end_s) bounds += fmt::format("{}end_s {}", bounds.empty() ? "" : ", ", *range.end_s);
+  throw std::runtime_error(fmt::format(
+      "time_range is not applied by {}: the run config '{}' sets time_range ({}); remove it to "
+      "run on the whole recording (graftnav navigate and compare apply it)",
+      command, source, bounds));
+}
+
 }  // namespace graftnav

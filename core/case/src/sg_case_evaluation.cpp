@@ -104,6 +104,7 @@ std::vector<std::string> checkSgCaseInputs(const SgCaseEvaluationOptions& o,
   const CaseInputs c = loadCaseInputs(o.case_dir, lo);
   RunConfig rc;
   if (!o.run_config.empty()) rc = loadRunConfig(o.run_config, nullptr);
+  requireTimeRangeUnset(rc.time_range, o.run_config, "graftnav evaluate");
   const OutageScheduleConfig oc = outageOverrides(o).appliedTo(rc.outages);
   ImuSelection ref = selectImu(c, "ref", "", false, false);
   ref.imu = scanImuSpan(ref.path, ref.read_options);

@@ -153,5 +153,22 @@ TEST(RunConfig, SchemaListsEverySection) {
                                                 "fgo", "evaluation", "odometer", "nhc"}));
 }
 
+// A time range for a command that does not apply it: the key, the command, the file and the
+// bounds it sets are named; no range passes.
+TEST(RunConfig, ATimeRangeIsRefusedNamingTheKeyTheCommandAndTheFile) {
+  EXPECT_NO_THROW(requireTimeRangeUnset(TimeRangeConfig{}, "R.yaml", "graftnav evaluate"));
+  TimeRangeConfig r;
+  r.end_s = 456600.5;
+  EXPECT_EQ(test::errorOf([&] { requireTimeRangeUnset(r, "R.yaml", "graftnav real"); }),
+            "time_range is not applied by graftnav real: the run config 'R.yaml' sets time_range "
+            "(end_s 456600.5); remove it to run on the whole recording (graftnav navigate and "
+            "compare apply it)");
+  r.start_s = 456400;
+  EXPECT_NE(test::errorOf([&] { requireTimeRangeUnset(r, "R.yaml", "graftnav diagnose"); })
+                .find("by graftnav diagnose: the run config 'R.yaml' sets time_range (start_s "
+                      "456400, end_s 456600.5)"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace graftnav

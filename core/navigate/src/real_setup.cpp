@@ -251,6 +251,7 @@ RealInputs loadRealInputs(const RealRequest& q, const EstimatorRegistry& registr
   RealInputs in;
   std::vector<std::string> warnings;
   in.rc = loadRunConfig(q.run_config, &warnings);
+  requireTimeRangeUnset(in.rc.time_range, q.run_config, "graftnav real");
   recordConfigFile(q.run_config);
   for (const auto& w : warnings) messages.warning(w);
   if (!in.rc.outages_given)

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "graftnav/case/run_config.h"
+
 namespace graftnav {
 
 struct RunConfigSetting {
@@ -24,9 +26,9 @@ std::string composeRunConfig(const std::string& base_path,
 // run config (an unknown section or key, a value of the wrong type or out of range): the base file
 // is parsed and the value applied by the run config's own parser (core/case), so the batch holds
 // no copy of the schema. A map value sets a section's keys over the base's ("outages" ->
-// {length_s: 30}).
-void checkRunConfigOption(const std::string& base_path, const std::string& key,
-                          const std::string& value_yaml);
+// {length_s: 30}). Returns the run config with the value applied.
+RunConfig checkRunConfigOption(const std::string& base_path, const std::string& key,
+                               const std::string& value_yaml);
 
 // Whether the file lists explicit outage windows (outages.windows), which a schedule cannot
 // replace.

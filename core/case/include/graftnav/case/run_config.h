@@ -48,7 +48,8 @@
 //     start_offset_s: -1
 //     realizations: 20
 //     outage_shifts: 1
-//   time_range:           # optional: navigate only [start_s, end_s] (s of week; either may be absent)
+//   time_range:           # optional: navigate only [start_s, end_s] (s of week; either may be absent;
+//                         # navigate and compare apply it, every other command refuses it)
 //     start_s: 456300
 //     end_s: 457000
 //   evaluation:
@@ -137,6 +138,12 @@ struct TimeRangeConfig {
 // Command-line bounds override the run config's; throws std::runtime_error when the end is not
 // after the start.
 TimeRangeConfig mergeTimeRange(const TimeRangeConfig& from_config, const TimeRangeConfig& from_cli);
+// For a command that does not apply a run config's time_range (every command but navigate and
+// compare): throws std::runtime_error when `range` sets a bound, naming the key, the command
+// ("graftnav evaluate") and the run config `source` (its file), so that the command fails before
+// it starts instead of running the whole recording.
+void requireTimeRangeUnset(const TimeRangeConfig& range, const std::string& source,
+                           const std::string& command);
 
 // The estimators' own sections (ekf:, fgo:) are its EstimatorOptions base, so a run config is
 // handed to any estimator of the registry as it is.
