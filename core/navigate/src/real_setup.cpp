@@ -16,6 +16,7 @@
 #include "graftnav/io/provenance.h"
 #include "graftnav/nav/rotation.h"
 #include "graftnav/navigate/streamed_imu_file.h"
+#include "graftnav/navigate/streamed_problem.h"
 
 namespace graftnav {
 namespace {
@@ -70,8 +71,8 @@ struct GnssFile {
 // Every estimator has a streamed form, no in-motion alignment (it may read the whole IMU) and no
 // latency study needs the series. A static alignment reads only its window (alignmentPrefix,
 // streamed_imu_file.h).
-bool streamable(const RealRequest& q, const EstimatorRegistry& registry, const RunConfig& rc) {
-  if (q.latency_study || rc.alignment.mode == AlignmentMode::kMotion) return false;
+bool streamable(const RealRequest& q, const EstimatorRegistry& registry) {
+  if (q.latency_study) return false;
   for (const auto& name : q.estimators)
     if (!registry.contains(name) || !registry.canStream(name)) return false;
   return true;
@@ -107,6 +108,12 @@ void scanRealReference(const RunMessages& messages, RealInputs* in) {
     noteLines("  reader/case: ", reader.report().summary(), messages);
 }
 
+// Whether each run reads the GNSS file: a streamed run without a gnss: section (which selects
+// epochs over the whole series) and without an in-motion alignment (which reads the fixes).
+bool streamsGnss(const RealInputs& in) {
+  return in.stream && !in.rc.gnss.given && in.rc.alignment.mode != AlignmentMode::kMotion;
+}
+
 // What a streamed run holds of the problem: the IMU's span is dropped (each run reads the file
 // from imu_start_s), and without a gnss: section so are the GNSS fixes (each run reads the file).
 void releaseStreamedSeries(const RunMessages& messages, RealInputs* in) {
@@ -123,7 +130,7 @@ void releaseStreamedSeries(const RunMessages& messages, RealInputs* in) {
   }
   pr.imu = {};
   in->imu.imu = {};
-  if (in->rc.gnss.given) return;
+  if (!streamsGnss(*in)) return;
   const GnssOpenFn file = GnssFile(in->c).stream();
   pr.gnss_stream = [file, t_init]() -> std::unique_ptr<GnssSource> {
     return std::make_unique<GnssAfter>(file(), t_init + 1e-6);
@@ -181,12 +188,14 @@ GnssSeries firstGnssFix(const CaseInputs& c) {
 }
 
 // makeRealProblem; imu_held false: `imu` is the first and last samples of a file each run reads,
-// and startAtInitialState cuts only the GNSS (the samples are skipped as they are read).
+// makeProblem sees the samples its alignment reads (streamed_problem.h), and startAtInitialState
+// cuts only the GNSS (the samples are skipped as they are read).
 EstimationProblem realProblem(const CaseInputs& c, const ImuSelection& imu, const RunConfig& rc,
                               const std::optional<OutageScheduleConfig>& outages, bool imu_held,
                               const RunMessages& messages, std::vector<std::string>* notes_out) {
   std::vector<std::string> notes;
-  EstimationProblem pr = makeProblem(c, imu, rc, outages, &notes);
+  EstimationProblem pr = imu_held ? makeProblem(c, imu, rc, outages, &notes)
+                                  : makeStreamedProblem(c, imu, rc, outages, {}, &notes);
   ImuSeries span;
   if (!imu_held) std::swap(span, pr.imu);
   startAtInitialState(&pr, &notes);
@@ -256,10 +265,10 @@ RealInputs loadRealInputs(const RealRequest& q, const EstimatorRegistry& registr
   for (const auto& w : warnings) messages.warning(w);
   if (!in.rc.outages_given)
     throw std::runtime_error(q.run_config + ": an outages: section is required");
-  in.stream = streamable(q, registry, in.rc);
+  in.stream = streamable(q, registry);
   // A streamed run reads the reference as it evaluates, and without a gnss: section the GNSS as
-  // it navigates.
-  const bool stream_gnss = in.stream && !in.rc.gnss.given;
+  // it navigates, unless an in-motion alignment reads it.
+  const bool stream_gnss = streamsGnss(in);
   CaseLoadOptions lo;
   lo.load_reference = !in.stream;
   lo.load_gnss = !stream_gnss;
@@ -271,7 +280,6 @@ RealInputs loadRealInputs(const RealRequest& q, const EstimatorRegistry& registr
   const ImuSample first = in.imu.imu.front();
   in.t_first_s = first.t_s - first.dt_s;
   if (in.stream) {  // makeProblem reads the reference's first epochs only
-    in.imu.imu = alignmentPrefix(in.imu, in.rc, in.imu.imu);
     in.reference = caseReferenceFile(in.c, true);
     if (!in.reference.path.empty()) in.c.reference = readReferenceHead(in.reference, in.t_first_s);
   }

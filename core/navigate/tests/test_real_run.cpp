@@ -84,7 +84,8 @@ void expectSameRuns(const std::string& case_dir, bool reference_evaluated) {
   const RealOutcome m = runReal(case_dir, case_dir + "/memory", false);
   EXPECT_TRUE(s.in.stream);
   EXPECT_TRUE(s.in.pr.imu.empty() && s.in.c.reference.empty());
-  if (!s.in.rc.gnss.given) {  // the GNSS read as the estimator runs
+  // The GNSS read as the estimator runs, unless selected (gnss:) or read by the alignment.
+  if (!s.in.rc.gnss.given && s.in.rc.alignment.mode != AlignmentMode::kMotion) {
     EXPECT_TRUE(s.in.c.gnss.empty() && s.in.pr.gnss.empty());
     EXPECT_TRUE(s.in.pr.gnss_stream);
   }
@@ -151,6 +152,25 @@ TEST(RealRun, AStaticAlignmentStreamsFromItsWindowAndSkipsTheSamplesBefore) {
   EXPECT_TRUE(in.stream);
   EXPECT_NEAR(in.imu_start_s, 456360.0, 1e-5);
   EXPECT_NEAR(in.pr.initial.t_s, 456360.0, 1e-9);
+}
+
+TEST(RealRun, AnInMotionAlignmentStreamsWithTheGnssHeld) {
+  // Above 8 m/s from 456372 s: the alignment's GNSS epoch lies beyond the first 30-s prefix of
+  // the file, which is read again longer; the runs start at that epoch, the streamed ones
+  // skipping the earlier samples as they read the file.
+  const std::string dir = test::makeTempDir("real_run_motion");
+  const std::string c = makeCase(
+      dir + "/motion", [](double) { return true; }, false,
+      "ekf: {alignment: motion, motion_min_speed_m_s: 8}\n");
+  expectSameRuns(c, true);
+  const RealRequest q = requestFor(c, {"hold"});
+  const RealInputs in = loadRealInputs(q, test::toyRegistry(true), RunMessages{});
+  EXPECT_TRUE(in.stream);
+  EXPECT_TRUE(in.pr.imu.empty());
+  EXPECT_FALSE(in.pr.gnss.empty());  // held: the alignment reads the fixes
+  EXPECT_FALSE(in.pr.gnss_stream);
+  EXPECT_GT(in.pr.initial.t_s, 456340.0 + 30.0);  // beyond the first prefix
+  EXPECT_NEAR(in.imu_start_s, in.pr.initial.t_s - 1e-6, 1e-9);
 }
 
 TEST(RealRun, AFailedEstimatorLeavesNoFolderAndTheOthersRun) {

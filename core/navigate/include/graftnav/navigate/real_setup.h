@@ -3,11 +3,12 @@
 // reader repair and warning given, and the estimator inputs started at the initial state's epoch
 // (every estimator starts from the same state at the same sample).
 //
-// `real` streams when every estimator has a streamed form, the run config asks for no in-motion
-// alignment and no latency study needs the series: the IMU, the GNSS (without a gnss: section)
-// and the reference solution are then read once here for their errors, spans and rates, and read
-// again by each run (real_run.h); only the check points inside the outages are held, and for a
-// static alignment the samples of its window until the problem is made.
+// `real` streams when every estimator has a streamed form and no latency study needs the series:
+// the IMU, the GNSS (without a gnss: section nor an in-motion alignment) and the reference
+// solution are then read once here for their errors, spans and rates, and read again by each run
+// (real_run.h); only the check points inside the outages are held, and the samples a data
+// alignment reads until the problem is made (streamed_problem.h; an in-motion alignment holds
+// the GNSS).
 #include <limits>
 #include <optional>
 #include <string>
