@@ -1,5 +1,6 @@
 // graftnav real CASE_DIR --out DIR --config FILE [--imu tested] [--profile FILE]
-//   [--estimators ekf,rts,fgo] [--latency-scan] [--latency-grid 0,0.2,0.4] [--latency-types 4,5]
+//   [--estimators ekf,rts,fgo] [--start T --end T] [--latency-scan] [--latency-grid 0,0.2,0.4]
+//   [--latency-types 4,5]
 //   Real recordings: one IMU, several estimators, one outage schedule; errors at the withheld
 //   GNSS check points (gnss.checkpoint_fix_types of the run config) and against the case's
 //   reference solution; optional GNSS time-tag latency scan and the effect of correcting it.
@@ -34,6 +35,7 @@ void logStderr(const std::string& line) { fmt::print(stderr, "{}\n", line); }
 struct RealArgs {
   std::string case_dir, out, run_config, profile, imu;
   std::vector<std::string> estimators{"ekf", "rts", "fgo"};
+  TimeRangeConfig time_range;  // over the run config's time_range:
   bool latency_scan = false;
   LatencyStudyOptions latency;
   bool no_plots = false;
@@ -46,6 +48,7 @@ void runReal(const RealArgs& a) {
   q.imu = a.imu;
   q.profile_path = a.profile;
   q.estimators = a.estimators;
+  q.time_range = a.time_range;
   q.latency_study = a.latency_scan || !a.latency.grid.empty();
   const RunMessages messages = printedMessages();
   const RealInputs in = loadRealInputs(q, estimatorTable(), messages);
@@ -91,9 +94,11 @@ void registerReal(CLI::App& app) {
   cmd->add_option("case_dir", a->case_dir, "case directory")->required();
   cmd->add_option("--out", a->out, "output directory")->required();
   cmd->add_option("--run-config", a->run_config,
-                  "run config YAML (outages:, gnss:, ekf:, fgo:); required")
+                  "run config YAML (outages:, gnss:, ekf:, fgo:, time_range:); required; the "
+                  "range flags override its time_range:")
       ->check(CLI::ExistingFile);
   addDeprecatedOption(cmd, "--config", "--run-config", &a->run_config);
+  addTimeRangeOptions(cmd, &a->time_range);
   cmd->add_option("--imu", a->imu, "ref | tested | FILE (default: ref, else the case's only IMU)");
   cmd->add_option("--profile", a->profile, "IMU profile YAML")->check(CLI::ExistingFile);
   cmd->add_option("--estimator", a->estimators, "comma list of estimators (default ekf,rts,fgo)")

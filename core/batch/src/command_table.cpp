@@ -32,8 +32,10 @@ std::vector<BatchCommandSpec> makeTable() {
   real.command = BatchCommand::kReal;
   real.flags = {
       {"imu", K::kImu},           {"profile", K::kPath},       {"latency-scan", K::kSwitch},
-      {"latency-grid", K::kList}, {"latency-types", K::kList}, {"latency-estimators", K::kList}};
+      {"latency-grid", K::kList}, {"latency-types", K::kList}, {"latency-estimators", K::kList},
+      {"start", K::kValue},       {"end", K::kValue}};
   real.default_estimators = {"ekf"};
+  real.applies_time_range = true;
   real.requires_run_config = true;
   real.result_files = {"summary.json"};
   t.push_back(real);

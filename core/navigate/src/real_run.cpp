@@ -14,6 +14,7 @@
 #include "graftnav/eval/gnss_latency.h"
 #include "graftnav/io/nav_io.h"
 #include "graftnav/navigate/streamed_checkpoints.h"
+#include "graftnav/navigate/streamed_imu_file.h"
 
 namespace graftnav {
 namespace {
@@ -63,9 +64,10 @@ class RealEpochSink final : public SolutionSink {
   std::string evaluation_failure_;
 };
 
-// An IMU pass from the file, the samples before `start_s` skipped (see RealInputs::imu_start_s).
+// An IMU pass over the samples of the file the range keeps, those before `start_s` skipped (see
+// RealInputs::imu_start_s).
 ImuPassFn realImuPass(const RealInputs& in) {
-  const ImuPassFn file = imuFileStream(in.imu.path, in.imu.read_options);
+  const ImuPassFn file = imuRangeStream(in.imu, in.time_range);
   if (!std::isfinite(in.imu_start_s)) return file;
   const double start_s = in.imu_start_s;
   return [file, start_s](const ImuBlockFn& block) {

@@ -63,8 +63,9 @@ struct GnssFile {
     pos_path = paths.gnssPos();
     if (CasePaths::exists(paths.gnssFixType())) fixtype_path = paths.gnssFixType();
   }
-  GnssOpenFn stream() const {
-    return gnssFileStream(pos_path, fixtype_path, GnssReadPolicy::real());
+  // The fixes the range keeps.
+  GnssOpenFn stream(const TimeRangeConfig& range) const {
+    return gnssRangeStream(gnssFileStream(pos_path, fixtype_path, GnssReadPolicy::real()), range);
   }
 };
 
@@ -131,7 +132,7 @@ void releaseStreamedSeries(const RunMessages& messages, RealInputs* in) {
   pr.imu = {};
   in->imu.imu = {};
   if (!streamsGnss(*in)) return;
-  const GnssOpenFn file = GnssFile(in->c).stream();
+  const GnssOpenFn file = GnssFile(in->c).stream(in->time_range);
   pr.gnss_stream = [file, t_init]() -> std::unique_ptr<GnssSource> {
     return std::make_unique<GnssAfter>(file(), t_init + 1e-6);
   };
@@ -163,8 +164,10 @@ void selectStreamedCheckpoints(const RunMessages& messages, RealInputs* in) {
   GnssStreamReader reader(file.pos_path, file.fixtype_path, GnssReadPolicy::real());
   GnssSeries inside;
   GnssFix fix;
-  long count = 0;
+  long count = 0, total = 0;
   while (reader.next(&fix)) {
+    ++total;
+    if (!in->time_range.keepsGnssEpoch(fix.t_s)) continue;
     ++count;
     for (const auto& w : in->pr.outages)
       if (w.contains(fix.t_s)) {
@@ -174,28 +177,35 @@ void selectStreamedCheckpoints(const RunMessages& messages, RealInputs* in) {
   }
   for (const auto& r : reader.reports())
     if (!r.summary().empty()) noteLines("  reader/case: ", r.summary(), messages);
+  if (!in->time_range.empty()) {
+    const ImuFileScan& scan = in->imu_scan;
+    messages.note("  note: " + timeRangeNote(scan.span, scan.kept, scan.total, count, total));
+  }
   selectCheckpoints(inside, in);
   in->checkpoint_epochs = count;
   messages.note(
       fmt::format("  GNSS {}: {} epochs, read as each estimator runs", file.pos_path, count));
 }
 
-// The first fix of the GNSS file: what makeProblem reads of a GNSS series it does not select.
-GnssSeries firstGnssFix(const CaseInputs& c) {
-  const auto pass = GnssFile(c).stream()();
+// The first fix of the GNSS file the range keeps: what makeProblem reads of a GNSS series it does
+// not select.
+GnssSeries firstGnssFix(const CaseInputs& c, const TimeRangeConfig& range) {
+  const auto pass = GnssFile(c).stream(range)();
   GnssFix fix;
   return pass->next(&fix) ? GnssSeries{fix} : GnssSeries{};
 }
 
 // makeRealProblem; imu_held false: `imu` is the first and last samples of a file each run reads,
 // makeProblem sees the samples its alignment reads (streamed_problem.h), and startAtInitialState
-// cuts only the GNSS (the samples are skipped as they are read).
+// cuts only the GNSS (the samples are skipped as they are read). `range`: what the streamed
+// problem reads of the file (a held series is cut before).
 EstimationProblem realProblem(const CaseInputs& c, const ImuSelection& imu, const RunConfig& rc,
                               const std::optional<OutageScheduleConfig>& outages, bool imu_held,
-                              const RunMessages& messages, std::vector<std::string>* notes_out) {
+                              const TimeRangeConfig& range, const RunMessages& messages,
+                              std::vector<std::string>* notes_out) {
   std::vector<std::string> notes;
   EstimationProblem pr = imu_held ? makeProblem(c, imu, rc, outages, &notes)
-                                  : makeStreamedProblem(c, imu, rc, outages, {}, &notes);
+                                  : makeStreamedProblem(c, imu, rc, outages, range, &notes);
   ImuSeries span;
   if (!imu_held) std::swap(span, pr.imu);
   startAtInitialState(&pr, &notes);
@@ -230,16 +240,18 @@ CaseInputs loadRealCase(const std::string& dir, CaseLoadOptions lo, const RunMes
 
 ImuSelection selectRealImu(const CaseInputs& c, const std::string& which,
                            const std::string& profile, bool read_samples,
-                           const RunMessages& messages, long* count) {
+                           const RunMessages& messages, const TimeRangeConfig& range,
+                           ImuFileScan* scan_out) {
   ImuSelection s = selectImu(c, which, profile, true, read_samples);
-  long n = static_cast<long>(s.imu.size());
+  ImuFileScan scan;
+  scan.total = scan.kept = static_cast<long>(s.imu.size());
   if (!read_samples) {
-    const ImuFileScan scan = scanImuFile(&s);
+    scan = scanImuFile(&s, range);
     s.imu = scan.span;
-    n = scan.total;
   }
-  if (count) *count = n;
-  messages.note(fmt::format("IMU '{}' {}: {} samples, profile '{}'", which, s.path, n, s.label));
+  if (scan_out) *scan_out = scan;
+  messages.note(
+      fmt::format("IMU '{}' {}: {} samples, profile '{}'", which, s.path, scan.total, s.label));
   if (s.read_summary.empty()) {
     messages.note("  reader: no repair and no warning");
   } else {
@@ -252,15 +264,44 @@ EstimationProblem makeRealProblem(const CaseInputs& c, const ImuSelection& imu, 
                                   const std::optional<OutageScheduleConfig>& outages,
                                   const RunMessages& messages,
                                   std::vector<std::string>* notes_out) {
-  return realProblem(c, imu, rc, outages, true, messages, notes_out);
+  return realProblem(c, imu, rc, outages, true, {}, messages, notes_out);
 }
+
+namespace {
+
+// A latency study reads the fixes and the reference solution beyond the range (its track, its
+// shifted time tags): it refuses a range, from the run config or from the request.
+void refuseRangeInLatencyStudy(const RealRequest& q, const RunConfig& rc) {
+  const std::string command = "graftnav real --latency-scan/--latency-grid";
+  requireTimeRangeUnset(rc.time_range, q.run_config, command);
+  if (!q.time_range.empty())
+    throw std::runtime_error("--start/--end are not applied by " + command +
+                             ": the latency study reads the GNSS and the reference beyond them");
+}
+
+// The series the range keeps: the held IMU and GNSS cut by restrictToTimeRange, or, streamed,
+// the held GNSS cut as the scan of the IMU file kept its samples (a GNSS file read by each run
+// is cut as it is read).
+void keepRange(bool stream_gnss, const RunMessages& messages, RealInputs* in) {
+  if (in->time_range.empty()) return;
+  std::vector<std::string> notes;
+  if (!in->stream) {
+    restrictToTimeRange(in->time_range, &in->c, &in->imu, &notes);
+  } else if (!stream_gnss) {
+    notes.push_back(keepHeldGnssInRange(in->time_range, in->imu_scan, &in->c.gnss));
+  }
+  for (const auto& n : notes) messages.note("  note: " + n);
+}
+
+}  // namespace
 
 RealInputs loadRealInputs(const RealRequest& q, const EstimatorRegistry& registry,
                           const RunMessages& messages) {
   RealInputs in;
   std::vector<std::string> warnings;
   in.rc = loadRunConfig(q.run_config, &warnings);
-  requireTimeRangeUnset(in.rc.time_range, q.run_config, "graftnav real");
+  in.time_range = mergeTimeRange(in.rc.time_range, q.time_range);
+  if (q.latency_study) refuseRangeInLatencyStudy(q, in.rc);
   recordConfigFile(q.run_config);
   for (const auto& w : warnings) messages.warning(w);
   if (!in.rc.outages_given)
@@ -273,10 +314,11 @@ RealInputs loadRealInputs(const RealRequest& q, const EstimatorRegistry& registr
   lo.load_reference = !in.stream;
   lo.load_gnss = !stream_gnss;
   in.c = loadRealCase(q.case_dir, lo, messages);
-  long samples = 0;
-  in.imu = selectRealImu(in.c, q.imu, q.profile_path, !in.stream, messages, &samples);
+  in.imu =
+      selectRealImu(in.c, q.imu, q.profile_path, !in.stream, messages, in.time_range, &in.imu_scan);
   if (!in.imu.profile_given)
     throw std::runtime_error("no noise parameters for the IMU: pass --profile");
+  keepRange(stream_gnss, messages, &in);
   const ImuSample first = in.imu.imu.front();
   in.t_first_s = first.t_s - first.dt_s;
   if (in.stream) {  // makeProblem reads the reference's first epochs only
@@ -285,8 +327,9 @@ RealInputs loadRealInputs(const RealRequest& q, const EstimatorRegistry& registr
   }
   // Of a GNSS series it does not select, makeProblem reads whether there is one and (a static
   // alignment without an initial state) the first fix's position.
-  if (stream_gnss) in.c.gnss = firstGnssFix(in.c);
-  in.pr = realProblem(in.c, in.imu, in.rc, in.rc.outages, !in.stream, messages, nullptr);
+  if (stream_gnss) in.c.gnss = firstGnssFix(in.c, in.time_range);
+  in.pr =
+      realProblem(in.c, in.imu, in.rc, in.rc.outages, !in.stream, in.time_range, messages, nullptr);
   if (stream_gnss) {
     selectStreamedCheckpoints(messages, &in);
   } else {
@@ -296,6 +339,7 @@ RealInputs loadRealInputs(const RealRequest& q, const EstimatorRegistry& registr
   in.c.reference = {};
   if (!in.reference.path.empty()) scanRealReference(messages, &in);
   const double span_s = in.imu.imu.back().t_s - first.t_s;
+  const long samples = in.imu_scan.kept;
   if (samples > 1 && span_s > 0.0 && in.rc.ekf.output_decimation == 1)
     in.expected_rates.solution_hz = static_cast<double>(samples - 1) / span_s;
   releaseStreamedSeries(messages, &in);

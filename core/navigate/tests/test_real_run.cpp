@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <utility>
 
@@ -171,6 +172,83 @@ TEST(RealRun, AnInMotionAlignmentStreamsWithTheGnssHeld) {
   EXPECT_FALSE(in.pr.gnss_stream);
   EXPECT_GT(in.pr.initial.t_s, 456340.0 + 30.0);  // beyond the first prefix
   EXPECT_NEAR(in.imu_start_s, in.pr.initial.t_s - 1e-6, 1e-9);
+}
+
+// The lines of `from` whose time (field `field`) keep(time) holds, written to `to`.
+void copyLines(const fs::path& from, const fs::path& to, int field,
+               const std::function<bool(double)>& keep) {
+  std::ifstream in(from);
+  std::ofstream out(to);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    double t_s = 0.0;
+    for (int i = 0; i <= field; ++i) fields >> t_s;
+    if (keep(t_s)) out << line << "\n";
+  }
+}
+
+// The sample cut by hand to [t0_s, t1_s]: the IMU from the sample that ends at t0_s (the next
+// one's interval then starts there; the runs start at the initial state there and skip it), the
+// GNSS and the truth inside; the outages of `run_yaml` start from the file's first interval, 50 Hz
+// earlier.
+std::string makeCutCase(const std::string& dir, double t0_s, double t1_s,
+                        const std::string& run_yaml) {
+  const fs::path src = fs::path(test::sourceDir()) / "data/sample_tactical";
+  const fs::path d(dir);
+  fs::create_directories(d / "field");
+  fs::copy_file(src / "case.yaml", d / "case.yaml");
+  const auto inside = [=](double t) { return t >= t0_s && t <= t1_s; };
+  copyLines(src / "field/tested_imu.txt", d / "field/tested_imu.txt", 0,
+            [=](double t) { return t >= t0_s - 1e-6 && t <= t1_s; });
+  copyLines(src / "field/gnss.pos", d / "field/gnss.pos", 0, inside);
+  copyLines(src / "field/truth.nav", d / "field/truth.nav", 1, inside);
+  std::ofstream(d / "run.yaml") << run_yaml;
+  return dir;
+}
+
+// real with a time range (the run config's) gives, estimator by estimator, the solution and the
+// check point errors of its run on the case cut to the range by hand, streamed and in memory,
+// with the GNSS read as a file and held (gnss:).
+TEST(RealRun, ARangeGivesTheRunOnTheCaseCutToItByHand) {
+  const std::string dir = test::makeTempDir("real_run_range");
+  for (const bool gnss_section : {false, true}) {
+    const std::string gnss = gnss_section ? "gnss: {min_spacing_s: 0.05}\n" : "";
+    const std::string whole = makeCase(
+        dir + "/whole" + gnss.substr(0, 4), [](double) { return true; }, gnss_section,
+        "time_range: {start_s: 456500, end_s: 456900}\n");
+    const std::string cut =
+        makeCutCase(dir + "/cut" + gnss.substr(0, 4), 456500.0, 456900.0,
+                    "outages: {length_s: 30, period_s: 120, start_s: 100.02}\n" + gnss);
+    for (const bool streamed : {true, false}) {
+      const std::string tag = (streamed ? "/streamed" : "/memory") + std::string("/");
+      const RealOutcome a = runReal(whole, whole + tag, streamed);
+      const RealOutcome b = runReal(cut, cut + tag, streamed);
+      EXPECT_EQ(a.in.stream, streamed);
+      EXPECT_EQ(a.in.time_range.startS(), 456500.0);
+      EXPECT_NEAR(a.in.pr.initial.t_s, 456500.0, 1e-9);
+      EXPECT_EQ(a.in.checkpoints_in_outages, b.in.checkpoints_in_outages);
+      EXPECT_EQ(a.in.checkpoint_epochs, b.in.checkpoint_epochs);
+      EXPECT_EQ(a.in.checkpoint_epochs, 401);  // 1 Hz fixes over 400 s
+      ASSERT_EQ(a.rows.size(), 1u);
+      ASSERT_EQ(b.rows.size(), 1u);
+      const EstimatorRun &x = a.rows[0], &y = b.rows[0];
+      EXPECT_EQ(x.sol.gnss_used, y.sol.gnss_used);
+      EXPECT_EQ(x.cp.n, y.cp.n);
+      EXPECT_GT(x.cp.n, 80);  // 3 outages of 30 s
+      EXPECT_EQ(x.cp.rms_h_m, y.cp.rms_h_m);
+      EXPECT_EQ(x.cp.rms_of_max_h_m, y.cp.rms_of_max_h_m);
+      EXPECT_EQ(x.cp.rms_v_m, y.cp.rms_v_m);
+      ASSERT_TRUE(x.ref && y.ref);
+      EXPECT_EQ(x.ref->outage_rms.horizontal_m, y.ref->outage_rms.horizontal_m);
+      EXPECT_EQ(x.ref->outage_max_rms.horizontal_m, y.ref->outage_max_rms.horizontal_m);
+      for (const char* f : {"hold/solution.nav", "hold/checkpoints.csv"}) {
+        const std::string text = fileText(whole + tag + f);
+        EXPECT_FALSE(text.empty()) << f;
+        EXPECT_EQ(text, fileText(cut + tag + f)) << f << tag << gnss;
+      }
+    }
+  }
 }
 
 TEST(RealRun, AFailedEstimatorLeavesNoFolderAndTheOthersRun) {

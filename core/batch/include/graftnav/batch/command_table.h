@@ -45,7 +45,7 @@ struct BatchCommandSpec {
   bool takes_seed = false;              // --seed (grafting)
   bool takes_jobs = false;              // --jobs (set to 1: tasks run side by side instead)
   bool requires_run_config = false;
-  // Whether it applies the run config's time_range (navigate, compare); the others refuse a run
+  // Whether it applies the run config's time_range (navigate, compare, real); the others refuse a run
   // config or an option that sets one (requireTimeRangeUnset) when the manifest is read.
   bool applies_time_range = false;
   // Files it writes that the batch reads back (docs/outputs.md), in the order it reads them.

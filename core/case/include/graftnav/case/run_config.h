@@ -138,8 +138,8 @@ struct TimeRangeConfig {
 // Command-line bounds override the run config's; throws std::runtime_error when the end is not
 // after the start.
 TimeRangeConfig mergeTimeRange(const TimeRangeConfig& from_config, const TimeRangeConfig& from_cli);
-// For a command that does not apply a run config's time_range (every command but navigate and
-// compare): throws std::runtime_error when `range` sets a bound, naming the key, the command
+// For a command that does not apply a run config's time_range (every command but navigate,
+// compare and real without a latency study): throws std::runtime_error when `range` sets a bound, naming the key, the command
 // ("graftnav evaluate") and the run config `source` (its file), so that the command fails before
 // it starts instead of running the whole recording.
 void requireTimeRangeUnset(const TimeRangeConfig& range, const std::string& source,
