@@ -11,6 +11,10 @@
 namespace graftnav {
 namespace {
 
+// A file's text is written once it passes kFlushBytes; its buffer's capacity is set once (with a
+// few lines more), so that it never doubles as the file grows.
+constexpr std::size_t kFlushBytes = std::size_t{1} << 18;
+constexpr std::size_t kBufferBytes = kFlushBytes + 1024;
 constexpr double kMilliGalPerMPerSec2 = 1e5;
 constexpr double kPpmPerFraction = 1e6;
 
@@ -117,10 +121,12 @@ SolutionOutputsSink::SolutionOutputsSink(const std::string& imu_errors_path,
   imu_errors_.buffer = kImuErrorsHeader;
   state_std_.file = std::make_unique<AtomicFile>(state_std_path);
   state_std_.buffer = kStateStdHeader;
+  if (imu_errors_.file) imu_errors_.buffer.reserve(kBufferBytes);
+  state_std_.buffer.reserve(kBufferBytes);
 }
 
 void SolutionOutputsSink::File::flush(bool force) {
-  if (!file || (!force && buffer.size() < (1u << 20))) return;
+  if (!file || (!force && buffer.size() < kFlushBytes)) return;
   file->write(buffer);
   buffer.clear();
 }
@@ -137,6 +143,7 @@ void SolutionOutputsSink::add(const NavState& state, const PvaSigma* sigma,
       odometer_scale_.file = std::make_unique<AtomicFile>(odometer_scale_path_);
       scale_with_std_ = std::isfinite(pending_scale_->std);
       odometer_scale_.buffer = scale_with_std_ ? kOdometerScaleHeader : kOdometerScaleHeaderNoStd;
+      odometer_scale_.buffer.reserve(kBufferBytes);
     }
     appendOdometerScaleRow(&odometer_scale_.buffer, odometer_scale_path_, state.t_s,
                            *pending_scale_, scale_with_std_);

@@ -12,12 +12,16 @@
 namespace graftnav {
 
 namespace {
-constexpr std::size_t kFlushBytes = std::size_t{1} << 20;
-}
+// The text written to the file once it passes this size; the buffer's capacity is set once (a
+// line more), so that it never doubles as the file grows.
+constexpr std::size_t kFlushBytes = std::size_t{1} << 18;
+constexpr std::size_t kLineBytes = 256;
+}  // namespace
 
 ErrorsCsvWriter::ErrorsCsvWriter(const std::string& path, double min_interval_s)
     : file_(std::make_unique<AtomicFile>(path)), min_interval_s_(min_interval_s) {
-  buffer_ =
+  buffer_.reserve(kFlushBytes + kLineBytes);
+  buffer_ +=
       "t_s,north_m,east_m,down_m,horizontal_m,vn_m_s,ve_m_s,vd_m_s,roll_deg,pitch_deg,"
       "heading_deg,nees,outage\n";
 }
