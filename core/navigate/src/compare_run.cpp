@@ -199,15 +199,15 @@ CompareInputs loadCompareInputs(const CompareRequest& q, const EstimatorRegistry
   in.c.reference = readReferenceHead(in.reference, imu.front().t_s - imu.front().dt_s);
   in.p = in.stream ? makeStreamedProblem(in.c, in.imu, in.cfg, in.schedule, in.time_range, &notes)
                    : makeProblem(in.c, in.imu, in.cfg, in.schedule, &notes);
-  in.c.reference = {};
+  in.c.reference = NavSeries();
   for (const auto& n : notes) messages.note(n);
   const EstimationProblem& p = in.p;
   requireOutagesInsideData(in.schedule, p.outages, p.imu.front().t_s - p.imu.front().dt_s,
                            p.imu.back().t_s);
   scanReference(in, messages);
   if (in.stream) {  // the checks above needed only the span; each run reads the file in blocks
-    in.p.imu = {};
-    in.imu.imu = {};
+    in.p.imu = ImuSeries();
+    in.imu.imu = ImuSeries();
   }
   return in;
 }

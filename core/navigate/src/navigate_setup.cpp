@@ -202,14 +202,14 @@ NavigateSetup prepareNavigate(const NavigateRequest& q, const EstimatorRegistry&
         readReferenceHead(s.streamed_reference, s.imu.imu.front().t_s - s.imu.imu.front().dt_s);
   s.pr = s.stream ? makeStreamedProblem(s.c, s.imu, s.rc, outages, s.time_range, &s.notes)
                   : makeProblem(s.c, s.imu, s.rc, outages, &s.notes);
-  if (!s.streamed_reference.path.empty()) s.c.reference = {};
+  if (!s.streamed_reference.path.empty()) s.c.reference = NavSeries();
   if (s.stream_gnss) {  // makeProblem saw the first epoch only; the run reads the files
-    s.pr.gnss = {};
-    s.c.gnss = {};
+    s.pr.gnss = GnssSeries();
+    s.c.gnss = GnssSeries();
     s.pr.gnss_stream = gnss_stream;
   } else {
     s.gnss_count = static_cast<long>(s.pr.gnss.size());
-    if (s.stream) s.c.gnss = {};  // a streamed run holds the problem's fixes only
+    if (s.stream) s.c.gnss = GnssSeries();  // a streamed run holds the problem's fixes only
   }
   noteProblem(s.notes, messages);
   if (outages) {
@@ -223,8 +223,8 @@ NavigateSetup prepareNavigate(const NavigateRequest& q, const EstimatorRegistry&
             messages, &s.notes);
   }
   if (s.stream) {  // the checks above needed only the span; the run reads the file in blocks
-    s.pr.imu = {};
-    s.imu.imu = {};
+    s.pr.imu = ImuSeries();
+    s.imu.imu = ImuSeries();
   }
   return s;
 }

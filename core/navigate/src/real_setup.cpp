@@ -129,15 +129,15 @@ void releaseStreamedSeries(const RunMessages& messages, RealInputs* in) {
                     "skipped as the file is read (used only by the alignment)",
                     t_init));
   }
-  pr.imu = {};
-  in->imu.imu = {};
+  pr.imu = ImuSeries();
+  in->imu.imu = ImuSeries();
   if (!streamsGnss(*in)) return;
   const GnssOpenFn file = GnssFile(in->c).stream(in->time_range);
   pr.gnss_stream = [file, t_init]() -> std::unique_ptr<GnssSource> {
     return std::make_unique<GnssAfter>(file(), t_init + 1e-6);
   };
-  pr.gnss = {};
-  in->c.gnss = {};
+  pr.gnss = GnssSeries();
+  in->c.gnss = GnssSeries();
 }
 
 // The check points of gnss.checkpoint_fix_types among `fixes` and how many lie inside the
@@ -336,7 +336,7 @@ RealInputs loadRealInputs(const RealRequest& q, const EstimatorRegistry& registr
     selectCheckpoints(in.c.gnss, &in);
   }
   if (!in.stream) return in;
-  in.c.reference = {};
+  in.c.reference = NavSeries();
   if (!in.reference.path.empty()) scanRealReference(messages, &in);
   const double span_s = in.imu.imu.back().t_s - first.t_s;
   const long samples = in.imu_scan.kept;
