@@ -383,7 +383,8 @@ void requireTimeRangeUnset(const TimeRangeConfig& range, const std::string& sour
   if (range.end_s) bounds += fmt::format("{}end_s {}", bounds.empty() ? "" : ", ", *range.end_s);
   throw std::runtime_error(fmt::format(
       "time_range is not applied by {}: the run config '{}' sets time_range ({}); remove it to "
-      "run on the whole recording (graftnav navigate and compare apply it)",
+      "run on the whole recording (graftnav navigate, compare and real without a latency study apply "
+      "it)",
       command, source, bounds));
 }
 

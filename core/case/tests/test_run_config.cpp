@@ -159,10 +159,10 @@ TEST(RunConfig, ATimeRangeIsRefusedNamingTheKeyTheCommandAndTheFile) {
   EXPECT_NO_THROW(requireTimeRangeUnset(TimeRangeConfig{}, "R.yaml", "graftnav evaluate"));
   TimeRangeConfig r;
   r.end_s = 456600.5;
-  EXPECT_EQ(test::errorOf([&] { requireTimeRangeUnset(r, "R.yaml", "graftnav real"); }),
-            "time_range is not applied by graftnav real: the run config 'R.yaml' sets time_range "
-            "(end_s 456600.5); remove it to run on the whole recording (graftnav navigate and "
-            "compare apply it)");
+  EXPECT_EQ(test::errorOf([&] { requireTimeRangeUnset(r, "R.yaml", "graftnav evaluate"); }),
+            "time_range is not applied by graftnav evaluate: the run config 'R.yaml' sets "
+            "time_range (end_s 456600.5); remove it to run on the whole recording (graftnav "
+            "navigate, compare and real without a latency study apply it)");
   r.start_s = 456400;
   EXPECT_NE(test::errorOf([&] { requireTimeRangeUnset(r, "R.yaml", "graftnav diagnose"); })
                 .find("by graftnav diagnose: the run config 'R.yaml' sets time_range (start_s "

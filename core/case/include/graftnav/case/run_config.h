@@ -49,7 +49,8 @@
 //     realizations: 20
 //     outage_shifts: 1
 //   time_range:           # optional: navigate only [start_s, end_s] (s of week; either may be absent;
-//                         # navigate and compare apply it, every other command refuses it)
+//                         # navigate, compare and real apply it, every other command and
+//                         # real's latency study refuse it)
 //     start_s: 456300
 //     end_s: 457000
 //   evaluation:
@@ -139,9 +140,9 @@ struct TimeRangeConfig {
 // after the start.
 TimeRangeConfig mergeTimeRange(const TimeRangeConfig& from_config, const TimeRangeConfig& from_cli);
 // For a command that does not apply a run config's time_range (every command but navigate,
-// compare and real without a latency study): throws std::runtime_error when `range` sets a bound, naming the key, the command
-// ("graftnav evaluate") and the run config `source` (its file), so that the command fails before
-// it starts instead of running the whole recording.
+// compare and real without a latency study): throws std::runtime_error when `range` sets a
+// bound, naming the key, the command ("graftnav evaluate") and the run config `source` (its
+// file), so that the command fails before it starts instead of running the whole recording.
 void requireTimeRangeUnset(const TimeRangeConfig& range, const std::string& source,
                            const std::string& command);
 
